@@ -1,0 +1,31 @@
+// What an application hands the solver: per-row gradient and value fields of every channel.
+#pragma once
+
+#include <vector>
+
+namespace gdp {
+
+// One row j of the guidance fields, channel-major: gx[c * x_edges + e] is the desired
+// difference u(e+1, j) - u(e, j) (x_edges = width - 1, or width on a periodic domain where
+// the last edge joins column width-1 to column 0); gy[c * width + i] is the desired
+// u(i, j+1) - u(i, j) (unused on the last row); value[c * width + i] is the desired value
+// (used only when alpha > 0).
+struct GuidanceRow {
+  int x_edges = 0;
+  std::vector<double> gx, gy, value;
+};
+
+// A source of guidance rows. Rows are requested once each, in order j = 0, 1, ..., so a
+// source may stream from files; read_row fills every field of `out` (already sized).
+class GuidanceSource {
+ public:
+  virtual ~GuidanceSource() = default;
+  virtual int width() const = 0;
+  virtual int height() const = 0;
+  virtual int channels() const = 0;
+  // Weight of the value term (0: pure gradient problem, solution defined up to a constant).
+  virtual double alpha() const { return 0.0; }
+  virtual void read_row(int j, GuidanceRow& out) = 0;
+};
+
+}  // namespace gdp

@@ -1,0 +1,43 @@
+// Reading and writing image files (through OpenImageIO), with atomic writes.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "gdp/image.h"
+
+namespace gdp {
+
+// Sample type of a file on disk.
+enum class SampleType { UInt8, UInt16, Half, Float, Double };
+
+// What a file held besides its pixels, so outputs can default to the input's format.
+struct ImageFileInfo {
+  SampleType sample_type = SampleType::Float;
+  std::string format_name;  // OpenImageIO's name: "png", "jpeg", "tiff", "openexr", ...
+  bool lossy = false;        // true for formats that do not keep exact values (JPEG, ...)
+};
+
+struct ReadResult {
+  Image image;
+  ImageFileInfo info;
+};
+
+// Reads a whole image. Throws InputError naming the file and the problem.
+ReadResult read_image(const std::filesystem::path& path);
+
+struct WriteOptions {
+  std::optional<SampleType> sample_type;  // default: UInt8 for 8-bit-only formats, else Float
+  int jpeg_quality = 95;                  // 1..100
+};
+
+// Writes an image to a temporary file in the output's directory and renames it into place,
+// so no partial file is ever visible under the final name. Integer outputs are clamped to
+// [0, 1]; float outputs are written as they are. Throws OutputError (nothing left behind).
+void write_image(const std::filesystem::path& path, const Image& image, const WriteOptions& options);
+
+// True when the file name's extension names a lossy format (JPEG, WebP, ...).
+bool is_lossy_extension(const std::filesystem::path& path);
+
+}  // namespace gdp

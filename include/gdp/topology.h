@@ -1,0 +1,17 @@
+// The domain topologies an image can live on.
+#pragma once
+
+#include <string_view>
+
+namespace gdp {
+
+enum class Domain {
+  Planar,       // Neumann boundaries on all four sides
+  Cylindrical,  // periodic left/right (a 360-degree panorama), Neumann top/bottom
+};
+
+// Parses "planar" / "cylindrical"; throws UsageError otherwise.
+Domain parse_domain(std::string_view name);
+std::string_view domain_name(Domain d);
+
+}  // namespace gdp

@@ -1,0 +1,63 @@
+// One axis of one multigrid level: banded 1D mass / stiffness matrices and the transfer to it.
+#pragma once
+
+#include <array>
+#include <vector>
+
+namespace gdp::fem {
+
+// Boundary behaviour of one axis.
+enum class AxisBoundary {
+  Neumann,   // half-sample reflection at both ends (planar images)
+  Periodic,  // wrap-around (the horizontal axis of cylindrical and spherical images)
+};
+
+// The 1D Galerkin matrices of one axis. Row i couples sample i with sample i+d, d = -2..2,
+// stored at [d + 2]. Out-of-range columns are folded into in-range ones (Neumann, so their
+// coefficients are zero) or wrapped (Periodic).
+struct Axis {
+  int n = 0;
+  AxisBoundary boundary = AxisBoundary::Neumann;
+  double scale = 1.0;  // sample spacing in finest-level samples (2^level where halved)
+  std::vector<std::array<double, 5>> mass;
+  std::vector<std::array<double, 5>> stiffness;
+  // Finest level only: coupling of B_i' with the hats on edges i-2..i+1, folded like the
+  // rows above (Neumann: reflected edges change sign, boundary edges vanish).
+  std::vector<std::array<double, 4>> derivative;
+
+  // Number of edges (gradient samples) along this axis: n-1, or n when periodic.
+  int edges() const { return boundary == AxisBoundary::Periodic ? n : (n > 0 ? n - 1 : 0); }
+  // Column index of row i's neighbour at offset d, or -1 when the coefficient is folded away.
+  int column(int i, int d) const;
+};
+
+// Half-sample reflection of an index into [0, n) (repeated for tiny n), and wrap-around.
+int reflect_index(int c, int n);
+int wrap_index(int c, int n);
+
+// Linear interpolation from a coarse axis (m samples) to a fine axis (n samples):
+// fine[i] = weight[0] * coarse[index[0]] + weight[1] * coarse[index[1]].
+struct ProlongationRow {
+  std::array<int, 2> index;
+  std::array<double, 2> weight;
+};
+struct Prolongation {
+  int coarse_n = 0;
+  std::vector<ProlongationRow> rows;  // one per fine sample
+};
+
+// Finest-level axis with n samples.
+Axis make_fine_axis(int n, AxisBoundary boundary);
+// Prolongation from m samples to the fine axis's n samples: m == coarse_size(n) halves the
+// axis (interpolating from the coarse samples reflected or wrapped at the ends), m == n is
+// the identity (an axis that no longer coarsens).
+Prolongation make_prolongation(const Axis& fine, int m);
+// Coarse size for this axis, or n itself when it should not be halved any more.
+int next_size(const Axis& fine);
+// Galerkin coarse axis P^T A P for mass and stiffness (exact B-spline refinement where the
+// spaces nest, the algebraic Galerkin product elsewhere). One exception: a periodic axis of
+// odd length, whose Galerkin product would leave the 5-wide band, is rediscretised (interior
+// stencils at the coarse spacing), which keeps the operator symmetric and consistent.
+Axis coarsen(const Axis& fine, const Prolongation& p);
+
+}  // namespace gdp::fem

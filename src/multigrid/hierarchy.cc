@@ -1,0 +1,60 @@
+// Building the multigrid hierarchy and the per-level operator coefficients.
+#include "multigrid/hierarchy.h"
+
+#include <algorithm>
+
+namespace gdp::multigrid {
+
+Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height, double alpha,
+                          int coarsest_size) {
+  Hierarchy h;
+  h.alpha = alpha;
+  h.levels.push_back({fem::make_fine_axis(width, topo.x_boundary()),
+                      fem::make_fine_axis(height, topo.y_boundary()), {}, {}});
+  for (;;) {
+    const LevelGeometry& fine = h.levels.back();
+    if (std::max(fine.width(), fine.height()) <= coarsest_size) break;
+    const int mw = fem::next_size(fine.x), mh = fem::next_size(fine.y);
+    if (mw == fine.width() && mh == fine.height()) break;
+    LevelGeometry coarse;
+    const fem::Prolongation px = fem::make_prolongation(fine.x, mw);
+    const fem::Prolongation py = fem::make_prolongation(fine.y, mh);
+    coarse.x = fem::coarsen(fine.x, px);
+    coarse.y = fem::coarsen(fine.y, py);
+    coarse.px = px;
+    coarse.py = py;
+    h.levels.push_back(std::move(coarse));
+  }
+  return h;
+}
+
+template <class T>
+LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
+    : width(g.width()), height(g.height()),
+      periodic_x(g.x.boundary == fem::AxisBoundary::Periodic) {
+  for (int d = 0; d < 5; ++d) {
+    sx[d].resize(width);
+    mx[d].resize(width);
+    for (int i = 0; i < width; ++i) {
+      sx[d][i] = static_cast<T>(g.x.stiffness[i][d]);
+      mx[d][i] = static_cast<T>(g.x.mass[i][d]);
+    }
+  }
+  my.resize(height);
+  cy.resize(height);
+  row_of.resize(height);
+  for (int j = 0; j < height; ++j) {
+    for (int d = 0; d < 5; ++d) {
+      const double m = g.y.mass[j][d], s = g.y.stiffness[j][d];
+      my[j][d] = static_cast<T>(m);
+      cy[j][d] = static_cast<T>(s + alpha * m);
+      const int r = g.y.column(j, d - 2);
+      row_of[j][d] = (r >= 0 && (m != 0.0 || s != 0.0)) ? r : -1;
+    }
+  }
+}
+
+template struct LevelOperator<float>;
+template struct LevelOperator<double>;
+
+}  // namespace gdp::multigrid

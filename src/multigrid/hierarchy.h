@@ -1,0 +1,43 @@
+// The multigrid hierarchy: per-level axes, transfers, and operator coefficients.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fem/axis.h"
+#include "topology/topology.h"
+
+namespace gdp::multigrid {
+
+// One level's geometry. px / py interpolate from this level to the next finer one
+// (empty on the finest level).
+struct LevelGeometry {
+  fem::Axis x, y;
+  fem::Prolongation px, py;
+  int width() const { return x.n; }
+  int height() const { return y.n; }
+};
+
+struct Hierarchy {
+  std::vector<LevelGeometry> levels;  // [0] is the finest
+  double alpha = 0.0;                 // screening weight (same at every level; the mass carries the scale)
+};
+
+// Halves both axes (each while it can) until neither side exceeds coarsest_size.
+Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height, double alpha,
+                          int coarsest_size);
+
+// A level's operator A = Sx (x) My + Mx (x) (Sy + alpha My), in kernel precision T.
+// Per column: sx[d + 2][i], mx[d + 2][i]; per row: my[j][d + 2], cy[j][d + 2].
+template <class T>
+struct LevelOperator {
+  int width = 0, height = 0;
+  bool periodic_x = false;
+  std::array<std::vector<T>, 5> sx, mx;
+  std::vector<std::array<T, 5>> my, cy;
+  std::vector<std::array<int, 5>> row_of;  // neighbour row of row j at offset d, or -1 if unused
+
+  LevelOperator(const LevelGeometry& g, double alpha);
+};
+
+}  // namespace gdp::multigrid

@@ -1,0 +1,23 @@
+// A single-channel 2D array of samples, the unit the solver works on per level.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace gdp::multigrid {
+
+template <class T>
+struct Plane {
+  int width = 0;
+  int height = 0;
+  std::vector<T> data;
+
+  Plane() = default;
+  Plane(int w, int h) : width(w), height(h), data(static_cast<std::size_t>(w) * h, T(0)) {}
+  T* row(int j) { return data.data() + static_cast<std::size_t>(j) * width; }
+  const T* row(int j) const { return data.data() + static_cast<std::size_t>(j) * width; }
+  T& at(int i, int j) { return row(j)[i]; }
+  T at(int i, int j) const { return row(j)[i]; }
+};
+
+}  // namespace gdp::multigrid

@@ -1,0 +1,159 @@
+// Row kernels: operator application, residual, Gauss-Seidel relaxation, transfers.
+#include "multigrid/row_ops.h"
+
+#include <algorithm>
+
+namespace gdp::multigrid {
+namespace {
+
+// a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d} over the window, with ghost samples
+// (two each side) wrapped for periodic rows and zero otherwise (their coefficients are 0).
+template <class T>
+void combine_rows(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, RowScratch<T>& s) {
+  const int n = op.width;
+  T* a = s.a.data() + 2;
+  T* c = s.c.data() + 2;
+  std::fill(s.a.begin(), s.a.end(), T(0));
+  std::fill(s.c.begin(), s.c.end(), T(0));
+  for (int d = 0; d < 5; ++d) {
+    const T* u = rows[d];
+    if (!u) continue;
+    const T m = op.my[j][d], k = op.cy[j][d];
+    for (int i = 0; i < n; ++i) {
+      a[i] += m * u[i];
+      c[i] += k * u[i];
+    }
+  }
+  if (op.periodic_x) {
+    for (int g = 1; g <= 2; ++g) {
+      a[-g] = a[fem::wrap_index(-g, n)];
+      c[-g] = c[fem::wrap_index(-g, n)];
+      a[n - 1 + g] = a[fem::wrap_index(n - 1 + g, n)];
+      c[n - 1 + g] = c[fem::wrap_index(n - 1 + g, n)];
+    }
+  }
+}
+
+// q = sum_d sx[d] a_{i+d} + mx[d] c_{i+d}: the operator applied to the window's row j.
+template <class T>
+void convolve(const LevelOperator<T>& op, RowScratch<T>& s, T* q) {
+  const int n = op.width;
+  const T* a = s.a.data() + 2;
+  const T* c = s.c.data() + 2;
+  const T *s0 = op.sx[0].data(), *s1 = op.sx[1].data(), *s2 = op.sx[2].data(),
+          *s3 = op.sx[3].data(), *s4 = op.sx[4].data();
+  const T *m0 = op.mx[0].data(), *m1 = op.mx[1].data(), *m2 = op.mx[2].data(),
+          *m3 = op.mx[3].data(), *m4 = op.mx[4].data();
+  for (int i = 0; i < n; ++i) {
+    q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
+           m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+  }
+}
+
+}  // namespace
+
+template <class T>
+void RowScratch<T>::resize(int width) {
+  a.assign(width + 4, T(0));
+  c.assign(width + 4, T(0));
+  q.assign(width, T(0));
+  k1.assign(width, T(0));
+  k2.assign(width, T(0));
+  dx.assign(width + 2, T(0));
+}
+
+template <class T>
+void apply_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* out, RowScratch<T>& s) {
+  combine_rows(op, j, rows, s);
+  convolve(op, s, out);
+}
+
+template <class T>
+void residual_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, const T* b, T* r,
+                  RowScratch<T>& s) {
+  combine_rows(op, j, rows, s);
+  convolve(op, s, s.q.data());
+  for (int i = 0; i < op.width; ++i) r[i] = b[i] - s.q[i];
+}
+
+// Gauss-Seidel along the row as a recurrence on the corrections: with q the operator applied
+// to the old values, the update of sample i is
+//   dx_i = (b_i - q_i - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i),
+// K_d(i) being the in-row coupling sx[d] my0 + mx[d] cy0. All but the recurrence vectorises.
+template <class T>
+void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* u, const T* b,
+               RowScratch<T>& s) {
+  const int n = op.width;
+  combine_rows(op, j, rows, s);
+  T* q = s.q.data();
+  convolve(op, s, q);
+  const T m0 = op.my[j][2], c0 = op.cy[j][2];
+  T* k1 = s.k1.data();
+  T* k2 = s.k2.data();
+  for (int i = 0; i < n; ++i) {
+    const T inv = T(1) / (op.sx[2][i] * m0 + op.mx[2][i] * c0);
+    q[i] = (b[i] - q[i]) * inv;
+    k1[i] = (op.sx[1][i] * m0 + op.mx[1][i] * c0) * inv;
+    k2[i] = (op.sx[0][i] * m0 + op.mx[0][i] * c0) * inv;
+  }
+  T* dx = s.dx.data() + 2;  // dx[-2], dx[-1] are zero: wrapped columns are not yet updated
+  dx[-2] = dx[-1] = T(0);
+  const int last = op.periodic_x ? n - 2 : n;
+  for (int i = 0; i < last; ++i) dx[i] = q[i] - k1[i] * dx[i - 1] - k2[i] * dx[i - 2];
+  // Periodic rows: the last two samples also see the first two, already updated.
+  for (int i = std::max(last, 0); i < n; ++i) {
+    T v = q[i] - k1[i] * dx[i - 1] - k2[i] * dx[i - 2];
+    const T inv = T(1) / (op.sx[2][i] * m0 + op.mx[2][i] * c0);
+    for (int d = n - i; d <= 2; ++d) {
+      const int col = fem::wrap_index(i + d, n);
+      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * inv * dx[col];
+    }
+    dx[i] = v;
+  }
+  for (int i = 0; i < n; ++i) u[i] += dx[i];
+}
+
+template <class T>
+void restrict_row(const fem::Prolongation& px, const fem::ProlongationRow& pyj, const T* fine,
+                  T* coarse0, T* coarse1, T* tmp) {
+  const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
+  std::fill(tmp, tmp + m, T(0));
+  for (int i = 0; i < n; ++i) {
+    const fem::ProlongationRow& p = px.rows[i];
+    tmp[p.index[0]] += static_cast<T>(p.weight[0]) * fine[i];
+    tmp[p.index[1]] += static_cast<T>(p.weight[1]) * fine[i];
+  }
+  const T w0 = static_cast<T>(pyj.weight[0]), w1 = static_cast<T>(pyj.weight[1]);
+  for (int i = 0; i < m; ++i) coarse0[i] += w0 * tmp[i];
+  if (w1 != T(0))
+    for (int i = 0; i < m; ++i) coarse1[i] += w1 * tmp[i];
+}
+
+template <class T>
+void prolong_row(const fem::Prolongation& px, const fem::ProlongationRow& pyj, const T* coarse0,
+                 const T* coarse1, T* fine, T* tmp) {
+  const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
+  const T w0 = static_cast<T>(pyj.weight[0]), w1 = static_cast<T>(pyj.weight[1]);
+  for (int i = 0; i < m; ++i) tmp[i] = w0 * coarse0[i] + w1 * coarse1[i];
+  for (int i = 0; i < n; ++i) {
+    const fem::ProlongationRow& p = px.rows[i];
+    fine[i] += static_cast<T>(p.weight[0]) * tmp[p.index[0]] + static_cast<T>(p.weight[1]) * tmp[p.index[1]];
+  }
+}
+
+#define GDP_INSTANTIATE(T)                                                                        \
+  template struct RowScratch<T>;                                                                  \
+  template void apply_row(const LevelOperator<T>&, int, const RowWindow<T>&, T*, RowScratch<T>&); \
+  template void residual_row(const LevelOperator<T>&, int, const RowWindow<T>&, const T*, T*,     \
+                             RowScratch<T>&);                                                     \
+  template void relax_row(const LevelOperator<T>&, int, const RowWindow<T>&, T*, const T*,        \
+                          RowScratch<T>&);                                                        \
+  template void restrict_row(const fem::Prolongation&, const fem::ProlongationRow&, const T*, T*, \
+                             T*, T*);                                                             \
+  template void prolong_row(const fem::Prolongation&, const fem::ProlongationRow&, const T*,      \
+                            const T*, T*, T*);
+GDP_INSTANTIATE(float)
+GDP_INSTANTIATE(double)
+#undef GDP_INSTANTIATE
+
+}  // namespace gdp::multigrid

@@ -1,0 +1,28 @@
+// The small interface every domain topology implements: boundaries per axis and index map.
+#pragma once
+
+#include <memory>
+#include <string_view>
+#include <utility>
+
+#include "fem/axis.h"
+#include "gdp/topology.h"
+
+namespace gdp::topology {
+
+class Topology {
+ public:
+  virtual ~Topology() = default;
+  virtual std::string_view name() const = 0;
+  virtual fem::AxisBoundary x_boundary() const = 0;
+  virtual fem::AxisBoundary y_boundary() const = 0;
+  // Where a stencil reaching sample (i, j) outside [0,w) x [0,h) actually reads; the
+  // identity inside. Planar reflects, cylindrical wraps i and reflects j.
+  virtual std::pair<int, int> map(int i, int j, int w, int h) const = 0;
+  // Throws UsageError when an image of this size cannot live on this domain.
+  virtual void validate_size(int w, int h) const = 0;
+};
+
+std::unique_ptr<Topology> make_topology(Domain d);
+
+}  // namespace gdp::topology

@@ -1,0 +1,89 @@
+// Helpers shared by the tests: guidance from an image's exact gradients, dense operators.
+#pragma once
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gdp/guidance.h"
+#include "gdp/image.h"
+
+namespace gdp::test {
+
+// Guidance whose gradients are the exact differences of `image` (scaled by beta) and whose
+// values are the image itself with weight alpha.
+class ExactGradients : public GuidanceSource {
+ public:
+  ExactGradients(const Image& image, bool periodic_x, double alpha = 0.0, double beta = 1.0)
+      : img_(image), periodic_(periodic_x), alpha_(alpha), beta_(beta) {}
+  int width() const override { return img_.width; }
+  int height() const override { return img_.height; }
+  int channels() const override { return img_.channels; }
+  double alpha() const override { return alpha_; }
+  void read_row(int j, GuidanceRow& out) override {
+    const int w = img_.width, e = out.x_edges;
+    for (int c = 0; c < img_.channels; ++c) {
+      for (int i = 0; i < e; ++i)
+        out.gx[c * e + i] = beta_ * (double(img_.at(c, (i + 1) % w, j)) - img_.at(c, i, j));
+      for (int i = 0; i < w; ++i) {
+        out.gy[c * w + i] = j + 1 < img_.height ? beta_ * (double(img_.at(c, i, j + 1)) - img_.at(c, i, j)) : 0.0;
+        out.value[c * w + i] = img_.at(c, i, j);
+      }
+    }
+  }
+
+ private:
+  const Image& img_;
+  bool periodic_;
+  double alpha_, beta_;
+};
+
+inline Image random_image(int w, int h, int c, unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> dist(0.0f, 1.0f);
+  Image img(w, h, c);
+  for (float& v : img.data) v = dist(rng);
+  return img;
+}
+
+// A smooth image satisfying Neumann conditions: cos(pi kx (x+0.5)/w) cos(pi ky (y+0.5)/h).
+inline Image cosine_image(int w, int h, int kx, int ky) {
+  Image img(w, h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img.at(0, x, y) = static_cast<float>(std::cos(M_PI * kx * (x + 0.5) / w) * std::cos(M_PI * ky * (y + 0.5) / h));
+  return img;
+}
+
+inline double rms_difference(const Image& a, const Image& b, int c = 0) {
+  double s = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const double d = double(a.at(c, x, y)) - b.at(c, x, y);
+      s += d * d;
+    }
+  return std::sqrt(s / (double(a.width) * a.height));
+}
+
+inline double max_difference(const Image& a, const Image& b) {
+  double m = 0.0;
+  for (std::size_t k = 0; k < a.data.size(); ++k) m = std::max(m, std::abs(double(a.data[k]) - b.data[k]));
+  return m;
+}
+
+inline double mean(const Image& a, int c = 0) {
+  double s = 0.0;
+  for (float v : a.plane(c)) s += v;
+  return s / double(a.plane_size());
+}
+
+// a minus its mean, per channel (solutions of pure gradient problems are defined up to a constant).
+inline Image zero_mean(Image a) {
+  for (int c = 0; c < a.channels; ++c) {
+    const double m = mean(a, c);
+    for (float& v : a.plane(c)) v = static_cast<float>(v - m);
+  }
+  return a;
+}
+
+}  // namespace gdp::test
