@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numeric>
 #include <thread>
 
@@ -55,7 +56,8 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
     row.gy.assign(static_cast<std::size_t>(channels) * w, 0.0);
     row.value.assign(static_cast<std::size_t>(channels) * w, 0.0);
     const auto sink = [&](int r, int c, std::span<const double> v) {
-      std::transform(v.begin(), v.end(), b[c].row(r), [](double x) { return static_cast<T>(x); });
+      constexpr double scale = multigrid::LevelOperator<T>::kScale;
+      std::transform(v.begin(), v.end(), b[c].row(r), [](double x) { return static_cast<T>(scale * x); });
     };
     for (int j = 0; j < h; ++j) {
       source.read_row(j, row);
@@ -71,6 +73,13 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
   const int cycles = opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles;
   std::vector<std::vector<double>> rel(channels);
   std::vector<std::vector<std::string>> logs(channels);
+  std::mutex progress_mutex;
+  int cycles_done = 0;
+  const auto report = [&] {
+    if (!opt.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
+  };
   const auto solve_channel = [&](int c) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     Plane<T> u(w, h);
@@ -83,6 +92,7 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
       std::vector<double> levels;
       vc.run(u, b[c], opt.log ? &levels : nullptr);
       rel[c].push_back(relative(vc.residual_norm(u, b[c])));
+      report();
       if (opt.log) {
         std::string line = fmt::format("channel {} v-cycle {}: relative residual {:.3e}; per level", c, k + 1,
                                        rel[c].back());

@@ -36,8 +36,8 @@ LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
     sx[d].resize(width);
     mx[d].resize(width);
     for (int i = 0; i < width; ++i) {
-      sx[d][i] = static_cast<T>(g.x.stiffness[i][d]);
-      mx[d][i] = static_cast<T>(g.x.mass[i][d]);
+      sx[d][i] = static_cast<T>(6.0 * g.x.stiffness[i][d]);
+      mx[d][i] = static_cast<T>(120.0 * g.x.mass[i][d]);
     }
   }
   my.resize(height);
@@ -46,8 +46,8 @@ LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
   for (int j = 0; j < height; ++j) {
     for (int d = 0; d < 5; ++d) {
       const double m = g.y.mass[j][d], s = g.y.stiffness[j][d];
-      my[j][d] = static_cast<T>(m);
-      cy[j][d] = static_cast<T>(s + alpha * m);
+      my[j][d] = static_cast<T>(120.0 * m);
+      cy[j][d] = static_cast<T>(6.0 * s + 6.0 * alpha * m);
       const int r = g.y.column(j, d - 2);
       row_of[j][d] = (r >= 0 && (m != 0.0 || s != 0.0)) ? r : -1;
     }

@@ -27,10 +27,16 @@ struct Hierarchy {
 Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height, double alpha,
                           int coarsest_size);
 
-// A level's operator A = Sx (x) My + Mx (x) (Sy + alpha My), in kernel precision T.
+// A level's operator A = Sx (x) My + Mx (x) (Sy + alpha My), in kernel precision T, stored
+// multiplied by kScale = 720: the stiffness by 6 and the mass by 120, which makes every
+// coefficient (folded, Galerkin, any level) a dyadic integer exactly representable in float.
+// Rows of the stored stiffness then sum to exactly zero, so constants stay exactly in the
+// null space in float32 too; right-hand sides must be multiplied by kScale to match.
 // Per column: sx[d + 2][i], mx[d + 2][i]; per row: my[j][d + 2], cy[j][d + 2].
 template <class T>
 struct LevelOperator {
+  static constexpr double kScale = 720.0;
+
   int width = 0, height = 0;
   bool periodic_x = false;
   std::array<std::vector<T>, 5> sx, mx;

@@ -1,0 +1,120 @@
+// Shared CLI plumbing: flag definitions, progress with ETA on a terminal, JSON statistics.
+#include "cli_common.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
+namespace gdp::cli {
+
+void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
+  if (solver_flags) {
+    cmd.add_option("--iters,-k", o.solver.sweeps, "Gauss-Seidel sweeps per level before and after the coarse correction")
+        ->capture_default_str();
+    cmd.add_option("--vcycles", o.solver.vcycles, "number of V-cycles")->capture_default_str();
+    cmd.add_option("--tolerance", o.solver.tolerance,
+                   "run V-cycles until the relative residual is below this (overrides --vcycles)");
+    cmd.add_option("--threads", o.solver.threads, "threads (channels are solved concurrently)")->capture_default_str();
+    cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
+        ->capture_default_str();
+    cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges)")->capture_default_str();
+    cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
+    cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
+  }
+  cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
+  cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file");
+  cmd.add_option("--depth", o.depth, "output sample type: 8, 16, half, float (default: the input's)")
+      ->check(CLI::IsMember({"8", "16", "half", "float"}));
+  cmd.add_option("--quality", o.quality, "JPEG quality 1-100")->check(CLI::Range(1, 100))->capture_default_str();
+}
+
+namespace {
+
+// "\r<command>: 42% ETA 3s" on a terminal, rate-limited; a final newline at 100%.
+class Progress {
+ public:
+  explicit Progress(std::string command) : command_(std::move(command)), start_(Clock::now()) {}
+  void operator()(double fraction) {
+    const auto now = Clock::now();
+    if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    std::fprintf(stderr, "\r%s: solving %3.0f%%  ETA %.0fs   %s", command_.c_str(), 100.0 * fraction, eta,
+                 fraction >= 1.0 ? "\n" : "");
+    std::fflush(stderr);
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string command_;
+  Clock::time_point start_, last_{};
+};
+
+}  // namespace
+
+SolverOptions solver_options(CommonOptions& o, const std::string& command) {
+  SolverOptions s = o.solver;
+  s.domain = parse_domain(o.domain);
+  s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
+  if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
+  s.validate();
+  return s;
+}
+
+WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
+  WriteOptions w;
+  w.jpeg_quality = o.quality;
+  if (o.depth == "8") w.sample_type = SampleType::UInt8;
+  else if (o.depth == "16") w.sample_type = SampleType::UInt16;
+  else if (o.depth == "half") w.sample_type = SampleType::Half;
+  else if (o.depth == "float") w.sample_type = SampleType::Float;
+  else w.sample_type = input.sample_type;
+  return w;
+}
+
+void note(const CommonOptions& o, const std::string& message) {
+  if (!o.quiet) std::fprintf(stderr, "%s\n", message.c_str());
+}
+
+void Stats::summary(const SolveSummary& s) {
+  std::string residuals, sizes;
+  for (double r : s.relative_residuals) residuals += fmt::format("{}{:.6e}", residuals.empty() ? "" : ", ", r);
+  for (std::size_t l = 0; l < s.level_widths.size(); ++l)
+    sizes += fmt::format("{}[{}, {}]", l ? ", " : "", s.level_widths[l], s.level_heights[l]);
+  set("width", std::to_string(s.width));
+  set("height", std::to_string(s.height));
+  set("channels", std::to_string(s.channels));
+  set("levels", std::to_string(s.levels));
+  set("level_sizes", "[" + sizes + "]");
+  set("vcycles", std::to_string(s.vcycles));
+  set("relative_residuals", "[" + residuals + "]");
+  seconds_["rhs"] += s.seconds_rhs;
+  seconds_["vcycles"] += s.seconds_solve;
+}
+
+void Stats::write(const std::string& path) const {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  std::string json = fmt::format("{{\n  \"command\": \"{}\",\n", command_);
+  for (const auto& [k, v] : extra_) json += fmt::format("  \"{}\": {},\n", k, v);
+  json += "  \"seconds\": {";
+  bool first = true;
+  for (const auto& [k, v] : seconds_) {
+    json += fmt::format("{}\"{}\": {:.4f}", first ? "" : ", ", k, v);
+    first = false;
+  }
+  json += fmt::format("}},\n  \"seconds_total\": {:.4f},\n  \"peak_rss_mb\": {:.1f}\n}}\n",
+                      std::chrono::duration<double>(Clock::now() - start_).count(), ru.ru_maxrss / 1024.0);
+  std::ofstream f(path);
+  if (!(f << json)) throw OutputError(fmt::format("{}: cannot write statistics", path));
+}
+
+}  // namespace gdp::cli

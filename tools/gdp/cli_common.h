@@ -1,0 +1,59 @@
+// Options and reporting shared by the gdp subcommands: solver flags, progress, statistics.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "gdp/image_io.h"
+#include "gdp/solver.h"
+
+namespace gdp::cli {
+
+// Flags every solving subcommand accepts.
+struct CommonOptions {
+  SolverOptions solver;
+  std::string domain = "planar";
+  bool double_precision = false;
+  bool verbose = false;
+  bool quiet = false;
+  std::string stats_path;
+  std::string depth;  // output sample type: 8, 16, half, float (default: the input's)
+  int quality = 95;   // JPEG quality
+};
+
+void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);
+
+// Validates and converts flags into the solver's options (log/progress hooked to stderr).
+SolverOptions solver_options(CommonOptions& o, const std::string& command);
+
+// Output write options: sample type from --depth or else the input file's.
+WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);
+
+// Wall-clock phases and results, written as JSON by --stats.
+class Stats {
+ public:
+  explicit Stats(std::string command) : command_(std::move(command)), start_(Clock::now()) {}
+  void begin(const std::string& phase) { phase_start_ = Clock::now(), phase_ = phase; }
+  void end() { seconds_[phase_] += std::chrono::duration<double>(Clock::now() - phase_start_).count(); }
+  void set(const std::string& key, const std::string& json_value) { extra_[key] = json_value; }
+  void summary(const SolveSummary& s);
+  void write(const std::string& path) const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string command_;
+  Clock::time_point start_, phase_start_;
+  std::string phase_;
+  std::map<std::string, double> seconds_;
+  std::map<std::string, std::string> extra_;
+};
+
+// A line on stderr unless --quiet.
+void note(const CommonOptions& o, const std::string& message);
+
+}  // namespace gdp::cli

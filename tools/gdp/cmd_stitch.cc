@@ -1,0 +1,63 @@
+// `gdp stitch`: seamless stitching of a composite with its label map.
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "gdp/apps.h"
+
+namespace gdp::cli {
+namespace {
+
+class Stitch final : public Command {
+ public:
+  explicit Stitch(CLI::App& root) {
+    app = root.add_subcommand("stitch", "seamless stitching: composite gradients, cut where labels change");
+    app->add_option("--composite,-c", composite_, "composite image (any format OpenImageIO reads)")->required();
+    app->add_option("--labels,-l", labels_, "label map: one colour per source image; white = unknown")->required();
+    app->add_option("-o,--output", output_, "output image")->required();
+    app->add_option("--unknown", unknown_, "pixels labelled white: black | harmonic | label")
+        ->check(CLI::IsMember({"black", "harmonic", "label"}))
+        ->capture_default_str();
+    app->add_flag("--deramp", options_.deramp, "subtract each label's mean gradient");
+    app->add_flag("!--zero-start", options_.start_from_composite, "start from zero instead of the composite");
+    add_common_options(*app, common_);
+  }
+
+  int run() override {
+    Stats stats("stitch");
+    const SolverOptions solver = solver_options(common_, "stitch");
+    options_.unknown = unknown_ == "black" ? UnknownMode::Black
+                       : unknown_ == "label" ? UnknownMode::Label
+                                             : UnknownMode::Harmonic;
+    stats.begin("read");
+    const ReadResult composite = read_image(composite_);
+    const ReadResult labels = read_image(labels_);
+    stats.end();
+    if (labels.info.lossy || is_lossy_extension(labels_))
+      note(common_, fmt::format("gdp: warning: {}: label map in a lossy format ({}); compression noise "
+                                "creates spurious labels",
+                                labels_, labels.info.format_name));
+    SolveSummary summary;
+    const Image out = stitch(composite.image, labels.image, options_, solver, &summary);
+    stats.begin("write");
+    write_image(output_, out, write_options(common_, composite.info));
+    stats.end();
+    stats.summary(summary);
+    note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s), relative residual {:.2e} -> {}",
+                              summary.width, summary.height, summary.channels, summary.levels, summary.vcycles,
+                              summary.relative_residuals.back(), output_));
+    if (!common_.stats_path.empty()) stats.write(common_.stats_path);
+    return 0;
+  }
+
+ private:
+  std::string composite_, labels_, output_, unknown_ = "harmonic";
+  StitchOptions options_;
+  CommonOptions common_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_stitch(CLI::App& root) { return std::make_unique<Stitch>(root); }
+
+}  // namespace gdp::cli

@@ -1,0 +1,22 @@
+// The gdp subcommands: each registers its flags on the root app and runs when chosen.
+#pragma once
+
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+namespace gdp::cli {
+
+class Command {
+ public:
+  virtual ~Command() = default;
+  virtual int run() = 0;
+  CLI::App* app = nullptr;
+};
+
+std::unique_ptr<Command> make_stitch(CLI::App& root);
+std::unique_ptr<Command> make_sharpen(CLI::App& root, bool smooth);
+std::unique_ptr<Command> make_reconstruct(CLI::App& root);
+std::unique_ptr<Command> make_convert(CLI::App& root);
+
+}  // namespace gdp::cli
