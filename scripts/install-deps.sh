@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency of gdp from Debian packages (needs root or sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libopenimageio-dev openimageio-tools   # image codecs (PNG, JPEG, TIFF, EXR, HDR, FITS) and oiiotool
+  libcli11-dev libfmt-dev                # command line parsing, formatting
+  libgtest-dev libbenchmark-dev          # tests and benchmarks
+  python3
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
