@@ -158,6 +158,44 @@ TEST_F(ImageIoTest, FloatExrRoundTripIsExactByDefault) {
   }
 }
 
+TEST_F(ImageIoTest, LargeImageRoundTripsAcrossSeveralBands) {
+  // Over a million samples, so reading and writing go through more than one band of rows.
+  const Image image = make_image(1200, 1001, 2, [](int c, int x, int y) {
+    return static_cast<float>(x) * 0.25f - static_cast<float>(y) * 0.5f + static_cast<float>(c) * 1000.0f;
+  });
+  const auto result = round_trip("large.tif", image, std::nullopt, SampleType::Float, "tiff");
+  expect_same_pixels(image, result.image);
+}
+
+TEST_F(ImageIoTest, ReadsTiledFileWithOffsetDataWindow) {
+  // Large enough (1.2 million samples) to be read in several bands of whole tile rows.
+  const fs::path path = dir_ / "tiled.exr";
+  const int width = 1000, height = 401, channels = 3;
+  std::vector<float> pixels(static_cast<std::size_t>(width) * height * channels);
+  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<float>(i % 100003) * 0.5f - 100.0f;
+  {
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
+    spec.x = 5;
+    spec.y = -3;
+    spec.tile_width = 16;
+    spec.tile_height = 16;
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+  }
+  const auto result = gdp::read_image(path);
+  ASSERT_EQ(result.image.width, width);
+  ASSERT_EQ(result.image.height, height);
+  ASSERT_EQ(result.image.channels, channels);
+  for (int c = 0; c < channels; ++c)
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        ASSERT_EQ(result.image.at(c, x, y), pixels[(static_cast<std::size_t>(y) * width + x) * channels + c])
+            << c << " " << x << " " << y;
+}
+
 TEST_F(ImageIoTest, HalfExrKeepsValuesToHalfPrecision) {
   const Image image = make_float_image(3);
   const auto result = round_trip("a.exr", image, SampleType::Half, SampleType::Half, "openexr");

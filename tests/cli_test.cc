@@ -1,0 +1,154 @@
+// The gdp command line tool: successful runs and every error path (message, exit code 2, no output).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "gdp/image_io.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace gdp {
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("gdp_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    Image comp = test::random_image(40, 30, 3, 5), labels(40, 30, 3);
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        for (int c = 0; c < 3; ++c) labels.at(c, x, y) = x < 20 ? 0.0f : 0.5f;
+    write_image(path("comp.png"), comp, {});
+    write_image(path("labels.png"), labels, {});
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Runs gdp with the arguments, capturing stderr.
+  CliRun gdp(const std::string& args) const {
+    const std::string err_file = path("stderr.txt");
+    const std::string cmd = std::string(GDP_CLI_PATH) + " " + args + " 2> " + err_file + " > /dev/null";
+    CliRun r;
+    const int status = std::system(cmd.c_str());
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream f(err_file);
+    r.err.assign(std::istreambuf_iterator<char>(f), {});
+    return r;
+  }
+
+  std::set<std::string> files() const {
+    std::set<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir_)) out.insert(e.path().filename().string());
+    out.erase("stderr.txt");
+    return out;
+  }
+
+  void expect_failure(const std::string& args, const std::string& mention) {
+    const std::set<std::string> before = files();
+    const CliRun r = gdp(args);
+    std::vector<std::string> leftovers;
+    for (const std::string& f : files())
+      if (!before.count(f)) leftovers.push_back(f);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(mention), std::string::npos) << "stderr should mention '" << mention << "': " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1 + (r.err.find("--help") != std::string::npos))
+        << "one-line message: " << r.err;
+    EXPECT_TRUE(leftovers.empty()) << "left behind: " << leftovers.front();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, StitchWritesOutputAndStatistics) {
+  const CliRun r = gdp("stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -o " + path("out.png") +
+                    " --stats " + path("s.json") + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const ReadResult out = read_image(path("out.png"));
+  EXPECT_EQ(out.image.width, 40);
+  EXPECT_EQ(out.info.sample_type, SampleType::UInt8);
+  std::ifstream f(path("s.json"));
+  const std::string json(std::istreambuf_iterator<char>(f), {});
+  for (const char* key : {"\"relative_residuals\"", "\"peak_rss_mb\"", "\"seconds\"", "\"levels\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, VerbosePrintsResidualPerLevel) {
+  const CliRun r = gdp("reconstruct " + path("comp.png") + " -v --coarsest 8");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("per level"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, MissingInputFile) {
+  expect_failure("stitch -c " + path("nope.png") + " -l " + path("labels.png") + " -o " + path("out.png"), "nope.png");
+}
+
+TEST_F(Cli, UnreadableInputFile) {
+  std::ofstream(path("text.png")) << "this is not an image\n";
+  expect_failure("sharpen " + path("text.png") + " -o " + path("out.png"), "text.png");
+  fs::remove(path("text.png"));
+}
+
+TEST_F(Cli, CompositeAndLabelSizesDiffer) {
+  write_image(path("small.png"), Image(10, 10, 3), {});
+  expect_failure("stitch -c " + path("comp.png") + " -l " + path("small.png") + " -o " + path("out.png"), "label map");
+  fs::remove(path("small.png"));
+}
+
+TEST_F(Cli, UnsupportedChannelCount) {
+  write_image(path("five.tif"), Image(8, 8, 5), {});
+  expect_failure("smooth " + path("five.tif") + " -o " + path("out.tif"), "five.tif");
+  fs::remove(path("five.tif"));
+}
+
+TEST_F(Cli, UnknownOption) {
+  expect_failure("stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -o " + path("out.png") +
+                     " --frobnicate",
+                 "frobnicate");
+  expect_failure("stitch -c " + path("comp.png") + " -o " + path("out.png"), "--labels");
+}
+
+TEST_F(Cli, InvalidOptionValue) {
+  expect_failure("sharpen " + path("comp.png") + " -o " + path("out.png") + " --beta 0.5", "beta");
+  expect_failure("reconstruct " + path("comp.png") + " --vcycles 0", "vcycles");
+}
+
+TEST_F(Cli, UnwritableOutput) {
+  expect_failure("convert " + path("comp.png") + " -o " + path("no/such/dir/out.png"), "out.png");
+}
+
+TEST_F(Cli, LossyLabelMapWarns) {
+  write_image(path("labels.jpg"), read_image(path("labels.png")).image, {});
+  const CliRun r = gdp("stitch -c " + path("comp.png") + " -l " + path("labels.jpg") + " -o " + path("out.png"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("lossy"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ReconstructReportsSmallError) {
+  const std::string out = path("rec.txt");
+  const int status = std::system((std::string(GDP_CLI_PATH) + " reconstruct " + path("comp.png") + " > " + out).c_str());
+  ASSERT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream f(out);
+  const std::string text(std::istreambuf_iterator<char>(f), {});
+  const auto at = text.find("rms error ");
+  ASSERT_NE(at, std::string::npos) << text;
+  EXPECT_LT(std::stod(text.substr(at + 10)), 1e-3) << text;
+  fs::remove(out);
+}
+
+}  // namespace
+}  // namespace gdp
