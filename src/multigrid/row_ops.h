@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "fem/axis.h"
@@ -21,6 +22,10 @@ template <class T>
 struct RowScratch {
   std::vector<T> a, c;           // vertical combinations with two ghost samples each side
   std::vector<T> q, k1, k2, dx;  // operator row, recurrence coefficients, corrections
+  std::vector<T> inv, zero;      // reciprocal diagonal; a row of zeros for unused window rows
+  // The (m0, c0) pair and level that k1, k2 and inv were computed for.
+  std::pair<T, T> coefficients_for{};
+  const void* coefficients_op = nullptr;
   explicit RowScratch(int width = 0) { resize(width); }
   void resize(int width);
 };
