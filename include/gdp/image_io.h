@@ -28,7 +28,7 @@ struct ReadResult {
 ReadResult read_image(const std::filesystem::path& path);
 
 struct WriteOptions {
-  std::optional<SampleType> sample_type;  // default: UInt8 for 8-bit-only formats, else Float
+  std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
 };
 
