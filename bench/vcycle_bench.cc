@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/plane_ops.h"
 #include "topology/topology.h"
@@ -23,11 +24,11 @@ struct Fixture {
   }
 };
 
-// One V-cycle with 5 sweeps on `channels` planes; counter: megapixels per second (per core).
+// One V-cycle at the default sweep count on `channels` planes; counter: megapixels per second (per core).
 void BM_VCycle(benchmark::State& state) {
   const int side = static_cast<int>(state.range(0)), channels = 3;
   Fixture f(side, side);
-  InCoreVCycle<float> vc(f.ops, 5, 1e-10);
+  InCoreVCycle<float> vc(f.ops, SolverOptions{}.sweeps, 1e-10);
   for (auto _ : state) {
     for (int c = 0; c < channels; ++c) vc.run(f.u, f.b);
     benchmark::DoNotOptimize(f.u.data.data());
