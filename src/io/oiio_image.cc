@@ -18,6 +18,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
+#include "gdp/cleanup.h"
 
 namespace gdp {
 namespace {
@@ -100,18 +101,20 @@ bool read_band(OIIO::ImageInput& input, const OIIO::ImageSpec& spec, int y0, int
 // Removes the temporary file on destruction unless keep() was called.
 class TempFile {
  public:
-  explicit TempFile(fs::path path) : path_(std::move(path)) {}
+  explicit TempFile(fs::path path) : path_(std::move(path)), handle_(cleanup::track(path_.string())) {}
   TempFile(const TempFile&) = delete;
   TempFile& operator=(const TempFile&) = delete;
   ~TempFile() {
     std::error_code ignored;
     if (!path_.empty()) fs::remove(path_, ignored);
+    cleanup::untrack(handle_);
   }
   const fs::path& path() const { return path_; }
   void keep() { path_.clear(); }
 
  private:
   fs::path path_;
+  int handle_;  // also deleted if the process is interrupted (gdp/cleanup.h)
 };
 
 // Creates an empty ".NAME.tmp-PID-RANDOM.EXT" exclusively next to the output; on failure returns

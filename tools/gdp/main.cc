@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "gdp/cleanup.h"
 #include "gdp/errors.h"
 
 int main(int argc, char** argv) {
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gdp: %s\nRun 'gdp --help' or 'gdp SUBCOMMAND --help' for usage.\n", e.what());
     return 2;
   }
+  gdp::cleanup::install_signal_handlers();
   try {
     for (auto& c : commands)
       if (c->app->parsed()) return c->run();
