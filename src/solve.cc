@@ -83,7 +83,9 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
   const auto solve_channel = [&](int c) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     Plane<T> u(w, h);
-    if (initial) std::copy(initial->plane(c).begin(), initial->plane(c).end(), u.data.begin());
+    if (initial)
+      std::transform(initial->plane(c).begin(), initial->plane(c).end(), u.data.begin(),
+                     [](float v) { return std::isfinite(v) ? static_cast<T>(v) : T(0); });
     const double target_mean = initial ? mean_of(u.data) : 0.0;
     const double bnorm = std::sqrt(std::inner_product(b[c].data.begin(), b[c].data.end(), b[c].data.begin(), 0.0));
     const auto relative = [&](double r) { return bnorm > 0.0 ? r / bnorm : r; };

@@ -120,3 +120,28 @@ TEST(Stitch, SizeMismatchIsAnInputError) {
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+// NaN blanks (as in FITS) give no guidance, do not spread, and come back unchanged.
+TEST(NonFinite, BlanksAreKeptAndDoNotSpread) {
+  Image img = test::cosine_image(64, 48, 2, 1);
+  for (int y = 10; y < 20; ++y)
+    for (int x = 5; x < 15; ++x) img.at(0, x, y) = std::nanf("");
+  SolverOptions o;
+  o.vcycles = 3;
+  const ReconstructResult r = reconstruct(img, o);
+  EXPECT_TRUE(std::isnan(r.image.at(0, 7, 12)));
+  for (int y = 0; y < 48; ++y)
+    for (int x = 30; x < 64; ++x) ASSERT_TRUE(std::isfinite(r.image.at(0, x, y)));
+  // The blank region is filled smoothly for the solve and pulls a little on its surroundings
+  // (its edges ask for zero gradient), so the error is small but not zero.
+  EXPECT_LT(r.rms_error, 0.1);
+  const Image s = sharpen(img, 0.01, 2.0, o);
+  EXPECT_TRUE(std::isnan(s.at(0, 7, 12)));
+  EXPECT_TRUE(std::isfinite(s.at(0, 40, 40)));
+}
+
+}  // namespace
+}  // namespace gdp

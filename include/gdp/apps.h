@@ -39,8 +39,12 @@ struct ReconstructResult {
 ReconstructResult reconstruct(const Image& image, const SolverOptions& solver, SolveSummary* summary = nullptr);
 
 // Shifts each channel so that its mean over the pixels where mask is true (all when empty)
-// equals target[c].
+// equals target[c]. Means skip non-finite samples.
 void match_means(Image& image, const std::vector<double>& target, const std::vector<bool>& mask = {});
 std::vector<double> channel_means(const Image& image, const std::vector<bool>& mask = {});
+
+// Non-finite input samples (NaN blanks in FITS, say) carry no guidance; applications put them
+// back unchanged in their output with this.
+void restore_non_finite(Image& out, const Image& input);
 
 }  // namespace gdp

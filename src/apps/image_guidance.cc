@@ -1,5 +1,7 @@
-// Differences of an image as guidance rows.
+// Differences of an image as guidance rows; non-finite samples (FITS blanks) give no guidance.
 #include "apps/image_guidance.h"
+
+#include <cmath>
 
 namespace gdp::apps {
 
@@ -12,16 +14,19 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
     const auto row = src_.row(c, j);
     for (int i = 0; i < e; ++i) {
       const int i2 = (i + 1) % w;
-      out.gx[c * e + i] = keep(i, j, i2, j) ? beta_ * (double(row[i2]) - row[i]) - offset(c, i, j, true) : 0.0;
+      const double d = double(row[i2]) - row[i];
+      out.gx[c * e + i] = std::isfinite(d) && keep(i, j, i2, j) ? beta_ * d - offset(c, i, j, true) : 0.0;
     }
     if (j + 1 < src_.height) {
       const auto next = src_.row(c, j + 1);
-      for (int i = 0; i < w; ++i)
-        out.gy[c * w + i] = keep(i, j, i, j + 1) ? beta_ * (double(next[i]) - row[i]) - offset(c, i, j, false) : 0.0;
+      for (int i = 0; i < w; ++i) {
+        const double d = double(next[i]) - row[i];
+        out.gy[c * w + i] = std::isfinite(d) && keep(i, j, i, j + 1) ? beta_ * d - offset(c, i, j, false) : 0.0;
+      }
     }
     if (values_ && alpha_ != 0.0) {
       const auto v = values_->row(c, j);
-      std::copy(v.begin(), v.end(), out.value.begin() + c * w);
+      for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(v[i]) ? v[i] : 0.0;
     }
   }
 }

@@ -12,13 +12,16 @@ ReconstructResult reconstruct(const Image& image, const SolverOptions& solver, S
   ReconstructResult r;
   r.image = solve(guidance, solver, nullptr, summary);
   match_means(r.image, channel_means(image));
-  double s = 0.0;
+  restore_non_finite(r.image, image);
+  double s = 0.0, n = 0.0;
   for (std::size_t k = 0; k < image.data.size(); ++k) {
+    if (!std::isfinite(image.data[k])) continue;
     const double d = double(r.image.data[k]) - image.data[k];
     s += d * d;
+    n += 1.0;
     r.max_error = std::max(r.max_error, std::abs(d));
   }
-  r.rms_error = image.data.empty() ? 0.0 : std::sqrt(s / double(image.data.size()));
+  r.rms_error = n > 0.0 ? std::sqrt(s / n) : 0.0;
   return r;
 }
 

@@ -11,7 +11,9 @@ Image sharpen(const Image& image, double alpha, double beta, const SolverOptions
   if (!(alpha > 0.0)) throw UsageError(fmt::format("--alpha must be positive, got {}", alpha));
   if (!(beta >= 0.0)) throw UsageError(fmt::format("--beta must be non-negative, got {}", beta));
   apps::ImageGuidance guidance(image, &image, alpha, beta);
-  return solve(guidance, solver, &image, summary);
+  Image out = solve(guidance, solver, &image, summary);
+  restore_non_finite(out, image);
+  return out;
 }
 
 }  // namespace gdp

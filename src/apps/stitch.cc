@@ -1,4 +1,5 @@
 // Seamless stitching: composite gradients, cut where labels change; means matched afterwards.
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -101,6 +102,7 @@ Image stitch(const Image& composite, const Image& labels, const StitchOptions& o
   StitchGuidance guidance(composite, std::move(ids), count, options.deramp);
   Image out = solve(guidance, solver, options.start_from_composite ? &composite : nullptr, summary);
   match_means(out, channel_means(composite, known), known);
+  restore_non_finite(out, composite);
   if (options.unknown == UnknownMode::Black)
     for (int c = 0; c < out.channels; ++c)
       for (std::size_t k = 0; k < known.size(); ++k)
@@ -114,13 +116,18 @@ std::vector<double> channel_means(const Image& image, const std::vector<bool>& m
     double s = 0.0, n = 0.0;
     const auto p = image.plane(c);
     for (std::size_t k = 0; k < p.size(); ++k)
-      if (mask.empty() || mask[k]) {
+      if ((mask.empty() || mask[k]) && std::isfinite(p[k])) {
         s += p[k];
         n += 1.0;
       }
     means[c] = n > 0.0 ? s / n : 0.0;
   }
   return means;
+}
+
+void restore_non_finite(Image& out, const Image& input) {
+  for (std::size_t k = 0; k < out.data.size(); ++k)
+    if (!std::isfinite(input.data[k])) out.data[k] = input.data[k];
 }
 
 void match_means(Image& image, const std::vector<double>& target, const std::vector<bool>& mask) {

@@ -90,12 +90,12 @@ SampleType choose_sample_type(const std::string& format_name, const std::optiona
 
 // Rows [y0, y1) of all channels, interleaved, into band. Tiled files are read by whole tile rows
 // (read_scanlines() on a tiled TIFF crashes OpenImageIO 2.4 with SIGFPE).
-bool read_band(OIIO::ImageInput& input, const OIIO::ImageSpec& spec, int y0, int y1, float* band) {
+bool read_band(OIIO::ImageInput& input, int subimage, const OIIO::ImageSpec& spec, int y0, int y1, float* band) {
   if (spec.tile_width > 0) {
-    return input.read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, spec.z, spec.z + 1, 0,
+    return input.read_tiles(subimage, 0, spec.x, spec.x + spec.width, spec.y + y0, spec.y + y1, spec.z, spec.z + 1, 0,
                             spec.nchannels, OIIO::TypeFloat, band);
   }
-  return input.read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0, spec.nchannels, OIIO::TypeFloat, band);
+  return input.read_scanlines(subimage, 0, spec.y + y0, spec.y + y1, spec.z, 0, spec.nchannels, OIIO::TypeFloat, band);
 }
 
 // Removes the temporary file on destruction unless keep() was called.
@@ -159,6 +159,12 @@ ReadResult read_image(const fs::path& path) {
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto input = OIIO::ImageInput::open(name, &config);
   if (!input) throw fail(fmt::format("not an image file OpenImageIO can read ({})", one_line(OIIO::geterror())));
+  // FITS files often keep only a header in the primary HDU: use the first subimage with pixels.
+  int subimage = 0;
+  while (input->spec().width <= 0 || input->spec().height <= 0) {
+    if (!input->seek_subimage(subimage + 1, 0)) break;
+    ++subimage;
+  }
   const OIIO::ImageSpec spec = input->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw fail("image has zero size");
   if (spec.depth > 1) throw fail("volume images (depth > 1) are not supported");
@@ -178,7 +184,7 @@ ReadResult read_image(const fs::path& path) {
   std::vector<float> band(row_samples * band_rows);
   for (int y0 = 0; y0 < image.height; y0 += band_rows) {
     const int y1 = std::min(image.height, y0 + band_rows);
-    if (!read_band(*input, spec, y0, y1, band.data())) {
+    if (!read_band(*input, subimage, spec, y0, y1, band.data())) {
       throw fail("cannot read pixels: " + one_line(input->geterror()));
     }
     const std::size_t count = static_cast<std::size_t>(y1 - y0) * image.width;
