@@ -40,6 +40,23 @@ LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
       mx[d][i] = static_cast<T>(120.0 * g.x.mass[i][d]);
     }
   }
+  // The widest run of columns around the middle with the middle column's (symmetric) stencil.
+  const int mid = width / 2;
+  const auto same_as_mid = [&](int i) {
+    for (int d = 0; d < 5; ++d)
+      if (sx[d][i] != sx[d][mid] || mx[d][i] != mx[d][mid]) return false;
+    return true;
+  };
+  const bool symmetric = width > 0 && sx[0][mid] == sx[4][mid] && sx[1][mid] == sx[3][mid] &&
+                         mx[0][mid] == mx[4][mid] && mx[1][mid] == mx[3][mid];
+  if (symmetric) {
+    interior_begin = mid;
+    interior_end = mid + 1;
+    while (interior_begin > 2 && same_as_mid(interior_begin - 1)) --interior_begin;
+    while (interior_end < width - 2 && same_as_mid(interior_end)) ++interior_end;
+    sx_in = {sx[2][mid], sx[3][mid], sx[4][mid]};
+    mx_in = {mx[2][mid], mx[3][mid], mx[4][mid]};
+  }
   my.resize(height);
   cy.resize(height);
   row_of.resize(height);

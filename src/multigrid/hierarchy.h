@@ -42,6 +42,10 @@ struct LevelOperator {
   std::array<std::vector<T>, 5> sx, mx;
   std::vector<std::array<T, 5>> my, cy;
   std::vector<std::array<int, 5>> row_of;  // neighbour row of row j at offset d, or -1 if unused
+  // Columns [interior_begin, interior_end) share one symmetric x stencil (sx_in, mx_in), so
+  // the kernels may use a constant-coefficient loop there.
+  int interior_begin = 0, interior_end = 0;
+  std::array<T, 3> sx_in{}, mx_in{};  // centre, +-1, +-2
 
   LevelOperator(const LevelGeometry& g, double alpha);
 };

@@ -19,10 +19,20 @@ void combine_rows(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, R
     u[d] = rows[d] ? rows[d] : s.zero.data();  // unused rows have zero coefficients
     if (rows[d]) m[d] = op.my[j][d], k[d] = op.cy[j][d];
   }
+  if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
+    // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
 #pragma GCC ivdep
-  for (int i = 0; i < n; ++i) {
-    a[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
-    c[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
+    for (int i = 0; i < n; ++i) {
+      const T p1 = u[1][i] + u[3][i], p2 = u[0][i] + u[4][i];
+      a[i] = m[2] * u[2][i] + m[1] * p1 + m[0] * p2;
+      c[i] = k[2] * u[2][i] + k[1] * p1 + k[0] * p2;
+    }
+  } else {
+#pragma GCC ivdep
+    for (int i = 0; i < n; ++i) {
+      a[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
+      c[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
+    }
   }
   for (int g = 1; g <= 2; ++g) {
     a[-g] = c[-g] = a[n - 1 + g] = c[n - 1 + g] = T(0);
@@ -45,12 +55,26 @@ void convolve(const LevelOperator<T>& op, RowScratch<T>& s, T* q) {
           *s3 = op.sx[3].data(), *s4 = op.sx[4].data();
   const T *m0 = op.mx[0].data(), *m1 = op.mx[1].data(), *m2 = op.mx[2].data(),
           *m3 = op.mx[3].data(), *m4 = op.mx[4].data();
-  // The 20 input streams never alias q; without this GCC gives up on vectorising.
+  // General columns (near the ends): per-column coefficients.
+  const auto general = [&](int from, int to) {
+    // The 20 input streams never alias q; without this GCC gives up on vectorising.
 #pragma GCC ivdep
-  for (int i = 0; i < n; ++i) {
-    q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
-           m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+    for (int i = from; i < to; ++i) {
+      q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
+             m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+    }
+  };
+  const int ib = op.interior_begin, ie = op.interior_end;
+  general(0, ib);
+  // Interior: one symmetric stencil, pairs of neighbours added before multiplying.
+  const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
+  const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
+#pragma GCC ivdep
+  for (int i = ib; i < ie; ++i) {
+    q[i] = sc * a[i] + s1c * (a[i - 1] + a[i + 1]) + s2c * (a[i - 2] + a[i + 2]) + mc * c[i] +
+           m1c * (c[i - 1] + c[i + 1]) + m2c * (c[i - 2] + c[i + 2]);
   }
+  general(ie, n);
 }
 
 }  // namespace
