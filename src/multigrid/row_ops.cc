@@ -164,11 +164,22 @@ template <class T>
 GDP_KERNEL void restrict_row(const fem::Prolongation& px, const fem::ProlongationRow& pyj, const T* fine,
                   T* coarse0, T* coarse1, T* tmp) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
-  std::fill(tmp, tmp + m, T(0));
-  for (int i = 0; i < n; ++i) {
-    const fem::ProlongationRow& p = px.rows[i];
-    tmp[p.index[0]] += static_cast<T>(p.weight[0]) * fine[i];
-    tmp[p.index[1]] += static_cast<T>(p.weight[1]) * fine[i];
+  if (m == n) {
+    std::copy(fine, fine + n, tmp);
+  } else {
+    // Coarse samples 1..m-2 take the plain two-scale weights from fine 2J-1..2J+2 (a gather
+    // that vectorises); only samples 0 and m-1 see reflected or wrapped fine samples, and
+    // those come only from the first and last three fine samples.
+    for (int J = 1; J + 1 < m; ++J)
+      tmp[J] = T(0.25) * (fine[2 * J - 1] + fine[2 * J + 2]) + T(0.75) * (fine[2 * J] + fine[2 * J + 1]);
+    tmp[0] = tmp[m - 1] = T(0);
+    const auto edge = [&](int i) {
+      const fem::ProlongationRow& p = px.rows[i];
+      for (int a = 0; a < 2; ++a)
+        if (p.index[a] == 0 || p.index[a] == m - 1) tmp[p.index[a]] += static_cast<T>(p.weight[a]) * fine[i];
+    };
+    for (int i = 0; i < std::min(3, n); ++i) edge(i);
+    for (int i = std::max(3, n - 3); i < n; ++i) edge(i);
   }
   const T w0 = static_cast<T>(pyj.weight[0]), w1 = static_cast<T>(pyj.weight[1]);
   for (int i = 0; i < m; ++i) coarse0[i] += w0 * tmp[i];
