@@ -1,6 +1,10 @@
 // Right-hand-side assembly: x-filter each guidance row once, combine rows along y.
 #include "fem/rhs.h"
 
+#include <algorithm>
+
+#include "fem/stencils.h"
+
 namespace gdp::fem {
 
 RhsAssembler::RhsAssembler(const Axis& x, const Axis& y, double alpha, int channels)
@@ -17,7 +21,9 @@ void RhsAssembler::push(int j, const GuidanceRow& row, const Sink& sink) {
     const double* gy = row.gy.empty() ? nullptr : row.gy.data() + static_cast<std::size_t>(c) * n;
     std::vector<double>& h = filtered(j, c);
     std::vector<double>& m = edge_row(j, c);
-    for (int i = 0; i < n; ++i) {
+    const bool use_v = v && alpha_ != 0.0, use_gy = gy && j + 1 < y_.n;
+    // Samples near the ends: folded or wrapped coefficients, looked up one by one.
+    const auto general = [&](int i) {
       double acc = 0.0;
       for (int k = 0; k < 4; ++k) {
         int e = i - 2 + k;
@@ -29,12 +35,25 @@ void RhsAssembler::push(int j, const GuidanceRow& row, const Sink& sink) {
       for (int d = -2; d <= 2; ++d) {
         const int col = x_.column(i, d);
         if (col < 0) continue;
-        if (v && alpha_ != 0.0) mv += x_.mass[i][d + 2] * v[col];
-        if (gy && j + 1 < y_.n) mg += x_.mass[i][d + 2] * gy[col];
+        if (use_v) mv += x_.mass[i][d + 2] * v[col];
+        if (use_gy) mg += x_.mass[i][d + 2] * gy[col];
       }
       h[i] = acc + alpha_ * mv;
       m[i] = mg;
-    }
+    };
+    // Interior samples: the plain stencils, vectorisable.
+    const int lo = std::min(2, n), hi = std::max(lo, n - 2);
+    for (int i = 0; i < lo; ++i) general(i);
+    for (int i = lo; i < hi; ++i)
+      h[i] = kDerivative[0] * gx[i - 2] + kDerivative[1] * gx[i - 1] + kDerivative[2] * gx[i] +
+             kDerivative[3] * gx[i + 1];
+    if (use_v)
+      for (int i = lo; i < hi; ++i)
+        h[i] += alpha_ * (kMass[0] * (v[i - 2] + v[i + 2]) + kMass[1] * (v[i - 1] + v[i + 1]) + kMass[2] * v[i]);
+    for (int i = lo; i < hi; ++i)
+      m[i] = use_gy ? kMass[0] * (gy[i - 2] + gy[i + 2]) + kMass[1] * (gy[i - 1] + gy[i + 1]) + kMass[2] * gy[i]
+                    : 0.0;
+    for (int i = hi; i < n; ++i) general(i);
   }
   pushed_ = j + 1;
   while (next_emit_ + 2 < pushed_) emit(next_emit_++, sink);

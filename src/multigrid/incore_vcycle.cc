@@ -17,8 +17,7 @@ Operators<T>::Operators(const Hierarchy& h)
 
 template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance)
-    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance),
-      r_(ops.levels[0].width, ops.levels[0].height), scratch_(ops.levels[0].width) {
+    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), scratch_(ops.levels[0].width) {
   for (std::size_t l = 0; l < ops.levels.size(); ++l) {
     const LevelOperator<T>& op = ops.levels[l];
     if (l > 0) {
@@ -85,8 +84,13 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, std::vector<double>*
 
 template <class T>
 double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
-  residual(ops_.levels[0], u, b, r_, scratch_);
-  return norm2(r_);
+  const LevelOperator<T>& op = ops_.levels[0];
+  double rr = 0.0;
+  for (int j = 0; j < op.height; ++j) {
+    residual_row(op, j, window(op, u, j), b.row(j), r_row_.data(), scratch_);
+    for (int i = 0; i < op.width; ++i) rr += static_cast<double>(r_row_[i]) * r_row_[i];
+  }
+  return std::sqrt(rr);
 }
 
 template struct Operators<float>;

@@ -21,6 +21,7 @@ struct Operators {
 };
 
 template <class T>
+// Holds the coarse levels' storage: create one per thread and reuse it for many channels.
 class InCoreVCycle {
  public:
   InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance);
@@ -35,7 +36,6 @@ class InCoreVCycle {
   int sweeps_;
   double coarse_tolerance_;
   std::vector<Plane<T>> u_, b_;  // levels 1.. (level 0 belongs to the caller)
-  Plane<T> r_;
   std::vector<T> tmp_, r_row_;
   RowScratch<T> scratch_;
 };
