@@ -90,6 +90,8 @@ void RowScratch<T>::resize(int width) {
   c.assign(width + 4, T(0));
   zero.assign(width, T(0));
   inv.assign(width, T(0));
+  block_b.assign(width, T(0));
+  block_c.assign(width, T(0));
   coefficients_op = nullptr;
   q.assign(width, T(0));
   k1.assign(width, T(0));
@@ -133,6 +135,21 @@ GDP_KERNEL void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>&
       k1[i] = (op.sx[1][i] * m0 + op.mx[1][i] * c0) * inv[i];
       k2[i] = (op.sx[0][i] * m0 + op.mx[0][i] * c0) * inv[i];
     }
+    // Blocks of four samples starting at multiples of 4: dx[i0 + r] = A_r + B_r dx[i0 - 1] +
+    // C_r dx[i0 - 2], with B and C from the coefficients alone (A is the recurrence on q
+    // started from zero inside the block, formed per row).
+    T* bb = s.block_b.data();
+    T* cc = s.block_c.data();
+    for (int i0 = 0; i0 + 4 <= n; i0 += 4) {
+      bb[i0] = -k1[i0];
+      cc[i0] = -k2[i0];
+      bb[i0 + 1] = -k1[i0 + 1] * bb[i0] - k2[i0 + 1];
+      cc[i0 + 1] = -k1[i0 + 1] * cc[i0];
+      for (int r = 2; r < 4; ++r) {
+        bb[i0 + r] = -k1[i0 + r] * bb[i0 + r - 1] - k2[i0 + r] * bb[i0 + r - 2];
+        cc[i0 + r] = -k1[i0 + r] * cc[i0 + r - 1] - k2[i0 + r] * cc[i0 + r - 2];
+      }
+    }
     s.coefficients_for = {m0, c0};
     s.coefficients_op = &op;
   }
@@ -140,9 +157,27 @@ GDP_KERNEL void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>&
   T* dx = s.dx.data() + 2;  // dx[-2], dx[-1] are zero: wrapped columns are not yet updated
   dx[-2] = dx[-1] = T(0);
   const int last = op.periodic_x ? n - 2 : n;
-  // The term in dx[i-2] is formed first so that only one multiply-subtract waits for dx[i-1].
+  // Four samples per step: the only chain carried from block to block is two multiply-adds
+  // (the recurrence is latency-bound otherwise); the in-block terms overlap across blocks.
+  const T* bb = s.block_b.data();
+  const T* cc = s.block_c.data();
   T d2 = T(0), d1 = T(0);
-  for (int i = 0; i < last; ++i) {
+  int i = 0;
+  for (; i + 4 <= last; i += 4) {
+    const T a0 = q[i];
+    const T a1 = q[i + 1] - k1[i + 1] * a0;
+    const T a2 = q[i + 2] - k1[i + 2] * a1 - k2[i + 2] * a0;
+    const T a3 = q[i + 3] - k1[i + 3] * a2 - k2[i + 3] * a1;
+    dx[i] = a0 + bb[i] * d1 + cc[i] * d2;
+    dx[i + 1] = a1 + bb[i + 1] * d1 + cc[i + 1] * d2;
+    const T n2 = a2 + bb[i + 2] * d1 + cc[i + 2] * d2;
+    const T n1 = a3 + bb[i + 3] * d1 + cc[i + 3] * d2;
+    dx[i + 2] = n2;
+    dx[i + 3] = n1;
+    d2 = n2;
+    d1 = n1;
+  }
+  for (; i < last; ++i) {
     const T t = q[i] - k2[i] * d2;
     d2 = d1;
     d1 = t - k1[i] * d1;

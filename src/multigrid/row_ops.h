@@ -23,7 +23,8 @@ struct RowScratch {
   std::vector<T> a, c;           // vertical combinations with two ghost samples each side
   std::vector<T> q, k1, k2, dx;  // operator row, recurrence coefficients, corrections
   std::vector<T> inv, zero;      // reciprocal diagonal; a row of zeros for unused window rows
-  // The (m0, c0) pair and level that k1, k2 and inv were computed for.
+  std::vector<T> block_b, block_c;  // the recurrence four samples at a time (relax_row)
+  // The (m0, c0) pair and level that k1, k2, inv and the block terms were computed for.
   std::pair<T, T> coefficients_for{};
   const void* coefficients_op = nullptr;
   explicit RowScratch(int width = 0) { resize(width); }
