@@ -4,7 +4,9 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <thread>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -20,7 +22,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--vcycles", o.solver.vcycles, "number of V-cycles")->capture_default_str();
     cmd.add_option("--tolerance", o.solver.tolerance,
                    "run V-cycles until the relative residual is below this (overrides --vcycles)");
-    cmd.add_option("--threads", o.solver.threads, "threads (channels are solved concurrently)")->capture_default_str();
+    o.solver.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    cmd.add_option("--threads", o.solver.threads, "threads (channels are solved concurrently); default: all cores")
+        ->capture_default_str();
     cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
         ->capture_default_str();
     cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges)")->capture_default_str();
