@@ -83,10 +83,11 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
   // vc and u are per thread and reused across that thread's channels (fresh memory is
   // costly: page faults were a third of a 2048^2 solve before this).
   const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc, Plane<T>& u) {
-    if (!initial) std::fill(u.data.begin(), u.data.end(), T(0));
     if (initial)
       std::transform(initial->plane(c).begin(), initial->plane(c).end(), u.data.begin(),
                      [](float v) { return std::isfinite(v) ? static_cast<T>(v) : T(0); });
+    else
+      std::fill(u.data.begin(), u.data.end(), T(0));
     const double target_mean = initial ? mean_of(u.data) : 0.0;
     const double bnorm = std::sqrt(std::inner_product(b[c].data.begin(), b[c].data.end(), b[c].data.begin(), 0.0));
     const auto relative = [&](double r) { return bnorm > 0.0 ? r / bnorm : r; };
@@ -97,9 +98,9 @@ Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image*
       rel[c].push_back(relative(vc.residual_norm(u, b[c])));
       report();
       if (opt.log) {
-        std::string line = fmt::format("channel {} v-cycle {}: relative residual {:.3e}; per level", c, k + 1,
-                                       rel[c].back());
-        for (double r : levels) line += fmt::format(" {:.3e}", r);
+        std::string line = fmt::format("channel {} v-cycle {}: relative residual {:.3e}; per level |r|/|b|", c,
+                                       k + 1, rel[c].back());
+        for (double r : levels) line += fmt::format(" {:.3e}", relative(r));
         logs[c].push_back(line);
       }
       if (opt.tolerance > 0.0 && rel[c].back() <= opt.tolerance) break;
