@@ -12,6 +12,5 @@ enum class Domain {
 
 // Parses "planar" / "cylindrical"; throws UsageError otherwise.
 Domain parse_domain(std::string_view name);
-std::string_view domain_name(Domain d);
 
 }  // namespace gdp

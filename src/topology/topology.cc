@@ -15,8 +15,6 @@ Domain parse_domain(std::string_view name) {
   throw UsageError(fmt::format("unknown domain '{}' (expected planar or cylindrical)", name));
 }
 
-std::string_view domain_name(Domain d) { return topology::make_topology(d)->name(); }
-
 namespace topology {
 
 std::unique_ptr<Topology> make_topology(Domain d) {

@@ -105,6 +105,7 @@ void Stats::summary(const SolveSummary& s) {
 }
 
 void Stats::write(const std::string& path) const {
+  if (path.empty()) return;
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   std::string json = fmt::format("{{\n  \"command\": \"{}\",\n", command_);

@@ -38,17 +38,26 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);
 class Stats {
  public:
   explicit Stats(std::string command) : command_(std::move(command)), start_(Clock::now()) {}
-  void begin(const std::string& phase) { phase_start_ = Clock::now(), phase_ = phase; }
-  void end() { seconds_[phase_] += std::chrono::duration<double>(Clock::now() - phase_start_).count(); }
+  // Runs f, adding its wall time to the named phase, and returns what f returns.
+  template <class F>
+  decltype(auto) time(const std::string& phase, F&& f) {
+    const Timer timer{seconds_[phase]};
+    return f();
+  }
   void set(const std::string& key, const std::string& json_value) { extra_[key] = json_value; }
   void summary(const SolveSummary& s);
+  // Writes the JSON file when one was asked for (empty path: nothing).
   void write(const std::string& path) const;
 
  private:
   using Clock = std::chrono::steady_clock;
+  struct Timer {
+    double& total;
+    Clock::time_point start = Clock::now();
+    ~Timer() { total += std::chrono::duration<double>(Clock::now() - start).count(); }
+  };
   std::string command_;
-  Clock::time_point start_, phase_start_;
-  std::string phase_;
+  Clock::time_point start_;
   std::map<std::string, double> seconds_;
   std::map<std::string, std::string> extra_;
 };

@@ -16,16 +16,12 @@ class Convert final : public Command {
 
   int run() override {
     Stats stats("convert");
-    stats.begin("read");
-    const ReadResult in = read_image(input_);
-    stats.end();
-    stats.begin("write");
-    write_image(output_, in.image, write_options(common_, in.info));
-    stats.end();
+    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
+    stats.time("write", [&] { write_image(output_, in.image, write_options(common_, in.info)); });
     stats.set("width", std::to_string(in.image.width));
     stats.set("height", std::to_string(in.image.height));
     stats.set("channels", std::to_string(in.image.channels));
-    if (!common_.stats_path.empty()) stats.write(common_.stats_path);
+    stats.write(common_.stats_path);
     return 0;
   }
 

@@ -22,22 +22,17 @@ class Reconstruct final : public Command {
   int run() override {
     Stats stats("reconstruct");
     const SolverOptions solver = solver_options(common_, "reconstruct");
-    stats.begin("read");
-    const ReadResult in = read_image(input_);
-    stats.end();
+    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
     SolveSummary summary;
     const ReconstructResult r = reconstruct(in.image, solver, &summary);
-    if (!output_.empty()) {
-      stats.begin("write");
-      write_image(output_, r.image, write_options(common_, in.info));
-      stats.end();
-    }
+    if (!output_.empty())
+      stats.time("write", [&] { write_image(output_, r.image, write_options(common_, in.info)); });
     stats.summary(summary);
     stats.set("rms_error", fmt::format("{:.6e}", r.rms_error));
     stats.set("max_error", fmt::format("{:.6e}", r.max_error));
     std::printf("%s: %dx%dx%d, %d V-cycle(s): rms error %.3e, max error %.3e\n", input_.c_str(), summary.width,
                 summary.height, summary.channels, summary.vcycles, r.rms_error, r.max_error);
-    if (!common_.stats_path.empty()) stats.write(common_.stats_path);
+    stats.write(common_.stats_path);
     return 0;
   }
 

@@ -35,21 +35,17 @@ class Sharpen final : public Command {
       alpha_ = 1.0 / (scale_ * scale_);
     }
     const SolverOptions solver = solver_options(common_, name_);
-    stats.begin("read");
-    const ReadResult in = read_image(input_);
-    stats.end();
+    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
     SolveSummary summary;
     const Image out = sharpen(in.image, alpha_, beta_, solver, &summary);
-    stats.begin("write");
-    write_image(output_, out, write_options(common_, in.info));
-    stats.end();
+    stats.time("write", [&] { write_image(output_, out, write_options(common_, in.info)); });
     stats.summary(summary);
     stats.set("alpha", fmt::format("{}", alpha_));
     stats.set("beta", fmt::format("{}", beta_));
     note(common_, fmt::format("{}: {}x{}x{}, alpha {:.4g}, beta {:.4g}, relative residual {:.2e} -> {}", name_,
                               summary.width, summary.height, summary.channels, alpha_, beta_,
                               summary.relative_residuals.back(), output_));
-    if (!common_.stats_path.empty()) stats.write(common_.stats_path);
+    stats.write(common_.stats_path);
     return 0;
   }
 

@@ -29,24 +29,20 @@ class Stitch final : public Command {
     options_.unknown = unknown_ == "black" ? UnknownMode::Black
                        : unknown_ == "label" ? UnknownMode::Label
                                              : UnknownMode::Harmonic;
-    stats.begin("read");
-    const ReadResult composite = read_image(composite_);
-    const ReadResult labels = read_image(labels_);
-    stats.end();
+    const ReadResult composite = stats.time("read", [&] { return read_image(composite_); });
+    const ReadResult labels = stats.time("read", [&] { return read_image(labels_); });
     if (labels.info.lossy || is_lossy_extension(labels_))
       note(common_, fmt::format("gdp: warning: {}: label map in a lossy format ({}); compression noise "
                                 "creates spurious labels",
                                 labels_, labels.info.format_name));
     SolveSummary summary;
     const Image out = stitch(composite.image, labels.image, options_, solver, &summary);
-    stats.begin("write");
-    write_image(output_, out, write_options(common_, composite.info));
-    stats.end();
+    stats.time("write", [&] { write_image(output_, out, write_options(common_, composite.info)); });
     stats.summary(summary);
     note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s), relative residual {:.2e} -> {}",
                               summary.width, summary.height, summary.channels, summary.levels, summary.vcycles,
                               summary.relative_residuals.back(), output_));
-    if (!common_.stats_path.empty()) stats.write(common_.stats_path);
+    stats.write(common_.stats_path);
     return 0;
   }
 
