@@ -1,138 +1,36 @@
-// gdp::solve: build the hierarchy, assemble the right-hand side, run V-cycles per channel.
-#include <algorithm>
-#include <chrono>
+// gdp::solve: check the options, pick the schedule and precision.
 #include <cmath>
-#include <mutex>
-#include <numeric>
-#include <thread>
 
 #include <fmt/format.h>
 
-#include "fem/rhs.h"
 #include "gdp/errors.h"
 #include "gdp/solver.h"
-#include "multigrid/incore_vcycle.h"
-#include "topology/topology.h"
+#include "schedule/solve_parts.h"
 
 namespace gdp {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-template <class T>
-double mean_of(const std::vector<T>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
-
-template <class T>
-Image solve_typed(GuidanceSource& source, const SolverOptions& opt, const Image* initial,
-                  SolveSummary& summary) {
-  using multigrid::Plane;
-  const int w = source.width(), h = source.height(), channels = source.channels();
-  const auto topo = topology::make_topology(opt.domain);
-  topo->validate_size(w, h);
-  const multigrid::Hierarchy hierarchy =
-      multigrid::build_hierarchy(*topo, w, h, source.alpha(), opt.coarsest_size);
-  const multigrid::Operators<T> ops(hierarchy);
-  summary.width = w;
-  summary.height = h;
-  summary.channels = channels;
-  summary.levels = static_cast<int>(hierarchy.levels.size());
-  for (const auto& g : hierarchy.levels) {
-    summary.level_widths.push_back(g.width());
-    summary.level_heights.push_back(g.height());
+// A source whose starting guess comes from an in-memory image.
+class WithInitial final : public GuidanceSource {
+ public:
+  WithInitial(GuidanceSource& inner, const Image& initial) : inner_(inner), initial_(initial) {}
+  int width() const override { return inner_.width(); }
+  int height() const override { return inner_.height(); }
+  int channels() const override { return inner_.channels(); }
+  double alpha() const override { return inner_.alpha(); }
+  bool has_initial() const override { return true; }
+  void read_row(int j, GuidanceRow& out) override {
+    inner_.read_row(j, out);
+    for (int c = 0; c < initial_.channels; ++c) {
+      const auto r = initial_.row(c, j);
+      std::copy(r.begin(), r.end(), out.initial.begin() + static_cast<std::ptrdiff_t>(c) * initial_.width);
+    }
   }
 
-  // Right-hand side, streamed row by row from the source.
-  const auto t_rhs = Clock::now();
-  std::vector<Plane<T>> b(channels, Plane<T>(w, h));
-  {
-    const fem::Axis& x = hierarchy.levels[0].x;
-    fem::RhsAssembler assembler(x, hierarchy.levels[0].y, source.alpha(), channels);
-    GuidanceRow row;
-    row.x_edges = x.edges();
-    row.gx.assign(static_cast<std::size_t>(channels) * x.edges(), 0.0);
-    row.gy.assign(static_cast<std::size_t>(channels) * w, 0.0);
-    row.value.assign(static_cast<std::size_t>(channels) * w, 0.0);
-    const auto sink = [&](int r, int c, std::span<const double> v) {
-      constexpr double scale = multigrid::LevelOperator<T>::kScale;
-      std::transform(v.begin(), v.end(), b[c].row(r), [](double x) { return static_cast<T>(scale * x); });
-    };
-    for (int j = 0; j < h; ++j) {
-      source.read_row(j, row);
-      assembler.push(j, row, sink);
-    }
-    assembler.finish(sink);
-  }
-  summary.seconds_rhs = seconds_since(t_rhs);
-
-  // V-cycles, channels spread over threads.
-  const auto t_solve = Clock::now();
-  Image out(w, h, channels);
-  const int cycles = opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles;
-  std::vector<std::vector<double>> rel(channels);
-  std::vector<std::vector<std::string>> logs(channels);
-  std::mutex progress_mutex;
-  int cycles_done = 0;
-  const auto report = [&] {
-    if (!opt.progress) return;
-    std::lock_guard<std::mutex> lock(progress_mutex);
-    opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
-  };
-  // vc and u are per thread and reused across that thread's channels (fresh memory is
-  // costly: page faults were a third of a 2048^2 solve before this).
-  const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc, Plane<T>& u) {
-    if (initial)
-      std::transform(initial->plane(c).begin(), initial->plane(c).end(), u.data.begin(),
-                     [](float v) { return std::isfinite(v) ? static_cast<T>(v) : T(0); });
-    else
-      std::fill(u.data.begin(), u.data.end(), T(0));
-    const double target_mean = initial ? mean_of(u.data) : 0.0;
-    const double bnorm = std::sqrt(std::inner_product(b[c].data.begin(), b[c].data.end(), b[c].data.begin(), 0.0));
-    const auto relative = [&](double r) { return bnorm > 0.0 ? r / bnorm : r; };
-    rel[c].push_back(relative(vc.residual_norm(u, b[c])));
-    for (int k = 0; k < cycles; ++k) {
-      std::vector<double> levels;
-      vc.run(u, b[c], opt.log ? &levels : nullptr);
-      rel[c].push_back(relative(vc.residual_norm(u, b[c])));
-      report();
-      if (opt.log) {
-        std::string line = fmt::format("channel {} v-cycle {}: relative residual {:.3e}; per level |r|/|b|", c,
-                                       k + 1, rel[c].back());
-        for (double r : levels) line += fmt::format(" {:.3e}", relative(r));
-        logs[c].push_back(line);
-      }
-      if (opt.tolerance > 0.0 && rel[c].back() <= opt.tolerance) break;
-    }
-    const double shift = ops.singular ? target_mean - mean_of(u.data) : 0.0;
-    std::transform(u.data.begin(), u.data.end(), out.plane(c).begin(),
-                   [shift](T v) { return static_cast<float>(v + shift); });
-  };
-  const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
-  const auto worker = [&](int t) {
-    multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
-    Plane<T> u(w, h);
-    for (int c = t; c < channels; c += threads) solve_channel(c, vc, u);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (std::thread& th : pool) th.join();
-  summary.seconds_solve = seconds_since(t_solve);
-
-  std::size_t done = 0;
-  for (const auto& r : rel) done = std::max(done, r.size());
-  summary.vcycles = static_cast<int>(done) - 1;
-  summary.relative_residuals.assign(done, 0.0);
-  for (const auto& r : rel)
-    for (std::size_t k = 0; k < r.size(); ++k)
-      summary.relative_residuals[k] = std::max(summary.relative_residuals[k], r[k]);
-  if (opt.log)
-    for (const auto& lines : logs)
-      for (const auto& l : lines) opt.log(l);
-  return out;
-}
+ private:
+  GuidanceSource& inner_;
+  const Image& initial_;
+};
 
 }  // namespace
 
@@ -144,22 +42,44 @@ void SolverOptions::validate() const {
   if (max_vcycles < 1) throw UsageError("the V-cycle cap must be at least 1");
   if (coarsest_size < 1) throw UsageError(fmt::format("coarsest size must be positive, got {}", coarsest_size));
   if (threads < 1) throw UsageError(fmt::format("--threads must be at least 1, got {}", threads));
+  if (half_scratch && precision == Precision::Float64)
+    throw UsageError("half-float scratch would throw away double precision: use one or the other");
+  std::error_code ec;
+  if (!temp_dir.empty() && !std::filesystem::is_directory(temp_dir, ec))
+    throw UsageError(fmt::format("--temp: '{}' is not a directory", temp_dir.string()));
 }
 
-Image solve(GuidanceSource& source, const SolverOptions& options, const Image* initial,
-            SolveSummary* summary) {
+void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary* summary) {
   options.validate();
   if (source.width() < 1 || source.height() < 1 || source.channels() < 1)
     throw InputError(fmt::format("nothing to solve: image is {}x{} with {} channels", source.width(),
                                  source.height(), source.channels()));
-  if (initial && (initial->width != source.width() || initial->height != source.height() ||
-                  initial->channels != source.channels()))
-    throw UsageError("initial guess does not match the guidance size");
   SolveSummary local;
   SolveSummary& s = summary ? *summary : local;
   s = SolveSummary{};
-  return options.precision == Precision::Float64 ? solve_typed<double>(source, options, initial, s)
-                                                 : solve_typed<float>(source, options, initial, s);
+  const bool streaming = options.schedule == Schedule::Streaming;
+  if (options.precision == Precision::Float64) {
+    streaming ? schedule::solve_streaming<double>(source, options, out, s)
+              : schedule::solve_incore<double>(source, options, out, s);
+  } else {
+    streaming ? schedule::solve_streaming<float>(source, options, out, s)
+              : schedule::solve_incore<float>(source, options, out, s);
+  }
+}
+
+Image solve(GuidanceSource& source, const SolverOptions& options, const Image* initial, SolveSummary* summary) {
+  if (initial && (initial->width != source.width() || initial->height != source.height() ||
+                  initial->channels != source.channels()))
+    throw UsageError("initial guess does not match the guidance size");
+  Image out(source.width(), source.height(), source.channels());
+  ImageRowWriter writer(out);
+  if (initial) {
+    WithInitial with(source, *initial);
+    solve(with, options, writer, summary);
+  } else {
+    solve(source, options, writer, summary);
+  }
+  return out;
 }
 
 }  // namespace gdp

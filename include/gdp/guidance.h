@@ -13,6 +13,11 @@ namespace gdp {
 struct GuidanceRow {
   int x_edges = 0;
   std::vector<double> gx, gy, value;
+  // The starting guess (sources with has_initial(); zero otherwise), channel-major.
+  std::vector<float> initial;
+  // Per pixel: 1 where the pixel counts towards the mean the solution keeps when alpha == 0
+  // (the solver sets every entry to 1 before each read_row; sources may clear some).
+  std::vector<unsigned char> counted;
 };
 
 // A source of guidance rows. Rows are requested once each, in order j = 0, 1, ..., so a
@@ -25,6 +30,8 @@ class GuidanceSource {
   virtual int channels() const = 0;
   // Weight of the value term (0: pure gradient problem, solution defined up to a constant).
   virtual double alpha() const { return 0.0; }
+  // True when read_row fills `initial` with a starting guess.
+  virtual bool has_initial() const { return false; }
   virtual void read_row(int j, GuidanceRow& out) = 0;
 };
 

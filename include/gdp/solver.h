@@ -1,17 +1,27 @@
 // Solving the screened Poisson equation for every channel of a guidance source.
 #pragma once
 
+#include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "gdp/guidance.h"
 #include "gdp/image.h"
+#include "gdp/rows.h"
 #include "gdp/topology.h"
 
 namespace gdp {
 
 enum class Precision { Float32, Float64 };
+
+// How the V-cycles are carried out (docs/multigrid.md, docs/how-streaming-works.md). Both give
+// bit-identical results.
+enum class Schedule {
+  Streaming,  // two passes over the rows per V-cycle, a few rows per level in memory
+  InCore,     // every level held whole in memory
+};
 
 struct SolverOptions {
   Domain domain = Domain::Planar;
@@ -23,7 +33,13 @@ struct SolverOptions {
   int coarsest_size = 64;     // coarsen until no side exceeds this, then conjugate gradients
   double coarse_tolerance = 1e-10;  // relative residual of the coarsest-level CG solve
   Precision precision = Precision::Float32;
-  int threads = 1;            // channels are solved concurrently on up to this many threads
+  int threads = 1;            // in-core: channels are solved concurrently on up to this many threads
+  Schedule schedule = Schedule::Streaming;
+  std::filesystem::path temp_dir;  // streaming scratch files (empty: the system's temporary directory)
+  bool half_scratch = false;       // keep streamed rows between passes as 16-bit floats
+  // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
+  // memory and solved in-core; larger ones stream.
+  std::size_t incore_bytes = std::size_t{32} << 20;
   // Receives one line per level and V-cycle with residual norms (the CLI's --verbose).
   std::function<void(const std::string&)> log;
   // Receives the fraction of work done, from 0 to 1.
@@ -38,12 +54,22 @@ struct SolveSummary {
   std::vector<int> level_widths, level_heights;
   // Relative residual |b - A u| / |b| (worst channel) before the first V-cycle and after each.
   std::vector<double> relative_residuals;
-  double seconds_rhs = 0.0, seconds_solve = 0.0;
+  double seconds_rhs = 0.0, seconds_solve = 0.0;  // in-core: reading guidance, V-cycles
+  std::string schedule;          // "streaming" or "in-core"
+  int streamed_levels = 0;       // levels that streamed (the rest were held in memory)
+  std::size_t scratch_bytes = 0; // bytes stored between passes per V-cycle (disk or memory)
+  std::size_t window_bytes = 0;  // bytes of rows and small levels held in memory by the solver
 };
 
-// Solves for every channel of the source. `initial` (optional, same size and channels) is the
-// starting guess; zero otherwise. The result is defined up to a constant per channel when
-// alpha == 0: it keeps the initial guess's mean (zero mean when there is none).
+// Solves for every channel of the source and writes the result's rows, in order, to `out`
+// (commit() is left to the caller). The starting guess is the source's `initial` rows (zero
+// when it has none). When alpha == 0 the result is defined up to a constant per channel: it
+// keeps the starting guess's mean over the counted pixels with finite values (zero when there
+// is no starting guess), up to how much the last smoothing sweeps move the mean (docs/multigrid.md).
+void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary* summary = nullptr);
+
+// The same into an in-memory image; `initial` (optional, same size and channels) replaces the
+// source's starting guess.
 Image solve(GuidanceSource& source, const SolverOptions& options, const Image* initial = nullptr,
             SolveSummary* summary = nullptr);
 

@@ -16,42 +16,75 @@ Operators<T>::Operators(const Hierarchy& h)
 }
 
 template <class T>
-InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance)
-    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), scratch_(ops.levels[0].width) {
-  for (std::size_t l = 0; l < ops.levels.size(); ++l) {
-    const LevelOperator<T>& op = ops.levels[l];
-    if (l > 0) {
-      u_.emplace_back(op.width, op.height);
-      b_.emplace_back(op.width, op.height);
-    }
-  }
-  tmp_.resize(ops.levels[0].width);
-  r_row_.resize(ops.levels[0].width);
+double row_dot(const T* w, const T* u, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; ++i) s += static_cast<double>(w[i]) * u[i];
+  return s;
 }
 
 template <class T>
-void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, std::vector<double>* level_residuals) {
-  const std::vector<LevelGeometry>& geo = ops_.hierarchy->levels;
-  const int levels = static_cast<int>(geo.size());
-  auto U = [&](int l) -> Plane<T>& { return l == 0 ? u0 : u_[l - 1]; };
-  auto B = [&](int l) -> const Plane<T>& { return l == 0 ? b0 : b_[l - 1]; };
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w) {
+  std::vector<Plane<T>> out;
+  out.push_back(std::move(w));
+  std::vector<T> tmp(ops.levels[first].width);
+  for (int l = first; l + 1 < ops.count(); ++l) {
+    const LevelGeometry& g = ops.hierarchy->levels[l + 1];
+    Plane<T> coarse(g.width(), g.height());
+    const Plane<T>& fine = out.back();
+    for (int j = 0; j < fine.height; ++j) {
+      const fem::ProlongationRow& py = g.py.rows[j];
+      restrict_row(g.px, py, fine.row(j), coarse.row(py.index[0]), coarse.row(py.index[1]), tmp.data());
+    }
+    out.push_back(std::move(coarse));
+  }
+  return out;
+}
 
-  for (int l = 0; l + 1 < levels; ++l) {
+template <class T>
+InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
+    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first),
+      scratch_(ops.levels[first].width) {
+  for (int l = first + 1; l < ops.count(); ++l) {
+    u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
+    b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
+  }
+  tmp_.resize(ops.levels[first].width);
+  r_row_.resize(ops.levels[first].width);
+}
+
+template <class T>
+void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Plane<T>>* weights,
+                          CycleProbe* probe) {
+  const std::vector<LevelGeometry>& geo = ops_.hierarchy->levels;
+  const int levels = ops_.count();
+  auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
+  auto B = [&](int l) -> const Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
+  auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
+  const auto dot = [&](int l) {
+    if (!weights || !probe) return;
+    double s = 0.0;
+    for (int j = 0; j < U(l).height; ++j) s += row_dot(W(l).row(j), U(l).row(j), U(l).width);
+    probe->dots.push_back(s);
+  };
+
+  for (int l = first_; l + 1 < levels; ++l) {
     const LevelOperator<T>& op = ops_.levels[l];
     relax(op, U(l), B(l), sweeps_, scratch_);
-    Plane<T>& coarse_b = b_[l];
+    dot(l);
+    Plane<T>& coarse_b = b_[l - first_];
+    Plane<T>& coarse_u = u_[l - first_];
     std::fill(coarse_b.data.begin(), coarse_b.data.end(), T(0));
-    std::fill(u_[l].data.begin(), u_[l].data.end(), T(0));
+    std::fill(coarse_u.data.begin(), coarse_u.data.end(), T(0));
     const LevelGeometry& g = geo[l + 1];
     double rr = 0.0;
     for (int j = 0; j < op.height; ++j) {
       residual_row(op, j, window(op, U(l), j), B(l).row(j), r_row_.data(), scratch_);
-      for (int i = 0; i < op.width; ++i) rr += static_cast<double>(r_row_[i]) * r_row_[i];
+      rr += row_dot(r_row_.data(), r_row_.data(), op.width);
       const fem::ProlongationRow& py = g.py.rows[j];
       restrict_row(g.px, py, r_row_.data(), coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
                    tmp_.data());
     }
-    if (level_residuals) level_residuals->push_back(std::sqrt(rr));
+    if (probe) probe->level_norms.push_back(std::sqrt(rr));
   }
 
   {  // Coarsest level: conjugate gradients in double precision.
@@ -60,17 +93,18 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, std::vector<double>*
     std::copy(B(levels - 1).data.begin(), B(levels - 1).data.end(), b.data.begin());
     std::copy(U(levels - 1).data.begin(), U(levels - 1).data.end(), u.data.begin());
     solve_cg(op, ops_.singular, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100);
-    if (level_residuals) {
+    if (probe) {
       Plane<double> r(op.width, op.height);
       RowScratch<double> s(op.width);
       residual(op, u, b, r, s);
-      level_residuals->push_back(norm2(r));
+      probe->level_norms.push_back(norm2(r));
     }
     std::transform(u.data.begin(), u.data.end(), U(levels - 1).data.begin(),
                    [](double v) { return static_cast<T>(v); });
+    dot(levels - 1);
   }
 
-  for (int l = levels - 2; l >= 0; --l) {
+  for (int l = levels - 2; l >= first_; --l) {
     const LevelOperator<T>& op = ops_.levels[l];
     const LevelGeometry& g = geo[l + 1];
     const Plane<T>& coarse = U(l + 1);
@@ -84,11 +118,11 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, std::vector<double>*
 
 template <class T>
 double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
-  const LevelOperator<T>& op = ops_.levels[0];
+  const LevelOperator<T>& op = ops_.levels[first_];
   double rr = 0.0;
   for (int j = 0; j < op.height; ++j) {
     residual_row(op, j, window(op, u, j), b.row(j), r_row_.data(), scratch_);
-    for (int i = 0; i < op.width; ++i) rr += static_cast<double>(r_row_[i]) * r_row_[i];
+    rr += row_dot(r_row_.data(), r_row_.data(), op.width);
   }
   return std::sqrt(rr);
 }
@@ -97,5 +131,9 @@ template struct Operators<float>;
 template struct Operators<double>;
 template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
+template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);
+template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>);
+template double row_dot(const float*, const float*, int);
+template double row_dot(const double*, const double*, int);
 
 }  // namespace gdp::multigrid

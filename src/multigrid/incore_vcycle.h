@@ -18,24 +18,46 @@ struct Operators {
   bool singular;  // alpha == 0: constants are in the null space
 
   explicit Operators(const Hierarchy& h);
+  int count() const { return static_cast<int>(levels.size()); }
 };
 
+// What a V-cycle reports besides its result. With alpha == 0 a V-cycle does not fix the
+// solution's constant; gdp fixes it by predicting the weighted sum <w, u> of the cycle's result
+// as the sum over levels of <w_l, u_l> after pre-smoothing (coarsest: after the solve), where
+// w_l = P^T w_{l-1} are the weights restricted to level l. Every schedule computes the same
+// terms in the same order, so they choose the same constant.
+struct CycleProbe {
+  std::vector<double> dots;          // <w_l, u_l> per level (when weights are given)
+  std::vector<double> level_norms;   // |r_l| after pre-smoothing, per level (coarsest: after the solve)
+};
+
+// Weights restricted to every level from `first` down (result[0] is level `first`).
 template <class T>
-// Holds the coarse levels' storage: create one per thread and reuse it for many channels.
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
+
+// <w, u> over one row, accumulated in double in column order (every schedule uses this).
+template <class T>
+double row_dot(const T* w, const T* u, int n);
+
+// Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
+// create one per thread and reuse it for many channels.
+template <class T>
 class InCoreVCycle {
  public:
-  InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance);
-  // One V-cycle for A u = b on the finest level, updating u. If level_residuals is given, it
-  // receives |r| on each level after pre-smoothing (finest first).
-  void run(Plane<T>& u, const Plane<T>& b, std::vector<double>* level_residuals = nullptr);
-  // |b - A u| on the finest level.
+  InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first = 0);
+  // One V-cycle for A u = b on level `first`, updating u. `weights` (restrict_weights(), may be
+  // null) and `probe` (may be null) as described at CycleProbe.
+  void run(Plane<T>& u, const Plane<T>& b, const std::vector<Plane<T>>* weights = nullptr,
+           CycleProbe* probe = nullptr);
+  // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
 
  private:
   const Operators<T>& ops_;
   int sweeps_;
   double coarse_tolerance_;
-  std::vector<Plane<T>> u_, b_;  // levels 1.. (level 0 belongs to the caller)
+  int first_;
+  std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   std::vector<T> tmp_, r_row_;
   RowScratch<T> scratch_;
 };

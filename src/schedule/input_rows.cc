@@ -1,0 +1,76 @@
+// Input rows: guidance rows through the right-hand-side assembler, two rows of look-ahead.
+#include "schedule/input_rows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "multigrid/incore_vcycle.h"
+
+namespace gdp::schedule {
+
+template <class T>
+InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy)
+    : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
+      assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
+      initial_(kRing), counted_(kRing), b_(kRing),
+      weighted_sum_(source.channels(), 0.0), b_norm2_(source.channels(), 0.0) {
+  const std::size_t n = static_cast<std::size_t>(channels_) * width_;
+  row_.x_edges = hierarchy.levels[0].x.edges();
+  row_.gx.assign(static_cast<std::size_t>(channels_) * row_.x_edges, 0.0);
+  row_.gy.assign(n, 0.0);
+  row_.value.assign(n, 0.0);
+  row_.initial.assign(n, 0.0f);
+  row_.counted.assign(width_, 1);
+  for (int k = 0; k < kRing; ++k) {
+    initial_[k].assign(n, 0.0f);
+    counted_[k].assign(width_, 1);
+    b_[k].assign(n, 0.0);
+  }
+}
+
+template <class T>
+void InputRows<T>::read_guidance() {
+  const int j = read_++;
+  std::fill(row_.counted.begin(), row_.counted.end(), 1);
+  source_.read_row(j, row_);
+  if (source_.has_initial()) initial_[j % kRing] = row_.initial;
+  counted_[j % kRing] = row_.counted;
+  const auto sink = [this](int r, int c, std::span<const double> v) {
+    std::copy(v.begin(), v.end(), b_[r % kRing].begin() + static_cast<std::ptrdiff_t>(c) * width_);
+    if (c == channels_ - 1) emitted_ = r + 1;
+  };
+  assembler_.push(j, row_, sink);
+  if (read_ == height_) assembler_.finish(sink);
+}
+
+template <class T>
+void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w) {
+  const int j = next_++;
+  if (j >= height_) throw std::logic_error("InputRows::next past the last row");
+  while (emitted_ <= j) read_guidance();
+  const int k = j % kRing;
+  constexpr double scale = multigrid::LevelOperator<T>::kScale;
+  for (std::size_t i = 0; i < b_[k].size(); ++i) {
+    b[i] = static_cast<T>(scale * b_[k][i]);
+    b_norm2_[i / width_] += static_cast<double>(b[i]) * b[i];
+  }
+  const std::vector<float>& init = initial_[k];
+  for (int i = 0; i < width_; ++i) {
+    bool finite = true;
+    for (int c = 0; c < channels_; ++c) {
+      const float v = init[static_cast<std::size_t>(c) * width_ + i];
+      finite = finite && std::isfinite(v);
+      u[static_cast<std::size_t>(c) * width_ + i] = std::isfinite(v) ? static_cast<T>(v) : T(0);
+    }
+    w[i] = finite && counted_[k][i] ? T(1) : T(0);
+  }
+  for (int c = 0; c < channels_; ++c)
+    weighted_sum_[c] += multigrid::row_dot(w.data(), u.data() + static_cast<std::size_t>(c) * width_, width_);
+  for (int i = 0; i < width_; ++i) weight_total_ += static_cast<double>(w[i]);
+}
+
+template class InputRows<float>;
+template class InputRows<double>;
+
+}  // namespace gdp::schedule

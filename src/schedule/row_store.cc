@@ -1,0 +1,153 @@
+// Row stores in memory or in unlinked scratch files, with optional half-float encoding.
+#include "schedule/row_store.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
+namespace gdp::schedule {
+namespace {
+
+constexpr std::size_t kFileBuffer = std::size_t{1} << 20;
+
+#define GDP_CONVERT __attribute__((target_clones("arch=x86-64-v3", "default")))
+
+template <class T>
+GDP_CONVERT void to_half(const T* in, _Float16* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<_Float16>(in[i]);
+}
+template <class T>
+GDP_CONVERT void from_half(const _Float16* in, T* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<T>(in[i]);
+}
+
+std::string system_message() { return std::generic_category().message(errno); }
+
+// An exclusive file in dir, unlinked at once: only our descriptor keeps it alive.
+int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
+  std::string pattern = (dir / fmt::format("gdp-scratch-{}-{}-XXXXXX", static_cast<long>(::getpid()), name)).string();
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0)
+    throw OutputError(fmt::format("scratch directory {}: cannot create a file: {}", dir.string(), system_message()));
+  ::unlink(pattern.c_str());
+  return fd;
+}
+
+}  // namespace
+
+template <class T>
+RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
+    : name_(std::move(name)), row_length_(row_length), encoding_(policy.encoding) {
+  const std::size_t total = encoded_bytes() * rows;
+  if (total > policy.memory_limit) {
+    fd_ = open_unlinked(policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir, name_);
+    buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
+  } else {
+    buffer_.resize(total);
+  }
+}
+
+template <class T>
+RowStore<T>::~RowStore() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+template <class T>
+std::size_t RowStore<T>::encoded_bytes() const {
+  return row_length_ * (encoding_ == StoreEncoding::Half ? sizeof(_Float16) : sizeof(T));
+}
+
+template <class T>
+void RowStore<T>::append(std::span<const T> row) {
+  const std::size_t n = encoded_bytes();
+  if (reading_) throw std::logic_error("RowStore::append while reading");
+  if (fd_ >= 0 && buffered_ + n > buffer_.size()) flush();
+  if (fd_ < 0 && buffered_ + n > buffer_.size()) throw std::logic_error("RowStore: more rows than declared");
+  unsigned char* out = buffer_.data() + buffered_;
+  if (encoding_ == StoreEncoding::Half) {
+    to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
+  } else {
+    std::memcpy(out, row.data(), n);
+  }
+  buffered_ += n;
+  written_ += n;
+}
+
+template <class T>
+void RowStore<T>::flush() {
+  std::size_t done = 0;
+  while (done < buffered_) {
+    const ssize_t k = ::write(fd_, buffer_.data() + done, buffered_ - done);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0)
+      throw OutputError(fmt::format("scratch file for {}: cannot write: {}", name_,
+                                    k < 0 ? system_message() : "no space left on device"));
+    done += static_cast<std::size_t>(k);
+  }
+  buffered_ = 0;
+}
+
+template <class T>
+void RowStore<T>::rewind() {
+  if (fd_ >= 0) {
+    if (!reading_) flush();
+    if (::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(fmt::format("scratch file for {}: {}", name_, system_message()));
+    buffered_ = 0;
+    file_read_ = 0;
+  }
+  cursor_ = 0;
+  reading_ = true;
+}
+
+template <class T>
+void RowStore<T>::fill() {
+  // Keep the unread tail, then read as much as fits (never past what was written).
+  std::memmove(buffer_.data(), buffer_.data() + cursor_, buffered_ - cursor_);
+  buffered_ -= cursor_;
+  cursor_ = 0;
+  while (buffered_ < buffer_.size() && file_read_ < written_) {
+    const std::size_t want = std::min(buffer_.size() - buffered_, written_ - file_read_);
+    const ssize_t k = ::read(fd_, buffer_.data() + buffered_, want);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0)
+      throw OutputError(fmt::format("scratch file for {}: cannot read back: {}", name_,
+                                    k < 0 ? system_message() : "file is shorter than written"));
+    buffered_ += static_cast<std::size_t>(k);
+    file_read_ += static_cast<std::size_t>(k);
+  }
+}
+
+template <class T>
+void RowStore<T>::read(std::span<T> row) {
+  const std::size_t n = encoded_bytes();
+  if (!reading_) throw std::logic_error("RowStore::read before rewind");
+  if (fd_ >= 0 && cursor_ + n > buffered_) fill();
+  if (cursor_ + n > buffered_) throw std::logic_error("RowStore: read past the end");
+  const unsigned char* in = buffer_.data() + cursor_;
+  if (encoding_ == StoreEncoding::Half) {
+    from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
+  } else {
+    std::memcpy(row.data(), in, n);
+  }
+  cursor_ += n;
+}
+
+template <class T>
+void RowStore<T>::clear() {
+  if (fd_ >= 0) ::lseek(fd_, 0, SEEK_SET);  // later reads never pass written_
+  buffered_ = cursor_ = written_ = file_read_ = 0;
+  reading_ = false;
+}
+
+template class RowStore<float>;
+template class RowStore<double>;
+
+}  // namespace gdp::schedule

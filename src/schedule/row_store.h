@@ -1,0 +1,60 @@
+// Scratch storage for a level's rows between the two passes of a streaming V-cycle.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace gdp::schedule {
+
+// How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
+enum class StoreEncoding { Native, Half };
+
+// Where rows are kept: in memory when a whole level's stream is small, else in an unlinked
+// file in `dir` (the space returns to the system when the store is destroyed or the process
+// dies, however it dies).
+struct StorePolicy {
+  std::filesystem::path dir;
+  std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store
+  StoreEncoding encoding = StoreEncoding::Native;
+};
+
+// A sequential stream of equal-length rows of T: append them, rewind(), read them back in the
+// same order (as often as needed); clear() starts writing anew.
+template <class T>
+class RowStore {
+ public:
+  // A store for up to `rows` rows of `row_length` samples.
+  RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name);
+  ~RowStore();
+  RowStore(const RowStore&) = delete;
+  RowStore& operator=(const RowStore&) = delete;
+
+  void append(std::span<const T> row);
+  void rewind();
+  void read(std::span<T> row);
+  void clear();
+  // Bytes of the stream so far (what it occupies on disk or in memory).
+  std::size_t bytes() const { return written_; }
+  bool on_disk() const { return fd_ >= 0; }
+
+ private:
+  void flush();
+  void fill();
+  std::size_t encoded_bytes() const;
+
+  std::string name_;
+  std::size_t row_length_;
+  StoreEncoding encoding_;
+  int fd_ = -1;
+  std::vector<unsigned char> buffer_;  // the whole stream (memory) or an I/O buffer (file)
+  std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
+  std::size_t written_ = 0;                // bytes in the stream
+  std::size_t file_read_ = 0;              // bytes of the file consumed by fill()
+  bool reading_ = false;
+};
+
+}  // namespace gdp::schedule

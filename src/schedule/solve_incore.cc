@@ -1,0 +1,89 @@
+// The in-core solve schedule: every level in memory, channels spread over threads.
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "multigrid/incore_vcycle.h"
+#include "schedule/input_rows.h"
+#include "schedule/solve_parts.h"
+
+namespace gdp::schedule {
+
+template <class T>
+void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
+  using multigrid::Plane;
+  const Problem<T> problem(source, opt, summary);
+  const multigrid::Operators<T>& ops = problem.ops;
+  const int w = source.width(), h = source.height(), channels = source.channels();
+  const std::size_t n = static_cast<std::size_t>(channels) * w;
+  summary.schedule = "in-core";
+
+  const auto t_rhs = Clock::now();
+  std::vector<Plane<T>> u(channels, Plane<T>(w, h)), b(channels, Plane<T>(w, h));
+  std::vector<Plane<T>> weights;
+  InputRows<T> input(source, problem.hierarchy);
+  {
+    Plane<T> wt(w, h);
+    std::vector<T> ur(n), br(n);
+    for (int j = 0; j < h; ++j) {
+      input.next(ur, br, {wt.row(j), static_cast<std::size_t>(w)});
+      for (int c = 0; c < channels; ++c) {
+        std::copy_n(ur.begin() + static_cast<std::ptrdiff_t>(c) * w, w, u[c].row(j));
+        std::copy_n(br.begin() + static_cast<std::ptrdiff_t>(c) * w, w, b[c].row(j));
+      }
+    }
+    if (ops.singular) weights = multigrid::restrict_weights(ops, 0, std::move(wt));
+  }
+  summary.seconds_rhs = seconds_since(t_rhs);
+  summary.window_bytes = 2 * n * h * sizeof(T);
+
+  const auto t_solve = Clock::now();
+  const int cycles = opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles;
+  ResidualLog log(channels, static_cast<bool>(opt.log));
+  std::mutex progress_mutex;
+  int cycles_done = 0;
+  const auto report = [&] {
+    if (!opt.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
+  };
+  const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc) {
+    log.set_rhs_norm(c, std::sqrt(input.rhs_norms2()[c]));
+    log.initial(c, vc.residual_norm(u[c], b[c]));
+    for (int k = 0; k < cycles; ++k) {
+      multigrid::CycleProbe probe;
+      vc.run(u[c], b[c], weights.empty() ? nullptr : &weights, &probe);
+      log.cycle(c, vc.residual_norm(u[c], b[c]), probe);
+      const double shift = mean_shift(ops.singular, input.weighted_sums()[c], input.weight_total(), probe.dots);
+      if (shift != 0.0)
+        for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
+      report();
+      if (opt.tolerance > 0.0 && log.last(c) <= opt.tolerance) break;
+    }
+  };
+  const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
+  const auto worker = [&](int t) {
+    multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
+    for (int c = t; c < channels; c += threads) solve_channel(c, vc);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  worker(0);
+  for (std::thread& th : pool) th.join();
+  summary.seconds_solve = seconds_since(t_solve);
+  log.finish(summary, opt);
+
+  std::vector<float> row(n);
+  for (int j = 0; j < h; ++j) {
+    for (int c = 0; c < channels; ++c)
+      std::transform(u[c].row(j), u[c].row(j) + w, row.begin() + static_cast<std::ptrdiff_t>(c) * w,
+                     [](T v) { return static_cast<float>(v); });
+    out.write_row(j, row);
+  }
+}
+
+template void solve_incore<float>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+template void solve_incore<double>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+
+}  // namespace gdp::schedule

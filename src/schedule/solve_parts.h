@@ -1,0 +1,60 @@
+// What both solve schedules share: the problem set-up, the mean rule, residual bookkeeping.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gdp/guidance.h"
+#include "gdp/solver.h"
+#include "multigrid/incore_vcycle.h"
+#include "topology/topology.h"
+
+namespace gdp::schedule {
+
+// The hierarchy and operators of a source's problem (not movable: ops points at hierarchy).
+template <class T>
+struct Problem {
+  std::unique_ptr<topology::Topology> topology;
+  multigrid::Hierarchy hierarchy;
+  multigrid::Operators<T> ops;
+  Problem(const GuidanceSource& source, const SolverOptions& options, SolveSummary& summary);
+  Problem(const Problem&) = delete;
+};
+
+// With alpha == 0, the constant added to a channel's result after a V-cycle so that its
+// weighted mean is the starting guess's: (target sum - predicted sum) / total weight, the
+// prediction being the sum of the cycle's per-level dots (multigrid::CycleProbe).
+double mean_shift(bool singular, double target_sum, double weight_total, const std::vector<double>& dots);
+
+// Relative residuals and per-cycle log lines of every channel, turned into the summary.
+class ResidualLog {
+ public:
+  ResidualLog(int channels, bool keep_lines);
+  void set_rhs_norm(int c, double norm) { b_norm_[c] = norm; }
+  void initial(int c, double norm);
+  void cycle(int c, double norm, const multigrid::CycleProbe& probe);
+  double last(int c) const { return rel_[c].back(); }
+  // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
+  void finish(SolveSummary& summary, const SolverOptions& options) const;
+
+ private:
+  double relative(int c, double r) const { return b_norm_[c] > 0.0 ? r / b_norm_[c] : r; }
+  bool keep_lines_;
+  std::vector<double> b_norm_;
+  std::vector<std::vector<double>> rel_;
+  std::vector<std::vector<std::string>> lines_;
+};
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+template <class T>
+void solve_incore(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
+template <class T>
+void solve_streaming(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
+
+}  // namespace gdp::schedule
