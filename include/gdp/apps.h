@@ -2,6 +2,7 @@
 #pragma once
 
 #include "gdp/image.h"
+#include "gdp/rows.h"
 #include "gdp/solver.h"
 
 namespace gdp {
@@ -19,32 +20,35 @@ struct StitchOptions {
   bool start_from_composite = true;  // initial guess: the composite (else zero)
 };
 
+// Every application comes in two forms: rows in and rows out (RowReader / RowWriter: files
+// streamed through in a few rows of memory, whatever the image size; commit() is left to the
+// caller), and in-memory images. Non-finite input samples (FITS blanks) carry no guidance and
+// come out as NaN again.
+
 // Seamless stitching: gradients of the composite, zero across label changes; the output's mean
-// (over known pixels) matches the composite's. Labels are compared exactly, any channel count.
+// over known pixels is the composite's (up to what the last sweeps move it, ~1e-6). Labels are
+// compared exactly, any channel count. The composite is read twice with `deramp`.
+void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
+            RowWriter& out, SolveSummary* summary = nullptr);
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options,
              const SolverOptions& solver, SolveSummary* summary = nullptr);
 
 // Gradient-domain sharpening (beta > 1) or smoothing (beta < 1): fit gradients beta * grad(I)
 // and values I with weight alpha. alpha = 1 / s^2 changes detail finer than about s pixels.
+void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
+             SolveSummary* summary = nullptr);
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,
               SolveSummary* summary = nullptr);
 
+// Rebuilds an image from its own gradients from a zero start, keeping its mean (a self-test
+// on real data).
+void reconstruct(RowReader& image, const SolverOptions& solver, RowWriter& out, SolveSummary* summary = nullptr);
+
 struct ReconstructResult {
   Image image;
-  double rms_error = 0.0;  // against the input, after matching means, per value
+  double rms_error = 0.0;  // against the input, per value
   double max_error = 0.0;
 };
-
-// Rebuilds an image from its own gradients from a zero start (a self-test on real data).
 ReconstructResult reconstruct(const Image& image, const SolverOptions& solver, SolveSummary* summary = nullptr);
-
-// Shifts each channel so that its mean over the pixels where mask is true (all when empty)
-// equals target[c]. Means skip non-finite samples.
-void match_means(Image& image, const std::vector<double>& target, const std::vector<bool>& mask = {});
-std::vector<double> channel_means(const Image& image, const std::vector<bool>& mask = {});
-
-// Non-finite input samples (NaN blanks in FITS, say) carry no guidance; applications put them
-// back unchanged in their output with this.
-void restore_non_finite(Image& out, const Image& input);
 
 }  // namespace gdp

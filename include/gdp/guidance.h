@@ -13,7 +13,8 @@ namespace gdp {
 struct GuidanceRow {
   int x_edges = 0;
   std::vector<double> gx, gy, value;
-  // The starting guess (sources with has_initial(); zero otherwise), channel-major.
+  // Sources with has_initial(): the starting guess (unless start_from_initial() is false), and
+  // the values whose mean, over the counted pixels, a solution keeps when alpha == 0.
   std::vector<float> initial;
   // Per pixel: 1 where the pixel counts towards the mean the solution keeps when alpha == 0
   // (the solver sets every entry to 1 before each read_row; sources may clear some).
@@ -30,8 +31,10 @@ class GuidanceSource {
   virtual int channels() const = 0;
   // Weight of the value term (0: pure gradient problem, solution defined up to a constant).
   virtual double alpha() const { return 0.0; }
-  // True when read_row fills `initial` with a starting guess.
+  // True when read_row fills `initial`.
   virtual bool has_initial() const { return false; }
+  // False: start from zero all the same (initial then only sets the mean to keep).
+  virtual bool start_from_initial() const { return true; }
   virtual void read_row(int j, GuidanceRow& out) = 0;
 };
 

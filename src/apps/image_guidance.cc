@@ -1,34 +1,45 @@
-// Differences of an image as guidance rows; non-finite samples (FITS blanks) give no guidance.
+// Differences of streamed image rows as guidance; non-finite samples (FITS blanks) give no guidance.
 #include "apps/image_guidance.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gdp::apps {
 
-ImageGuidance::ImageGuidance(const Image& source, const Image* values, double alpha, double beta)
-    : src_(source), values_(values), alpha_(alpha), beta_(beta) {}
+ImageGuidance::ImageGuidance(RowReader& source, double alpha, double beta, bool start_from_source)
+    : src_(source), alpha_(alpha), beta_(beta), start_(start_from_source) {
+  for (auto& r : rows_) r.assign(static_cast<std::size_t>(source.channels()) * source.width(), 0.0f);
+}
+
+void ImageGuidance::read_source(int y) {
+  src_.read_row(y, rows_[y % 2]);
+  on_source_row(y, rows_[y % 2]);
+  read_ = y + 1;
+}
 
 void ImageGuidance::read_row(int j, GuidanceRow& out) {
-  const int w = src_.width, e = out.x_edges;
-  for (int c = 0; c < src_.channels; ++c) {
-    const auto row = src_.row(c, j);
+  const int w = width(), h = height(), e = out.x_edges;
+  if (j == 0) read_source(0);
+  if (j + 1 < h) read_source(j + 1);
+  const std::span<const float> here = source_row(j);
+  for (int c = 0; c < channels(); ++c) {
+    const float* row = here.data() + static_cast<std::size_t>(c) * w;
     for (int i = 0; i < e; ++i) {
       const int i2 = (i + 1) % w;
       const double d = double(row[i2]) - row[i];
       out.gx[c * e + i] = std::isfinite(d) && keep(i, j, i2, j) ? beta_ * d - offset(c, i, j, true) : 0.0;
     }
-    if (j + 1 < src_.height) {
-      const auto next = src_.row(c, j + 1);
+    if (j + 1 < h) {
+      const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
       for (int i = 0; i < w; ++i) {
         const double d = double(next[i]) - row[i];
         out.gy[c * w + i] = std::isfinite(d) && keep(i, j, i, j + 1) ? beta_ * d - offset(c, i, j, false) : 0.0;
       }
     }
-    if (values_ && alpha_ != 0.0) {
-      const auto v = values_->row(c, j);
-      for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(v[i]) ? v[i] : 0.0;
-    }
+    if (alpha_ != 0.0)
+      for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;
   }
+  std::copy(here.begin(), here.end(), out.initial.begin());
 }
 
 }  // namespace gdp::apps

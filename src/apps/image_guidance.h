@@ -1,20 +1,27 @@
-// Guidance taken from an image's own differences, with per-edge masks and offsets.
+// Guidance taken from an image's own differences, streamed row by row, with per-edge masks and offsets.
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "gdp/guidance.h"
-#include "gdp/image.h"
+#include "gdp/rows.h"
 
 namespace gdp::apps {
 
-// gx, gy = beta * (differences of `source`), value = `values` (may be null when alpha == 0).
+// gx, gy = beta * (differences of the source rows); value (when alpha > 0) = the source rows.
+// The source rows are also the solver's `initial` rows: its starting guess, or, with
+// start_from_source false, only the values whose mean a pure gradient solve keeps.
 // Subclasses decide which edges keep their gradient and may subtract a per-edge offset.
 class ImageGuidance : public GuidanceSource {
  public:
-  ImageGuidance(const Image& source, const Image* values, double alpha, double beta);
-  int width() const override { return src_.width; }
-  int height() const override { return src_.height; }
-  int channels() const override { return src_.channels; }
+  ImageGuidance(RowReader& source, double alpha, double beta, bool start_from_source = true);
+  int width() const override { return src_.width(); }
+  int height() const override { return src_.height(); }
+  int channels() const override { return src_.channels(); }
   double alpha() const override { return alpha_; }
+  bool has_initial() const override { return true; }
+  bool start_from_initial() const override { return start_; }
   void read_row(int j, GuidanceRow& out) override;
 
  protected:
@@ -22,12 +29,20 @@ class ImageGuidance : public GuidanceSource {
   virtual bool keep(int, int, int, int) const { return true; }
   // Value subtracted from a kept gradient along x (horizontal) or y, per channel.
   virtual double offset(int /*c*/, int /*i*/, int /*j*/, bool /*horizontal*/) const { return 0.0; }
-
-  const Image& src_;
+  // Called once per source row y, in order, as soon as it is read (before rows up to y are
+  // used): subclasses read their own per-row data here.
+  virtual void on_source_row(int /*y*/, std::span<const float> /*row*/) {}
+  // Source row j or j + 1 (the two most recently read), channels * width samples.
+  std::span<const float> source_row(int y) const { return rows_[y % 2]; }
 
  private:
-  const Image* values_;
+  void read_source(int y);
+
+  RowReader& src_;
   double alpha_, beta_;
+  bool start_;
+  std::vector<float> rows_[2];
+  int read_ = 0;
 };
 
 }  // namespace gdp::apps

@@ -2,17 +2,16 @@
 #include <algorithm>
 #include <cmath>
 
-#include "apps/image_guidance.h"
 #include "gdp/apps.h"
 
 namespace gdp {
 
 ReconstructResult reconstruct(const Image& image, const SolverOptions& solver, SolveSummary* summary) {
-  apps::ImageGuidance guidance(image, nullptr, 0.0, 1.0);
   ReconstructResult r;
-  r.image = solve(guidance, solver, nullptr, summary);
-  match_means(r.image, channel_means(image));
-  restore_non_finite(r.image, image);
+  r.image = Image(image.width, image.height, image.channels);
+  ImageRowReader in(image);
+  ImageRowWriter writer(r.image);
+  reconstruct(in, solver, writer, summary);
   double s = 0.0, n = 0.0;
   for (std::size_t k = 0; k < image.data.size(); ++k) {
     if (!std::isfinite(image.data[k])) continue;

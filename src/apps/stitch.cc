@@ -1,4 +1,4 @@
-// Seamless stitching: composite gradients, cut where labels change; means matched afterwards.
+// Seamless stitching, streamed: composite gradients, cut where labels change.
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "apps/image_guidance.h"
+#include "apps/output_fixups.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 
@@ -15,98 +16,137 @@ namespace {
 
 constexpr int kUnknown = -1;
 
-// One integer per pixel naming its label colour; kUnknown for white unless it is a label.
-std::vector<int> label_ids(const Image& labels, bool white_is_label, int* count) {
-  std::unordered_map<std::string, int> ids;
-  std::vector<int> out(labels.plane_size());
-  std::string key(labels.channels * sizeof(float), '\0');
-  for (int y = 0; y < labels.height; ++y)
-    for (int x = 0; x < labels.width; ++x) {
-      bool white = true;
-      for (int c = 0; c < labels.channels; ++c) {
-        const float v = labels.at(c, x, y);
+// Label colours to small integers, row by row; the same colour always gets the same id.
+class LabelIds {
+ public:
+  LabelIds(int width, int channels, bool white_is_label)
+      : width_(width), channels_(channels), white_is_label_(white_is_label), key_(channels * sizeof(float), '\0') {}
+  void assign(std::span<const float> labels, std::vector<int>& ids) {
+    ids.resize(width_);
+    for (int i = 0; i < width_; ++i) {
+      bool same = i > 0, white = true;
+      for (int c = 0; c < channels_; ++c) {
+        const float v = labels[static_cast<std::size_t>(c) * width_ + i];
+        same = same && v == labels[static_cast<std::size_t>(c) * width_ + i - 1];
         white = white && v == 1.0f;
-        std::memcpy(key.data() + c * sizeof(float), &v, sizeof(float));
+        std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
       }
-      const std::size_t k = static_cast<std::size_t>(y) * labels.width + x;
-      if (white && !white_is_label) {
-        out[k] = kUnknown;
-        continue;
+      if (same) {  // most pixels share their left neighbour's label
+        ids[i] = ids[i - 1];
+      } else if (white && !white_is_label_) {
+        ids[i] = kUnknown;
+      } else {
+        ids[i] = ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
       }
-      out[k] = ids.try_emplace(key, static_cast<int>(ids.size())).first->second;
     }
-  *count = static_cast<int>(ids.size());
-  return out;
-}
+  }
+  int count() const { return static_cast<int>(ids_.size()); }
+
+ private:
+  int width_, channels_;
+  bool white_is_label_;
+  std::string key_;
+  std::unordered_map<std::string, int> ids_;
+};
 
 class StitchGuidance final : public apps::ImageGuidance {
  public:
-  StitchGuidance(const Image& composite, std::vector<int> ids, int labels, bool deramp)
-      : ImageGuidance(composite, nullptr, 0.0, 1.0), ids_(std::move(ids)) {
-    if (deramp) compute_ramps(labels);
+  StitchGuidance(RowReader& composite, RowReader& labels, const StitchOptions& options, apps::OutputFixups& fixups)
+      : ImageGuidance(composite, 0.0, 1.0, options.start_from_composite),
+        labels_(labels), black_(options.unknown == UnknownMode::Black), fixups_(fixups),
+        ids_(composite.width(), labels.channels(), options.unknown == UnknownMode::Label),
+        label_row_(static_cast<std::size_t>(labels.channels()) * labels.width()), zero_(composite.width()) {
+    if (options.deramp) compute_ramps(composite);
+  }
+  void read_row(int j, GuidanceRow& out) override {
+    ImageGuidance::read_row(j, out);
+    const std::vector<int>& id = row_ids_[j % 2];
+    for (int i = 0; i < width(); ++i) out.counted[i] = id[i] != kUnknown;
   }
 
  protected:
+  void on_source_row(int y, std::span<const float> row) override {
+    labels_.read_row(y, label_row_);
+    ids_.assign(label_row_, row_ids_[y % 2]);
+    for (int i = 0; i < width(); ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
+    fixups_.record(y, row, zero_);
+  }
   bool keep(int i, int j, int i2, int j2) const override {
     const int a = id(i, j);
     return a != kUnknown && a == id(i2, j2);
   }
   double offset(int c, int i, int j, bool horizontal) const override {
     if (ramp_.empty()) return 0.0;
-    return ramp_[(static_cast<std::size_t>(id(i, j)) * src_.channels + c) * 2 + (horizontal ? 0 : 1)];
+    return ramp_[(static_cast<std::size_t>(id(i, j)) * channels() + c) * 2 + (horizontal ? 0 : 1)];
   }
 
  private:
-  int id(int i, int j) const { return ids_[static_cast<std::size_t>(j) * src_.width + i]; }
+  int id(int i, int j) const { return row_ids_[j % 2][i]; }
 
-  // Mean horizontal and vertical difference inside each label, per channel.
-  void compute_ramps(int labels) {
-    const int ch = src_.channels;
-    std::vector<double> sum(static_cast<std::size_t>(labels) * ch * 2, 0.0), count(labels * 2, 0.0);
-    for (int j = 0; j < src_.height; ++j)
-      for (int i = 0; i < src_.width; ++i) {
-        const int a = id(i, j);
+  // A first pass over both inputs: the mean horizontal and vertical difference inside each
+  // label, per channel. Then both are rewound for the solve.
+  void compute_ramps(RowReader& composite) {
+    const int w = width(), h = height(), ch = channels();
+    std::vector<double> sum, count;
+    std::vector<float> rows[2];
+    for (auto& r : rows) r.resize(static_cast<std::size_t>(ch) * w);
+    std::vector<int> ids[2];
+    for (int y = 0; y < h; ++y) {
+      composite.read_row(y, rows[y % 2]);
+      labels_.read_row(y, label_row_);
+      ids_.assign(label_row_, ids[y % 2]);
+      sum.resize(static_cast<std::size_t>(ids_.count()) * ch * 2, 0.0);
+      count.resize(static_cast<std::size_t>(ids_.count()) * 2, 0.0);
+      const auto add = [&](int a, int dir, int i0, int y0, int i1, int y1) {
+        count[a * 2 + dir] += 1.0;
+        for (int c = 0; c < ch; ++c)
+          sum[(static_cast<std::size_t>(a) * ch + c) * 2 + dir] +=
+              double(rows[y1 % 2][static_cast<std::size_t>(c) * w + i1]) - rows[y0 % 2][static_cast<std::size_t>(c) * w + i0];
+      };
+      for (int i = 0; i < w; ++i) {
+        const int a = ids[y % 2][i];
         if (a == kUnknown) continue;
-        for (int dir = 0; dir < 2; ++dir) {
-          const int i2 = i + (dir == 0), j2 = j + (dir == 1);
-          if (i2 >= src_.width || j2 >= src_.height || id(i2, j2) != a) continue;
-          count[a * 2 + dir] += 1.0;
-          for (int c = 0; c < ch; ++c)
-            sum[(static_cast<std::size_t>(a) * ch + c) * 2 + dir] += double(src_.at(c, i2, j2)) - src_.at(c, i, j);
-        }
+        if (i + 1 < w && ids[y % 2][i + 1] == a) add(a, 0, i, y, i + 1, y);
+        if (y > 0 && ids[(y - 1) % 2][i] == a) add(a, 1, i, y - 1, i, y);
       }
+    }
     ramp_.assign(sum.size(), 0.0);
-    for (int a = 0; a < labels; ++a)
-      for (int c = 0; c < ch; ++c)
-        for (int dir = 0; dir < 2; ++dir) {
-          const std::size_t k = (static_cast<std::size_t>(a) * ch + c) * 2 + dir;
-          if (count[a * 2 + dir] > 0.0) ramp_[k] = sum[k] / count[a * 2 + dir];
-        }
+    for (std::size_t k = 0; k < sum.size(); ++k) {
+      const double n = count[(k / (2 * ch)) * 2 + k % 2];
+      if (n > 0.0 && std::isfinite(sum[k])) ramp_[k] = sum[k] / n;
+    }
+    composite.rewind();
+    labels_.rewind();
   }
 
-  std::vector<int> ids_;
+  RowReader& labels_;
+  bool black_;
+  apps::OutputFixups& fixups_;
+  LabelIds ids_;
+  std::vector<float> label_row_;
+  std::vector<int> row_ids_[2];
+  std::vector<unsigned char> zero_;
   std::vector<double> ramp_;
 };
 
 }  // namespace
 
-Image stitch(const Image& composite, const Image& labels, const StitchOptions& options,
-             const SolverOptions& solver, SolveSummary* summary) {
-  if (composite.width != labels.width || composite.height != labels.height)
-    throw InputError(fmt::format("label map is {}x{} but the composite is {}x{}", labels.width, labels.height,
-                                 composite.width, composite.height));
-  int count = 0;
-  std::vector<int> ids = label_ids(labels, options.unknown == UnknownMode::Label, &count);
-  std::vector<bool> known(ids.size());
-  for (std::size_t k = 0; k < ids.size(); ++k) known[k] = ids[k] != kUnknown;
-  StitchGuidance guidance(composite, std::move(ids), count, options.deramp);
-  Image out = solve(guidance, solver, options.start_from_composite ? &composite : nullptr, summary);
-  match_means(out, channel_means(composite, known), known);
-  restore_non_finite(out, composite);
-  if (options.unknown == UnknownMode::Black)
-    for (int c = 0; c < out.channels; ++c)
-      for (std::size_t k = 0; k < known.size(); ++k)
-        if (!known[k]) out.plane(c)[k] = 0.0f;
+void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
+            RowWriter& out, SolveSummary* summary) {
+  if (composite.width() != labels.width() || composite.height() != labels.height())
+    throw InputError(fmt::format("label map is {}x{} but the composite is {}x{}", labels.width(), labels.height(),
+                                 composite.width(), composite.height()));
+  apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
+  StitchGuidance guidance(composite, labels, options, fixups);
+  solve(guidance, solver, fixups, summary);
+}
+
+Image stitch(const Image& composite, const Image& labels, const StitchOptions& options, const SolverOptions& solver,
+             SolveSummary* summary) {
+  ImageRowReader c(composite), l(labels);
+  Image out(composite.width, composite.height, composite.channels);
+  ImageRowWriter writer(out);
+  stitch(c, l, options, solver, writer, summary);
   return out;
 }
 

@@ -67,6 +67,7 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w) {
   }
   for (int c = 0; c < channels_; ++c)
     weighted_sum_[c] += multigrid::row_dot(w.data(), u.data() + static_cast<std::size_t>(c) * width_, width_);
+  if (!source_.start_from_initial()) std::fill(u.begin(), u.end(), T(0));
   for (int i = 0; i < width_; ++i) weight_total_ += static_cast<double>(w[i]);
 }
 

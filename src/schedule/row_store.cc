@@ -149,5 +149,6 @@ void RowStore<T>::clear() {
 
 template class RowStore<float>;
 template class RowStore<double>;
+template class RowStore<unsigned char>;
 
 }  // namespace gdp::schedule
