@@ -37,6 +37,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   settings.incore_from = first_incore_level(ops, channels, opt.incore_bytes);
   settings.measure_initial = settings.measure_final = true;
   settings.weights = ops.singular;
+  settings.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
   settings.stores.dir = opt.temp_dir;
   settings.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
   StreamingVCycle<T> vcycle(ops, settings);

@@ -60,7 +60,7 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
     const std::string name = fmt::format("level{}", l);
     L->u_store = std::make_unique<RowStore<T>>(set_.stores, slot, op.height, name + "-u");
     L->b_store = std::make_unique<RowStore<T>>(set_.stores, slot, op.height, name + "-b");
-    if (l == 0 && set_.weights)
+    if (l == 0 && set_.weights && set_.more_cycles)
       L->w_store = std::make_unique<RowStore<T>>(set_.stores, op.width, op.height, name + "-w");
     levels_.push_back(std::move(L));
   }
@@ -143,7 +143,7 @@ void StreamingVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::s
   std::copy(u.begin(), u.end(), u_row(0, 0, r));
   if (L.inputs_stored) {
     L.b_store->read({b_row(0, 0, r), slot});
-    if (set_.weights) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.width)});
+    if (L.w_store) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.width)});
   } else {
     std::copy(b.begin(), b.end(), b_row(0, 0, r));
     if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));

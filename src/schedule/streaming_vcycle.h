@@ -35,6 +35,7 @@ class StreamingVCycle {
     bool measure_initial = false;   // |b - A u| of the pushed rows (first cycle)
     bool measure_final = false;     // |b - A u| of the pulled rows
     bool weights = false;           // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
+    bool more_cycles = false;       // keep the finest weights for later cycles (b is always kept)
     StorePolicy stores;
   };
 
