@@ -26,7 +26,7 @@ struct StitchOptions {
 // come out as NaN again.
 
 // Seamless stitching: gradients of the composite, zero across label changes; the output's mean
-// over known pixels is the composite's (up to what the last sweeps move it, ~1e-6). Labels are
+// over known pixels is the composite's (up to what the last sweeps move it, ~1e-5). Labels are
 // compared exactly, any channel count. The composite is read twice with `deramp`.
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
             RowWriter& out, SolveSummary* summary = nullptr);
