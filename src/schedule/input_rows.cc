@@ -51,9 +51,10 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w) {
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
   constexpr double scale = multigrid::LevelOperator<T>::kScale;
-  for (std::size_t i = 0; i < b_[k].size(); ++i) {
-    b[i] = static_cast<T>(scale * b_[k][i]);
-    b_norm2_[i / width_] += static_cast<double>(b[i]) * b[i];
+  for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i]);
+  for (int c = 0; c < channels_; ++c) {
+    const T* bc = b.data() + static_cast<std::size_t>(c) * width_;
+    b_norm2_[c] += multigrid::row_dot(bc, bc, width_);
   }
   const std::vector<float>& init = initial_[k];
   for (int i = 0; i < width_; ++i) {
