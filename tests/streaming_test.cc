@@ -230,3 +230,31 @@ TEST(Streaming, ScratchFilesLeaveNothingInTheTempDirectory) {
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+// A source that fails halfway, as a truncated file would.
+class FailingSource final : public GuidanceSource {
+ public:
+  int width() const override { return 64; }
+  int height() const override { return 300; }
+  int channels() const override { return 3; }
+  void read_row(int j, GuidanceRow&) override {
+    if (j == 150) throw InputError("broken.png: truncated");
+  }
+};
+
+TEST(Streaming, AnInputErrorStopsEveryLane) {
+  for (int threads : {1, 3}) {
+    FailingSource src;
+    SolverOptions o;
+    o.threads = threads;
+    Image out(64, 300, 3);
+    ImageRowWriter writer(out);
+    EXPECT_THROW(solve(src, o, writer), InputError);
+  }
+}
+
+}  // namespace
+}  // namespace gdp
