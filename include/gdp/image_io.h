@@ -30,6 +30,8 @@ ReadResult read_image(const std::filesystem::path& path);
 struct WriteOptions {
   std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
+  bool tiled = false;                     // tiled TIFF / OpenEXR (other formats: OutputError)
+  int tile_size = 256;
 };
 
 // Writes an image to a temporary file in the output's directory and renames it into place,

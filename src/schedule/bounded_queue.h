@@ -21,17 +21,23 @@ class BoundedQueue {
     not_empty_.notify_one();
     return true;
   }
-  // Blocks while empty; nothing once the queue is closed.
+  // Blocks while empty; nothing once the queue is closed, or finished and empty.
   std::optional<Item> pop() {
     std::unique_lock<std::mutex> lock(mutex_);
-    not_empty_.wait(lock, [&] { return closed_ || !items_.empty(); });
-    if (closed_) return std::nullopt;
+    not_empty_.wait(lock, [&] { return closed_ || finished_ || !items_.empty(); });
+    if (closed_ || items_.empty()) return std::nullopt;
     Item item = std::move(items_.front());
     items_.pop_front();
     not_full_.notify_one();
     return item;
   }
-  // Wakes and fails every waiting and later push() and pop().
+  // No more items: pop() drains what is queued, then returns nothing.
+  void finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    finished_ = true;
+    not_empty_.notify_all();
+  }
+  // Wakes and fails every waiting and later push() and pop(); queued items are dropped.
   void close() {
     std::lock_guard<std::mutex> lock(mutex_);
     closed_ = true;
@@ -44,7 +50,7 @@ class BoundedQueue {
   std::mutex mutex_;
   std::condition_variable not_full_, not_empty_;
   std::deque<Item> items_;
-  bool closed_ = false;
+  bool closed_ = false, finished_ = false;
 };
 
 }  // namespace gdp::schedule

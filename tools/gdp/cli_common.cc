@@ -30,12 +30,16 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges)")->capture_default_str();
     cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
     cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
+    cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");
+    cmd.add_option("--temp", o.solver.temp_dir, "directory for scratch files (default: the system's)");
+    cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
   cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file");
   cmd.add_option("--depth", o.depth, "output sample type: 8, 16, half, float (default: the input's)")
       ->check(CLI::IsMember({"8", "16", "half", "float"}));
   cmd.add_option("--quality", o.quality, "JPEG quality 1-100")->check(CLI::Range(1, 100))->capture_default_str();
+  cmd.add_flag("--tiled", o.tiled, "write a tiled TIFF or OpenEXR (256x256 tiles)");
 }
 
 namespace {
@@ -67,6 +71,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   SolverOptions s = o.solver;
   s.domain = parse_domain(o.domain);
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
+  s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
   s.validate();
@@ -76,6 +81,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   WriteOptions w;
   w.jpeg_quality = o.quality;
+  w.tiled = o.tiled;
   if (o.depth == "8") w.sample_type = SampleType::UInt8;
   else if (o.depth == "16") w.sample_type = SampleType::UInt16;
   else if (o.depth == "half") w.sample_type = SampleType::Half;
@@ -93,15 +99,23 @@ void Stats::summary(const SolveSummary& s) {
   for (double r : s.relative_residuals) residuals += fmt::format("{}{:.6e}", residuals.empty() ? "" : ", ", r);
   for (std::size_t l = 0; l < s.level_widths.size(); ++l)
     sizes += fmt::format("{}[{}, {}]", l ? ", " : "", s.level_widths[l], s.level_heights[l]);
-  set("width", std::to_string(s.width));
-  set("height", std::to_string(s.height));
-  set("channels", std::to_string(s.channels));
+  image(s.width, s.height, s.channels);
   set("levels", std::to_string(s.levels));
+  set("schedule", fmt::format("\"{}\"", s.schedule));
+  set("streamed_levels", std::to_string(s.streamed_levels));
+  set("scratch_mb", fmt::format("{:.1f}", s.scratch_bytes / 1048576.0));
+  set("solver_memory_mb", fmt::format("{:.1f}", s.window_bytes / 1048576.0));
   set("level_sizes", "[" + sizes + "]");
   set("vcycles", std::to_string(s.vcycles));
   set("relative_residuals", "[" + residuals + "]");
   seconds_["rhs"] += s.seconds_rhs;
   seconds_["vcycles"] += s.seconds_solve;
+}
+
+void Stats::image(int width, int height, int channels) {
+  set("width", std::to_string(width));
+  set("height", std::to_string(height));
+  set("channels", std::to_string(channels));
 }
 
 void Stats::write(const std::string& path) const {

@@ -24,6 +24,8 @@ struct CommonOptions {
   std::string stats_path;
   std::string depth;  // output sample type: 8, 16, half, float (default: the input's)
   int quality = 95;   // JPEG quality
+  bool tiled = false; // tiled TIFF / OpenEXR output
+  bool in_core = false;
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);
@@ -46,6 +48,8 @@ class Stats {
   }
   void set(const std::string& key, const std::string& json_value) { extra_[key] = json_value; }
   void summary(const SolveSummary& s);
+  // Input and output sizes for the JSON.
+  void image(int width, int height, int channels);
   // Writes the JSON file when one was asked for (empty path: nothing).
   void write(const std::string& path) const;
 

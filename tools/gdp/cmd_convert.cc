@@ -1,6 +1,7 @@
-// `gdp convert`: read and write through gdp's I/O path (the I/O floor for timings).
+// `gdp convert`: stream an image through gdp's reader and writer (the I/O floor for timings).
 #include "cli_common.h"
 #include "commands.h"
+#include "gdp/image_stream.h"
 
 namespace gdp::cli {
 namespace {
@@ -16,11 +17,17 @@ class Convert final : public Command {
 
   int run() override {
     Stats stats("convert");
-    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
-    stats.time("write", [&] { write_image(output_, in.image, write_options(common_, in.info)); });
-    stats.set("width", std::to_string(in.image.width));
-    stats.set("height", std::to_string(in.image.height));
-    stats.set("channels", std::to_string(in.image.channels));
+    ImageFileReader in(input_);
+    ImageFileWriter out(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
+    stats.time("total", [&] {
+      std::vector<float> row(static_cast<std::size_t>(in.width()) * in.channels());
+      for (int y = 0; y < in.height(); ++y) {
+        in.read_row(y, row);
+        out.write_row(y, row);
+      }
+      out.commit();
+    });
+    stats.image(in.width(), in.height(), in.channels());
     stats.write(common_.stats_path);
     return 0;
   }

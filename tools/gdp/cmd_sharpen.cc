@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
+#include "gdp/image_stream.h"
 
 namespace gdp::cli {
 namespace {
@@ -35,10 +36,13 @@ class Sharpen final : public Command {
       alpha_ = 1.0 / (scale_ * scale_);
     }
     const SolverOptions solver = solver_options(common_, name_);
-    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
+    ImageFileReader in(input_);
+    ImageFileWriter out(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
     SolveSummary summary;
-    const Image out = sharpen(in.image, alpha_, beta_, solver, &summary);
-    stats.time("write", [&] { write_image(output_, out, write_options(common_, in.info)); });
+    stats.time("total", [&] {
+      sharpen(in, alpha_, beta_, solver, out, &summary);
+      out.commit();
+    });
     stats.summary(summary);
     stats.set("alpha", fmt::format("{}", alpha_));
     stats.set("beta", fmt::format("{}", beta_));

@@ -4,6 +4,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/apps.h"
+#include "gdp/image_stream.h"
 
 namespace gdp::cli {
 namespace {
@@ -29,15 +30,18 @@ class Stitch final : public Command {
     options_.unknown = unknown_ == "black" ? UnknownMode::Black
                        : unknown_ == "label" ? UnknownMode::Label
                                              : UnknownMode::Harmonic;
-    const ReadResult composite = stats.time("read", [&] { return read_image(composite_); });
-    const ReadResult labels = stats.time("read", [&] { return read_image(labels_); });
-    if (labels.info.lossy || is_lossy_extension(labels_))
+    ImageFileReader composite(composite_), labels(labels_);
+    if (labels.info().lossy || is_lossy_extension(labels_))
       note(common_, fmt::format("gdp: warning: {}: label map in a lossy format ({}); compression noise "
                                 "creates spurious labels",
-                                labels_, labels.info.format_name));
+                                labels_, labels.info().format_name));
+    ImageFileWriter out(output_, composite.width(), composite.height(), composite.channels(),
+                        write_options(common_, composite.info()));
     SolveSummary summary;
-    const Image out = stitch(composite.image, labels.image, options_, solver, &summary);
-    stats.time("write", [&] { write_image(output_, out, write_options(common_, composite.info)); });
+    stats.time("total", [&] {
+      stitch(composite, labels, options_, solver, out, &summary);
+      out.commit();
+    });
     stats.summary(summary);
     note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s), relative residual {:.2e} -> {}",
                               summary.width, summary.height, summary.channels, summary.levels, summary.vcycles,
