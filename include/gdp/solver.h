@@ -39,7 +39,7 @@ struct SolverOptions {
   bool half_scratch = false;       // keep streamed rows between passes as 16-bit floats
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
   // memory and solved in-core; larger ones stream.
-  std::size_t incore_bytes = std::size_t{32} << 20;
+  std::size_t incore_bytes = std::size_t{8} << 20;
   // Receives one line per level and V-cycle with residual norms (the CLI's --verbose).
   std::function<void(const std::string&)> log;
   // Receives the fraction of work done, from 0 to 1.

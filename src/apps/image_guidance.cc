@@ -21,20 +21,31 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   const int w = width(), h = height(), e = out.x_edges;
   if (j == 0) read_source(0);
   if (j + 1 < h) read_source(j + 1);
+  right_.assign(w, 1);
+  down_.assign(w, j + 1 < h ? 1 : 0);
+  keep_edges(j, right_, down_);
+  const bool offsets = has_offsets();
   const std::span<const float> here = source_row(j);
   for (int c = 0; c < channels(); ++c) {
     const float* row = here.data() + static_cast<std::size_t>(c) * w;
+    double* gx = out.gx.data() + static_cast<std::size_t>(c) * e;
     for (int i = 0; i < e; ++i) {
-      const int i2 = (i + 1) % w;
-      const double d = double(row[i2]) - row[i];
-      out.gx[c * e + i] = std::isfinite(d) && keep(i, j, i2, j) ? beta_ * d - offset(c, i, j, true) : 0.0;
+      const double d = double(row[i + 1 < w ? i + 1 : 0]) - row[i];
+      gx[i] = std::isfinite(d) && right_[i] ? beta_ * d : 0.0;
     }
+    if (offsets)
+      for (int i = 0; i < e; ++i)
+        if (right_[i] && std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i])) gx[i] -= offset(c, i, j, true);
     if (j + 1 < h) {
       const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
+      double* gy = out.gy.data() + static_cast<std::size_t>(c) * w;
       for (int i = 0; i < w; ++i) {
         const double d = double(next[i]) - row[i];
-        out.gy[c * w + i] = std::isfinite(d) && keep(i, j, i, j + 1) ? beta_ * d - offset(c, i, j, false) : 0.0;
+        gy[i] = std::isfinite(d) && down_[i] ? beta_ * d : 0.0;
       }
+      if (offsets)
+        for (int i = 0; i < w; ++i)
+          if (down_[i] && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }
     if (alpha_ != 0.0)
       for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;

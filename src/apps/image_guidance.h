@@ -25,8 +25,11 @@ class ImageGuidance : public GuidanceSource {
   void read_row(int j, GuidanceRow& out) override;
 
  protected:
-  // Edge from (i, j) to (i2, j2), its right or lower neighbour (i2 may wrap to 0).
-  virtual bool keep(int, int, int, int) const { return true; }
+  // Row j's edges that keep their gradient: right[i] from (i, j) to (i + 1, j) (wrapping to
+  // column 0 on a periodic row), down[i] from (i, j) to (i, j + 1). Both arrive set to 1.
+  virtual void keep_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/) const {}
+  // When true, offset() is subtracted from every kept gradient.
+  virtual bool has_offsets() const { return false; }
   // Value subtracted from a kept gradient along x (horizontal) or y, per channel.
   virtual double offset(int /*c*/, int /*i*/, int /*j*/, bool /*horizontal*/) const { return 0.0; }
   // Called once per source row y, in order, as soon as it is read (before rows up to y are
@@ -42,6 +45,7 @@ class ImageGuidance : public GuidanceSource {
   double alpha_, beta_;
   bool start_;
   std::vector<float> rows_[2];
+  std::vector<unsigned char> right_, down_;
   int read_ = 0;
 };
 

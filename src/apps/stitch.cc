@@ -71,10 +71,17 @@ class StitchGuidance final : public apps::ImageGuidance {
     for (int i = 0; i < width(); ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
     fixups_.record(y, row, zero_);
   }
-  bool keep(int i, int j, int i2, int j2) const override {
-    const int a = id(i, j);
-    return a != kUnknown && a == id(i2, j2);
+  void keep_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down) const override {
+    const int w = width();
+    const std::vector<int>& here = row_ids_[j % 2];
+    const std::vector<int>& below = row_ids_[(j + 1) % 2];
+    for (int i = 0; i < w; ++i) {
+      const int a = here[i];
+      right[i] = a != kUnknown && a == here[i + 1 < w ? i + 1 : 0];
+      down[i] = down[i] && a != kUnknown && a == below[i];
+    }
   }
+  bool has_offsets() const override { return !ramp_.empty(); }
   double offset(int c, int i, int j, bool horizontal) const override {
     if (ramp_.empty()) return 0.0;
     return ramp_[(static_cast<std::size_t>(id(i, j)) * channels() + c) * 2 + (horizontal ? 0 : 1)];

@@ -13,8 +13,8 @@
 namespace gdp::schedule {
 namespace {
 
-constexpr int kBatchRows = 32;   // rows handed between threads at a time
-constexpr std::size_t kQueued = 4;  // batches in flight per lane and direction
+constexpr int kBatchRows = 16;   // rows handed between threads at a time
+constexpr std::size_t kQueued = 2;  // batches in flight per lane and direction
 
 // Rows first .. first + rows - 1 of some channels: u and b (channels * width per row), w.
 template <class T>
