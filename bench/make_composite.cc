@@ -4,7 +4,7 @@
 // The photo is tiled with mirrored copies (no seams of its own) to WIDTH x HEIGHT and split
 // into jittered-grid Voronoi regions about CELL pixels across, each with an exposure offset
 // uniform in +-40/255. Rows are generated and written one at a time, so any size works; use
-// .tif outputs for gigapixel cases (PNG encoding is slow).
+// .tif outputs (uncompressed) for gigapixel cases (PNG encoding is slow).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   };
   WriteOptions wo;
   wo.sample_type = SampleType::UInt8;
+  wo.compression = "none";  // fast to write and to read back (only TIFF uses it)
   ImageFileWriter comp(argv[4], w, h, ch, wo), labels(argv[5], w, h, 3, wo);
   std::vector<float> crow(static_cast<std::size_t>(w) * ch), lrow(static_cast<std::size_t>(w) * 3);
   for (int y = 0; y < h; ++y) {

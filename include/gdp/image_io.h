@@ -31,6 +31,7 @@ struct WriteOptions {
   std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
   bool tiled = false;                     // tiled TIFF / OpenEXR (other formats: OutputError)
+  std::string compression;                // OpenImageIO "Compression" ("none", "zip", "lzw", ...); empty: the format's default
   int tile_size = 256;
 };
 

@@ -141,6 +141,7 @@ ImageFileWriter::ImageFileWriter(const fs::path& path, int width, int height, in
     const std::string codec = format == "heif" ? "heic" : format;
     spec.attribute("Compression", fmt::format("{}:{}", codec, std::clamp(options.jpeg_quality, 1, 100)));
   }
+  if (!options.compression.empty()) spec.attribute("Compression", options.compression);
   const double bytes = static_cast<double>(width) * height * channels * spec.format.size();
   if (format == "tiff" && bytes > io::kBigTiffBytes) spec.attribute("tiff:bigtiff", 1);
   if (options.tiled) {

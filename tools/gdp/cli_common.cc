@@ -40,6 +40,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
       ->check(CLI::IsMember({"8", "16", "half", "float"}));
   cmd.add_option("--quality", o.quality, "JPEG quality 1-100")->check(CLI::Range(1, 100))->capture_default_str();
   cmd.add_flag("--tiled", o.tiled, "write a tiled TIFF or OpenEXR (256x256 tiles)");
+  cmd.add_option("--compression", o.compression, "output compression (TIFF: none, lzw, zip; default: the format's)");
 }
 
 namespace {
@@ -82,6 +83,7 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   WriteOptions w;
   w.jpeg_quality = o.quality;
   w.tiled = o.tiled;
+  w.compression = o.compression;
   if (o.depth == "8") w.sample_type = SampleType::UInt8;
   else if (o.depth == "16") w.sample_type = SampleType::UInt16;
   else if (o.depth == "half") w.sample_type = SampleType::Half;

@@ -25,6 +25,7 @@ struct CommonOptions {
   std::string depth;  // output sample type: 8, 16, half, float (default: the input's)
   int quality = 95;   // JPEG quality
   bool tiled = false; // tiled TIFF / OpenEXR output
+  std::string compression;
   bool in_core = false;
 };
 
