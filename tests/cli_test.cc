@@ -152,3 +152,25 @@ TEST_F(Cli, ReconstructReportsSmallError) {
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+TEST_F(Cli, StreamingAndInCoreWriteTheSameFile) {
+  const std::string args = "stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -q --depth float";
+  ASSERT_EQ(gdp(args + " -o " + path("s.tif") + " --temp " + dir_.string() + " --coarsest 4").code, 0);
+  ASSERT_EQ(gdp(args + " -o " + path("i.tif") + " --in-core --coarsest 4").code, 0);
+  ASSERT_EQ(gdp(args + " -o " + path("t.tif") + " --tiled --vcycles 2 --half-scratch").code, 0);
+  EXPECT_EQ(read_image(path("s.tif")).image.data, read_image(path("i.tif")).image.data);
+  EXPECT_LT(test::max_difference(read_image(path("t.tif")).image, read_image(path("i.tif")).image), 2e-3);
+  EXPECT_EQ(files(), (std::set<std::string>{"comp.png", "labels.png", "s.tif", "i.tif", "t.tif"}));
+}
+
+TEST_F(Cli, MissingScratchDirectory) {
+  expect_failure("stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -o " + path("out.png") +
+                     " --temp " + path("nowhere"),
+                 "nowhere");
+}
+
+}  // namespace
+}  // namespace gdp
