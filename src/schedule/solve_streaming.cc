@@ -13,7 +13,10 @@
 namespace gdp::schedule {
 namespace {
 
-constexpr int kBatchRows = 16;   // rows handed between threads at a time
+// Rows handed between threads at a time: about 256K samples (1 MB of floats), 1 to 16 rows.
+int batch_rows(int width, int channels) {
+  return std::clamp((1 << 18) / std::max(1, width * channels), 1, 16);
+}
 constexpr std::size_t kQueued = 2;  // batches in flight per lane and direction
 
 // Rows first .. first + rows - 1 of some channels: u and b (channels * width per row), w.
@@ -132,7 +135,7 @@ class Lane {
     if (result.rows == 0) result.first = j;
     result.u.insert(result.u.end(), u.begin(), u.end());
     ++result.rows;
-    if (result.rows < kBatchRows && j + 1 < height_) return true;
+    if (result.rows < batch_rows(width_, n_) && j + 1 < height_) return true;
     const bool ok = out.push(std::move(result));
     result = Batch<T>{};
     return ok;
@@ -225,7 +228,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
         batch.u.insert(batch.u.end(), u.begin() + from, u.begin() + from + count);
         batch.b.insert(batch.b.end(), b.begin() + from, b.begin() + from + count);
         if (settings.weights) batch.w.insert(batch.w.end(), wt.begin(), wt.end());
-        if (++batch.rows < kBatchRows && !last) continue;
+        if (++batch.rows < batch_rows(w, channels) && !last) continue;
         if (!lanes[l]->in.push(std::move(batch))) throw std::runtime_error("stopped");
         batch = Batch<T>{};
       }
