@@ -172,11 +172,11 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   summary.schedule = "streaming";
   summary.streamed_levels = settings.incore_from;
 
-  // One lane per channel when threads are allowed (channels are independent problems), else one.
+  // Channels are independent problems: up to one lane each, two threads left to the codecs.
   InputTotals totals;
   ResidualLog log(channels, static_cast<bool>(opt.log));
   std::vector<std::unique_ptr<Lane<T>>> lanes;
-  const int lane_count = opt.threads > 1 ? channels : 1;
+  const int lane_count = std::clamp(opt.threads - 2, 1, channels);
   for (int t = 0; t < lane_count; ++t) {
     const int c0 = t * channels / lane_count, c1 = (t + 1) * channels / lane_count;
     lanes.push_back(std::make_unique<Lane<T>>(ops, opt, settings, c0, c1 - c0, totals, log));

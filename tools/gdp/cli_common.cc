@@ -23,7 +23,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--tolerance", o.solver.tolerance,
                    "run V-cycles until the relative residual is below this (overrides --vcycles)");
     o.solver.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    cmd.add_option("--threads", o.solver.threads, "threads (channels are solved concurrently); default: all cores")
+    cmd.add_option("--threads", o.solver.threads, "threads: in-core, channels in parallel; streaming, one lane per channel beyond the two codec threads; default: all cores")
         ->capture_default_str();
     cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
         ->capture_default_str();
