@@ -94,6 +94,14 @@ T* StreamingVCycle<T>::w_row(int l, int j) {
 }
 
 template <class T>
+RowWindow<T> StreamingVCycle<T>::window(int l, int c, int j) {
+  const LevelOperator<T>& op = *levels_[l]->op;
+  RowWindow<T> rows{};
+  for (int d = 0; d < 5; ++d) rows[d] = op.row_of[j][d] < 0 ? nullptr : u_row(l, c, op.row_of[j][d]);
+  return rows;
+}
+
+template <class T>
 void StreamingVCycle<T>::begin_cycle() {
   ++cycle_;
   prolongation_ = false;
@@ -173,8 +181,7 @@ void StreamingVCycle<T>::run_stage(int l, Stage stage, int j) {
   const LevelOperator<T>& op = *L.op;
   if (stage == Stage::Restrict) return restrict_into_coarser(l, j);
   for (int c = 0; c < set_.channels; ++c) {
-    RowWindow<T> rows{};
-    for (int d = 0; d < 5; ++d) rows[d] = op.row_of[j][d] < 0 ? nullptr : u_row(l, c, op.row_of[j][d]);
+    const RowWindow<T> rows = window(l, c, j);
     if (stage == Stage::Sweep) {
       multigrid::relax_row(op, j, rows, u_row(l, c, j), b_row(l, c, j), L.scratch);
     } else {
@@ -202,9 +209,7 @@ void StreamingVCycle<T>::restrict_into_coarser(int l, int j) {
   }
   const auto coarse_b = [&](int c, int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
   for (int c = 0; c < set_.channels; ++c) {
-    RowWindow<T> rows{};
-    for (int d = 0; d < 5; ++d) rows[d] = op.row_of[j][d] < 0 ? nullptr : u_row(l, c, op.row_of[j][d]);
-    multigrid::residual_row(op, j, rows, b_row(l, c, j), r_.data(), L.scratch);
+    multigrid::residual_row(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.scratch);
     L.rr[c] += multigrid::row_dot(r_.data(), r_.data(), L.width);
     multigrid::restrict_row(g.px, py, r_.data(), coarse_b(c, py.index[0]), coarse_b(c, py.index[1]), tmp_.data());
     if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j), u_row(l, c, j), L.width);

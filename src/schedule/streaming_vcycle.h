@@ -70,6 +70,7 @@ class StreamingVCycle {
   void run_incore();
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
+  multigrid::RowWindow<T> window(int l, int c, int j);  // rows j-2 .. j+2 of channel c
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
