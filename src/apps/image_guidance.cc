@@ -14,7 +14,6 @@ ImageGuidance::ImageGuidance(RowReader& source, double alpha, double beta, bool 
 void ImageGuidance::read_source(int y) {
   src_.read_row(y, rows_[y % 2]);
   on_source_row(y, rows_[y % 2]);
-  read_ = y + 1;
 }
 
 void ImageGuidance::read_row(int j, GuidanceRow& out) {

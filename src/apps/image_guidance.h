@@ -46,7 +46,6 @@ class ImageGuidance : public GuidanceSource {
   bool start_;
   std::vector<float> rows_[2];
   std::vector<unsigned char> right_, down_;
-  int read_ = 0;
 };
 
 }  // namespace gdp::apps
