@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -170,6 +171,26 @@ TEST_F(Cli, MissingScratchDirectory) {
   expect_failure("stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -o " + path("out.png") +
                      " --temp " + path("nowhere"),
                  "nowhere");
+}
+
+}  // namespace
+}  // namespace gdp
+
+namespace gdp {
+namespace {
+
+TEST_F(Cli, InterruptedStitchLeavesNothing) {
+  // Many V-cycles keep it running (with its scratch files and temporary output) when stopped.
+  // SIGTERM, as SIGINT is ignored by background jobs of a non-interactive shell.
+  write_image(path("big.tif"), test::random_image(800, 800, 3, 2), {});
+  write_image(path("big_labels.tif"), Image(800, 800, 1, 0.25f), {});
+  const std::set<std::string> before = files();
+  const std::string cmd = std::string(GDP_CLI_PATH) + " stitch -c " + path("big.tif") + " -l " + path("big_labels.tif") +
+                          " -o " + path("out.tif") + " --vcycles 200 --temp " + dir_.string() + " -q & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid";
+  const int status = std::system(("bash -c '" + cmd + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << "the run should have been stopped, not finished";
+  EXPECT_EQ(files(), before) << "no output, temporary or scratch file may remain";
 }
 
 }  // namespace
