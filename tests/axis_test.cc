@@ -10,7 +10,7 @@ namespace gdp::fem {
 namespace {
 
 // Dense n x n matrix of one of an axis's banded matrices.
-std::vector<std::vector<double>> dense(const Axis& a, const std::vector<std::array<double, 5>>& m) {
+std::vector<std::vector<double>> dense(const Axis& a, const RowTable<std::array<double, 5>>& m) {
   std::vector<std::vector<double>> d(a.n, std::vector<double>(a.n, 0.0));
   for (int i = 0; i < a.n; ++i)
     for (int k = -2; k <= 2; ++k) {
@@ -131,6 +131,37 @@ TEST(Axis, EvenSizesNestExactlyIncludingBoundaryRows) {
       EXPECT_NEAR(coarse.mass[i][d], 2.0 * direct.mass[i][d], 1e-14);
       EXPECT_NEAR(coarse.stiffness[i][d], 0.5 * direct.stiffness[i][d], 1e-14);
     }
+}
+
+}  // namespace
+}  // namespace gdp::fem
+
+namespace gdp::fem {
+namespace {
+
+// Row tables keep only rows near the ends: every level's rows must equal whole tables.
+TEST(RowTables, CompressedAxesEqualWholeOnes) {
+  constexpr int kWhole = 1 << 20;  // keeps every row
+  for (AxisBoundary boundary : {AxisBoundary::Neumann, AxisBoundary::Periodic}) {
+    for (int n : {17, 18, 19, 40, 41, 97, 130, 257, 1001}) {
+      Axis small = make_fine_axis(n, boundary), whole = make_fine_axis(n, boundary, kWhole);
+      for (int level = 0; level < 8 && small.n > 2; ++level) {
+        SCOPED_TRACE(::testing::Message() << "n=" << n << " level " << level);
+        for (int i = 0; i < small.n; ++i) {
+          ASSERT_EQ(small.mass[i], whole.mass[i]) << i;
+          ASSERT_EQ(small.stiffness[i], whole.stiffness[i]) << i;
+          if (level == 0) {
+            ASSERT_EQ(small.derivative[i], whole.derivative[i]) << i;
+          }
+        }
+        const int m = next_size(small);
+        if (m == small.n) break;
+        const Prolongation p = make_prolongation(small, m);
+        small = coarsen(small, p);
+        whole = coarsen(whole, p, kWhole);
+      }
+    }
+  }
 }
 
 }  // namespace

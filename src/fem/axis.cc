@@ -1,6 +1,7 @@
 // Building fine axes by folding the interior stencils, and coarse axes by Galerkin products.
 #include "fem/axis.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "fem/stencils.h"
@@ -30,38 +31,50 @@ int Axis::column(int i, int d) const {
   return (c >= 0 && c < n) ? c : -1;
 }
 
-Axis make_fine_axis(int n, AxisBoundary boundary) {
+namespace {
+
+// Row i of a fine matrix with the given interior stencil: Periodic rows keep every offset (the
+// kernel reads the wrapped column); Neumann rows move the coefficient of a ghost sample onto
+// the sample it mirrors.
+std::array<double, 5> fine_row(int i, int n, AxisBoundary boundary, const double* stencil, double scale) {
+  std::array<double, 5> row{};
+  for (int d = -2; d <= 2; ++d) {
+    const int to = boundary == AxisBoundary::Periodic ? d : reflect_index(i + d, n) - i;
+    row[to + 2] += stencil[d + 2] * scale;
+  }
+  return row;
+}
+
+std::array<double, 4> derivative_row(int i, int n, AxisBoundary boundary) {
+  std::array<double, 4> row{};
+  for (int k = 0; k < 4; ++k) {
+    int e = i - 2 + k;
+    double sign = 1.0;
+    if (boundary == AxisBoundary::Neumann) {
+      // Gradients extend oddly across a Neumann edge: edge -1 and n-1 straddle the
+      // boundary (value 0), edge -2-e mirrors edge e with the opposite sign.
+      while (e < -1 || e > n - 1) {
+        e = e < -1 ? -2 - e : 2 * n - 2 - e;
+        sign = -sign;
+      }
+      if (e == -1 || e == n - 1) continue;
+      row[e - (i - 2)] += sign * kDerivative[k];
+    } else {
+      row[k] += kDerivative[k];
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
+Axis make_fine_axis(int n, AxisBoundary boundary, int edge) {
   Axis a;
   a.n = n;
   a.boundary = boundary;
-  a.mass.assign(n, {});
-  a.stiffness.assign(n, {});
-  a.derivative.assign(n, {});
-  for (int i = 0; i < n; ++i) {
-    for (int d = -2; d <= 2; ++d) {
-      // Periodic rows keep every offset (the kernel reads the wrapped column); Neumann rows
-      // move the coefficient of a ghost sample onto the sample it mirrors.
-      const int to = boundary == AxisBoundary::Periodic ? d : reflect_index(i + d, n) - i;
-      a.mass[i][to + 2] += kMass[d + 2];
-      a.stiffness[i][to + 2] += kStiffness[d + 2];
-    }
-    for (int k = 0; k < 4; ++k) {
-      int e = i - 2 + k;
-      double sign = 1.0;
-      if (boundary == AxisBoundary::Neumann) {
-        // Gradients extend oddly across a Neumann edge: edge -1 and n-1 straddle the
-        // boundary (value 0), edge -2-e mirrors edge e with the opposite sign.
-        while (e < -1 || e > n - 1) {
-          e = e < -1 ? -2 - e : 2 * n - 2 - e;
-          sign = -sign;
-        }
-        if (e == -1 || e == n - 1) continue;
-        a.derivative[i][e - (i - 2)] += sign * kDerivative[k];
-      } else {
-        a.derivative[i][k] += kDerivative[k];
-      }
-    }
-  }
+  a.mass = {n, [&](int i) { return fine_row(i, n, boundary, kMass.data(), 1.0); }, edge};
+  a.stiffness = {n, [&](int i) { return fine_row(i, n, boundary, kStiffness.data(), 1.0); }, edge};
+  a.derivative = {n, [&](int i) { return derivative_row(i, n, boundary); }, edge};
   return a;
 }
 
@@ -86,43 +99,47 @@ Prolongation make_prolongation(const Axis& fine, int m) {
   return p;
 }
 
-Axis coarsen(const Axis& fine, const Prolongation& p) {
+Axis coarsen(const Axis& fine, const Prolongation& p, int edge) {
   const int m = p.coarse_n;
-  const double scale = m == fine.n ? fine.scale : 2.0 * fine.scale;
-  if (fine.boundary == AxisBoundary::Periodic && m != fine.n && fine.n % 2 == 1) {
-    Axis c = make_fine_axis(m, AxisBoundary::Periodic);
-    c.derivative.clear();
-    c.scale = scale;
-    for (auto& row : c.mass)
-      for (double& v : row) v *= scale;
-    for (auto& row : c.stiffness)
-      for (double& v : row) v /= scale;
-    return c;
-  }
   Axis c;
   c.n = m;
   c.boundary = fine.boundary;
-  c.scale = scale;
-  c.mass.assign(m, {});
-  c.stiffness.assign(m, {});
-  for (int i = 0; i < fine.n; ++i) {
-    for (int d = -2; d <= 2; ++d) {
-      const int k = fine.column(i, d);
-      if (k < 0) continue;
-      const double mass = fine.mass[i][d + 2], stiff = fine.stiffness[i][d + 2];
-      if (mass == 0.0 && stiff == 0.0) continue;
-      for (int a = 0; a < 2; ++a) {
-        for (int b = 0; b < 2; ++b) {
-          const int row = p.rows[i].index[a], col = p.rows[k].index[b];
-          const double w = p.rows[i].weight[a] * p.rows[k].weight[b];
-          if (w == 0.0) continue;
-          const int off = offset_of(c, row, col) + 2;
-          c.mass[row][off] += w * mass;
-          c.stiffness[row][off] += w * stiff;
+  c.scale = m == fine.n ? fine.scale : 2.0 * fine.scale;
+  if (fine.boundary == AxisBoundary::Periodic && m != fine.n && fine.n % 2 == 1) {
+    c.mass = {m, [&](int i) { return fine_row(i, m, AxisBoundary::Periodic, kMass.data(), c.scale); }, edge};
+    c.stiffness = {m, [&](int i) { return fine_row(i, m, AxisBoundary::Periodic, kStiffness.data(), 1.0 / c.scale); }, edge};
+    return c;
+  }
+  // Coarse row r of P^T A P, gathered from the fine rows whose prolongation reaches r: those
+  // near 2r, and near the ends, where reflection or wrap-around sends rows to the other side.
+  const auto galerkin = [&](int r, bool stiffness) {
+    std::array<double, 5> row{};
+    std::vector<int> candidates;
+    for (int i = std::max(0, 2 * r - 3); i < std::min(fine.n, 2 * r + 5); ++i) candidates.push_back(i);
+    for (int i = 0; i < std::min(3, fine.n); ++i) candidates.push_back(i);
+    for (int i = std::max(0, fine.n - 3); i < fine.n; ++i) candidates.push_back(i);
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (int i : candidates) {
+      for (int d = -2; d <= 2; ++d) {
+        const int k = fine.column(i, d);
+        if (k < 0) continue;
+        const double v = stiffness ? fine.stiffness[i][d + 2] : fine.mass[i][d + 2];
+        if (fine.mass[i][d + 2] == 0.0 && fine.stiffness[i][d + 2] == 0.0) continue;
+        for (int a = 0; a < 2; ++a) {
+          if (p.rows[i].index[a] != r) continue;
+          for (int b = 0; b < 2; ++b) {
+            const double w = p.rows[i].weight[a] * p.rows[k].weight[b];
+            if (w == 0.0) continue;
+            row[offset_of(c, r, p.rows[k].index[b]) + 2] += w * v;
+          }
         }
       }
     }
-  }
+    return row;
+  };
+  c.mass = {m, [&](int r) { return galerkin(r, false); }, edge};
+  c.stiffness = {m, [&](int r) { return galerkin(r, true); }, edge};
   return c;
 }
 

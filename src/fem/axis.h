@@ -4,6 +4,8 @@
 #include <array>
 #include <vector>
 
+#include "fem/row_table.h"
+
 namespace gdp::fem {
 
 // Boundary behaviour of one axis.
@@ -19,11 +21,11 @@ struct Axis {
   int n = 0;
   AxisBoundary boundary = AxisBoundary::Neumann;
   double scale = 1.0;  // sample spacing in finest-level samples (2^level where halved)
-  std::vector<std::array<double, 5>> mass;
-  std::vector<std::array<double, 5>> stiffness;
+  RowTable<std::array<double, 5>> mass;
+  RowTable<std::array<double, 5>> stiffness;
   // Finest level only: coupling of B_i' with the hats on edges i-2..i+1, folded like the
   // rows above (Neumann: reflected edges change sign, boundary edges vanish).
-  std::vector<std::array<double, 4>> derivative;
+  RowTable<std::array<double, 4>> derivative;
 
   // Number of edges (gradient samples) along this axis: n-1, or n when periodic.
   int edges() const { return boundary == AxisBoundary::Periodic ? n : (n > 0 ? n - 1 : 0); }
@@ -46,8 +48,9 @@ struct Prolongation {
   std::vector<ProlongationRow> rows;  // one per fine sample
 };
 
-// Finest-level axis with n samples.
-Axis make_fine_axis(int n, AxisBoundary boundary);
+// Finest-level axis with n samples. `edge`: rows kept near each end (RowTable; tests build
+// whole tables with a huge edge to check the interior really is uniform).
+Axis make_fine_axis(int n, AxisBoundary boundary, int edge = RowTable<int>::kEdge);
 // Prolongation from m samples to the fine axis's n samples: m == coarse_size(n) halves the
 // axis (interpolating from the coarse samples reflected or wrapped at the ends), m == n is
 // the identity (an axis that no longer coarsens).
@@ -58,6 +61,6 @@ int next_size(const Axis& fine);
 // spaces nest, the algebraic Galerkin product elsewhere). One exception: a periodic axis of
 // odd length, whose Galerkin product would leave the 5-wide band, is rediscretised (interior
 // stencils at the coarse spacing), which keeps the operator symmetric and consistent.
-Axis coarsen(const Axis& fine, const Prolongation& p);
+Axis coarsen(const Axis& fine, const Prolongation& p, int edge = RowTable<int>::kEdge);
 
 }  // namespace gdp::fem

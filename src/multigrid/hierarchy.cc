@@ -57,18 +57,25 @@ LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
     sx_in = {sx[2][mid], sx[3][mid], sx[4][mid]};
     mx_in = {mx[2][mid], mx[3][mid], mx[4][mid]};
   }
-  my.resize(height);
-  cy.resize(height);
-  row_of.resize(height);
-  for (int j = 0; j < height; ++j) {
-    for (int d = 0; d < 5; ++d) {
-      const double m = g.y.mass[j][d], s = g.y.stiffness[j][d];
-      my[j][d] = static_cast<T>(120.0 * m);
-      cy[j][d] = static_cast<T>(6.0 * s + 6.0 * alpha * m);
-      const int r = g.y.column(j, d - 2);
-      row_of[j][d] = (r >= 0 && (m != 0.0 || s != 0.0)) ? r : -1;
-    }
-  }
+  // Rows are built as row tables: only rows near the ends and one interior row are kept.
+  my = {height, [&](int j) {
+          std::array<T, 5> r;
+          for (int d = 0; d < 5; ++d) r[d] = static_cast<T>(120.0 * g.y.mass[j][d]);
+          return r;
+        }};
+  cy = {height, [&](int j) {
+          std::array<T, 5> r;
+          for (int d = 0; d < 5; ++d) r[d] = static_cast<T>(6.0 * g.y.stiffness[j][d] + 6.0 * alpha * g.y.mass[j][d]);
+          return r;
+        }};
+  offsets_ = {height, [&](int j) {
+                std::array<int, 5> r;
+                for (int d = 0; d < 5; ++d) {
+                  const int c = g.y.column(j, d - 2);
+                  r[d] = (c >= 0 && (g.y.mass[j][d] != 0.0 || g.y.stiffness[j][d] != 0.0)) ? c - j : kNone;
+                }
+                return r;
+              }};
 }
 
 template struct LevelOperator<float>;

@@ -32,7 +32,8 @@ Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height,
 // coefficient (folded, Galerkin, any level) a dyadic integer exactly representable in float.
 // Rows of the stored stiffness then sum to exactly zero, so constants stay exactly in the
 // null space in float32 too; right-hand sides must be multiplied by kScale to match.
-// Per column: sx[d + 2][i], mx[d + 2][i]; per row: my[j][d + 2], cy[j][d + 2].
+// Per column: sx[d + 2][i], mx[d + 2][i]; per row: my[j][d + 2], cy[j][d + 2] (row tables:
+// memory independent of the height).
 template <class T>
 struct LevelOperator {
   static constexpr double kScale = 720.0;
@@ -40,14 +41,22 @@ struct LevelOperator {
   int width = 0, height = 0;
   bool periodic_x = false;
   std::array<std::vector<T>, 5> sx, mx;
-  std::vector<std::array<T, 5>> my, cy;
-  std::vector<std::array<int, 5>> row_of;  // neighbour row of row j at offset d, or -1 if unused
+  fem::RowTable<std::array<T, 5>> my, cy;
+  // Row j's neighbour at offset d - 2 (d = 0..4), or -1 where the operator has no coupling.
+  int row_of(int j, int d) const {
+    const int r = offsets_[j][d];
+    return r == kNone ? -1 : j + r;
+  }
   // Columns [interior_begin, interior_end) share one symmetric x stencil (sx_in, mx_in), so
   // the kernels may use a constant-coefficient loop there.
   int interior_begin = 0, interior_end = 0;
   std::array<T, 3> sx_in{}, mx_in{};  // centre, +-1, +-2
 
   LevelOperator(const LevelGeometry& g, double alpha);
+
+ private:
+  static constexpr int kNone = 1 << 30;
+  fem::RowTable<std::array<int, 5>> offsets_;  // row_of(j, d) - j, or kNone
 };
 
 }  // namespace gdp::multigrid

@@ -13,7 +13,7 @@ template <class T>
 RowWindow<T> window(const LevelOperator<T>& op, const Plane<T>& u, int j) {
   RowWindow<T> w{};
   for (int d = 0; d < 5; ++d) {
-    const int r = op.row_of[j][d];
+    const int r = op.row_of(j, d);
     w[d] = r < 0 ? nullptr : u.row(r);
   }
   return w;

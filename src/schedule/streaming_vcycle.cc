@@ -46,7 +46,7 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
     L->height = op.height;
     for (int j = 0; j < op.height; ++j)
       for (int d = 0; d < 5; ++d)
-        if (op.row_of[j][d] >= 0 && std::abs(op.row_of[j][d] - j) > 2)
+        if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
           throw std::logic_error("streaming needs every row's neighbours within two rows");
     L->ring = 2 * (set_.sweeps + 2) + 8;
     const std::size_t slot = static_cast<std::size_t>(channels) * op.width;
@@ -97,7 +97,7 @@ template <class T>
 RowWindow<T> StreamingVCycle<T>::window(int l, int c, int j) {
   const LevelOperator<T>& op = *levels_[l]->op;
   RowWindow<T> rows{};
-  for (int d = 0; d < 5; ++d) rows[d] = op.row_of[j][d] < 0 ? nullptr : u_row(l, c, op.row_of[j][d]);
+  for (int d = 0; d < 5; ++d) rows[d] = op.row_of(j, d) < 0 ? nullptr : u_row(l, c, op.row_of(j, d));
   return rows;
 }
 
