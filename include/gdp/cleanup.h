@@ -5,7 +5,8 @@
 
 namespace gdp::cleanup {
 
-// Registers a path to delete if the process is interrupted; returns a handle for untrack()
+// Registers a path to delete if the process is interrupted or exits (exit()) while it is still
+// tracked; returns a handle for untrack()
 // (-1 when the fixed-size registry is full, in which case the path is not tracked).
 int track(const std::string& path);
 void untrack(int handle);

@@ -32,7 +32,7 @@ struct WriteOptions {
   int jpeg_quality = 95;                  // 1..100
   bool tiled = false;                     // tiled TIFF / OpenEXR (other formats: OutputError)
   std::string compression;                // OpenImageIO "Compression" ("none", "zip", "lzw", ...); empty: the format's default
-  int tile_size = 256;
+  int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
 };
 
 // Writes an image to a temporary file in the output's directory and renames it into place,

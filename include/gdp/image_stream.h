@@ -11,8 +11,12 @@
 namespace gdp {
 
 // Reads an image file in bands of rows (whole tile rows for tiled files), never the whole
-// image. With prefetch, a background thread decodes the next band while the caller uses the
-// current one. Errors (also the decoder thread's) are InputError naming the file.
+// image: memory is O(width * band rows) whatever the height (except where the codec itself
+// holds the whole image: interlaced PNG, progressive JPEG). 8- and 16-bit samples stay so in
+// the bands and become floats in read_row(). With prefetch, a background thread decodes the
+// next bands while the caller uses the current one (at most three bands exist). Errors (also
+// the decoder thread's, rethrown by read_row()) are InputError naming the file; rows out of
+// order throw std::logic_error. rewind() reopens the file unless one band holds the image.
 class ImageFileReader final : public RowReader {
  public:
   explicit ImageFileReader(const std::filesystem::path& path, bool prefetch = true);
@@ -29,13 +33,19 @@ class ImageFileReader final : public RowReader {
   std::unique_ptr<Impl> impl_;
 };
 
-// Writes an image file row by row to a temporary name next to it (encoding on a background
-// thread, a band of rows at a time); commit() finishes it and renames it into place. Destroyed
-// without commit(), it deletes the temporary file: nothing is left behind. Integer outputs are
-// clamped to [0, 1]. Errors are OutputError naming the final file.
+// Writes an image file row by row to a temporary name next to it, a band of rows at a time
+// (whole tile rows with WriteOptions::tiled, which needs .tif or .exr); commit() finishes it
+// and renames it into place. With write_behind, a background thread encodes full bands while
+// the caller fills the next one (at most three bands exist). Destroyed without commit(), it
+// stops that thread and deletes the temporary file: nothing is left behind. Integer outputs are
+// clamped to [0, 1]. Errors, also the encoder's and failed writes to the disk (full, say), are
+// OutputError naming the final file, thrown by the constructor, write_row() or commit(); rows
+// out of order throw std::logic_error. (Exception: a JPEG of over 512 MiB of pixels is written
+// without the checked file, and libjpeg ends the process on a failed write; see io/oiio_util.h.)
 class ImageFileWriter final : public RowWriter {
  public:
-  ImageFileWriter(const std::filesystem::path& path, int width, int height, int channels, const WriteOptions& options);
+  ImageFileWriter(const std::filesystem::path& path, int width, int height, int channels, const WriteOptions& options,
+                  bool write_behind = true);
   ~ImageFileWriter() override;
   void write_row(int y, std::span<const float> row) override;
   void commit() override;

@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 
 namespace gdp::cleanup {
@@ -30,6 +31,9 @@ void on_signal(int sig) {
 
 int track(const std::string& path) {
   if (path.size() >= sizeof(Slot::path)) return -1;
+  // Also when a library calls exit() (libjpeg does on some errors) before the owner untracks.
+  static const bool at_exit = std::atexit(remove_tracked) == 0;
+  (void)at_exit;
   for (int i = 0; i < static_cast<int>(g_slots.size()); ++i) {
     bool expected = false;
     if (!g_slots[i].claimed.compare_exchange_strong(expected, true)) continue;

@@ -61,6 +61,11 @@ SampleType choose_sample_type(const std::string& format_name, const std::optiona
   return *requested;
 }
 
+OIIO::TypeDesc native_integer_type(const OIIO::ImageSpec& spec) {
+  const bool integer = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
+  return integer && spec.channelformats.empty() ? spec.format : OIIO::TypeDesc::UNKNOWN;
+}
+
 bool is_lossy_format(const std::string& format_name) {
   return format_name == "jpeg" || format_name == "webp" || format_name == "heif" || format_name == "jpeg2000";
 }
