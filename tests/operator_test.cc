@@ -89,17 +89,22 @@ INSTANTIATE_TEST_SUITE_P(Planar, Conformance,
 INSTANTIATE_TEST_SUITE_P(Cylindrical, Conformance,
                          ::testing::Combine(::testing::Values(Domain::Cylindrical),
                                             ::testing::Values(3, 5, 8, 13), ::testing::Values(1, 4, 7)));
+INSTANTIATE_TEST_SUITE_P(Spherical, Conformance,
+                         ::testing::Values(std::make_tuple(Domain::Spherical, 8, 2), std::make_tuple(Domain::Spherical, 16, 4),
+                                           std::make_tuple(Domain::Spherical, 24, 6),
+                                           std::make_tuple(Domain::Spherical, 32, 8)));
 
 // The assembled right-hand side of an exact gradient field equals the operator applied to the
 // image (NUMERICS.md §2), with and without the screening term.
 class RhsIdentity : public ::testing::TestWithParam<std::tuple<Domain, int, int, double>> {};
 
 TEST_P(RhsIdentity, ExactGradientsGiveOperatorTimesImage) {
-  const auto [domain, w, h, alpha] = GetParam();
+  const auto [domain, w, given_h, alpha] = GetParam();
+  const int h = domain == Domain::Spherical ? w / 4 : given_h;  // PQ: W = 4H
   const auto topo = topology::make_topology(domain);
   const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, alpha, 1 << 20);
   const Image img = test::random_image(w, h, 2, 7);
-  test::ExactGradients src(img, domain == Domain::Cylindrical, alpha);
+  test::ExactGradients src(img, domain, alpha);
   const fem::Axis& x = hier.levels[0].x;
   fem::RhsAssembler asm_(x, hier.levels[0].y, alpha, 2);
   std::vector<Plane<double>> b(2, Plane<double>(w, h));
@@ -111,6 +116,8 @@ TEST_P(RhsIdentity, ExactGradientsGiveOperatorTimesImage) {
   row.gx.resize(2 * x.edges());
   row.gy.resize(2 * w);
   row.value.resize(2 * w);
+  row.spherical = domain == Domain::Spherical;
+  if (row.spherical) row.gy_above.resize(2 * w);
   for (int j = 0; j < h; ++j) {
     src.read_row(j, row);
     asm_.push(j, row, sink);
@@ -131,6 +138,9 @@ INSTANTIATE_TEST_SUITE_P(Sizes, RhsIdentity,
                          ::testing::Combine(::testing::Values(Domain::Planar, Domain::Cylindrical),
                                             ::testing::Values(3, 4, 17), ::testing::Values(1, 2, 5, 12),
                                             ::testing::Values(0.0, 0.3)));
+INSTANTIATE_TEST_SUITE_P(Spherical, RhsIdentity,
+                         ::testing::Combine(::testing::Values(Domain::Spherical), ::testing::Values(8, 24, 48),
+                                            ::testing::Values(0), ::testing::Values(0.0, 0.3)));
 
 }  // namespace
 }  // namespace gdp

@@ -28,7 +28,7 @@ struct Case {
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << (c.domain == Domain::Planar ? "planar " : "cylindrical ") << c.width << "x" << c.height << "x"
+  *os << (c.domain == Domain::Planar ? "planar " : c.domain == Domain::Cylindrical ? "cylindrical " : "spherical ") << c.width << "x" << c.height << "x"
       << c.channels << " alpha " << c.alpha << " cycles " << c.vcycles
       << (c.precision == Precision::Float64 ? " double" : " float") << " incore " << c.incore_bytes
       << (c.initial ? " initial" : "");
@@ -47,11 +47,11 @@ TEST_P(Schedules, StreamingIsBitIdenticalToInCore) {
   o.coarsest_size = 5;
   o.incore_bytes = k.incore_bytes;
   o.schedule = Schedule::InCore;
-  test::ExactGradients src1(img, k.domain == Domain::Cylindrical, k.alpha, 1.3);
+  test::ExactGradients src1(img, k.domain, k.alpha, 1.3);
   SolveSummary s1, s2;
   const Image a = solve(src1, o, k.initial ? &start : nullptr, &s1);
   o.schedule = Schedule::Streaming;
-  test::ExactGradients src2(img, k.domain == Domain::Cylindrical, k.alpha, 1.3);
+  test::ExactGradients src2(img, k.domain, k.alpha, 1.3);
   const Image b = solve(src2, o, k.initial ? &start : nullptr, &s2);
   EXPECT_EQ(s2.schedule, "streaming");
   EXPECT_GE(s2.streamed_levels, 1);
@@ -60,7 +60,7 @@ TEST_P(Schedules, StreamingIsBitIdenticalToInCore) {
       << "max difference " << test::max_difference(a, b);
   // Lanes (a thread per channel) change nothing either.
   o.threads = 5;  // three lanes
-  test::ExactGradients src3(img, k.domain == Domain::Cylindrical, k.alpha, 1.3);
+  test::ExactGradients src3(img, k.domain, k.alpha, 1.3);
   const Image c = solve(src3, o, k.initial ? &start : nullptr, nullptr);
   EXPECT_EQ(std::memcmp(a.data.data(), c.data.data(), a.data.size() * sizeof(float)), 0);
   ASSERT_EQ(s1.relative_residuals.size(), s2.relative_residuals.size());
@@ -78,7 +78,10 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{Domain::Planar, 200, 7, 3, 0.05, 1, Precision::Float64, 0, false},
                       Case{Domain::Planar, 7, 300, 1, 0.0, 2, Precision::Float32, 0, true},
                       Case{Domain::Planar, 128, 128, 3, 0.0, 1, Precision::Float32, 40000, true},
-                      Case{Domain::Planar, 2, 70, 1, 0.0, 1, Precision::Float64, 0, false}));
+                      Case{Domain::Planar, 2, 70, 1, 0.0, 1, Precision::Float64, 0, false},
+                      Case{Domain::Spherical, 96, 24, 2, 0.0, 2, Precision::Float32, 0, true},
+                      Case{Domain::Spherical, 40, 10, 1, 0.1, 1, Precision::Float64, 0, false},
+                      Case{Domain::Spherical, 256, 64, 1, 0.0, 1, Precision::Float32, 20000, true}));
 
 TEST(Streaming, IteratingToAToleranceMatchesInCore) {
   const Image img = test::cosine_image(90, 70, 3, 2);
@@ -87,7 +90,7 @@ TEST(Streaming, IteratingToAToleranceMatchesInCore) {
   o.tolerance = 1e-9;
   o.coarsest_size = 6;
   o.incore_bytes = 0;
-  test::ExactGradients src1(img, false), src2(img, false);
+  test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar);
   SolveSummary s1, s2;
   o.schedule = Schedule::InCore;
   const Image a = solve(src1, o, nullptr, &s1);
@@ -105,7 +108,7 @@ TEST(Streaming, KeepsTheStartingGuessMean) {
   const Image img = test::random_image(150, 110, 2, 21);
   Image start = test::random_image(150, 110, 2, 22);
   for (float& v : start.data) v += 3.0f;
-  test::ExactGradients src(img, false);
+  test::ExactGradients src(img, Domain::Planar);
   SolverOptions o;
   const Image out = solve(src, o, &start, nullptr);
   for (int c = 0; c < 2; ++c) EXPECT_NEAR(test::mean(out, c), test::mean(start, c), 2e-5);

@@ -7,15 +7,19 @@
 
 #include "gdp/guidance.h"
 #include "gdp/image.h"
+#include "gdp/topology.h"
 
 namespace gdp::test {
 
 // Guidance whose gradients are the exact differences of `image` (scaled by beta) and whose
-// values are the image itself with weight alpha.
+// values are the image itself with weight alpha. Rows wrap around on periodic domains (x_edges
+// says so); on spherical ones the edges across the top and bottom join mirrored pixels.
 class ExactGradients : public GuidanceSource {
  public:
-  ExactGradients(const Image& image, bool periodic_x, double alpha = 0.0, double beta = 1.0)
-      : img_(image), periodic_(periodic_x), alpha_(alpha), beta_(beta) {}
+  ExactGradients(const Image& image, Domain domain, double alpha = 0.0, double beta = 1.0)
+      : img_(image), alpha_(alpha), beta_(beta) {
+    (void)domain;  // the solver tells rows apart (GuidanceRow::x_edges and spherical)
+  }
   int width() const override { return img_.width; }
   int height() const override { return img_.height; }
   int channels() const override { return img_.channels; }
@@ -26,7 +30,13 @@ class ExactGradients : public GuidanceSource {
       for (int i = 0; i < e; ++i)
         out.gx[c * e + i] = beta_ * (double(img_.at(c, (i + 1) % w, j)) - img_.at(c, i, j));
       for (int i = 0; i < w; ++i) {
-        out.gy[c * w + i] = j + 1 < img_.height ? beta_ * (double(img_.at(c, i, j + 1)) - img_.at(c, i, j)) : 0.0;
+        const int h = img_.height;
+        double below = 0.0;
+        if (j + 1 < h) below = img_.at(c, i, j + 1);
+        else if (out.spherical) below = img_.at(c, ((w / 2 - 1 - i) % w + w) % w, j);
+        out.gy[c * w + i] = j + 1 < h || out.spherical ? beta_ * (below - img_.at(c, i, j)) : 0.0;
+        if (out.spherical && j == 0)
+          out.gy_above[c * w + i] = beta_ * (double(img_.at(c, i, 0)) - img_.at(c, w - 1 - i, 0));
         out.value[c * w + i] = img_.at(c, i, j);
       }
     }
@@ -34,7 +44,6 @@ class ExactGradients : public GuidanceSource {
 
  private:
   const Image& img_;
-  bool periodic_;
   double alpha_, beta_;
 };
 

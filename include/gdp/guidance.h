@@ -10,9 +10,18 @@ namespace gdp {
 // the last edge joins column width-1 to column 0); gy[c * width + i] is the desired
 // u(i, j+1) - u(i, j) (unused on the last row); value[c * width + i] is the desired value
 // (used only when alpha > 0).
+//
+// On a spherical (PQ) domain, whose top and bottom edges fold onto themselves (pixel (i, 0)
+// meets (W-1-i, 0) across the top edge; (i, H-1) meets (i', H-1), i' = (W/2-1-i) mod W, across
+// the bottom edge; docs/sphere-solver.md), `spherical` is set and two more edges are used: gy
+// on the last row is the desired u(i', H-1) - u(i, H-1), and gy_above (row 0 only) the desired
+// u(i, 0) - u(W-1-i, 0). Both are differences of one pair of pixels seen from either side, so
+// sources give values that change sign under the pairing (i and its partner).
 struct GuidanceRow {
   int x_edges = 0;
+  bool spherical = false;  // set by the solver
   std::vector<double> gx, gy, value;
+  std::vector<double> gy_above;  // spherical domains, row 0
   // Sources with has_initial(): the starting guess (unless start_from_initial() is false), and
   // the values whose mean, over the counted pixels, a solution keeps when alpha == 0.
   std::vector<float> initial;

@@ -25,21 +25,37 @@ int reflect_index(int c, int n) {
 
 int wrap_index(int c, int n) { return ((c % n) + n) % n; }
 
+int mirror_column(Mirror m, int i, int n) {
+  switch (m) {
+    case Mirror::Top: return n - 1 - i;
+    case Mirror::Bottom: return wrap_index(n / 2 - 1 - i, n);
+    case Mirror::None: break;
+  }
+  return i;
+}
+
 int Axis::column(int i, int d) const {
   const int c = i + d;
   if (boundary == AxisBoundary::Periodic) return wrap_index(c, n);
+  if (boundary == AxisBoundary::Mirrored) return reflect_index(c, n);
   return (c >= 0 && c < n) ? c : -1;
+}
+
+Mirror Axis::mirror(int i, int d) const {
+  if (boundary != AxisBoundary::Mirrored) return Mirror::None;
+  const int c = i + d;
+  return c < 0 ? Mirror::Top : c >= n ? Mirror::Bottom : Mirror::None;
 }
 
 namespace {
 
-// Row i of a fine matrix with the given interior stencil: Periodic rows keep every offset (the
-// kernel reads the wrapped column); Neumann rows move the coefficient of a ghost sample onto
-// the sample it mirrors.
+// Row i of a fine matrix with the given interior stencil: Periodic and Mirrored rows keep every
+// offset (the kernel reads the wrapped or mirrored row); Neumann rows move the coefficient of a
+// ghost sample onto the sample it mirrors.
 std::array<double, 5> fine_row(int i, int n, AxisBoundary boundary, const double* stencil, double scale) {
   std::array<double, 5> row{};
   for (int d = -2; d <= 2; ++d) {
-    const int to = boundary == AxisBoundary::Periodic ? d : reflect_index(i + d, n) - i;
+    const int to = boundary != AxisBoundary::Neumann ? d : reflect_index(i + d, n) - i;
     row[to + 2] += stencil[d + 2] * scale;
   }
   return row;
@@ -81,6 +97,7 @@ Axis make_fine_axis(int n, AxisBoundary boundary, int edge) {
 int next_size(const Axis& fine) {
   const int m = (fine.n + 1) / 2;
   if (fine.boundary == AxisBoundary::Periodic) return m >= 3 ? m : fine.n;
+  if (fine.boundary == AxisBoundary::Mirrored) return fine.n % 2 == 0 && fine.n >= 4 ? fine.n / 2 : fine.n;
   return m;
 }
 
@@ -94,7 +111,11 @@ Prolongation make_prolongation(const Axis& fine, int m) {
     const int j = i / 2;
     const int other = (i % 2 == 0) ? j - 1 : j + 1;
     const int o = fine.boundary == AxisBoundary::Periodic ? wrap_index(other, m) : reflect_index(other, m);
-    p.rows[i] = {{j, o}, {0.75, 0.25}};
+    const Mirror mirror = fine.boundary != AxisBoundary::Mirrored ? Mirror::None
+                          : other < 0                              ? Mirror::Top
+                          : other >= m                             ? Mirror::Bottom
+                                                                   : Mirror::None;
+    p.rows[i] = {{j, o}, {0.75, 0.25}, mirror};
   }
   return p;
 }
@@ -105,9 +126,11 @@ Axis coarsen(const Axis& fine, const Prolongation& p, int edge) {
   c.n = m;
   c.boundary = fine.boundary;
   c.scale = m == fine.n ? fine.scale : 2.0 * fine.scale;
-  if (fine.boundary == AxisBoundary::Periodic && m != fine.n && fine.n % 2 == 1) {
-    c.mass = {m, [&](int i) { return fine_row(i, m, AxisBoundary::Periodic, kMass.data(), c.scale); }, edge};
-    c.stiffness = {m, [&](int i) { return fine_row(i, m, AxisBoundary::Periodic, kStiffness.data(), 1.0 / c.scale); }, edge};
+  if (fine.boundary == AxisBoundary::Mirrored && m == fine.n) return fine;
+  if ((fine.boundary == AxisBoundary::Periodic && m != fine.n && fine.n % 2 == 1) ||
+      fine.boundary == AxisBoundary::Mirrored) {
+    c.mass = {m, [&](int i) { return fine_row(i, m, fine.boundary, kMass.data(), c.scale); }, edge};
+    c.stiffness = {m, [&](int i) { return fine_row(i, m, fine.boundary, kStiffness.data(), 1.0 / c.scale); }, edge};
     return c;
   }
   // Coarse row r of P^T A P, gathered from the fine rows whose prolongation reaches r: those

@@ -11,7 +11,9 @@
 namespace gdp::fem {
 
 // b = (D (x) M) gx + (M (x) D) gy + alpha (M (x) M) value, with the folded 1D matrices of the
-// finest axes. Guidance rows go in with push() in order; each right-hand-side row is handed
+// finest axes; on a Mirrored y axis (spherical domains) rows and edges beyond the ends are the
+// rows and edges they reflect to, mirrored, and the edges across the ends come from the first
+// row's gy_above and the last row's gy. Guidance rows go in with push() in order; each right-hand-side row is handed
 // to the sink as soon as the rows it depends on (two below it) have arrived.
 class RhsAssembler {
  public:
@@ -25,6 +27,9 @@ class RhsAssembler {
  private:
   static constexpr int kRing = 8;
   void emit(int r, const Sink& sink);
+  void mass_filter(const double* v, double* out) const;
+  void derivative_filter(const double* gx, double* out) const;
+  void add(const std::vector<double>& row, double w, Mirror mirror);
   std::vector<double>& filtered(int j, int c) { return h_[(j % kRing) * channels_ + c]; }
   std::vector<double>& edge_row(int e, int c) { return m_[(e % kRing) * channels_ + c]; }
 
@@ -36,7 +41,8 @@ class RhsAssembler {
   int pushed_ = 0;
   std::vector<std::vector<double>> h_;  // D gx + alpha M value, per buffered row and channel
   std::vector<std::vector<double>> m_;  // M gy, per buffered edge row and channel
-  std::vector<double> out_;
+  std::vector<std::vector<double>> top_;  // Mirrored axes: M gy_above of row 0, per channel
+  std::vector<double> out_, tmp_;
 };
 
 }  // namespace gdp::fem

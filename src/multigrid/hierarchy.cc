@@ -14,7 +14,7 @@ Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height,
   for (;;) {
     const LevelGeometry& fine = h.levels.back();
     if (std::max(fine.width(), fine.height()) <= coarsest_size) break;
-    const int mw = fem::next_size(fine.x), mh = fem::next_size(fine.y);
+    const auto [mw, mh] = topo.coarse_size(fine.x, fine.y);
     if (mw == fine.width() && mh == fine.height()) break;
     LevelGeometry coarse;
     const fem::Prolongation px = fem::make_prolongation(fine.x, mw);
@@ -74,6 +74,11 @@ LevelOperator<T>::LevelOperator(const LevelGeometry& g, double alpha)
                   const int c = g.y.column(j, d - 2);
                   r[d] = (c >= 0 && (g.y.mass[j][d] != 0.0 || g.y.stiffness[j][d] != 0.0)) ? c - j : kNone;
                 }
+                return r;
+              }};
+  mirrors_ = {height, [&](int j) {
+                std::array<fem::Mirror, 5> r;
+                for (int d = 0; d < 5; ++d) r[d] = g.y.mirror(j, d - 2);
                 return r;
               }};
 }

@@ -47,6 +47,9 @@ struct LevelOperator {
     const int r = offsets_[j][d];
     return r == kNone ? -1 : j + r;
   }
+  // Whether that row is read mirrored left to right (the top and bottom rows of a spherical
+  // domain); the kernels handle it, schedules just hand over row_of's rows.
+  fem::Mirror mirror_of(int j, int d) const { return mirrors_[j][d]; }
   // Columns [interior_begin, interior_end) share one symmetric x stencil (sx_in, mx_in), so
   // the kernels may use a constant-coefficient loop there.
   int interior_begin = 0, interior_end = 0;
@@ -57,6 +60,7 @@ struct LevelOperator {
  private:
   static constexpr int kNone = 1 << 30;
   fem::RowTable<std::array<int, 5>> offsets_;  // row_of(j, d) - j, or kNone
+  fem::RowTable<std::array<fem::Mirror, 5>> mirrors_;
 };
 
 }  // namespace gdp::multigrid

@@ -23,6 +23,15 @@ void combine_rows(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, R
   for (int d = 0; d < 5; ++d) {
     u[d] = rows[d] ? rows[d] : s.zero.data();  // unused rows have zero coefficients
     if (rows[d]) m[d] = op.my[j][d], k[d] = op.cy[j][d];
+    const fem::Mirror mirror = op.mirror_of(j, d);
+    if (rows[d] && mirror != fem::Mirror::None) {
+      // A row across a spherical domain's top or bottom edge: a mirrored copy of the row as it
+      // is now (for the row being relaxed: its values before this sweep).
+      std::vector<T>& copy = s.mirrored[d];
+      copy.resize(n);
+      for (int i = 0; i < n; ++i) copy[i] = rows[d][fem::mirror_column(mirror, i, n)];
+      u[d] = copy.data();
+    }
   }
   if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
     // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
@@ -218,8 +227,12 @@ GDP_KERNEL void restrict_row(const fem::Prolongation& px, const fem::Prolongatio
   }
   const T w0 = static_cast<T>(pyj.weight[0]), w1 = static_cast<T>(pyj.weight[1]);
   for (int i = 0; i < m; ++i) coarse0[i] += w0 * tmp[i];
-  if (w1 != T(0))
+  if (w1 == T(0)) return;
+  if (pyj.mirror == fem::Mirror::None) {
     for (int i = 0; i < m; ++i) coarse1[i] += w1 * tmp[i];
+  } else {
+    for (int i = 0; i < m; ++i) coarse1[fem::mirror_column(pyj.mirror, i, m)] += w1 * tmp[i];
+  }
 }
 
 template <class T>
@@ -227,7 +240,11 @@ GDP_KERNEL void prolong_row(const fem::Prolongation& px, const fem::Prolongation
                  const T* coarse1, T* fine, T* tmp) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
   const T w0 = static_cast<T>(pyj.weight[0]), w1 = static_cast<T>(pyj.weight[1]);
-  for (int i = 0; i < m; ++i) tmp[i] = w0 * coarse0[i] + w1 * coarse1[i];
+  if (pyj.mirror == fem::Mirror::None) {
+    for (int i = 0; i < m; ++i) tmp[i] = w0 * coarse0[i] + w1 * coarse1[i];
+  } else {
+    for (int i = 0; i < m; ++i) tmp[i] = w0 * coarse0[i] + w1 * coarse1[fem::mirror_column(pyj.mirror, i, m)];
+  }
   for (int i = 0; i < n; ++i) {
     const fem::ProlongationRow& p = px.rows[i];
     fine[i] += static_cast<T>(p.weight[0]) * tmp[p.index[0]] + static_cast<T>(p.weight[1]) * tmp[p.index[1]];

@@ -24,6 +24,7 @@ struct RowScratch {
   std::vector<T> q, k1, k2, dx;  // operator row, recurrence coefficients, corrections
   std::vector<T> inv, zero;      // reciprocal diagonal; a row of zeros for unused window rows
   std::vector<T> block_b, block_c;  // the recurrence four samples at a time (relax_row)
+  std::array<std::vector<T>, 5> mirrored;  // window rows read mirrored (spherical domains)
   // The (m0, c0) pair and level that k1, k2, inv and the block terms were computed for.
   std::pair<T, T> coefficients_for{};
   const void* coefficients_op = nullptr;
@@ -47,7 +48,8 @@ void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* u
                RowScratch<T>& s);
 
 // Restriction (P^T) of fine row j onto the coarse rows it feeds: coarse0 and coarse1 are the
-// rows py[j].index[0] and [1] (possibly the same row); tmp has the coarse width.
+// rows py[j].index[0] and [1] (possibly the same row, the second fed mirrored where py[j].mirror
+// says so); tmp has the coarse width.
 template <class T>
 void restrict_row(const fem::Prolongation& px, const fem::ProlongationRow& pyj, const T* fine,
                   T* coarse0, T* coarse1, T* tmp);

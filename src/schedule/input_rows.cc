@@ -19,6 +19,8 @@ InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hier
   row_.x_edges = hierarchy.levels[0].x.edges();
   row_.gx.assign(static_cast<std::size_t>(channels_) * row_.x_edges, 0.0);
   row_.gy.assign(n, 0.0);
+  row_.spherical = hierarchy.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
+  row_.gy_above.assign(row_.spherical ? n : 0, 0.0);
   row_.value.assign(n, 0.0);
   row_.initial.assign(n, 0.0f);
   row_.counted.assign(width_, 1);

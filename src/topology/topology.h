@@ -21,6 +21,11 @@ class Topology {
   virtual std::pair<int, int> map(int i, int j, int w, int h) const = 0;
   // Throws UsageError when an image of this size cannot live on this domain.
   virtual void validate_size(int w, int h) const = 0;
+  // The size of the next coarser multigrid level; (x.n, y.n) when the hierarchy stops here.
+  // By default each axis halves on its own while it can.
+  virtual std::pair<int, int> coarse_size(const fem::Axis& x, const fem::Axis& y) const {
+    return {fem::next_size(x), fem::next_size(y)};
+  }
 };
 
 std::unique_ptr<Topology> make_topology(Domain d);
