@@ -13,8 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "apps/image_guidance.h"
 #include "gdp/image.h"
 #include "gdp/image_io.h"
+#include "gdp/rows.h"
+#include "gdp/solver.h"
+#include "multigrid/incore_vcycle.h"
+#include "schedule/input_rows.h"
+#include "schedule/solve_parts.h"
 #include "sphere_eval/equirect_solver.h"
 
 using namespace gdp;
@@ -23,7 +29,7 @@ namespace {
 
 struct Args {
   std::string image;
-  int height = 512, sweeps = 3, cycles = 4, coarsest = 32;
+  int height = 512, pq_height = 512, sweeps = 3, cycles = 4, coarsest = 32;
 };
 
 Args parse(int argc, char** argv) {
@@ -32,6 +38,7 @@ Args parse(int argc, char** argv) {
     const std::string s = argv[k];
     auto next = [&]() { return k + 1 < argc ? std::atoi(argv[++k]) : 0; };
     if (s == "--height") a.height = next();
+    else if (s == "--pq-height") a.pq_height = next();
     else if (s == "--sweeps") a.sweeps = next();
     else if (s == "--cycles") a.cycles = next();
     else if (s == "--coarsest") a.coarsest = next();
@@ -113,6 +120,60 @@ void equirect_rows(const Image& img, const Args& a) {
   print_row("ER", "resid", worst_residual);
 }
 
+// The PQ rows: gdp's own solver on the Spherical domain, set up exactly as gdp::reconstruct with
+// Precision::Float64 and the in-core schedule (the image's own differences as guidance, zero
+// start, the double-precision V-cycle), but reading the solution in double: gdp::reconstruct
+// rounds its output to float, which would floor the error at ~1e-8.
+void pq_rows(const Image& pq, const Args& a) {
+  SolverOptions opt;
+  opt.domain = Domain::Spherical;
+  opt.precision = Precision::Float64;
+  opt.schedule = Schedule::InCore;
+  opt.sweeps = a.sweeps;
+  ImageRowReader reader(pq);
+  apps::ImageGuidance guidance(reader, 0.0, 1.0, /*start_from_source=*/false);
+  SolveSummary summary;
+  const schedule::Problem<double> problem(guidance, opt, summary);
+  schedule::InputRows<double> input(guidance, problem.hierarchy);
+  const int w = pq.width, h = pq.height, channels = pq.channels;
+  std::vector<multigrid::Plane<double>> u(channels, {w, h}), b(channels, {w, h});
+  {
+    const std::size_t n = static_cast<std::size_t>(channels) * w;
+    std::vector<double> ur(n), br(n), wr(w);
+    for (int j = 0; j < h; ++j) {
+      input.next(ur, br, wr);
+      for (int c = 0; c < channels; ++c) {
+        std::copy_n(ur.begin() + std::ptrdiff_t{c} * w, w, u[c].row(j));
+        std::copy_n(br.begin() + std::ptrdiff_t{c} * w, w, b[c].row(j));
+      }
+    }
+  }
+  multigrid::InCoreVCycle<double> vc(problem.ops, opt.sweeps, opt.coarse_tolerance);
+  std::vector<ErrorSums> err(a.cycles);
+  std::vector<double> worst_residual(a.cycles, 0.0);
+  double seconds = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    const auto plane = pq.plane(c);
+    const std::vector<double> p(plane.begin(), plane.end());
+    const double b_norm = vc.residual_norm(u[c], b[c]);  // u starts at zero
+    for (int n = 0; n < a.cycles; ++n) {
+      const auto t0 = std::chrono::steady_clock::now();
+      vc.run(u[c], b[c]);
+      seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      err[n].add(u[c].data, p);
+      worst_residual[n] = std::max(worst_residual[n], vc.residual_norm(u[c], b[c]) / b_norm);
+    }
+  }
+  std::vector<double> rms, mx;
+  for (const auto& e : err) rms.push_back(e.rms()), mx.push_back(e.max);
+  std::printf("PQ: %dx%d, %d levels (coarsest %dx%d), %d sweeps, %.2f s per V-cycle per channel\n", w, h,
+              summary.levels, summary.level_widths.back(), summary.level_heights.back(), a.sweeps,
+              seconds / (a.cycles * channels));
+  print_row("PQ", "rms", rms);
+  print_row("PQ", "max", mx);
+  print_row("PQ", "resid", worst_residual);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -128,7 +189,8 @@ int main(int argc, char** argv) {
     for (int n = 1; n <= a.cycles; ++n) std::printf("  %9d", n);
     std::printf("\n");
     equirect_rows(img, a);
-    // PQ rows: see the note at the end of this file.
+    if (std::getenv("SPHERE_TABLE1_FAKE_PQ"))  // TEMPORARY: exercise the PQ path before the resampler exists
+      pq_rows(box_downsample(read_image(a.image).image, 4 * a.pq_height, a.pq_height), a);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
