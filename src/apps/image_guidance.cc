@@ -20,9 +20,11 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   const int w = width(), h = height(), e = out.x_edges;
   if (j == 0) read_source(0);
   if (j + 1 < h) read_source(j + 1);
+  const bool fold_top = out.spherical && j == 0, fold_bottom = out.spherical && j + 1 == h;
   right_.assign(w, 1);
-  down_.assign(w, j + 1 < h ? 1 : 0);
-  keep_edges(j, right_, down_);
+  down_.assign(w, j + 1 < h || fold_bottom ? 1 : 0);
+  above_.assign(fold_top ? w : 0, 1);
+  keep_edges(j, right_, down_, above_);
   const bool offsets = has_offsets();
   const std::span<const float> here = source_row(j);
   for (int c = 0; c < channels(); ++c) {
@@ -46,6 +48,16 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
         for (int i = 0; i < w; ++i)
           if (down_[i] && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }
+    // Across the folded edges of a spherical domain (no offsets: a per-label ramp has no
+    // direction there).
+    const auto fold = [&](double* g, const std::vector<unsigned char>& keep, auto partner, bool into_row) {
+      for (int i = 0; i < w; ++i) {
+        const double d = into_row ? double(row[i]) - row[partner(i)] : double(row[partner(i)]) - row[i];
+        g[i] = std::isfinite(d) && keep[i] ? beta_ * d : 0.0;
+      }
+    };
+    if (fold_bottom) fold(out.gy.data() + static_cast<std::size_t>(c) * w, down_, [&](int i) { return below(i, j); }, false);
+    if (fold_top) fold(out.gy_above.data() + static_cast<std::size_t>(c) * w, above_, [&](int i) { return above(i); }, true);
     if (alpha_ != 0.0)
       for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;
   }

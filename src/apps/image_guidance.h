@@ -26,8 +26,16 @@ class ImageGuidance : public GuidanceSource {
 
  protected:
   // Row j's edges that keep their gradient: right[i] from (i, j) to (i + 1, j) (wrapping to
-  // column 0 on a periodic row), down[i] from (i, j) to (i, j + 1). Both arrive set to 1.
-  virtual void keep_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/) const {}
+  // column 0 on a periodic row), down[i] from (i, j) to below(i, j), above[i] (row 0 of a
+  // spherical domain only, else empty) from (i, 0) to above(i). All arrive set to 1, except
+  // down on the last row of a non-spherical domain.
+  virtual void keep_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/,
+                          std::span<unsigned char> /*above*/) const {}
+  // The pixel below (i, j): (i, j + 1), or across the bottom edge of a spherical domain,
+  // (W/2 - 1 - i mod W, H - 1) on the last row. Its row is source_row(j + 1) or source_row(j).
+  int below(int i, int j) const { return j + 1 < height() ? i : ((width() / 2 - 1 - i) % width() + width()) % width(); }
+  // The pixel across the top edge of a spherical domain from (i, 0): (W - 1 - i, 0).
+  int above(int i) const { return width() - 1 - i; }
   // When true, offset() is subtracted from every kept gradient.
   virtual bool has_offsets() const { return false; }
   // Value subtracted from a kept gradient along x (horizontal) or y, per channel.
@@ -45,7 +53,7 @@ class ImageGuidance : public GuidanceSource {
   double alpha_, beta_;
   bool start_;
   std::vector<float> rows_[2];
-  std::vector<unsigned char> right_, down_;
+  std::vector<unsigned char> right_, down_, above_;
 };
 
 }  // namespace gdp::apps

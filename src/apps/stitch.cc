@@ -71,15 +71,18 @@ class StitchGuidance final : public apps::ImageGuidance {
     for (int i = 0; i < width(); ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
     fixups_.record(y, row, zero_);
   }
-  void keep_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down) const override {
+  void keep_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down,
+                  std::span<unsigned char> above) const override {
     const int w = width();
     const std::vector<int>& here = row_ids_[j % 2];
-    const std::vector<int>& below = row_ids_[(j + 1) % 2];
+    const std::vector<int>& next = j + 1 < height() ? row_ids_[(j + 1) % 2] : here;  // spherical: folded
     for (int i = 0; i < w; ++i) {
       const int a = here[i];
       right[i] = a != kUnknown && a == here[i + 1 < w ? i + 1 : 0];
-      down[i] = down[i] && a != kUnknown && a == below[i];
+      down[i] = down[i] && a != kUnknown && a == next[below(i, j)];
     }
+    for (std::size_t i = 0; i < above.size(); ++i)
+      above[i] = here[i] != kUnknown && here[i] == here[this->above(static_cast<int>(i))];
   }
   bool has_offsets() const override { return !ramp_.empty(); }
   double offset(int c, int i, int j, bool horizontal) const override {

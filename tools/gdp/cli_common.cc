@@ -27,7 +27,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
         ->capture_default_str();
     cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
         ->capture_default_str();
-    cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges)")->capture_default_str();
+    cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges) | spherical (a PQ image, 4H x H: see gdp sphere to-pq)")->capture_default_str();
     cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
     cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
     cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");

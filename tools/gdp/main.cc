@@ -7,7 +7,7 @@
 #include "gdp/errors.h"
 
 int main(int argc, char** argv) {
-  CLI::App root{"gdp: gradient-domain processing of large planar images (stitch, sharpen, smooth)"};
+  CLI::App root{"gdp: gradient-domain processing of large planar and spherical images"};
   root.require_subcommand(1);
   std::vector<std::unique_ptr<gdp::cli::Command>> commands;
   commands.push_back(gdp::cli::make_stitch(root));
