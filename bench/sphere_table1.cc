@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "apps/image_guidance.h"
+#include "gdp/apps.h"
 #include "gdp/image.h"
 #include "gdp/image_io.h"
 #include "gdp/rows.h"
@@ -93,7 +94,7 @@ void equirect_rows(const Image& img, const Args& a) {
   opt.sweeps = a.sweeps;
   opt.coarsest_height = a.coarsest;
   const sphere_eval::EquirectSolver solver(img.width, img.height, 0.0, opt);
-  const auto& op = solver.op();
+  const auto& op = solver.fine();
   std::vector<ErrorSums> err(a.cycles);
   std::vector<double> worst_residual(a.cycles, 0.0);
   double seconds = 0.0;
@@ -113,7 +114,7 @@ void equirect_rows(const Image& img, const Args& a) {
   std::vector<double> rms, mx;
   for (const auto& e : err) rms.push_back(e.rms()), mx.push_back(e.max);
   std::printf("ER: %dx%d, %d levels (coarsest %dx%d), %d sweeps, %.2f s per V-cycle per channel\n", img.width,
-              img.height, solver.levels(), solver.op(solver.levels() - 1).width, solver.op(solver.levels() - 1).height,
+              img.height, solver.levels(), solver.level(solver.levels() - 1).width(), solver.level(solver.levels() - 1).height(),
               a.sweeps, seconds / (a.cycles * img.channels));
   print_row("ER", "rms", rms);
   print_row("ER", "max", mx);
@@ -174,6 +175,28 @@ void pq_rows(const Image& pq, const Args& a) {
   print_row("PQ", "resid", worst_residual);
 }
 
+// Cross-check through the public entry point gdp::reconstruct (same solver, float output): it
+// must agree with pq_rows until float rounding (~1e-8) dominates.
+void pq_public_rows(const Image& pq, const Args& a) {
+  std::vector<double> rms, mx;
+  for (int n = 1; n <= a.cycles; ++n) {
+    SolverOptions opt;
+    opt.domain = Domain::Spherical;
+    opt.precision = Precision::Float64;
+    opt.sweeps = a.sweeps;
+    opt.vcycles = n;
+    const Image out = reconstruct(pq, opt).image;
+    ErrorSums e;
+    for (int c = 0; c < pq.channels; ++c) {
+      const auto o = out.plane(c), p = pq.plane(c);
+      e.add(std::vector<double>(o.begin(), o.end()), std::vector<double>(p.begin(), p.end()));
+    }
+    rms.push_back(e.rms()), mx.push_back(e.max);
+  }
+  print_row("PQ'", "rms", rms);
+  print_row("PQ'", "max", mx);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -190,7 +213,8 @@ int main(int argc, char** argv) {
     std::printf("\n");
     equirect_rows(img, a);
     if (std::getenv("SPHERE_TABLE1_FAKE_PQ"))  // TEMPORARY: exercise the PQ path before the resampler exists
-      pq_rows(box_downsample(read_image(a.image).image, 4 * a.pq_height, a.pq_height), a);
+      pq_rows(box_downsample(read_image(a.image).image, 4 * a.pq_height, a.pq_height), a),
+      pq_public_rows(box_downsample(read_image(a.image).image, 4 * a.pq_height, a.pq_height), a);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;

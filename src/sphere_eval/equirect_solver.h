@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sphere_eval/equirect_operator.h"
+#include "sphere_eval/row_stencil.h"
 
 namespace gdp::sphere_eval {
 
@@ -15,22 +16,23 @@ struct EquirectSolverOptions {
   int max_coarse_iterations = 100000;
 };
 
-// Conjugate gradients on one level to a relative residual `tolerance`. With α = 0 the constants
+// Conjugate gradients to a relative residual `tolerance`. On a singular operator the constants
 // are projected out of b and of u. Returns the number of iterations.
-int solve_cg(const EquirectOperator& op, std::span<const double> b, std::span<double> u, double tolerance,
+int solve_cg(const RowStencilOperator& op, std::span<const double> b, std::span<double> u, double tolerance,
              int max_iterations);
 
-// The V-cycle has the shape of gdp's planar solver (docs/multigrid.md): the same grid is rediscretised
-// at every level (W and H halve; coarse cells are unions of 2x2 fine cells), prolongation is the
-// cell-centred two-scale relation (1/4, 3/4, 3/4, 1/4) per axis, periodic in longitude and
-// reflected at the poles, restriction is its transpose, the coarsest level is solved by CG.
+// The V-cycle has the shape of gdp's planar solver (docs/multigrid.md): W and H halve from level
+// to level, prolongation is the cell-centred two-scale relation (prolong_add), restriction its
+// transpose, coarse operators are Galerkin products Pᵀ L P, k Gauss-Seidel sweeps before
+// restricting and after prolonging, conjugate gradients on the coarsest level.
 class EquirectSolver {
  public:
   // Throws UsageError for a grid EquirectOperator::make rejects or invalid options.
   EquirectSolver(int width, int height, double alpha, const EquirectSolverOptions& options = {});
 
-  int levels() const { return static_cast<int>(ops_.size()); }
-  const EquirectOperator& op(int level = 0) const { return ops_[level]; }
+  const EquirectOperator& fine() const { return fine_; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+  const RowStencilOperator& level(int l) const { return levels_[l]; }
 
   // One V-cycle on the finest level, improving u in place.
   void vcycle(std::span<double> u, std::span<const double> b) const;
@@ -40,14 +42,10 @@ class EquirectSolver {
 
  private:
   void cycle(int level, std::span<double> u, std::span<const double> b) const;
-  void relax(const EquirectOperator& op, std::span<double> u, std::span<const double> b) const;
 
   EquirectSolverOptions options_;
-  std::vector<EquirectOperator> ops_;
+  EquirectOperator fine_;
+  std::vector<RowStencilOperator> levels_;
 };
-
-// Coarse to fine: fine += P coarse, and its transpose, coarse += Pᵀ fine. The fine grid is 2Wc x 2Hc.
-void prolong_add(int coarse_width, int coarse_height, std::span<const double> coarse, std::span<double> fine);
-void restrict_add(int coarse_width, int coarse_height, std::span<const double> fine, std::span<double> coarse);
 
 }  // namespace gdp::sphere_eval
