@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "gdp/errors.h"
 
@@ -47,7 +48,10 @@ int solve_cg(const RowStencilOperator& op, std::span<const double> b_in, std::sp
 }
 
 EquirectSolver::EquirectSolver(int width, int height, double alpha, const EquirectSolverOptions& options)
-    : options_(options), fine_(EquirectOperator::make(width, height, alpha)) {
+    : EquirectSolver(EquirectOperator::make(width, height, alpha), options) {}
+
+EquirectSolver::EquirectSolver(EquirectOperator fine, const EquirectSolverOptions& options)
+    : options_(options), fine_(std::move(fine)) {
   if (options.sweeps < 0 || options.coarsest_height < 1 || !(options.coarse_tolerance > 0.0))
     throw UsageError("equirectangular solver: sweeps >= 0, coarsest height >= 1 and a positive tolerance needed");
   levels_.push_back(RowStencilOperator::from(fine_));

@@ -29,6 +29,8 @@ class EquirectSolver {
  public:
   // Throws UsageError for a grid EquirectOperator::make rejects or invalid options.
   EquirectSolver(int width, int height, double alpha, const EquirectSolverOptions& options = {});
+  // The same cycle for a given finest operator (bench/sphere_table1's control with a flat metric).
+  explicit EquirectSolver(EquirectOperator fine, const EquirectSolverOptions& options = {});
 
   const EquirectOperator& fine() const { return fine_; }
   int levels() const { return static_cast<int>(levels_.size()); }
