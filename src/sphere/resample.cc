@@ -1,0 +1,136 @@
+// The resampling driver: output rows in parallel, footprint-sized supersampling or bicubic.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "gdp/errors.h"
+#include "sphere/source.h"
+#include "sphere/target.h"
+#include "sphere/vec3.h"
+
+namespace gdp::sphere {
+
+namespace {
+
+// Subsamples along one output axis: the output pixel's extent over the source's pixel size,
+// rounded (1 when enlarging: one bicubic sample, no blur), at most 8.
+int subsamples(const Vec3& step, double source_pixel) {
+  const double ratio = norm(step) / source_pixel;
+  return static_cast<int>(std::clamp(std::lround(ratio), 1L, 8L));
+}
+
+// The toast depth for a PQ source: its pixel level plus three (triangles an eighth of a pixel).
+int toast_depth(const Projection& from, int height) {
+  int level = 1;
+  while ((1LL << level) < 2LL * height) ++level;
+  return from.layout == Layout::Pq ? std::min(30, level + 3) : 30;
+}
+
+void check_size(const Projection& p, int width, int height, const char* what) {
+  const bool ok = width > 0 && height > 0 && (p.layout != Layout::Pq || width == 4 * height) &&
+                  (p.layout != Layout::Cube || height == 6 * width);
+  if (!ok)
+    throw UsageError(std::string(what) + " size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " does not fit its layout (PQ: W = 4H; cube strip: F x 6F)");
+}
+
+void resample_rows(const Image& src, const SourceGrid& grid, const Projection& to, const ResampleOptions& opt,
+                   Image& out, int j0, int j1) {
+  auto target = make_target(to, out.width, out.height);
+  const int nc = src.channels;
+  std::vector<float> acc(nc);
+  const double pixel = grid.pixel_angle();
+  for (int j = j0; j < j1; ++j) {
+    const TargetRow& r = target->row(j);
+    for (int i = 0; i < out.width; ++i) {
+      const Vec3 d = rotate(opt.rotation, r.d[i]);
+      if (opt.nearest) {
+        nearest(src, grid, d, acc.data());
+      } else {
+        const Vec3 du = rotate(opt.rotation, r.du[i]), dv = rotate(opt.rotation, r.dv[i]);
+        const int nu = subsamples(du, pixel), nv = subsamples(dv, pixel);
+        std::fill(acc.begin(), acc.end(), 0.0f);
+        const float weight = 1.0f / static_cast<float>(nu * nv);
+        for (int b = 0; b < nv; ++b)
+          for (int a = 0; a < nu; ++a) {
+            const double u = (a + 0.5) / nu - 0.5, v = (b + 0.5) / nv - 0.5;
+            const Vec3 ds = (nu == 1 && nv == 1) ? d : d + u * du + v * dv;
+            add_bicubic(src, grid, ds, weight, acc.data());
+          }
+      }
+      for (int c = 0; c < nc; ++c) out.at(c, i, j) = acc[c];
+    }
+  }
+}
+
+}  // namespace
+
+std::array<int, 2> layout_size(Layout layout, int size) {
+  switch (layout) {
+    case Layout::Equirect: return {size, std::max(1, size / 2)};
+    case Layout::Pq: return {4 * size, size};
+    case Layout::Cube: break;
+  }
+  return {size, 6 * size};
+}
+
+Layout guess_layout(int width, int height) {
+  if (width == 4 * height) return Layout::Pq;
+  if (height == 6 * width) return Layout::Cube;
+  if (width == 2 * height) return Layout::Equirect;
+  throw InputError("image of " + std::to_string(width) + "x" + std::to_string(height) +
+                   " is none of equirectangular (2:1), PQ (4:1) or cube strip (1:6)");
+}
+
+Image resample(const Image& source, const Projection& from, const Projection& to, int out_width, int out_height,
+               const ResampleOptions& options) {
+  check_size(from, source.width, source.height, "source");
+  check_size(to, out_width, out_height, "output");
+  const auto grid = make_source(from, source.width, source.height, toast_depth(from, source.height));
+  Image out(out_width, out_height, source.channels);
+  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+  threads = std::clamp(threads, 1, std::max(1, out_height));
+  // Contiguous blocks of rows (a PQ cursor reuses neighbouring rows); the first error wins.
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    const int j0 = static_cast<int>(static_cast<long long>(out_height) * t / threads);
+    const int j1 = static_cast<int>(static_cast<long long>(out_height) * (t + 1) / threads);
+    pool.emplace_back([&, j0, j1] {
+      try {
+        resample_rows(source, *grid, to, options, out, j0, j1);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    });
+  }
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+  return out;
+}
+
+void resample(RowReader& source, const Projection& from, RowWriter& out, const Projection& to, int out_width,
+              int out_height, const ResampleOptions& options) {
+  Image src(source.width(), source.height(), source.channels());
+  ImageRowWriter fill(src);
+  std::vector<float> row(static_cast<std::size_t>(src.width) * src.channels);
+  for (int y = 0; y < src.height; ++y) {
+    source.read_row(y, row);
+    fill.write_row(y, row);
+  }
+  const Image result = resample(src, from, to, out_width, out_height, options);
+  ImageRowReader rows(result);
+  row.resize(static_cast<std::size_t>(result.width) * result.channels);
+  for (int y = 0; y < result.height; ++y) {
+    rows.read_row(y, row);
+    out.write_row(y, row);
+  }
+  out.commit();
+}
+
+}  // namespace gdp::sphere
