@@ -51,7 +51,7 @@ Point2 square_from_sphere(SquareMap map, const Vec3& p);
 // Directions of the pixel centres of row `row` (top-down) of an n x n image of the square
 // (pixel (c, r) centred at s = (2c + 1)/n - 1, t = 1 - (2r + 1)/n), out.size() == n. For TOAST
 // this subdivides rows of the octant lattices instead of recursing per pixel: exact when n is a
-// power of two, otherwise within 1e-8 radians of toast_to_sphere.
+// power of two, otherwise within 2e-3 / n^2 radians of toast_to_sphere (a ten-thousandth of a pixel).
 void square_row(SquareMap map, int n, int row, std::span<Vec3> out);
 
 // ---- Periodic-quincuncial layout ----------------------------------------------------------------
