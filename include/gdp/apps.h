@@ -51,4 +51,30 @@ struct ReconstructResult {
 };
 ReconstructResult reconstruct(const Image& image, const SolverOptions& solver, SolveSummary* summary = nullptr);
 
+// ---- Dynamic-range compression (gdp tonemap; docs/tonemap.md) ----
+
+// Gradient-domain tone mapping (Fattal, Lischinski and Werman 2002): the gradients of the log
+// luminance are scaled by a multi-scale attenuation that shrinks large ones and keeps small
+// ones, the Poisson equation (alpha = 0) gives the output log luminance, colour is restored
+// with `saturation`, and the result is mapped to display values in [0, 1].
+struct TonemapOptions {
+  double alpha = 0.1;        // gradients above alpha * (mean gradient magnitude of a level) shrink
+  double beta = 0.9;         // the attenuation exponent: 1 leaves gradients alone, smaller compresses more
+  int scales = 0;            // pyramid levels (1: full resolution only); 0: down to ~32 pixels on the short side
+  double saturation = 0.6;   // C_out = (C_in / L_in)^saturation * L_out
+  double gamma = 1.8;        // display value = linear^(1 / gamma)
+  double low_percentile = 1.0;    // output luminance at this percentile maps to 0 (0: black stays 0)
+  double high_percentile = 99.5;  // ... and at this one to 1; brighter pixels clip
+  // Throws UsageError naming the first invalid option.
+  void validate() const;
+};
+
+// Reads `in` three times (rewind()): pyramid, guidance, colour. The first three channels are
+// linear RGB (one or two channels: the first is the luminance); further channels pass through.
+// Non-finite or negative samples count as zero. Output rows have the input's channel count.
+void tonemap(RowReader& in, const TonemapOptions& options, const SolverOptions& solver, RowWriter& out,
+             SolveSummary* summary = nullptr);
+Image tonemap(const Image& image, const TonemapOptions& options, const SolverOptions& solver,
+              SolveSummary* summary = nullptr);
+
 }  // namespace gdp
