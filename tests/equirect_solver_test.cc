@@ -177,8 +177,9 @@ TEST(EquirectTransfer, GalerkinStencilsAreRestrictedOperatorOfProlongation) {
       EXPECT_LT(max_abs_diff(got, expected), 1e-12);
       std::vector<double> ones(c.size(), 1.0), l1(c.size());
       c.apply(ones, l1);
-      if (alpha == 0.0)
+      if (alpha == 0.0) {
         for (double x : l1) ASSERT_NEAR(x, 0.0, 1e-12);
+      }
       // Symmetry: <x, L y> = <L x, y>.
       const auto x = random_values(c.size(), 5), y = random_values(c.size(), 6);
       std::vector<double> lx(c.size()), ly(c.size());
