@@ -195,3 +195,34 @@ TEST_F(Cli, InterruptedStitchLeavesNothing) {
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+TEST_F(Cli, SphereStitchesEquirectangularAndPqInputs) {
+  // 64x32 equirectangular: resampled to PQ and back, output of the input's size.
+  const Image equi = test::random_image(64, 32, 3, 8);
+  Image labels(64, 32, 1);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) labels.at(0, x, y) = (x + y) % 16 < 8 ? 0.0f : 0.5f;
+  write_image(path("equi.tif"), equi, {});
+  write_image(path("equi_labels.png"), labels, {});
+  CliRun r = gdp("stitch --sphere -c " + path("equi.tif") + " -l " + path("equi_labels.png") + " -o " + path("out.tif") + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_image(path("out.tif")).image.width, 64);
+  // A PQ image (4H x H) is solved in place; --domain spherical is the same thing.
+  write_image(path("pq.tif"), test::random_image(64, 16, 1, 2), {});
+  r = gdp("sharpen --sphere " + path("pq.tif") + " -o " + path("pq_out.tif") + " --depth float -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = gdp("sharpen --domain spherical " + path("pq.tif") + " -o " + path("pq_out2.tif") + " --depth float -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_image(path("pq_out.tif")).image.data, read_image(path("pq_out2.tif")).image.data);
+}
+
+TEST_F(Cli, SphereRejectsImagesThatAreNotSpherical) {
+  expect_failure("sharpen --sphere " + path("comp.png") + " -o " + path("out.png"), "comp.png");
+  expect_failure("sharpen --sphere --domain cylindrical " + path("comp.png") + " -o " + path("out.png"), "--sphere");
+}
+
+}  // namespace
+}  // namespace gdp

@@ -28,6 +28,11 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
         ->capture_default_str();
     cmd.add_option("--domain", o.domain, "planar | cylindrical (periodic left/right edges) | spherical (a PQ image, 4H x H: see gdp sphere to-pq)")->capture_default_str();
+    cmd.add_flag("--sphere", o.sphere,
+                 "spherical image: an equirectangular (2:1) input is resampled to PQ, solved there and resampled "
+                 "back; a PQ (4:1) input is solved in place");
+    cmd.add_option("--pq-height", o.pq_height, "with --sphere: PQ height for equirectangular inputs (default: about "
+                                                "the input's pixel count, H = m * 2^k)");
     cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
     cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
     cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");
@@ -71,12 +76,24 @@ class Progress {
 SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   SolverOptions s = o.solver;
   s.domain = parse_domain(o.domain);
+  if (o.sphere) {
+    if (s.domain != Domain::Planar && s.domain != Domain::Spherical)
+      throw UsageError(fmt::format("--sphere solves on the spherical domain, not --domain {}", o.domain));
+    s.domain = Domain::Spherical;
+  }
+  if (o.pq_height < 0 || o.pq_height % 2 != 0)
+    throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", o.pq_height));
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
   s.validate();
   return s;
+}
+
+std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader& reader, const std::string& name) {
+  if (!o.sphere) return nullptr;
+  return std::make_unique<SphereRows>(reader.width(), reader.height(), name, o.pq_height);
 }
 
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {

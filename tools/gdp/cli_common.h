@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -11,6 +12,7 @@
 
 #include "gdp/image_io.h"
 #include "gdp/solver.h"
+#include "gdp/sphere_rows.h"
 
 namespace gdp::cli {
 
@@ -27,12 +29,18 @@ struct CommonOptions {
   bool tiled = false; // tiled TIFF / OpenEXR output
   std::string compression;
   bool in_core = false;
+  bool sphere = false;  // --sphere: equirectangular or PQ input, solved on the PQ domain
+  int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);
 
 // Validates and converts flags into the solver's options (log/progress hooked to stderr).
 SolverOptions solver_options(CommonOptions& o, const std::string& command);
+
+// With --sphere, the wrapper that puts the command's rows on the PQ domain (sized from its main
+// input `reader`, named `name` in errors); empty otherwise.
+std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader& reader, const std::string& name);
 
 // Output write options: sample type from --depth or else the input file's.
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);

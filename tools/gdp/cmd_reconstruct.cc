@@ -22,11 +22,23 @@ class Reconstruct final : public Command {
   int run() override {
     Stats stats("reconstruct");
     const SolverOptions solver = solver_options(common_, "reconstruct");
-    const ReadResult in = stats.time("read", [&] { return read_image(input_); });
+    ReadResult in = stats.time("read", [&] { return read_image(input_); });
+    // --sphere on an equirectangular image: reconstruct its PQ resampling (errors are measured
+    // there), and write the result back as equirectangular.
+    const sphere::Projection equirect{sphere::Layout::Equirect}, pq{sphere::Layout::Pq};
+    const auto sphere = sphere_rows(common_, ImageRowReader(in.image), input_);
+    const int width = in.image.width, height = in.image.height;
+    if (sphere && sphere->resampled())
+      in.image = stats.time("resample", [&] {
+        return sphere::resample(in.image, equirect, pq, 4 * sphere->pq_height(), sphere->pq_height());
+      });
     SolveSummary summary;
-    const ReconstructResult r = reconstruct(in.image, solver, &summary);
-    if (!output_.empty())
+    ReconstructResult r = reconstruct(in.image, solver, &summary);
+    if (!output_.empty()) {
+      if (sphere && sphere->resampled())
+        r.image = stats.time("resample", [&] { return sphere::resample(r.image, pq, equirect, width, height); });
       stats.time("write", [&] { write_image(output_, r.image, write_options(common_, in.info)); });
+    }
     stats.summary(summary);
     stats.set("rms_error", fmt::format("{:.6e}", r.rms_error));
     stats.set("max_error", fmt::format("{:.6e}", r.max_error));

@@ -40,8 +40,11 @@ class Sharpen final : public Command {
     ImageFileWriter out(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
     SolveSummary summary;
     stats.time("total", [&] {
-      sharpen(in, alpha_, beta_, solver, out, &summary);
-      out.commit();
+      const auto sphere = sphere_rows(common_, in, input_);
+      RowReader& r = sphere ? sphere->input(in, input_) : in;
+      RowWriter& w = sphere ? sphere->output(out, in.channels()) : out;
+      sharpen(r, alpha_, beta_, solver, w, &summary);
+      w.commit();
     });
     stats.summary(summary);
     stats.set("alpha", fmt::format("{}", alpha_));

@@ -39,8 +39,12 @@ class Stitch final : public Command {
                         write_options(common_, composite.info()));
     SolveSummary summary;
     stats.time("total", [&] {
-      stitch(composite, labels, options_, solver, out, &summary);
-      out.commit();
+      const auto sphere = sphere_rows(common_, composite, composite_);
+      RowReader& c = sphere ? sphere->input(composite, composite_) : composite;
+      RowReader& l = sphere ? sphere->input(labels, labels_, true) : labels;
+      RowWriter& w = sphere ? sphere->output(out, composite.channels()) : out;
+      stitch(c, l, options_, solver, w, &summary);
+      w.commit();
     });
     stats.summary(summary);
     note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s), relative residual {:.2e} -> {}",
