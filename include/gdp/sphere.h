@@ -103,10 +103,11 @@ struct Projection {
 };
 
 struct ResampleOptions {
-  // Nearest neighbour (for label maps: values are copied, never blended). Otherwise Catmull-Rom
-  // bicubic when the output is as fine as the source or finer, and the average of n x n bicubic
-  // samples spread over the output pixel when it is coarser (n: output pixel over source pixel,
-  // from the map's Jacobian), so shrinking does not alias and enlarging does not blur.
+  // Nearest neighbour (for label maps: values are copied, never blended). Otherwise Lanczos-3
+  // interpolation when the output is as fine as the source or finer, and the average of n x n
+  // interpolated samples spread over the output pixel when it is coarser (n per axis: the output
+  // pixel's extent from the map's Jacobian over the source pixel, rounded, at most 8), so
+  // shrinking does not alias and enlarging does not blur.
   bool nearest = false;
   // Row-major 3x3: an output direction d is looked up in the source at rotation * d (changes of
   // celestial frame, say). Identity by default.

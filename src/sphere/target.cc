@@ -1,6 +1,9 @@
 // Resampling targets: equirectangular and cube rows by formula, PQ rows from the fast grid.
 #include "sphere/target.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "sphere/layouts.h"
 #include "sphere/vec3.h"
 
@@ -26,8 +29,20 @@ void fill_by_formula(int width, int y_index, F&& f, TargetRow& r) {
 class EquirectTarget final : public TargetCursor {
  public:
   EquirectTarget(int w, int h, bool sky) : w_(w), h_(h), sky_(sky) {}
+  // Derivatives by formula: d/dx = (2 pi / W) east (negated for sky), d/dy = -(pi / H) north.
   const TargetRow& row(int j) override {
-    fill_by_formula(w_, j, [&](double x, double y) { return equirect_direction(w_, h_, x, y, sky_); }, r_);
+    r_.d.resize(w_);
+    r_.du.resize(w_);
+    r_.dv.resize(w_);
+    const double kx = 2.0 * std::numbers::pi / w_ * (sky_ ? -1.0 : 1.0), ky = std::numbers::pi / h_;
+    for (int i = 0; i < w_; ++i) {
+      const Vec3 d = equirect_direction(w_, h_, i + 0.5, j + 0.5, sky_);
+      r_.d[i] = d;
+      r_.du[i] = {-kx * d.y, kx * d.x, 0.0};
+      const double rho = std::hypot(d.x, d.y);
+      const double cx = rho > 0 ? d.x / rho : 1.0, cy = rho > 0 ? d.y / rho : 0.0;
+      r_.dv[i] = {ky * d.z * cx, ky * d.z * cy, -ky * rho};
+    }
     return r_;
   }
 
