@@ -24,6 +24,7 @@ class Guidance final : public GuidanceSource {
   int height() const override { return in_.height(); }
   int channels() const override { return 1; }
   bool has_initial() const override { return true; }
+  bool start_from_initial() const override { return false; }
   void read_row(int j, GuidanceRow& out) override;
 
  private:

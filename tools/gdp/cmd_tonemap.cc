@@ -47,6 +47,7 @@ class Tonemap final : public Command {
       out.commit();
     });
     stats.summary(summary);
+    stats.image(in.width(), in.height(), in.channels());  // the solve itself has one channel
     stats.set("alpha", fmt::format("{}", options_.alpha));
     stats.set("beta", fmt::format("{}", options_.beta));
     stats.set("saturation", fmt::format("{}", options_.saturation));
