@@ -15,11 +15,13 @@ namespace gdp::sphere {
 
 namespace {
 
-// Subsamples along one output axis: the output pixel's extent over the source's pixel size,
-// rounded (1 when enlarging: one interpolated sample, no blur), at most 8.
+// Subsamples along one output axis: one (plain interpolation, no blur) while the output pixel is
+// under 1.5 source pixels; beyond, two per source pixel across the output pixel (a box of
+// samples spaced at one source pixel would alias the source's Nyquist frequency), at most 16.
 int subsamples(const Vec3& step, double source_pixel) {
   const double ratio = norm(step) / source_pixel;
-  return static_cast<int>(std::clamp(std::lround(ratio), 1L, 8L));
+  if (ratio < 1.5) return 1;
+  return static_cast<int>(std::min(16.0, std::ceil(2.0 * ratio)));
 }
 
 // The TOAST inverse's depth for a PQ source. Stopping at triangles of side h misplaces points by
