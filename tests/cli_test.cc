@@ -226,3 +226,16 @@ TEST_F(Cli, SphereRejectsImagesThatAreNotSpherical) {
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+TEST_F(Cli, SharpenWithALowImage) {
+  ASSERT_EQ(gdp("sharpen " + path("comp.png") + " --low " + path("comp.png") + " -o " + path("hl.png") + " -q").code, 0);
+  write_image(path("small.png"), Image(10, 10, 3), {});
+  expect_failure("smooth " + path("comp.png") + " --beta 0.5 --low " + path("small.png") + " -o " + path("out.png"),
+                 "small.png");
+}
+
+}  // namespace
+}  // namespace gdp

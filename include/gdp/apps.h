@@ -39,6 +39,11 @@ void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& s
              SolveSummary* summary = nullptr);
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,
               SolveSummary* summary = nullptr);
+// High/low compositing (sharpen/smooth --low): gradients beta * grad(high), values (and the
+// starting guess) from `low` with weight alpha, e.g. the detail of one exposure on the tones of
+// another. Same size and channels (InputError otherwise).
+void sharpen(RowReader& high, RowReader& low, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
+             SolveSummary* summary = nullptr);
 
 // Rebuilds an image from its own gradients from a zero start, keeping its mean (a self-test
 // on real data).

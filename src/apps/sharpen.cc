@@ -1,4 +1,6 @@
 // Gradient-domain sharpening and smoothing: scaled gradients, values held with weight alpha.
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "apps/image_guidance.h"
@@ -9,33 +11,59 @@
 namespace gdp {
 namespace {
 
-// Image guidance that also notes the input's blanks for the output.
+// Image guidance that also notes the input's blanks for the output. With a `low` image, the
+// values (and the starting guess) come from it instead of the image.
 class Recorded final : public apps::ImageGuidance {
  public:
-  Recorded(RowReader& image, double alpha, double beta, bool start, apps::OutputFixups& fixups)
-      : ImageGuidance(image, alpha, beta, start), fixups_(fixups) {}
+  Recorded(RowReader& image, double alpha, double beta, bool start, apps::OutputFixups& fixups, RowReader* low)
+      : ImageGuidance(image, alpha, beta, start), fixups_(fixups), low_(low) {
+    if (low) low_row_.resize(static_cast<std::size_t>(low->channels()) * low->width());
+  }
+  void read_row(int j, GuidanceRow& out) override {
+    ImageGuidance::read_row(j, out);
+    if (!low_) return;
+    low_->read_row(j, low_row_);
+    std::copy(low_row_.begin(), low_row_.end(), out.initial.begin());
+    if (alpha() != 0.0)
+      for (std::size_t k = 0; k < low_row_.size(); ++k) out.value[k] = std::isfinite(low_row_[k]) ? low_row_[k] : 0.0;
+  }
 
  protected:
   void on_source_row(int y, std::span<const float> row) override { fixups_.record(y, row); }
 
  private:
   apps::OutputFixups& fixups_;
+  RowReader* low_;
+  std::vector<float> low_row_;
 };
 
 void solve_image(RowReader& image, double alpha, double beta, bool start, const SolverOptions& solver, RowWriter& out,
-                 SolveSummary* summary) {
+                 SolveSummary* summary, RowReader* low = nullptr) {
   apps::OutputFixups fixups(out, image.width(), image.height(), image.channels(), solver);
-  Recorded guidance(image, alpha, beta, start, fixups);
+  Recorded guidance(image, alpha, beta, start, fixups, low);
   solve(guidance, solver, fixups, summary);
+}
+
+void check_parameters(double alpha, double beta) {
+  if (!(alpha > 0.0)) throw UsageError(fmt::format("--alpha must be positive, got {}", alpha));
+  if (!(beta >= 0.0)) throw UsageError(fmt::format("--beta must be non-negative, got {}", beta));
 }
 
 }  // namespace
 
 void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
              SolveSummary* summary) {
-  if (!(alpha > 0.0)) throw UsageError(fmt::format("--alpha must be positive, got {}", alpha));
-  if (!(beta >= 0.0)) throw UsageError(fmt::format("--beta must be non-negative, got {}", beta));
+  check_parameters(alpha, beta);
   solve_image(image, alpha, beta, true, solver, out, summary);
+}
+
+void sharpen(RowReader& high, RowReader& low, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
+             SolveSummary* summary) {
+  check_parameters(alpha, beta);
+  if (low.width() != high.width() || low.height() != high.height() || low.channels() != high.channels())
+    throw InputError(fmt::format("the low-frequency image is {}x{}x{} but the image is {}x{}x{}", low.width(),
+                                 low.height(), low.channels(), high.width(), high.height(), high.channels()));
+  solve_image(high, alpha, beta, true, solver, out, summary, &low);
 }
 
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver, SolveSummary* summary) {

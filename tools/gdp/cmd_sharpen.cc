@@ -24,6 +24,7 @@ class Sharpen final : public Command {
     auto* a = app->add_option("--alpha,-a", alpha_, "value weight; detail finer than 1/sqrt(alpha) pixels is scaled");
     auto* s = app->add_option("--scale", scale_, "scale in pixels (alpha = 1 / scale^2); default 16");
     a->excludes(s);
+    app->add_option("--low", low_, "take the values from this image (same size), the gradients from the input");
     add_common_options(*app, common_);
   }
 
@@ -43,7 +44,16 @@ class Sharpen final : public Command {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
       RowWriter& w = sphere ? sphere->output(out, in.channels()) : out;
-      sharpen(r, alpha_, beta_, solver, w, &summary);
+      if (low_.empty()) {
+        sharpen(r, alpha_, beta_, solver, w, &summary);
+      } else {
+        ImageFileReader low_file(low_);
+        if (low_file.width() != in.width() || low_file.height() != in.height() || low_file.channels() != in.channels())
+          throw InputError(fmt::format("{}: {}x{}x{}, but {} is {}x{}x{}", low_, low_file.width(), low_file.height(),
+                                       low_file.channels(), input_, in.width(), in.height(), in.channels()));
+        RowReader& low = sphere ? sphere->input(low_file, low_) : low_file;
+        sharpen(r, low, alpha_, beta_, solver, w, &summary);
+      }
       w.commit();
     });
     stats.summary(summary);
@@ -58,7 +68,7 @@ class Sharpen final : public Command {
 
  private:
   bool smooth_;
-  std::string name_, input_, output_;
+  std::string name_, input_, output_, low_;
   double beta_, alpha_ = 0.0, scale_ = 16.0;
   CommonOptions common_;
 };
