@@ -18,6 +18,7 @@ std::unique_ptr<Command> make_stitch(CLI::App& root);
 std::unique_ptr<Command> make_sharpen(CLI::App& root, bool smooth);
 std::unique_ptr<Command> make_reconstruct(CLI::App& root);
 std::unique_ptr<Command> make_convert(CLI::App& root);
+std::unique_ptr<Command> make_sphere(CLI::App& root);
 std::unique_ptr<Command> make_tonemap(CLI::App& root);
 
 }  // namespace gdp::cli

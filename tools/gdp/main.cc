@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_sharpen(root, true));
   commands.push_back(gdp::cli::make_reconstruct(root));
   commands.push_back(gdp::cli::make_convert(root));
+  commands.push_back(gdp::cli::make_sphere(root));
   commands.push_back(gdp::cli::make_tonemap(root));
   try {
     root.parse(argc, argv);
