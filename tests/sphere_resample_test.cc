@@ -170,8 +170,8 @@ TEST(SphereResample, NearestKeepsLabelsUnblended) {
 // Equirect -> PQ -> equirect of a real map: the output's seam columns and pole rows differ no more
 // than the input's do.
 TEST(SphereResample, NoSeamAtTheMeridianOrThePoles) {
-  const Image big = read_image(GDP_SHARED_DATA "/equirect/three-globe-npm/earth-night.jpg").image;
-  const Image src = resample(big, {Layout::Equirect}, {Layout::Equirect}, 512, 256);  // shrinks 8x
+  const Image src = read_image(GDP_SHARED_DATA "/equirect/pmndrs-hdri/park.exr").image;  // 512 x 256 HDR
+  ASSERT_EQ(src.width, 512);
   const Image back = resample(resample(src, {Layout::Equirect}, {Layout::Pq}, 4 * 184, 184), {Layout::Pq},
                               {Layout::Equirect}, 512, 256);
   auto seam = [](const Image& img) {  // mean |column W-1 - column 0| vs mean neighbouring columns
@@ -192,9 +192,9 @@ TEST(SphereResample, NoSeamAtTheMeridianOrThePoles) {
     return hi - lo;
   };
   const auto in = seam(src), out = seam(back);
-  EXPECT_LT(out[0], 1.5 * in[0] + 1e-3 * src.height);
-  EXPECT_LT(pole_spread(back, 0), pole_spread(src, 0) + 0.02);
-  EXPECT_LT(pole_spread(back, 255), pole_spread(src, 255) + 0.02);
+  EXPECT_LT(out[0], 1.5 * in[0] + 0.1 * in[1]);  // seam: as the input's, far below a column step
+  EXPECT_LT(pole_spread(back, 0), 1.5 * pole_spread(src, 0) + 0.02);
+  EXPECT_LT(pole_spread(back, 255), 1.5 * pole_spread(src, 255) + 0.02);
 }
 
 // Cube strip orientation (OpenEXR's): +Z sees longitude 0, -X (to its right) longitude +90,
