@@ -1,6 +1,5 @@
 // The resampling driver: output rows in parallel, footprint-sized supersampling or interpolation.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <exception>
 #include <mutex>

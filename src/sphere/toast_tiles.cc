@@ -1,5 +1,4 @@
 // WorldWideTelescope TOAST tile pyramids from TOAST PQ images (copies, rotations, 2x2 averages).
-#include <atomic>
 #include <fstream>
 #include <random>
 
