@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/tonemap_window.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
@@ -264,6 +265,31 @@ TEST(Tonemap, SphereIsContinuousAcrossTheFolds) {
   std::cout << "fold jump / inner jump: input " << fold_in / inner_in << ", output " << fold_out / inner_out << "\n";
   EXPECT_LT(fold_out, 0.5 * inner_out);
   EXPECT_LT(fold_out / inner_out, 1.5 * fold_in / inner_in);
+}
+
+TEST(Tonemap, PyramidRowsContinueAcrossTheDomainsEdges) {
+  // The rows every pyramid filter reads beyond the top and bottom: reflected on the plane,
+  // read mirrored across the folds on a PQ domain (docs/sphere-solver.md).
+  const int w = 8, h = 4;
+  const auto value = [](int i, int y) { return static_cast<float>(10 * y + i); };
+  for (Domain d : {Domain::Planar, Domain::Spherical}) {
+    apps::tonemap::RowWindow window(d, w, h, 4);
+    for (int y = 0; y < h; ++y) {
+      std::vector<float> row(w);
+      for (int i = 0; i < w; ++i) row[i] = value(i, y);
+      window.push(row);
+    }
+    const bool pq = d == Domain::Spherical;
+    for (int i = 0; i < w; ++i) {
+      const int top = pq ? w - 1 - i : i, bottom = pq ? ((w / 2 - 1 - i) % w + w) % w : i;
+      EXPECT_EQ(window.row(-1)[i], value(top, 0));
+      EXPECT_EQ(window.row(-2)[i], value(top, 1));
+      EXPECT_EQ(window.row(h)[i], value(bottom, h - 1));
+      EXPECT_EQ(window.row(h + 1)[i], value(bottom, h - 2));
+    }
+    EXPECT_EQ(apps::tonemap::column(-1, w, d), pq ? w - 1 : 0);
+    EXPECT_EQ(apps::tonemap::column(w, w, d), pq ? 0 : w - 1);
+  }
 }
 
 TEST(Tonemap, BadOptionsAreUsageErrors) {
