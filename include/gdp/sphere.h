@@ -126,7 +126,8 @@ Image resample(const Image& source, const Projection& from, const Projection& to
                const ResampleOptions& options = {});
 
 // Row interface (what a streaming implementation replaces): today it reads the source into
-// memory, then writes the output row by row; see docs/sphere.md for the streaming design.
+// memory, then writes the output row by row; see docs/sphere.md for the streaming design. As
+// with the applications, commit() is left to the caller.
 void resample(RowReader& source, const Projection& from, RowWriter& out, const Projection& to, int out_width,
               int out_height, const ResampleOptions& options = {});
 

@@ -31,7 +31,7 @@ class PqReader final : public RowReader {
   Image pq_;
 };
 
-// Collects PQ rows; commit() resamples them to the equirectangular writer, which commits it.
+// Collects PQ rows; commit() resamples them to the equirectangular writer and commits it.
 class EquirectWriter final : public RowWriter {
  public:
   EquirectWriter(RowWriter& out, int pq_height, int channels, int width, int height)
@@ -39,7 +39,8 @@ class EquirectWriter final : public RowWriter {
   void write_row(int y, std::span<const float> row) override { ImageRowWriter(pq_).write_row(y, row); }
   void commit() override {
     ImageRowReader r(pq_);
-    sphere::resample(r, kPq, out_, kEquirect, width_, height_);  // commits out_
+    sphere::resample(r, kPq, out_, kEquirect, width_, height_);
+    out_.commit();
   }
 
  private:

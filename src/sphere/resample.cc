@@ -133,7 +133,6 @@ void resample(RowReader& source, const Projection& from, RowWriter& out, const P
     rows.read_row(y, row);
     out.write_row(y, row);
   }
-  out.commit();
 }
 
 }  // namespace gdp::sphere

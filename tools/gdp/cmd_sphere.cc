@@ -93,6 +93,7 @@ class Sphere final : public Command {
     stats.time("total", [&] {
       if (to_pq) sphere::resample(in, other, out, pq, w, h, options);
       else sphere::resample(in, pq, out, other, w, h, options);
+      out.commit();
     });
     note(common_, fmt::format("{} {}x{} -> {}x{}", to_pq ? "to-pq" : "from-pq", in.width(), in.height(), w, h));
     stats.image(w, h, in.channels());
