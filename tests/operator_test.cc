@@ -144,3 +144,32 @@ INSTANTIATE_TEST_SUITE_P(Spherical, RhsIdentity,
 
 }  // namespace
 }  // namespace gdp
+
+namespace gdp {
+namespace {
+
+// Every neighbour pair is reciprocal: as many of p's 5x5 stencil offsets land on q as q's land
+// on p (through the index map: reflections, wrap-around and the PQ folds).
+TEST(Topology, EveryNeighbourPairIsReciprocal) {
+  for (const auto& [domain, w, h] : {std::make_tuple(Domain::Planar, 7, 5), std::make_tuple(Domain::Cylindrical, 9, 4),
+                                     std::make_tuple(Domain::Spherical, 16, 4), std::make_tuple(Domain::Spherical, 32, 8)}) {
+    const auto topo = topology::make_topology(domain);
+    std::map<std::pair<int, int>, int> count;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            const auto [ni, nj] = topo->map(i + dx, j + dy, w, h);
+            ASSERT_TRUE(ni >= 0 && ni < w && nj >= 0 && nj < h);
+            ++count[{j * w + i, nj * w + ni}];
+          }
+    for (const auto& [pq, n] : count) {
+      const auto it = count.find({pq.second, pq.first});
+      ASSERT_NE(it, count.end()) << topo->name() << " " << pq.first << " -> " << pq.second;
+      EXPECT_EQ(it->second, n) << topo->name() << " " << pq.first << " <-> " << pq.second;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gdp
