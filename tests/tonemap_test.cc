@@ -292,10 +292,53 @@ TEST(Tonemap, PyramidRowsContinueAcrossTheDomainsEdges) {
   }
 }
 
+// Each pixel repeated f x f times.
+Image enlarged(const Image& in, int f) {
+  Image out(in.width * f, in.height * f, in.channels);
+  for (int c = 0; c < in.channels; ++c)
+    for (int y = 0; y < out.height; ++y)
+      for (int x = 0; x < out.width; ++x) out.at(c, x, y) = in.at(c, x / f, y / f);
+  return out;
+}
+
+// Mean of each f x f block.
+Image shrunk(const Image& in, int f) {
+  Image out(in.width / f, in.height / f, in.channels);
+  for (int c = 0; c < in.channels; ++c)
+    for (int y = 0; y < in.height; ++y)
+      for (int x = 0; x < in.width; ++x) out.at(c, x / f, y / f) += in.at(c, x, y) / float(f * f);
+  return out;
+}
+
+double mean_difference(const Image& a, const Image& b) {
+  double s = 0.0;
+  for (std::size_t k = 0; k < a.data.size(); ++k) s += std::abs(double(a.data[k]) - b.data[k]);
+  return s / double(a.data.size());
+}
+
+TEST(Tonemap, PreviewAndFullSizeAgreeWithAResolution) {
+  // The same scene at 128x64 and at 4x that size: with the attenuation tied to the 128-wide
+  // level, the large one (shrunk back) looks like the small one; attenuating every level of
+  // the large one compresses it more.
+  const Image small = real_map(8), large = enlarged(small, 4);
+  TonemapOptions opt;
+  opt.resolution = 128;
+  SolverOptions o = solver_options();
+  o.domain = Domain::Cylindrical;
+  const Image preview = tonemap(small, opt, o);
+  const double tied = mean_difference(preview, shrunk(tonemap(large, opt, o), 4));
+  opt.resolution = 0;
+  const double every = mean_difference(preview, shrunk(tonemap(large, opt, o), 4));
+  std::cout << "preview vs shrunk full size, mean difference: resolution 128 " << tied << ", every level " << every
+            << "\n";
+  EXPECT_LT(tied, 0.02);
+  EXPECT_GT(every, 4.0 * tied);
+}
+
 TEST(Tonemap, BadOptionsAreUsageErrors) {
   const Image in = test::random_image(16, 16, 3);
   for (auto change : {+[](TonemapOptions& o) { o.beta = 0.0; }, +[](TonemapOptions& o) { o.alpha = -1.0; },
-                      +[](TonemapOptions& o) { o.gamma = 0.0; }, +[](TonemapOptions& o) { o.scales = -2; },
+                      +[](TonemapOptions& o) { o.gamma = 0.0; }, +[](TonemapOptions& o) { o.scales = -2; }, +[](TonemapOptions& o) { o.resolution = -1; },
                       +[](TonemapOptions& o) { o.high_percentile = 0.5; }}) {
     TonemapOptions opt;
     change(opt);

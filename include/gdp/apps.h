@@ -66,6 +66,10 @@ struct TonemapOptions {
   double alpha = 0.1;        // gradients above alpha * (mean gradient magnitude of a level) shrink
   double beta = 0.9;         // the attenuation exponent: 1 leaves gradients alone, smaller compresses more
   int scales = 0;            // pyramid levels (1: full resolution only); 0: down to ~32 pixels on the short side
+  // Attenuate only at levels whose long side is at most this many pixels (finer levels pass
+  // their gradients on, scaled by the coarser levels' attenuation), so that an image and its
+  // preview at this size or larger get the same compression. 0: every level, as in the paper.
+  int resolution = 2048;
   double saturation = 0.6;   // C_out = (C_in / L_in)^saturation * L_out
   double gamma = 1.8;        // display value = linear^(1 / gamma)
   double low_percentile = 1.0;    // output luminance at this percentile maps to 0 (0: black stays 0)

@@ -1,4 +1,5 @@
 // gdp::tonemap: the passes of gradient-domain dynamic-range compression put together (docs/tonemap.md).
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -22,6 +23,8 @@ void TonemapOptions::validate() const {
   if (!(saturation >= 0.0) || !std::isfinite(saturation))
     throw UsageError(fmt::format("--saturation must be non-negative, got {}", saturation));
   if (scales < 0) throw UsageError(fmt::format("--scales must be 0 (automatic) or positive, got {}", scales));
+  if (resolution < 0)
+    throw UsageError(fmt::format("--resolution must be 0 (every level) or positive, got {}", resolution));
   if (!(low_percentile >= 0.0 && low_percentile < high_percentile && high_percentile <= 100.0))
     throw UsageError(fmt::format("percentiles must satisfy 0 <= low < high <= 100, got {} and {}", low_percentile,
                                  high_percentile));
@@ -40,11 +43,16 @@ void tonemap(RowReader& in, const TonemapOptions& options, const SolverOptions& 
   // Pass 1: the pyramid of log luminance and each level's mean gradient; then Phi of levels >= 1.
   const int levels = apps::tonemap::pyramid_levels(in.width(), in.height(), options.scales);
   apps::tonemap::Pyramid pyramid = apps::tonemap::build_pyramid(in, domain, levels, policy);
-  const auto phi1 = apps::tonemap::coarse_attenuation(pyramid, domain, options.alpha, options.beta, policy);
+  // The finest level that is attenuated: the first whose long side is at most options.resolution.
+  int first = 0;
+  if (options.resolution > 0)
+    while (first + 1 < levels && std::max(pyramid.widths[first], pyramid.heights[first]) > options.resolution) ++first;
+  const auto phi1 = apps::tonemap::coarse_attenuation(pyramid, domain, options.alpha, options.beta, first, policy);
 
   // Pass 2: the attenuated gradients, solved; the solution goes to a store.
   in.rewind();
-  apps::tonemap::Guidance guidance(in, domain, options.alpha * pyramid.mean_gradient[0], options.beta, phi1.get(),
+  const double a0 = first == 0 ? options.alpha * pyramid.mean_gradient[0] : 0.0;  // 0: phi_0 = 1
+  apps::tonemap::Guidance guidance(in, domain, a0, options.beta, phi1.get(),
                                    levels > 1 ? pyramid.widths[1] : 0, levels > 1 ? pyramid.heights[1] : 0);
   apps::tonemap::SolvedRows solved(in.width(), in.height(), policy);
   solve(guidance, solver, solved, summary);

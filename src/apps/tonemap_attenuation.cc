@@ -13,7 +13,8 @@
 namespace gdp::apps::tonemap {
 
 std::unique_ptr<schedule::RowStore<float>> coarse_attenuation(Pyramid& pyramid, Domain domain, double alpha,
-                                                              double beta, const schedule::StorePolicy& policy) {
+                                                              double beta, int first,
+                                                              const schedule::StorePolicy& policy) {
   std::unique_ptr<schedule::RowStore<float>> finer;  // Phi_{k+1} while level k is made
   for (int k = pyramid.levels - 1; k >= 1; --k) {
     const int w = pyramid.widths[k], h = pyramid.heights[k];
@@ -32,7 +33,7 @@ std::unique_ptr<schedule::RowStore<float>> coarse_attenuation(Pyramid& pyramid, 
       gradient_magnitude(window, y, g);
       if (expand) expand->row(y, out);
       else std::fill(out.begin(), out.end(), 1.0f);
-      multiply_phi(g, alpha * pyramid.mean_gradient[k], beta, out);
+      multiply_phi(g, k >= first ? alpha * pyramid.mean_gradient[k] : 0.0, beta, out);
       phi->append(out);
     }
     pyramid.rows[k].reset();

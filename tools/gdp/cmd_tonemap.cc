@@ -22,6 +22,9 @@ class Tonemap final : public Command {
         ->capture_default_str();
     app->add_option("--scales", options_.scales, "pyramid levels (0: down to ~32 pixels on the short side)")
         ->capture_default_str();
+    app->add_option("--resolution", options_.resolution,
+                    "attenuate only at levels at most this many pixels on the long side (0: all), so previews match")
+        ->capture_default_str();
     app->add_option("--saturation,-s", options_.saturation, "colour saturation exponent")->capture_default_str();
     app->add_option("--gamma,-g", options_.gamma, "display gamma (values are raised to 1/gamma)")
         ->capture_default_str();
