@@ -46,8 +46,11 @@ class Tonemap final : public Command {
     ImageFileWriter out(output_, in.width(), in.height(), in.channels(), w);
     SolveSummary summary;
     stats.time("total", [&] {
-      tonemap(in, options_, solver, out, &summary);
-      out.commit();
+      const auto sphere = sphere_rows(common_, in, input_);
+      RowReader& r = sphere ? sphere->input(in, input_) : in;
+      RowWriter& o = sphere ? sphere->output(out, in.channels()) : out;
+      tonemap(r, options_, solver, o, &summary);
+      o.commit();
     });
     stats.summary(summary);
     stats.image(in.width(), in.height(), in.channels());  // the solve itself has one channel
