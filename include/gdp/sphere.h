@@ -60,7 +60,8 @@ void square_row(SquareMap map, int n, int row, std::span<Vec3> out);
 // by 180 degrees, PQ(i, j) = SQ(W - 1 - i, H - 1 - j). Pixel (i, j) covers [i, i+1) x [j, j+1).
 
 // The pixel that a PQ stencil reaching outside the image reads (NUMERICS.md section 4): periodic
-// in i, reflected about the top edge and twice reflected about the bottom edge.
+// in i, reflected about the top edge and twice reflected about the bottom edge, as often as it
+// takes (the solver's own index map, so resampling and solving agree on the folds).
 std::array<int, 2> pq_wrap(int height, int i, int j);
 
 // Square pixel (column, row) of an N = 2H square that PQ pixel (i, j) is.

@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "fem/axis.h"
 #include "gdp/guidance.h"
 #include "gdp/rows.h"
 
@@ -31,11 +32,11 @@ class ImageGuidance : public GuidanceSource {
   // down on the last row of a non-spherical domain.
   virtual void keep_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/,
                           std::span<unsigned char> /*above*/) const {}
-  // The pixel below (i, j): (i, j + 1), or across the bottom edge of a spherical domain,
-  // (W/2 - 1 - i mod W, H - 1) on the last row. Its row is source_row(j + 1) or source_row(j).
-  int below(int i, int j) const { return j + 1 < height() ? i : ((width() / 2 - 1 - i) % width() + width()) % width(); }
-  // The pixel across the top edge of a spherical domain from (i, 0): (W - 1 - i, 0).
-  int above(int i) const { return width() - 1 - i; }
+  // The column of the pixel below (i, j): i in row j + 1, or on the last row of a spherical
+  // domain its partner across the bottom fold, in row j (fem::mirror_column).
+  int below(int i, int j) const { return j + 1 < height() ? i : fem::mirror_column(fem::Mirror::Bottom, i, width()); }
+  // The column of (i, 0)'s partner across the top fold of a spherical domain, in row 0.
+  int above(int i) const { return fem::mirror_column(fem::Mirror::Top, i, width()); }
   // When true, offset() is subtracted from every kept gradient.
   virtual bool has_offsets() const { return false; }
   // Value subtracted from a kept gradient along x (horizontal) or y, per channel.

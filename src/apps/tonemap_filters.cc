@@ -8,10 +8,9 @@ namespace gdp::apps::tonemap {
 
 void gradient_magnitude(RowWindow& level, int y, std::span<float> out) {
   const int w = level.width();
-  const Domain d = level.domain();
   const std::span<const float> up = level.row(y - 1), here = level.row(y), down = level.row(y + 1);
   for (int i = 0; i < w; ++i) {
-    const double gx = 0.5 * (double(here[column(i + 1, w, d)]) - here[column(i - 1, w, d)]);
+    const double gx = 0.5 * (double(here[level.column(i + 1)]) - here[level.column(i - 1)]);
     const double gy = 0.5 * (double(down[i]) - up[i]);
     out[i] = static_cast<float>(std::sqrt(gx * gx + gy * gy));
   }
@@ -19,14 +18,13 @@ void gradient_magnitude(RowWindow& level, int y, std::span<float> out) {
 
 void reduce_row(RowWindow& fine, int r, std::span<float> out) {
   static constexpr double kTaps[4] = {0.125, 0.375, 0.375, 0.125};
-  const int w = fine.width(), wc = coarser(w);
-  const Domain d = fine.domain();
+  const int wc = coarser(fine.width());
   std::span<const float> rows[4];
   for (int t = 0; t < 4; ++t) rows[t] = fine.row(2 * r - 1 + t);
   for (int q = 0; q < wc; ++q) {
     double sum = 0.0;
     for (int s = 0; s < 4; ++s) {
-      const int i = column(2 * q - 1 + s, w, d);
+      const int i = fine.column(2 * q - 1 + s);
       double v = 0.0;
       for (int t = 0; t < 4; ++t) v += kTaps[t] * rows[t][i];
       sum += kTaps[s] * v;
@@ -57,9 +55,8 @@ void Expander::row(int y, std::span<float> out) {
   }
   const std::span<const float> near = window_.row(r), far = window_.row(y % 2 ? r + 1 : r - 1);
   for (int q = 0; q < wc; ++q) mixed_[q] = 0.75f * near[q] + 0.25f * far[q];
-  const Domain d = window_.domain();
   for (int i = 0; i < fine_width_; ++i) {
-    const int q = i / 2, other = column(i % 2 ? q + 1 : q - 1, wc, d);
+    const int q = i / 2, other = window_.column(i % 2 ? q + 1 : q - 1);
     out[i] = 0.75f * mixed_[q] + 0.25f * mixed_[other];
   }
 }

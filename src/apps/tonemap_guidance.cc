@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "apps/tonemap_colour.h"
+#include "fem/axis.h"
 
 namespace gdp::apps::tonemap {
 
@@ -43,16 +44,19 @@ void Guidance::read_row(int j, GuidanceRow& out) {
   if (j + 1 < h) {
     const std::span<const float> next = log_l_.row(j + 1), pn = phi(j + 1);
     for (int i = 0; i < w; ++i) out.gy[i] = edge(here[i], next[i], p[i], pn[i]);
-  } else if (out.spherical) {  // across the bottom fold: (i, h-1) to ((w/2 - 1 - i) mod w, h-1)
+  } else if (out.spherical) {  // across the bottom fold
     for (int i = 0; i < w; ++i) {
-      const int k = ((w / 2 - 1 - i) % w + w) % w;
+      const int k = fem::mirror_column(fem::Mirror::Bottom, i, w);
       out.gy[i] = edge(here[i], here[k], p[i], p[k]);
     }
   } else {
     std::fill(out.gy.begin(), out.gy.end(), 0.0);
   }
-  if (out.spherical && j == 0)  // across the top fold: u(i, 0) - u(w-1-i, 0)
-    for (int i = 0; i < w; ++i) out.gy_above[i] = edge(here[w - 1 - i], here[i], p[w - 1 - i], p[i]);
+  if (out.spherical && j == 0)  // across the top fold
+    for (int i = 0; i < w; ++i) {
+      const int k = fem::mirror_column(fem::Mirror::Top, i, w);
+      out.gy_above[i] = edge(here[k], here[i], p[k], p[i]);
+    }
   std::copy(here.begin(), here.end(), out.initial.begin());
 }
 

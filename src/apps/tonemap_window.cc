@@ -1,4 +1,4 @@
-// Row windows for tone mapping: a ring of recent rows and the reflected or folded rows beyond the ends.
+// Row windows for tone mapping: a ring of recent rows and the rows beyond the ends, by the index map.
 #include "apps/tonemap_window.h"
 
 #include <algorithm>
@@ -6,15 +6,9 @@
 
 namespace gdp::apps::tonemap {
 
-int column(int i, int w, Domain domain) {
-  if (domain != Domain::Planar) return ((i % w) + w) % w;
-  if (i < 0) i = -1 - i;
-  if (i >= w) i = 2 * w - 1 - i;
-  return std::clamp(i, 0, w - 1);
-}
-
 RowWindow::RowWindow(Domain domain, int width, int height, int keep)
-    : domain_(domain), width_(width), height_(height), keep_(keep), ring_(keep, std::vector<float>(width)) {
+    : topology_(topology::make_topology(domain)), width_(width), height_(height), keep_(keep),
+      ring_(keep, std::vector<float>(width)) {
   for (auto& g : ghosts_) g.resize(width);
 }
 
@@ -31,14 +25,10 @@ std::span<const float> RowWindow::held(int y) const {
 
 std::span<const float> RowWindow::row(int y) {
   if (y >= 0 && y < height_) return held(y);
-  const bool top = y < 0;
-  const int source = std::clamp(top ? -1 - y : 2 * height_ - 1 - y, 0, height_ - 1);
-  const std::span<const float> r = held(source);
-  if (domain_ != Domain::Spherical) return r;
+  const std::span<const float> source = held(topology_->map(0, y, width_, height_).second);
   std::vector<float>& g = ghosts_[next_ghost_];
   next_ghost_ = (next_ghost_ + 1) % 4;
-  const int w = width_;
-  for (int i = 0; i < w; ++i) g[i] = r[top ? w - 1 - i : ((w / 2 - 1 - i) % w + w) % w];
+  for (int i = 0; i < width_; ++i) g[i] = source[topology_->map(i, y, width_, height_).first];
   return g;
 }
 

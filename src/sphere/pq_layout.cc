@@ -4,15 +4,13 @@
 
 #include "gdp/errors.h"
 #include "sphere/vec3.h"
+#include "topology/spherical.h"
 
 namespace gdp::sphere {
 
 std::array<int, 2> pq_wrap(int height, int i, int j) {
-  const int w = 4 * height;
-  int ii = ((i % w) + w) % w;
-  if (j < 0) return {w - 1 - ii, -1 - j};
-  if (j >= height) return {ii < w / 2 ? w / 2 - 1 - ii : 3 * w / 2 - 1 - ii, 2 * height - 1 - j};
-  return {ii, j};
+  const auto [ii, jj] = topology::Spherical().map(i, j, 4 * height, height);
+  return {ii, jj};
 }
 
 std::array<int, 2> pq_to_square_pixel(int height, int i, int j) {

@@ -51,8 +51,7 @@ class PqSource final : public SourceGrid {
   }
   Point2 coords(const Vec3& d) const override { return pq_from_direction(map_, h_, d, depth_); }
   std::size_t offset(int ix, int iy, int, int) const override {
-    auto [i, j] = pq_wrap(h_, ix, iy);
-    j = std::min(h_ - 1, std::max(0, j));  // stencils reach at most two rows out
+    const auto [i, j] = pq_wrap(h_, ix, iy);
     return static_cast<std::size_t>(j) * (4 * h_) + i;
   }
   double pixel_angle() const override { return std::sqrt(std::numbers::pi) / h_; }
