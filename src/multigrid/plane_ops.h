@@ -9,14 +9,20 @@
 
 namespace gdp::multigrid {
 
+// Row j's window over a level stored row by row at `u` (op.width samples a row).
 template <class T>
-RowWindow<T> window(const LevelOperator<T>& op, const Plane<T>& u, int j) {
+RowWindow<T> window(const LevelOperator<T>& op, const T* u, int j) {
   RowWindow<T> w{};
   for (int d = 0; d < 5; ++d) {
     const int r = op.row_of(j, d);
-    w[d] = r < 0 ? nullptr : u.row(r);
+    w[d] = r < 0 ? nullptr : u + static_cast<std::size_t>(r) * op.width;
   }
   return w;
+}
+
+template <class T>
+RowWindow<T> window(const LevelOperator<T>& op, const Plane<T>& u, int j) {
+  return window(op, u.data.data(), j);
 }
 
 template <class T>

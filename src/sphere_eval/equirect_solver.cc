@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gdp/errors.h"
+#include "multigrid/coarse_cg.h"
 
 namespace gdp::sphere_eval {
 
@@ -15,36 +16,12 @@ double dot(std::span<const double> a, std::span<const double> b) {
   return std::inner_product(a.begin(), a.end(), b.begin(), 0.0);
 }
 
-void remove_mean(std::span<double> v) {
-  const double m = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  for (double& x : v) x -= m;
-}
-
 }  // namespace
 
-int solve_cg(const RowStencilOperator& op, std::span<const double> b_in, std::span<double> u, double tolerance,
+int solve_cg(const RowStencilOperator& op, std::span<const double> b, std::span<double> u, double tolerance,
              int max_iterations) {
-  const bool singular = op.singular();
-  std::vector<double> b(b_in.begin(), b_in.end()), r(op.size()), p(op.size()), q(op.size());
-  if (singular) remove_mean(b), remove_mean(u);
-  op.apply(u, q);
-  for (std::size_t k = 0; k < r.size(); ++k) r[k] = b[k] - q[k];
-  if (singular) remove_mean(r);
-  const double stop = tolerance * tolerance * dot(b, b);
-  double rr = dot(r, r);
-  p = r;
-  int it = 0;
-  for (; it < max_iterations && rr > stop && rr > 0.0; ++it) {
-    op.apply(p, q);
-    const double a = rr / dot(p, q);
-    for (std::size_t k = 0; k < r.size(); ++k) u[k] += a * p[k], r[k] -= a * q[k];
-    if (singular) remove_mean(r);
-    const double rr_new = dot(r, r);
-    for (std::size_t k = 0; k < r.size(); ++k) p[k] = r[k] + (rr_new / rr) * p[k];
-    rr = rr_new;
-  }
-  if (singular) remove_mean(u);
-  return it;
+  const auto apply = [&](std::span<const double> in, std::span<double> out) { op.apply(in, out); };
+  return multigrid::conjugate_gradients(apply, op.singular(), b, u, tolerance, max_iterations);
 }
 
 EquirectSolver::EquirectSolver(int width, int height, double alpha, const EquirectSolverOptions& options)

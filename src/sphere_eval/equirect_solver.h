@@ -16,8 +16,8 @@ struct EquirectSolverOptions {
   int max_coarse_iterations = 100000;
 };
 
-// Conjugate gradients to a relative residual `tolerance`. On a singular operator the constants
-// are projected out of b and of u. Returns the number of iterations.
+// Conjugate gradients to a relative residual `tolerance` (multigrid::conjugate_gradients). On a
+// singular operator the constants are projected out of b and of u. Returns the number of iterations.
 int solve_cg(const RowStencilOperator& op, std::span<const double> b, std::span<double> u, double tolerance,
              int max_iterations);
 
