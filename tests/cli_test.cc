@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "cli_fixture.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
 
@@ -18,17 +19,13 @@ namespace fs = std::filesystem;
 namespace gdp {
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string err;
-};
+using test::CliRun;
 
-class Cli : public ::testing::Test {
+// Runs in a scratch directory holding a 40x30 composite and its two-label map.
+class Cli : public test::CliFixture {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("gdp_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    CliFixture::SetUp();
     Image comp = test::random_image(40, 30, 3, 5), labels(40, 30, 3);
     for (int y = 0; y < 30; ++y)
       for (int x = 0; x < 40; ++x)
@@ -36,43 +33,6 @@ class Cli : public ::testing::Test {
     write_image(path("comp.png"), comp, {});
     write_image(path("labels.png"), labels, {});
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  // Runs gdp with the arguments, capturing stderr.
-  CliRun gdp(const std::string& args) const {
-    const std::string err_file = path("stderr.txt");
-    const std::string cmd = std::string(GDP_CLI_PATH) + " " + args + " 2> " + err_file + " > /dev/null";
-    CliRun r;
-    const int status = std::system(cmd.c_str());
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err_file);
-    r.err.assign(std::istreambuf_iterator<char>(f), {});
-    return r;
-  }
-
-  std::set<std::string> files() const {
-    std::set<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir_)) out.insert(e.path().filename().string());
-    out.erase("stderr.txt");
-    return out;
-  }
-
-  void expect_failure(const std::string& args, const std::string& mention) {
-    const std::set<std::string> before = files();
-    const CliRun r = gdp(args);
-    std::vector<std::string> leftovers;
-    for (const std::string& f : files())
-      if (!before.count(f)) leftovers.push_back(f);
-    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(mention), std::string::npos) << "stderr should mention '" << mention << "': " << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1 + (r.err.find("--help") != std::string::npos))
-        << "one-line message: " << r.err;
-    EXPECT_TRUE(leftovers.empty()) << "left behind: " << leftovers.front();
-  }
-
-  fs::path dir_;
 };
 
 TEST_F(Cli, StitchWritesOutputAndStatistics) {

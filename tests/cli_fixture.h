@@ -1,0 +1,73 @@
+// A scratch directory per test and runs of the gdp tool in it: exit code, stderr, files left behind.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace gdp::test {
+
+struct CliRun {
+  int code = -1;
+  std::string err;
+};
+
+class CliFixture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("gdp_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Runs gdp with the arguments, capturing stderr.
+  CliRun gdp(const std::string& args) const {
+    const std::string err_file = path("stderr.txt");
+    const std::string cmd = std::string(GDP_CLI_PATH) + " " + args + " 2> " + err_file + " > /dev/null";
+    CliRun r;
+    const int status = std::system(cmd.c_str());
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream f(err_file);
+    r.err.assign(std::istreambuf_iterator<char>(f), {});
+    return r;
+  }
+
+  // The files in the scratch directory (but stderr.txt).
+  std::set<std::string> files() const {
+    std::set<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(dir_)) out.insert(e.path().filename().string());
+    out.erase("stderr.txt");
+    return out;
+  }
+
+  // A failing run: exit code 2, one line on stderr mentioning `mention`, no new file.
+  void expect_failure(const std::string& args, const std::string& mention) {
+    const std::set<std::string> before = files();
+    const CliRun r = gdp(args);
+    std::vector<std::string> leftovers;
+    for (const std::string& f : files())
+      if (!before.count(f)) leftovers.push_back(f);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(mention), std::string::npos) << "stderr should mention '" << mention << "': " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1 + (r.err.find("--help") != std::string::npos))
+        << "one-line message: " << r.err;
+    EXPECT_TRUE(leftovers.empty()) << "left behind: " << leftovers.front();
+  }
+
+  std::filesystem::path dir_;
+};
+
+}  // namespace gdp::test
