@@ -2,10 +2,10 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
-#include <thread>
 
 #include "multigrid/incore_vcycle.h"
 #include "schedule/input_rows.h"
+#include "schedule/parallel.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp::schedule {
@@ -67,10 +67,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     for (int c = t; c < channels; c += threads) solve_channel(c, vc);
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (std::thread& th : pool) th.join();
+  run_workers(threads, worker);
   summary.seconds_solve = seconds_since(t_solve);
   log.finish(summary, opt);
 

@@ -1,11 +1,10 @@
 // The resampling driver: output rows in parallel, footprint-sized supersampling or interpolation.
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <mutex>
 #include <thread>
 
 #include "gdp/errors.h"
+#include "schedule/parallel.h"
 #include "sphere/source.h"
 #include "sphere/target.h"
 #include "sphere/vec3.h"
@@ -96,24 +95,12 @@ Image resample(const Image& source, const Projection& from, const Projection& to
   Image out(out_width, out_height, source.channels);
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, std::max(1, out_height));
-  // Contiguous blocks of rows (a PQ cursor reuses neighbouring rows); the first error wins.
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) {
+  // Contiguous blocks of rows (a PQ cursor reuses neighbouring rows).
+  schedule::run_workers(threads, [&](int t) {
     const int j0 = static_cast<int>(static_cast<long long>(out_height) * t / threads);
     const int j1 = static_cast<int>(static_cast<long long>(out_height) * (t + 1) / threads);
-    pool.emplace_back([&, j0, j1] {
-      try {
-        resample_rows(source, *grid, to, options, out, j0, j1);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    });
-  }
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+    resample_rows(source, *grid, to, options, out, j0, j1);
+  });
   return out;
 }
 
