@@ -1,6 +1,8 @@
 // Gradient-domain applications: each builds guidance for the one solver.
 #pragma once
 
+#include <string>
+
 #include "gdp/image.h"
 #include "gdp/rows.h"
 #include "gdp/solver.h"
@@ -12,6 +14,16 @@ enum class UnknownMode {
   Black,     // fill smoothly for the solve, then output black there
   Harmonic,  // no gradients into or inside them: a smooth (harmonic) fill
   Label,     // white is an ordinary label
+};
+
+// Per-pixel fidelity (docs/weights.md): images of the input's size read row by row beside it
+// (first channel used). The values held are the application's own: the composite, the image
+// (or the low image), the target.
+struct Fidelity {
+  RowReader* weights = nullptr;  // per-pixel weight of the value term, added to alpha (finite, >= 0)
+  RowReader* pins = nullptr;     // pixels above 0.5 keep their values (within 1e-4 of the range)
+  std::string weights_name = "weight image", pins_name = "pin mask";  // for error messages
+  bool any() const { return weights || pins; }
 };
 
 struct StitchOptions {
@@ -29,21 +41,37 @@ struct StitchOptions {
 // over known pixels is the composite's (up to what the last sweeps move it, ~1e-5). Labels are
 // compared exactly, any channel count. The composite is read twice with `deramp`.
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
-            RowWriter& out, SolveSummary* summary = nullptr);
+            RowWriter& out, SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options,
              const SolverOptions& solver, SolveSummary* summary = nullptr);
 
 // Gradient-domain sharpening (beta > 1) or smoothing (beta < 1): fit gradients beta * grad(I)
 // and values I with weight alpha. alpha = 1 / s^2 changes detail finer than about s pixels.
 void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
-             SolveSummary* summary = nullptr);
+             SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,
               SolveSummary* summary = nullptr);
 // High/low compositing (sharpen/smooth --low): gradients beta * grad(high), values (and the
 // starting guess) from `low` with weight alpha, e.g. the detail of one exposure on the tones of
 // another. Same size and channels (InputError otherwise).
 void sharpen(RowReader& high, RowReader& low, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
-             SolveSummary* summary = nullptr);
+             SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
+
+// Seamless cloning (Perez, Gangnet and Blake 2003; gdp clone): the source's pixel (x, y) lands
+// on the target's (x + offset_x, y + offset_y); inside the mask (first channel > 0.5, source's
+// size) the result takes the source's gradients, outside it keeps the target's values exactly
+// (pinned). With `mixed`, an edge keeps the target's gradient where it is stronger than the
+// source's (transparent objects, text on texture). Output: the target's size and channels (the
+// source's first channels; it needs at least as many). The problem has pinned pixels, so each
+// V-cycle converges more slowly than plain stitching: gdp clone defaults to a tolerance.
+struct CloneOptions {
+  int offset_x = 0, offset_y = 0;
+  bool mixed = false;
+};
+void clone(RowReader& target, RowReader& source, RowReader& mask, const CloneOptions& options,
+           const SolverOptions& solver, RowWriter& out, SolveSummary* summary = nullptr);
+Image clone(const Image& target, const Image& source, const Image& mask, const CloneOptions& options,
+            const SolverOptions& solver, SolveSummary* summary = nullptr);
 
 // Rebuilds an image from its own gradients from a zero start, keeping its mean (a self-test
 // on real data).

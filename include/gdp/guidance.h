@@ -9,7 +9,7 @@ namespace gdp {
 // difference u(e+1, j) - u(e, j) (x_edges = width - 1, or width on a periodic domain where
 // the last edge joins column width-1 to column 0); gy[c * width + i] is the desired
 // u(i, j+1) - u(i, j) (unused on the last row); value[c * width + i] is the desired value
-// (used only when alpha > 0).
+// (used only when alpha > 0 or the source has per-pixel weights).
 //
 // On a spherical (PQ) domain, whose top and bottom edges fold onto themselves (pixel (i, 0)
 // meets (W-1-i, 0) across the top edge; (i, H-1) meets (i', H-1), i' = (W/2-1-i) mod W, across
@@ -22,6 +22,10 @@ struct GuidanceRow {
   bool spherical = false;  // set by the solver
   std::vector<double> gx, gy, value;
   std::vector<double> gy_above;  // spherical domains, row 0
+  // Sources with has_weights(): the per-pixel weight of the value term, added to alpha (a
+  // lumped mass: weight 1 costs as much as alpha = 1 there), or kPinned to hold the pixel at
+  // its value (docs/weights.md).
+  std::vector<double> weight;
   // Sources with has_initial(): the starting guess (unless start_from_initial() is false), and
   // the values whose mean, over the counted pixels, a solution keeps when alpha == 0.
   std::vector<float> initial;
@@ -29,6 +33,9 @@ struct GuidanceRow {
   // (the solver sets every entry to 1 before each read_row; sources may clear some).
   std::vector<unsigned char> counted;
 };
+
+// A weight that holds a pixel at its value (within about 1e-6 of the range).
+inline constexpr double kPinned = 1e30;
 
 // A source of guidance rows. Rows are requested once each, in order j = 0, 1, ..., so a
 // source may stream from files; read_row fills every field of `out` (already sized).
@@ -40,6 +47,9 @@ class GuidanceSource {
   virtual int channels() const = 0;
   // Weight of the value term (0: pure gradient problem, solution defined up to a constant).
   virtual double alpha() const { return 0.0; }
+  // True when read_row fills `weight` (the problem then has a unique solution wherever some
+  // weight is positive, and the solver keeps no mean).
+  virtual bool has_weights() const { return false; }
   // True when read_row fills `initial`.
   virtual bool has_initial() const { return false; }
   // False: start from zero all the same (initial then only sets the mean to keep).

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/fidelity_guidance.h"
 #include "apps/image_guidance.h"
 #include "apps/output_fixups.h"
 #include "gdp/apps.h"
@@ -38,10 +39,10 @@ class Recorded final : public apps::ImageGuidance {
 };
 
 void solve_image(RowReader& image, double alpha, double beta, bool start, const SolverOptions& solver, RowWriter& out,
-                 SolveSummary* summary, RowReader* low = nullptr) {
+                 SolveSummary* summary, RowReader* low = nullptr, const Fidelity& fidelity = {}) {
   apps::OutputFixups fixups(out, image.width(), image.height(), image.channels(), solver);
   Recorded guidance(image, alpha, beta, start, fixups, low);
-  solve(guidance, solver, fixups, summary);
+  apps::solve_with_fidelity(guidance, fidelity, solver, fixups, summary);
 }
 
 void check_parameters(double alpha, double beta) {
@@ -52,18 +53,18 @@ void check_parameters(double alpha, double beta) {
 }  // namespace
 
 void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
-             SolveSummary* summary) {
+             SolveSummary* summary, const Fidelity& fidelity) {
   check_parameters(alpha, beta);
-  solve_image(image, alpha, beta, true, solver, out, summary);
+  solve_image(image, alpha, beta, true, solver, out, summary, nullptr, fidelity);
 }
 
 void sharpen(RowReader& high, RowReader& low, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
-             SolveSummary* summary) {
+             SolveSummary* summary, const Fidelity& fidelity) {
   check_parameters(alpha, beta);
   if (low.width() != high.width() || low.height() != high.height() || low.channels() != high.channels())
     throw InputError(fmt::format("the low-frequency image is {}x{}x{} but the image is {}x{}x{}", low.width(),
                                  low.height(), low.channels(), high.width(), high.height(), high.channels()));
-  solve_image(high, alpha, beta, true, solver, out, summary, &low);
+  solve_image(high, alpha, beta, true, solver, out, summary, &low, fidelity);
 }
 
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver, SolveSummary* summary) {

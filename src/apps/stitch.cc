@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/fidelity_guidance.h"
 #include "apps/image_guidance.h"
 #include "apps/output_fixups.h"
 #include "gdp/apps.h"
@@ -142,13 +143,13 @@ class StitchGuidance final : public apps::ImageGuidance {
 }  // namespace
 
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
-            RowWriter& out, SolveSummary* summary) {
+            RowWriter& out, SolveSummary* summary, const Fidelity& fidelity) {
   if (composite.width() != labels.width() || composite.height() != labels.height())
     throw InputError(fmt::format("label map is {}x{} but the composite is {}x{}", labels.width(), labels.height(),
                                  composite.width(), composite.height()));
   apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
   StitchGuidance guidance(composite, labels, options, fixups);
-  solve(guidance, solver, fixups, summary);
+  apps::solve_with_fidelity(guidance, fidelity, solver, fixups, summary);
 }
 
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options, const SolverOptions& solver,

@@ -23,9 +23,13 @@ double dot(std::span<const double> a, std::span<const double> b) {
 }  // namespace
 
 int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<const double> b_in, std::span<double> u,
-                        double tolerance, int max_iterations) {
+                        double tolerance, int max_iterations, std::span<const double> inverse_diagonal) {
   const std::size_t n = u.size();
-  std::vector<double> b(b_in.begin(), b_in.end()), r(n), p(n), ap(n);
+  std::vector<double> b(b_in.begin(), b_in.end()), r(n), p(n), ap(n), z(n);
+  // z = M^-1 r (the identity without a preconditioner).
+  const auto precondition = [&] {
+    for (std::size_t k = 0; k < n; ++k) z[k] = inverse_diagonal.empty() ? r[k] : inverse_diagonal[k] * r[k];
+  };
   if (singular) {
     remove_mean(b);
     remove_mean(u);
@@ -38,36 +42,53 @@ int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<con
     std::fill(u.begin(), u.end(), 0.0);
     return 0;
   }
-  p = r;
-  double rr = dot(r, r);
+  precondition();
+  p = z;
+  double rz = dot(r, z);
   int it = 0;
-  for (; it < max_iterations && std::sqrt(rr) > tolerance * bnorm; ++it) {
+  for (; it < max_iterations && std::sqrt(dot(r, r)) > tolerance * bnorm; ++it) {
     apply(p, ap);
     const double pap = dot(p, ap);
     if (pap <= 0.0) break;
-    const double a = rr / pap;
+    const double a = rz / pap;
     for (std::size_t k = 0; k < n; ++k) {
       u[k] += a * p[k];
       r[k] -= a * ap[k];
     }
     if (singular) remove_mean(r);
-    const double rr_new = dot(r, r);
-    const double beta = rr_new / rr;
-    rr = rr_new;
-    for (std::size_t k = 0; k < n; ++k) p[k] = r[k] + beta * p[k];
+    precondition();
+    const double rz_new = dot(r, z);
+    const double beta = rz_new / rz;
+    rz = rz_new;
+    for (std::size_t k = 0; k < n; ++k) p[k] = z[k] + beta * p[k];
   }
   if (singular) remove_mean(u);
   return it;
 }
 
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
-             double tolerance, int max_iterations) {
+             double tolerance, int max_iterations, const Plane<double>* diag) {
   RowScratch<double> s(op.width);
   const auto apply = [&](std::span<const double> in, std::span<double> out) {
     for (int j = 0; j < op.height; ++j)
-      apply_row(op, j, window(op, in.data(), j), out.data() + static_cast<std::size_t>(j) * op.width, s);
+      apply_row(op, j, window(op, in.data(), j), out.data() + static_cast<std::size_t>(j) * op.width, s,
+                diag_row(diag, j));
   };
-  return conjugate_gradients(apply, singular, b.data, u.data, tolerance, max_iterations);
+  std::vector<double> inverse_diagonal;
+  if (diag) {
+    // The operator's diagonal: A applied to unit vectors would do, but the stencil's centre
+    // coefficients give it directly (a mirrored row can couple a pixel to itself: add those).
+    Plane<double> e(op.width, op.height), ae(op.width, op.height);
+    inverse_diagonal.resize(e.data.size());
+    for (std::size_t k = 0; k < e.data.size(); ++k) {
+      e.data[k] = 1.0;
+      const int j = static_cast<int>(k / op.width);
+      apply_row(op, j, window(op, e, j), ae.row(j), s, diag->row(j));
+      inverse_diagonal[k] = 1.0 / ae.data[k];
+      e.data[k] = 0.0;
+    }
+  }
+  return conjugate_gradients(apply, singular, b.data, u.data, tolerance, max_iterations, inverse_diagonal);
 }
 
 }  // namespace gdp::multigrid

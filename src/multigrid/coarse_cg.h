@@ -13,13 +13,15 @@ namespace gdp::multigrid {
 using ApplyOperator = std::function<void(std::span<const double> in, std::span<double> out)>;
 
 // Solves A u = b to a relative residual `tolerance`, improving u in place. With `singular`, the
-// constants (A's null space) are projected out of b, u and the residuals. Returns the number of
-// iterations.
+// constants (A's null space) are projected out of b, u and the residuals. A non-empty
+// `inverse_diagonal` makes it Jacobi-preconditioned (for operators whose diagonal varies over
+// orders of magnitude, as with pinned pixels). Returns the number of iterations.
 int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<const double> b, std::span<double> u,
-                        double tolerance, int max_iterations);
+                        double tolerance, int max_iterations, std::span<const double> inverse_diagonal = {});
 
-// The same on one level (singular when alpha == 0).
+// The same on one level (singular when alpha == 0 and there is no diagonal term), with the
+// optional per-pixel diagonal term of row_ops.h (then preconditioned).
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
-             double tolerance, int max_iterations);
+             double tolerance, int max_iterations, const Plane<double>* diag = nullptr);
 
 }  // namespace gdp::multigrid

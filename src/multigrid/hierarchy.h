@@ -37,6 +37,10 @@ Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height,
 template <class T>
 struct LevelOperator {
   static constexpr double kScale = 720.0;
+  // The per-pixel diagonal term standing for a pinned pixel (GuidanceRow::weight == kPinned):
+  // about 1e6 times the largest finest-level diagonal, so a pinned pixel moves by less than 1e-6
+  // of the neighbouring differences, while D u and D value stay far from float's range.
+  static constexpr double kPinnedDiagonal = 1073741824.0;  // 2^30
 
   int width = 0, height = 0;
   bool periodic_x = false;

@@ -64,6 +64,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
   auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
   auto B = [&](int l) -> const Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
+  auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
   const auto dot = [&](int l) {
     if (!weights || !probe) return;
     double s = 0.0;
@@ -73,7 +74,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
 
   for (int l = first_; l + 1 < levels; ++l) {
     const LevelOperator<T>& op = ops_.levels[l];
-    relax(op, U(l), B(l), sweeps_, scratch_);
+    relax(op, U(l), B(l), sweeps_, scratch_, D(l));
     dot(l);
     Plane<T>& coarse_b = b_[l - first_];
     Plane<T>& coarse_u = u_[l - first_];
@@ -82,7 +83,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     const LevelGeometry& g = geo[l + 1];
     double rr = 0.0;
     for (int j = 0; j < op.height; ++j) {
-      residual_row(op, j, window(op, U(l), j), B(l).row(j), r_row_.data(), scratch_);
+      residual_row(op, j, window(op, U(l), j), B(l).row(j), r_row_.data(), scratch_, diag_row(D(l), j));
       rr += row_dot(r_row_.data(), r_row_.data(), op.width);
       const fem::ProlongationRow& py = g.py.rows[j];
       restrict_row(g.px, py, r_row_.data(), coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
@@ -96,11 +97,17 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     Plane<double> b(op.width, op.height), u(op.width, op.height);
     std::copy(B(levels - 1).data.begin(), B(levels - 1).data.end(), b.data.begin());
     std::copy(U(levels - 1).data.begin(), U(levels - 1).data.end(), u.data.begin());
-    solve_cg(op, ops_.singular, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100);
+    Plane<double> d;
+    if (diag_) {
+      d = Plane<double>(op.width, op.height);
+      std::copy(D(levels - 1)->data.begin(), D(levels - 1)->data.end(), d.data.begin());
+    }
+    const Plane<double>* dp = diag_ ? &d : nullptr;
+    solve_cg(op, ops_.singular && !diag_, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100, dp);
     if (probe) {
       Plane<double> r(op.width, op.height);
       RowScratch<double> s(op.width);
-      residual(op, u, b, r, s);
+      residual(op, u, b, r, s, dp);
       probe->level_norms.push_back(norm2(r));
     }
     std::transform(u.data.begin(), u.data.end(), U(levels - 1).data.begin(),
@@ -116,7 +123,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
       const fem::ProlongationRow& py = g.py.rows[j];
       prolong_row(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), U(l).row(j), tmp_.data());
     }
-    relax(op, U(l), B(l), sweeps_, scratch_);
+    relax(op, U(l), B(l), sweeps_, scratch_, D(l));
   }
 }
 
@@ -125,7 +132,8 @@ double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
   const LevelOperator<T>& op = ops_.levels[first_];
   double rr = 0.0;
   for (int j = 0; j < op.height; ++j) {
-    residual_row(op, j, window(op, u, j), b.row(j), r_row_.data(), scratch_);
+    residual_row(op, j, window(op, u, j), b.row(j), r_row_.data(), scratch_,
+                 diag_ ? (*diag_)[0].row(j) : nullptr);
     rr += row_dot(r_row_.data(), r_row_.data(), op.width);
   }
   return std::sqrt(rr);

@@ -15,7 +15,7 @@ struct Operators {
   const Hierarchy* hierarchy;
   std::vector<LevelOperator<T>> levels;
   LevelOperator<double> coarsest;
-  bool singular;  // alpha == 0: constants are in the null space
+  bool singular;  // alpha == 0 (and no per-pixel weights): constants are in the null space
 
   explicit Operators(const Hierarchy& h);
   int count() const { return static_cast<int>(levels.size()); }
@@ -51,12 +51,16 @@ class InCoreVCycle {
            CycleProbe* probe = nullptr);
   // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
+  // A per-pixel diagonal term (row_ops.h) on every level: (*diag)[l - first] for level l
+  // (restrict_weights() of the finest level's), or null for none. Not owned.
+  void set_diagonal(const std::vector<Plane<T>>* diag) { diag_ = diag; }
 
  private:
   const Operators<T>& ops_;
   int sweeps_;
   double coarse_tolerance_;
   int first_;
+  const std::vector<Plane<T>>* diag_ = nullptr;
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   std::vector<T> tmp_, r_row_;
   RowScratch<T> scratch_;

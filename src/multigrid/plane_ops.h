@@ -25,22 +25,32 @@ RowWindow<T> window(const LevelOperator<T>& op, const Plane<T>& u, int j) {
   return window(op, u.data.data(), j);
 }
 
+// Row j of an optional per-pixel diagonal term (row_ops.h).
 template <class T>
-void apply(const LevelOperator<T>& op, const Plane<T>& u, Plane<T>& out, RowScratch<T>& s) {
-  for (int j = 0; j < op.height; ++j) apply_row(op, j, window(op, u, j), out.row(j), s);
+const T* diag_row(const Plane<T>* diag, int j) {
+  return diag ? diag->row(j) : nullptr;
+}
+
+template <class T>
+void apply(const LevelOperator<T>& op, const Plane<T>& u, Plane<T>& out, RowScratch<T>& s,
+           const Plane<T>* diag = nullptr) {
+  for (int j = 0; j < op.height; ++j) apply_row(op, j, window(op, u, j), out.row(j), s, diag_row(diag, j));
 }
 
 template <class T>
 void residual(const LevelOperator<T>& op, const Plane<T>& u, const Plane<T>& b, Plane<T>& r,
-              RowScratch<T>& s) {
-  for (int j = 0; j < op.height; ++j) residual_row(op, j, window(op, u, j), b.row(j), r.row(j), s);
+              RowScratch<T>& s, const Plane<T>* diag = nullptr) {
+  for (int j = 0; j < op.height; ++j)
+    residual_row(op, j, window(op, u, j), b.row(j), r.row(j), s, diag_row(diag, j));
 }
 
 // k lexicographic Gauss-Seidel sweeps, top to bottom.
 template <class T>
-void relax(const LevelOperator<T>& op, Plane<T>& u, const Plane<T>& b, int sweeps, RowScratch<T>& s) {
+void relax(const LevelOperator<T>& op, Plane<T>& u, const Plane<T>& b, int sweeps, RowScratch<T>& s,
+           const Plane<T>* diag = nullptr) {
   for (int k = 0; k < sweeps; ++k)
-    for (int j = 0; j < op.height; ++j) relax_row(op, j, window(op, u, j), u.row(j), b.row(j), s);
+    for (int j = 0; j < op.height; ++j)
+      relax_row(op, j, window(op, u, j), u.row(j), b.row(j), s, diag_row(diag, j));
 }
 
 template <class T>

@@ -109,17 +109,28 @@ void RowScratch<T>::resize(int width) {
 }
 
 template <class T>
-GDP_KERNEL void apply_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* out, RowScratch<T>& s) {
+GDP_KERNEL void apply_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* out, RowScratch<T>& s,
+                          const T* diag) {
   combine_rows(op, j, rows, s);
   convolve(op, s, out);
+  if (diag)
+    for (int i = 0; i < op.width; ++i) out[i] += diag[i] * rows[2][i];
 }
 
 template <class T>
 GDP_KERNEL void residual_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, const T* b, T* r,
-                  RowScratch<T>& s) {
+                             RowScratch<T>& s, const T* diag) {
   combine_rows(op, j, rows, s);
   convolve(op, s, s.q.data());
-  for (int i = 0; i < op.width; ++i) r[i] = b[i] - s.q[i];
+  if (diag) {
+    // A pinned pixel's equation is u = value: it holds after relaxation (to ~1e-6), and what
+    // b - A u - D u computes there is float round-off of D * value (b) against D * u, noise that
+    // would swamp the residual norms: it is taken as zero.
+    const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal);
+    for (int i = 0; i < op.width; ++i) r[i] = diag[i] >= pinned ? T(0) : b[i] - s.q[i] - diag[i] * rows[2][i];
+  } else {
+    for (int i = 0; i < op.width; ++i) r[i] = b[i] - s.q[i];
+  }
 }
 
 // Gauss-Seidel along the row as a recurrence on the corrections: with q the operator applied
@@ -128,7 +139,7 @@ GDP_KERNEL void residual_row(const LevelOperator<T>& op, int j, const RowWindow<
 // K_d(i) being the in-row coupling sx[d] my0 + mx[d] cy0. All but the recurrence vectorises.
 template <class T>
 GDP_KERNEL void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* u, const T* b,
-               RowScratch<T>& s) {
+                          RowScratch<T>& s, const T* diag) {
   const int n = op.width;
   combine_rows(op, j, rows, s);
   T* q = s.q.data();
@@ -137,10 +148,11 @@ GDP_KERNEL void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>&
   T* k1 = s.k1.data();
   T* k2 = s.k2.data();
   T* inv = s.inv.data();
-  if (s.coefficients_for != std::make_pair(m0, c0) || s.coefficients_op != &op) {
-    // Interior rows share (m0, c0): the reciprocal diagonal is computed once for them all.
+  if (diag || s.coefficients_for != std::make_pair(m0, c0) || s.coefficients_op != &op) {
+    // Interior rows share (m0, c0): the reciprocal diagonal is computed once for them all
+    // (per row when a per-pixel diagonal term is added).
     for (int i = 0; i < n; ++i) {
-      inv[i] = T(1) / (op.sx[2][i] * m0 + op.mx[2][i] * c0);
+      inv[i] = T(1) / (op.sx[2][i] * m0 + op.mx[2][i] * c0 + (diag ? diag[i] : T(0)));
       k1[i] = (op.sx[1][i] * m0 + op.mx[1][i] * c0) * inv[i];
       k2[i] = (op.sx[0][i] * m0 + op.mx[0][i] * c0) * inv[i];
     }
@@ -160,9 +172,13 @@ GDP_KERNEL void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>&
       }
     }
     s.coefficients_for = {m0, c0};
-    s.coefficients_op = &op;
+    s.coefficients_op = diag ? nullptr : &op;
   }
-  for (int i = 0; i < n; ++i) q[i] = (b[i] - q[i]) * inv[i];
+  if (diag) {
+    for (int i = 0; i < n; ++i) q[i] = (b[i] - q[i] - diag[i] * u[i]) * inv[i];
+  } else {
+    for (int i = 0; i < n; ++i) q[i] = (b[i] - q[i]) * inv[i];
+  }
   T* dx = s.dx.data() + 2;  // dx[-2], dx[-1] are zero: wrapped columns are not yet updated
   dx[-2] = dx[-1] = T(0);
   const int last = op.periodic_x ? n - 2 : n;
@@ -253,11 +269,12 @@ GDP_KERNEL void prolong_row(const fem::Prolongation& px, const fem::Prolongation
 
 #define GDP_INSTANTIATE(T)                                                                        \
   template struct RowScratch<T>;                                                                  \
-  template void apply_row(const LevelOperator<T>&, int, const RowWindow<T>&, T*, RowScratch<T>&); \
+  template void apply_row(const LevelOperator<T>&, int, const RowWindow<T>&, T*, RowScratch<T>&, \
+                          const T*);                                                              \
   template void residual_row(const LevelOperator<T>&, int, const RowWindow<T>&, const T*, T*,     \
-                             RowScratch<T>&);                                                     \
+                             RowScratch<T>&, const T*);                                           \
   template void relax_row(const LevelOperator<T>&, int, const RowWindow<T>&, T*, const T*,        \
-                          RowScratch<T>&);                                                        \
+                          RowScratch<T>&, const T*);                                              \
   template void restrict_row(const fem::Prolongation&, const fem::ProlongationRow&, const T*, T*, \
                              T*, T*);                                                             \
   template void prolong_row(const fem::Prolongation&, const fem::ProlongationRow&, const T*,      \

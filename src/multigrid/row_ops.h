@@ -32,20 +32,25 @@ struct RowScratch {
   void resize(int width);
 };
 
+// Every operator kernel takes an optional per-pixel diagonal term `diag` (row j of D, or null):
+// the operator is then A + D, D >= 0 being the lumped per-pixel fidelity weights (scaled like
+// A by kScale; docs/weights.md). Residuals are zero where D reaches kPinnedDiagonal.
+
 // out = (A u) on row j.
 template <class T>
-void apply_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* out, RowScratch<T>& s);
+void apply_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* out, RowScratch<T>& s,
+               const T* diag = nullptr);
 
 // r = b - (A u) on row j.
 template <class T>
 void residual_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, const T* b, T* r,
-                  RowScratch<T>& s);
+                  RowScratch<T>& s, const T* diag = nullptr);
 
 // One lexicographic Gauss-Seidel sweep of row j (left to right): rows[2] is updated in place,
 // using the newest values of the row itself and whatever the other rows hold.
 template <class T>
 void relax_row(const LevelOperator<T>& op, int j, const RowWindow<T>& rows, T* u, const T* b,
-               RowScratch<T>& s);
+               RowScratch<T>& s, const T* diag = nullptr);
 
 // Restriction (P^T) of fine row j onto the coarse rows it feeds: coarse0 and coarse1 are the
 // rows py[j].index[0] and [1] (possibly the same row, the second fed mirrored where py[j].mirror

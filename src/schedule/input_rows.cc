@@ -13,7 +13,7 @@ template <class T>
 InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy)
     : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
-      initial_(kRing), counted_(kRing), b_(kRing),
+      initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing),
       weighted_sum_(source.channels(), 0.0), b_norm2_(source.channels(), 0.0) {
   const std::size_t n = static_cast<std::size_t>(channels_) * width_;
   row_.x_edges = hierarchy.levels[0].x.edges();
@@ -24,7 +24,12 @@ InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hier
   row_.value.assign(n, 0.0);
   row_.initial.assign(n, 0.0f);
   row_.counted.assign(width_, 1);
+  if (source.has_weights()) row_.weight.assign(width_, 0.0);
   for (int k = 0; k < kRing; ++k) {
+    if (source.has_weights()) {
+      d_[k].assign(width_, 0.0);
+      dv_[k].assign(n, 0.0);
+    }
     initial_[k].assign(n, 0.0f);
     counted_[k].assign(width_, 1);
     b_[k].assign(n, 0.0);
@@ -38,6 +43,22 @@ void InputRows<T>::read_guidance() {
   source_.read_row(j, row_);
   if (source_.has_initial()) initial_[j % kRing] = row_.initial;
   counted_[j % kRing] = row_.counted;
+  if (source_.has_weights()) {
+    std::vector<double>&d = d_[j % kRing], &dv = dv_[j % kRing];
+    for (int i = 0; i < width_; ++i) {
+      const double wt = row_.weight[i];
+      bool finite = true;
+      for (int c = 0; c < channels_; ++c) finite = finite && std::isfinite(row_.value[static_cast<std::size_t>(c) * width_ + i]);
+      // No weight where there is no value to hold (blank pixels).
+      d[i] = !finite || !(wt > 0.0) ? 0.0
+             : wt >= kPinned       ? multigrid::LevelOperator<T>::kPinnedDiagonal
+                                   : multigrid::LevelOperator<T>::kScale * wt;
+      for (int c = 0; c < channels_; ++c) {
+        const std::size_t k = static_cast<std::size_t>(c) * width_ + i;
+        dv[k] = d[i] == 0.0 ? 0.0 : d[i] * row_.value[k];
+      }
+    }
+  }
   const auto sink = [this](int r, int c, std::span<const double> v) {
     std::copy(v.begin(), v.end(), b_[r % kRing].begin() + static_cast<std::ptrdiff_t>(c) * width_);
     if (c == channels_ - 1) emitted_ = r + 1;
@@ -47,16 +68,28 @@ void InputRows<T>::read_guidance() {
 }
 
 template <class T>
-void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w) {
+void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d) {
   const int j = next_++;
   if (j >= height_) throw std::logic_error("InputRows::next past the last row");
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
   constexpr double scale = multigrid::LevelOperator<T>::kScale;
-  for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i]);
+  if (source_.has_weights()) {
+    for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i] + dv_[k][i]);
+    std::transform(d_[k].begin(), d_[k].end(), d.begin(), [](double v) { return static_cast<T>(v); });
+  } else {
+    for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i]);
+  }
   for (int c = 0; c < channels_; ++c) {
     const T* bc = b.data() + static_cast<std::size_t>(c) * width_;
-    b_norm2_[c] += multigrid::row_dot(bc, bc, width_);
+    if (!source_.has_weights()) {
+      b_norm2_[c] += multigrid::row_dot(bc, bc, width_);
+      continue;
+    }
+    // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
+    // residuals are measured against: they are left out of it.
+    for (int i = 0; i < width_; ++i)
+      if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) b_norm2_[c] += static_cast<double>(bc[i]) * bc[i];
   }
   const std::vector<float>& init = initial_[k];
   for (int i = 0; i < width_; ++i) {

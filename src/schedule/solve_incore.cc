@@ -21,19 +21,21 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
 
   const auto t_rhs = Clock::now();
   std::vector<Plane<T>> u(channels, Plane<T>(w, h)), b(channels, Plane<T>(w, h));
-  std::vector<Plane<T>> weights;
+  std::vector<Plane<T>> weights, diagonal;
   InputRows<T> input(source, problem.hierarchy);
   {
-    Plane<T> wt(w, h);
+    Plane<T> wt(w, h), d(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
     std::vector<T> ur(n), br(n);
     for (int j = 0; j < h; ++j) {
-      input.next(ur, br, {wt.row(j), static_cast<std::size_t>(w)});
+      input.next(ur, br, {wt.row(j), static_cast<std::size_t>(w)},
+                 {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)});
       for (int c = 0; c < channels; ++c) {
         std::copy_n(ur.begin() + static_cast<std::ptrdiff_t>(c) * w, w, u[c].row(j));
         std::copy_n(br.begin() + static_cast<std::ptrdiff_t>(c) * w, w, b[c].row(j));
       }
     }
     if (ops.singular) weights = multigrid::restrict_weights(ops, 0, std::move(wt));
+    if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
   summary.seconds_rhs = seconds_since(t_rhs);
   summary.window_bytes = 2 * n * h * sizeof(T);
@@ -65,6 +67,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
   const auto worker = [&](int t) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
+    if (!diagonal.empty()) vc.set_diagonal(&diagonal);
     for (int c = t; c < channels; c += threads) solve_channel(c, vc);
   };
   run_workers(threads, worker);

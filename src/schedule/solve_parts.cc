@@ -14,6 +14,8 @@ Problem<T>::Problem(const GuidanceSource& source, const SolverOptions& options, 
                  multigrid::build_hierarchy(*topology, source.width(), source.height(), source.alpha(),
                                             options.coarsest_size))),
       ops(hierarchy) {
+  // Per-pixel weights hold values (where positive): no null space, no mean to keep.
+  if (source.has_weights()) ops.singular = false;
   summary.width = source.width();
   summary.height = source.height();
   summary.channels = source.channels();

@@ -19,11 +19,11 @@ int batch_rows(int width, int channels) {
 }
 constexpr std::size_t kQueued = 2;  // batches in flight per lane and direction
 
-// Rows first .. first + rows - 1 of some channels: u and b (channels * width per row), w.
+// Rows first .. first + rows - 1 of some channels: u and b (channels * width per row), w and d.
 template <class T>
 struct Batch {
   int first = 0, rows = 0;
-  std::vector<T> u, b, w;
+  std::vector<T> u, b, w, d;
 };
 
 // What the input thread knows once every row is read (published before the last batch).
@@ -82,10 +82,12 @@ class Lane {
           next_in = 0;
         }
         const std::size_t at = static_cast<std::size_t>(next_in) * n;
-        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n},
-                     batch.w.empty() ? std::span<const T>{}
-                                     : std::span<const T>{batch.w.data() + static_cast<std::size_t>(next_in) * width_,
-                                                          static_cast<std::size_t>(width_)});
+        const auto pixel_row = [&](const std::vector<T>& v) {
+          return v.empty() ? std::span<const T>{}
+                           : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * width_,
+                                                static_cast<std::size_t>(width_)};
+        };
+        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
         ++next_in;
       }
       for (int c = 0; c < n_; ++c) {
@@ -166,6 +168,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   settings.incore_from = first_incore_level(ops, channels, opt.incore_bytes);
   settings.measure_initial = settings.measure_final = true;
   settings.weights = ops.singular;
+  settings.diagonal = source.has_weights();
   settings.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
   settings.stores.dir = opt.temp_dir;
   settings.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
@@ -211,11 +214,11 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   try {
     InputRows<T> input(source, problem.hierarchy);
     const std::size_t n = static_cast<std::size_t>(channels) * w;
-    std::vector<T> u(n), b(n), wt(w);
+    std::vector<T> u(n), b(n), wt(w), d(settings.diagonal ? w : 0);
     std::vector<Batch<T>> batches(lanes.size());
     for (int j = 0; j < h; ++j) {
       const auto t = Clock::now();
-      input.next(u, b, wt);
+      input.next(u, b, wt, d);
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
       if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
@@ -228,6 +231,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
         batch.u.insert(batch.u.end(), u.begin() + from, u.begin() + from + count);
         batch.b.insert(batch.b.end(), b.begin() + from, b.begin() + from + count);
         if (settings.weights) batch.w.insert(batch.w.end(), wt.begin(), wt.end());
+        batch.d.insert(batch.d.end(), d.begin(), d.end());
         if (++batch.rows < batch_rows(w, channels) && !last) continue;
         if (!lanes[l]->in.push(std::move(batch))) throw std::runtime_error("stopped");
         batch = Batch<T>{};

@@ -17,7 +17,7 @@ template <class T>
 struct StreamingVCycle<T>::Level {
   const LevelOperator<T>* op = nullptr;
   int width = 0, height = 0, ring = 0;
-  std::vector<T> u, b, w;  // ring slots: u and b hold channels * width samples, w width samples
+  std::vector<T> u, b, w, d;  // ring slots: u and b hold channels * width samples, w and d width samples
   multigrid::RowScratch<T> scratch;
   std::vector<Stage> stages;
   std::vector<int> done;     // rows finished by each stage in this pass
@@ -26,8 +26,8 @@ struct StreamingVCycle<T>::Level {
   int next_complete = 0;     // restriction pass: coarser rows completed (pushed) by this level
   int needed_from = 0;       // prolongation pass: lowest row the finer level still reads
   std::vector<int> last_touch;  // per coarser row, the last row of this level restricted into it
-  std::unique_ptr<RowStore<T>> u_store, b_store, w_store;
-  bool inputs_stored = false;  // level 0: b and w were stored by the first cycle
+  std::unique_ptr<RowStore<T>> u_store, b_store, w_store, d_store;
+  bool inputs_stored = false;  // level 0: b, w and d were stored by the first cycle
   std::vector<double> rr, dots;  // per channel, this cycle
 };
 
@@ -53,6 +53,7 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
     L->u.assign(L->ring * slot, T(0));
     L->b.assign(L->ring * slot, T(0));
     if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * op.width, T(0));
+    if (set_.diagonal) L->d.assign(static_cast<std::size_t>(L->ring) * op.width, T(0));
     L->scratch.resize(op.width);
     L->last_touch.assign(geo[l + 1].height(), -1);
     for (int j = 0; j < op.height; ++j)
@@ -62,12 +63,18 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
     L->b_store = std::make_unique<RowStore<T>>(set_.stores, slot, op.height, name + "-b");
     if (l == 0 && set_.weights && set_.more_cycles)
       L->w_store = std::make_unique<RowStore<T>>(set_.stores, op.width, op.height, name + "-w");
+    if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
+      StorePolicy exact = set_.stores;
+      exact.encoding = StoreEncoding::Native;
+      L->d_store = std::make_unique<RowStore<T>>(exact, op.width, op.height, name + "-d");
+    }
     levels_.push_back(std::move(L));
   }
   const LevelOperator<T>& first = ops.levels[set_.incore_from];
   tail_u_.assign(channels, Plane<T>(first.width, first.height));
   tail_b_.assign(channels, Plane<T>(first.width, first.height));
   if (set_.weights) tail_w_ = Plane<T>(first.width, first.height);
+  if (set_.diagonal) tail_d_ = Plane<T>(first.width, first.height);
   tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, set_.sweeps, set_.coarse_tolerance, set_.incore_from);
   tmp_.resize(ops.levels[0].width);
   r_.resize(ops.levels[0].width);
@@ -94,6 +101,12 @@ T* StreamingVCycle<T>::w_row(int l, int j) {
 }
 
 template <class T>
+T* StreamingVCycle<T>::d_row(int l, int j) {
+  Level& L = *levels_[l];
+  return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.width;
+}
+
+template <class T>
 RowWindow<T> StreamingVCycle<T>::window(int l, int c, int j) {
   const LevelOperator<T>& op = *levels_[l]->op;
   RowWindow<T> rows{};
@@ -117,16 +130,15 @@ void StreamingVCycle<T>::begin_cycle() {
     L.rr.assign(channels, 0.0);
     L.dots.assign(channels, 0.0);
     L.u_store->clear();
-    if (l == 0 && L.inputs_stored) {
-      L.b_store->rewind();
-      if (L.w_store) L.w_store->rewind();
-    } else {
-      L.b_store->clear();
-      if (L.w_store) L.w_store->clear();
+    for (RowStore<T>* store : {L.b_store.get(), L.w_store.get(), L.d_store.get()}) {
+      if (!store) continue;
+      if (l == 0 && L.inputs_stored) store->rewind();
+      else store->clear();
     }
   }
   for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
   std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
+  std::fill(tail_d_.data.begin(), tail_d_.data.end(), T(0));
   initial_rr_.assign(channels, 0.0);
   final_rr_.assign(channels, 0.0);
   for (auto& p : probes_) p = {};
@@ -142,7 +154,8 @@ void StreamingVCycle<T>::check_slot(int l, int row) const {
 }
 
 template <class T>
-void StreamingVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w) {
+void StreamingVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w,
+                              std::span<const T> d) {
   Level& L = *levels_[0];
   const int r = L.arrived;
   const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.width;
@@ -152,9 +165,11 @@ void StreamingVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::s
   if (L.inputs_stored) {
     L.b_store->read({b_row(0, 0, r), slot});
     if (L.w_store) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.width)});
+    if (L.d_store) L.d_store->read({d_row(0, r), static_cast<std::size_t>(L.width)});
   } else {
     std::copy(b.begin(), b.end(), b_row(0, 0, r));
     if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
+    if (set_.diagonal) std::copy(d.begin(), d.end(), d_row(0, r));
   }
   ++L.arrived;
   advance(0);
@@ -183,9 +198,9 @@ void StreamingVCycle<T>::run_stage(int l, Stage stage, int j) {
   for (int c = 0; c < set_.channels; ++c) {
     const RowWindow<T> rows = window(l, c, j);
     if (stage == Stage::Sweep) {
-      multigrid::relax_row(op, j, rows, u_row(l, c, j), b_row(l, c, j), L.scratch);
+      multigrid::relax_row(op, j, rows, u_row(l, c, j), b_row(l, c, j), L.scratch, d_row(l, j));
     } else {
-      multigrid::residual_row(op, j, rows, b_row(l, c, j), r_.data(), L.scratch);
+      multigrid::residual_row(op, j, rows, b_row(l, c, j), r_.data(), L.scratch, d_row(l, j));
       (stage == Stage::MeasureInitial ? initial_rr_ : final_rr_)[c] += multigrid::row_dot(r_.data(), r_.data(), L.width);
     }
   }
@@ -205,11 +220,12 @@ void StreamingVCycle<T>::restrict_into_coarser(int l, int j) {
       check_slot(l + 1, C.zeroed);
       std::fill_n(b_row(l + 1, 0, C.zeroed), static_cast<std::size_t>(set_.channels) * C.width, T(0));
       if (set_.weights) std::fill_n(w_row(l + 1, C.zeroed), C.width, T(0));
+      if (set_.diagonal) std::fill_n(d_row(l + 1, C.zeroed), C.width, T(0));
     }
   }
   const auto coarse_b = [&](int c, int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_row(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.scratch);
+    multigrid::residual_row(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.scratch, d_row(l, j));
     L.rr[c] += multigrid::row_dot(r_.data(), r_.data(), L.width);
     multigrid::restrict_row(g.px, py, r_.data(), coarse_b(c, py.index[0]), coarse_b(c, py.index[1]), tmp_.data());
     if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j), u_row(l, c, j), L.width);
@@ -218,10 +234,15 @@ void StreamingVCycle<T>::restrict_into_coarser(int l, int j) {
     const auto coarse_w = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
     multigrid::restrict_row(g.px, py, w_row(l, j), coarse_w(py.index[0]), coarse_w(py.index[1]), tmp_.data());
   }
+  if (set_.diagonal) {
+    const auto coarse_d = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
+    multigrid::restrict_row(g.px, py, d_row(l, j), coarse_d(py.index[0]), coarse_d(py.index[1]), tmp_.data());
+  }
   L.u_store->append({u_row(l, 0, j), slot});
   if (!L.inputs_stored) {
     L.b_store->append({b_row(l, 0, j), slot});
     if (L.w_store) L.w_store->append({w_row(l, j), static_cast<std::size_t>(L.width)});
+    if (L.d_store) L.d_store->append({d_row(l, j), static_cast<std::size_t>(L.width)});
   }
   while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) complete_coarse_row(l);
 }
@@ -245,6 +266,10 @@ template <class T>
 void StreamingVCycle<T>::run_incore() {
   std::vector<Plane<T>> weights;
   if (set_.weights) weights = multigrid::restrict_weights(ops_, set_.incore_from, tail_w_);
+  if (set_.diagonal) {
+    tail_diag_ = multigrid::restrict_weights(ops_, set_.incore_from, tail_d_);
+    tail_->set_diagonal(&tail_diag_);
+  }
   for (int c = 0; c < set_.channels; ++c) {
     std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
     multigrid::CycleProbe tail;
@@ -272,6 +297,7 @@ void StreamingVCycle<T>::pull(std::span<T> u) {
       L->done.assign(L->stages.size(), 0);
       L->u_store->rewind();
       L->b_store->rewind();
+      if (L->d_store) L->d_store->rewind();
     }
     levels_[0]->needed_from = 0;
   }
@@ -292,6 +318,7 @@ void StreamingVCycle<T>::ensure_final(int l, int row) {
     const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.width;
     L.u_store->read({u_row(l, 0, r), slot});
     L.b_store->read({b_row(l, 0, r), slot});
+    if (L.d_store) L.d_store->read({d_row(l, r), static_cast<std::size_t>(L.width)});
     const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
     const fem::ProlongationRow& py = g.py.rows[r];
     const bool tail = l + 1 == set_.incore_from;
@@ -311,16 +338,18 @@ void StreamingVCycle<T>::ensure_final(int l, int row) {
 template <class T>
 std::size_t StreamingVCycle<T>::store_bytes() const {
   std::size_t n = 0;
-  for (const auto& L : levels_) n += L->u_store->bytes() + L->b_store->bytes() + (L->w_store ? L->w_store->bytes() : 0);
+  for (const auto& L : levels_)
+    for (const RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
+      n += store ? store->bytes() : 0;
   return n;
 }
 
 template <class T>
 std::size_t StreamingVCycle<T>::window_bytes() const {
   std::size_t n = 0;
-  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size()) * sizeof(T);
+  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size() + L->d.size()) * sizeof(T);
   for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
-  return n + tail_w_.data.size() * sizeof(T);
+  return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }
 
 template class StreamingVCycle<float>;

@@ -36,6 +36,7 @@ class StreamingVCycle {
     bool measure_final = false;     // |b - A u| of the pulled rows
     bool weights = false;           // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
     bool more_cycles = false;       // keep the finest weights for later cycles (b is always kept)
+    bool diagonal = false;          // a per-pixel diagonal term (row_ops.h), pushed with b
     StorePolicy stores;
   };
 
@@ -44,9 +45,9 @@ class StreamingVCycle {
 
   // Starts a V-cycle (the first, or another one on the rows pulled from the previous).
   void begin_cycle();
-  // Restriction pass: the next finest row; u and b hold channels * width samples, w width
-  // samples. b and w are stored during the first cycle: later cycles pass empty spans.
-  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w);
+  // Restriction pass: the next finest row; u and b hold channels * width samples, w and d width
+  // samples. b, w and d are stored during the first cycle: later cycles pass empty spans.
+  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d = {});
   // Prolongation pass (after the last push): the next finished row, channels * width samples.
   void pull(std::span<T> u);
 
@@ -74,13 +75,15 @@ class StreamingVCycle {
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
+  T* d_row(int l, int j);  // null without a diagonal term
 
   const multigrid::Operators<T>& ops_;
   Settings set_;
   std::vector<std::unique_ptr<Level>> levels_;  // the streamed levels 0 .. incore_from - 1
   // The in-core tail: level incore_from per channel, its weights, and the V-cycle below it.
   std::vector<multigrid::Plane<T>> tail_u_, tail_b_;
-  multigrid::Plane<T> tail_w_;
+  multigrid::Plane<T> tail_w_, tail_d_;
+  std::vector<multigrid::Plane<T>> tail_diag_;  // tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   std::vector<multigrid::CycleProbe> probes_;
   std::vector<double> initial_rr_, final_rr_;

@@ -96,6 +96,31 @@ std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader&
   return std::make_unique<SphereRows>(reader.width(), reader.height(), name, o.pq_height);
 }
 
+void add_fidelity_options(CLI::App& cmd, FidelityFiles& f) {
+  cmd.add_option("--weights", f.weights,
+                 "per-pixel weight of the input's values (first channel, >= 0; 1/s^2 holds detail coarser than s pixels)");
+  cmd.add_option("--pin", f.pins, "mask: pixels above 0.5 (first channel) keep their input values");
+}
+
+std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,
+                                              const std::string& main_name, SphereRows* sphere) {
+  auto in = std::make_unique<FidelityInputs>();
+  const auto open = [&](const std::string& path, std::unique_ptr<ImageFileReader>& file, bool nearest) -> RowReader* {
+    if (path.empty()) return nullptr;
+    file = std::make_unique<ImageFileReader>(path);
+    if (sphere) return &sphere->input(*file, path, nearest);
+    if (file->width() != main.width() || file->height() != main.height())
+      throw InputError(fmt::format("{}: {}x{}, but {} is {}x{}", path, file->width(), file->height(), main_name,
+                                   main.width(), main.height()));
+    return file.get();
+  };
+  in->fidelity.weights = open(f.weights, in->weights_file, true);  // Lanczos could make weights negative
+  in->fidelity.pins = open(f.pins, in->pins_file, true);
+  in->fidelity.weights_name = f.weights;
+  in->fidelity.pins_name = f.pins;
+  return in;
+}
+
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   WriteOptions w;
   w.jpeg_quality = o.quality;

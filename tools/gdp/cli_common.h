@@ -10,7 +10,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "gdp/apps.h"
 #include "gdp/image_io.h"
+#include "gdp/image_stream.h"
 #include "gdp/solver.h"
 #include "gdp/sphere_rows.h"
 
@@ -41,6 +43,21 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command);
 // With --sphere, the wrapper that puts the command's rows on the PQ domain (sized from its main
 // input `reader`, named `name` in errors); empty otherwise.
 std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader& reader, const std::string& name);
+
+// --weights and --pin (stitch, sharpen, smooth): per-pixel fidelity images.
+struct FidelityFiles {
+  std::string weights, pins;
+};
+void add_fidelity_options(CLI::App& cmd, FidelityFiles& f);
+
+// The fidelity images opened beside the main input `main` (named `main_name`): size-checked
+// (InputError naming the file) or, with --sphere, resampled like it (pins nearest-neighbour).
+struct FidelityInputs {
+  std::unique_ptr<ImageFileReader> weights_file, pins_file;
+  Fidelity fidelity;
+};
+std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,
+                                              const std::string& main_name, SphereRows* sphere);
 
 // Output write options: sample type from --depth or else the input file's.
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);

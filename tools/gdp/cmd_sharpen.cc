@@ -25,6 +25,7 @@ class Sharpen final : public Command {
     auto* s = app->add_option("--scale", scale_, "scale in pixels (alpha = 1 / scale^2); default 16");
     a->excludes(s);
     app->add_option("--low", low_, "take the values from this image (same size), the gradients from the input");
+    add_fidelity_options(*app, fidelity_);
     add_common_options(*app, common_);
   }
 
@@ -44,15 +45,16 @@ class Sharpen final : public Command {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
       RowWriter& w = sphere ? sphere->output(out, in.channels()) : out;
+      const auto fidelity = open_fidelity(fidelity_, in, input_, sphere.get());
       if (low_.empty()) {
-        sharpen(r, alpha_, beta_, solver, w, &summary);
+        sharpen(r, alpha_, beta_, solver, w, &summary, fidelity->fidelity);
       } else {
         ImageFileReader low_file(low_);
         if (low_file.width() != in.width() || low_file.height() != in.height() || low_file.channels() != in.channels())
           throw InputError(fmt::format("{}: {}x{}x{}, but {} is {}x{}x{}", low_, low_file.width(), low_file.height(),
                                        low_file.channels(), input_, in.width(), in.height(), in.channels()));
         RowReader& low = sphere ? sphere->input(low_file, low_) : low_file;
-        sharpen(r, low, alpha_, beta_, solver, w, &summary);
+        sharpen(r, low, alpha_, beta_, solver, w, &summary, fidelity->fidelity);
       }
       w.commit();
     });
@@ -70,6 +72,7 @@ class Sharpen final : public Command {
   bool smooth_;
   std::string name_, input_, output_, low_;
   double beta_, alpha_ = 0.0, scale_ = 16.0;
+  FidelityFiles fidelity_;
   CommonOptions common_;
 };
 

@@ -21,6 +21,7 @@ class Stitch final : public Command {
         ->capture_default_str();
     app->add_flag("--deramp", options_.deramp, "subtract each label's mean gradient");
     app->add_flag("!--zero-start", options_.start_from_composite, "start from zero instead of the composite");
+    add_fidelity_options(*app, fidelity_);
     add_common_options(*app, common_);
   }
 
@@ -43,7 +44,8 @@ class Stitch final : public Command {
       RowReader& c = sphere ? sphere->input(composite, composite_) : composite;
       RowReader& l = sphere ? sphere->input(labels, labels_, true) : labels;
       RowWriter& w = sphere ? sphere->output(out, composite.channels()) : out;
-      stitch(c, l, options_, solver, w, &summary);
+      const auto fidelity = open_fidelity(fidelity_, composite, composite_, sphere.get());
+      stitch(c, l, options_, solver, w, &summary, fidelity->fidelity);
       w.commit();
     });
     stats.summary(summary);
@@ -57,6 +59,7 @@ class Stitch final : public Command {
  private:
   std::string composite_, labels_, output_, unknown_ = "harmonic";
   StitchOptions options_;
+  FidelityFiles fidelity_;
   CommonOptions common_;
 };
 
