@@ -101,7 +101,9 @@ TEST(SphereGrid, DefaultHeightRule) {
   EXPECT_EQ(default_pq_height(4096LL * 2048), 1408);  // 11 * 2^7, 7.9 of 8.4 megapixels
   EXPECT_EQ(default_pq_height(1024LL * 512), 352);    // 362 -> 11 * 2^5
   EXPECT_EQ(default_pq_height(512LL * 256), 176);     // 181 -> 11.3 * 2^4 -> 11 * 2^4
-  EXPECT_EQ(default_pq_height(40LL * 20), 14);        // small: as is
+  EXPECT_EQ(default_pq_height(40LL * 20), 14);        // small: rounded to even
+  EXPECT_EQ(default_pq_height(32LL * 16), 12);        // 11.3 -> 12: the solver needs H even
+  EXPECT_EQ(default_pq_height(3), 2);
 }
 
 }  // namespace

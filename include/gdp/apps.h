@@ -26,10 +26,20 @@ struct Fidelity {
   bool any() const { return weights || pins; }
 };
 
+// The space the solve blends in (gdp stitch --space): the stored values, their logarithm
+// (exposure differences become offsets: seams of multiplicative gain vanish exactly), or CIE
+// L*a*b* (perceptual: lightness and colour seams weighted as seen). The result is converted back.
+struct BlendSpace {
+  enum class Kind { Values, Log, Lab } kind = Kind::Values;
+  double log_offset = 1e-3;   // Log: log(max(v, 0) + offset), so zeros stay finite
+  bool srgb_encoded = false;  // Lab: values are sRGB-encoded (8/16-bit files) rather than linear
+};
+
 struct StitchOptions {
   UnknownMode unknown = UnknownMode::Harmonic;
   bool deramp = false;            // subtract each label's mean gradient (removes linear ramps)
   bool start_from_composite = true;  // initial guess: the composite (else zero)
+  BlendSpace space;
 };
 
 // Every application comes in two forms: rows in and rows out (RowReader / RowWriter: files

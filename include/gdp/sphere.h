@@ -75,7 +75,8 @@ Point2 pq_from_direction(SquareMap map, int height, const Vec3& p, int toast_dep
 void pq_row(SquareMap map, int height, int j, std::span<Vec3> out);
 
 // The PQ height used when none is given: about as many pixels as the source (4H^2 = source
-// pixels), rounded to H = m * 2^k with 8 <= m <= 16 (so k multigrid levels halve it evenly).
+// pixels), rounded to H = m * 2^k with 8 <= m <= 16 (so k multigrid levels halve it evenly);
+// small sources (H <= 16) to the nearest even H >= 2.
 int default_pq_height(long long source_pixels);
 
 // ---- Equirectangular (plate carree) ------------------------------------------------------------

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "apps/colour_space.h"
 #include "apps/fidelity_guidance.h"
 #include "apps/image_guidance.h"
 #include "apps/output_fixups.h"
@@ -147,9 +148,13 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   if (composite.width() != labels.width() || composite.height() != labels.height())
     throw InputError(fmt::format("label map is {}x{} but the composite is {}x{}", labels.width(), labels.height(),
                                  composite.width(), composite.height()));
+  if (options.space.kind == BlendSpace::Kind::Lab && composite.channels() < 3)
+    throw UsageError(fmt::format("--space lab needs an RGB composite, this one has {} channel(s)", composite.channels()));
   apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
-  StitchGuidance guidance(composite, labels, options, fixups);
-  apps::solve_with_fidelity(guidance, fidelity, solver, fixups, summary);
+  apps::SpaceReader in_space(composite, options.space);
+  apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
+  StitchGuidance guidance(in_space, labels, options, fixups);
+  apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);
 }
 
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options, const SolverOptions& solver,

@@ -57,7 +57,7 @@ void pq_row(SquareMap map, int height, int j, std::span<Vec3> out) {
 
 int default_pq_height(long long source_pixels) {
   const double h = std::sqrt(std::max(1.0, double(source_pixels)) / 4.0);
-  if (h <= 16.0) return std::max(1, static_cast<int>(std::lround(h)));
+  if (h <= 16.0) return std::max(2, 2 * static_cast<int>(std::lround(h / 2.0)));  // the solver needs H even
   int k = 0;
   while (h / double(1LL << (k + 1)) >= 8.0) ++k;
   const long long m = std::min(16LL, std::max(8LL, std::llround(h / double(1LL << k))));

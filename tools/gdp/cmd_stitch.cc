@@ -20,6 +20,11 @@ class Stitch final : public Command {
         ->check(CLI::IsMember({"black", "harmonic", "label"}))
         ->capture_default_str();
     app->add_flag("--deramp", options_.deramp, "subtract each label's mean gradient");
+    app->add_option("--space", space_,
+                    "blend in: values (as stored) | log (exposure differences vanish) | lab (CIE L*a*b*; 8/16-bit "
+                    "inputs are taken as sRGB-encoded, float ones as linear)")
+        ->check(CLI::IsMember({"values", "log", "lab"}))
+        ->capture_default_str();
     app->add_flag("!--zero-start", options_.start_from_composite, "start from zero instead of the composite");
     add_fidelity_options(*app, fidelity_);
     add_common_options(*app, common_);
@@ -32,6 +37,11 @@ class Stitch final : public Command {
                        : unknown_ == "label" ? UnknownMode::Label
                                              : UnknownMode::Harmonic;
     ImageFileReader composite(composite_), labels(labels_);
+    options_.space.kind = space_ == "log" ? BlendSpace::Kind::Log
+                          : space_ == "lab" ? BlendSpace::Kind::Lab
+                                            : BlendSpace::Kind::Values;
+    const SampleType stored = composite.info().sample_type;
+    options_.space.srgb_encoded = stored == SampleType::UInt8 || stored == SampleType::UInt16;
     if (labels.info().lossy || is_lossy_extension(labels_))
       note(common_, fmt::format("gdp: warning: {}: label map in a lossy format ({}); compression noise "
                                 "creates spurious labels",
@@ -57,7 +67,7 @@ class Stitch final : public Command {
   }
 
  private:
-  std::string composite_, labels_, output_, unknown_ = "harmonic";
+  std::string composite_, labels_, output_, unknown_ = "harmonic", space_ = "values";
   StitchOptions options_;
   FidelityFiles fidelity_;
   CommonOptions common_;
