@@ -162,7 +162,7 @@ TEST_P(BandOps, RestrictAndProlongOverBandsEqualWholeRows) {
                        r.row(py.index[1]), ca - kHalo, ca, cb);
       std::vector<double> p(B - A + 2 * kHalo, 0.0), c0 = band_row(coarse, py.index[0], ca, cb, periodic),
                                                      c1 = band_row(coarse, py.index[1], ca, cb, periodic);
-      prolong_columns(g.px, py, periodic, c0.data(), c1.data(), {ca - kHalo, ca - kHalo}, p.data(), A - kHalo,
+      prolong_columns(g.px, py, periodic, c0.data(), c1.data(), {ca - kHalo, ca - kHalo}, false, p.data(), A - kHalo,
                       A - 4, B + 4);
       for (int i = A - 4; i < B + 4; ++i) {
         if (!periodic && (i < 0 || i >= n)) continue;

@@ -171,8 +171,8 @@ GDP_KERNEL void restrict_columns(const fem::Prolongation& px, const fem::Prolong
 
 template <class T>
 GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
-                                const T* coarse0, const T* coarse1, std::array<int, 2> coarse_origin, T* fine,
-                                int fine_origin, int f0, int f1) {
+                                const T* coarse0, const T* coarse1, std::array<int, 2> coarse_origin,
+                                bool coarse_whole, T* fine, int fine_origin, int f0, int f1) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   const auto coarse = [&](int J) {  // the y-interpolated coarse sample J (any representative)
@@ -187,7 +187,7 @@ GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::Prolonga
     T v = T(0);
     for (int a = 0; a < 2; ++a) {
       int J = p.index[a];
-      if (periodic) J = nearest_copy(J, i, n, m);
+      if (periodic && !coarse_whole) J = nearest_copy(J, i, n, m);
       v += static_cast<T>(p.weight[a]) * coarse(J);
     }
     fine[i - fine_origin] += v;
@@ -203,7 +203,7 @@ GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::Prolonga
   template void restrict_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*, int, \
                                  int, int, T*, T*, int, int, int);                                         \
   template void prolong_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*,     \
-                                const T*, std::array<int, 2>, T*, int, int, int);
+                                const T*, std::array<int, 2>, bool, T*, int, int, int);
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)
 #undef GDP_INSTANTIATE

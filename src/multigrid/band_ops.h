@@ -54,10 +54,12 @@ void restrict_columns(const fem::Prolongation& px, const fem::ProlongationRow& p
                       int coarse_origin, int c0, int c1);
 
 // Prolongation added into fine row j at columns [f0, f1) from the coarse rows py.index[0] and
-// [1], each held at coarse[J - coarse_origin[k]] for the columns the fine ones read.
+// [1], each held at coarse[J - coarse_origin[k]] for the columns the fine ones read. With
+// `coarse_whole` the coarse rows are whole rows [0, m) (origins 0) and periodic columns wrap
+// into them; otherwise they hold a band's columns with halo, periodic ones unwrapped.
 template <class T>
 void prolong_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
-                     const T* coarse0, const T* coarse1, std::array<int, 2> coarse_origin, T* fine,
-                     int fine_origin, int f0, int f1);
+                     const T* coarse0, const T* coarse1, std::array<int, 2> coarse_origin, bool coarse_whole,
+                     T* fine, int fine_origin, int f0, int f1);
 
 }  // namespace gdp::multigrid
