@@ -7,6 +7,7 @@ packages=(
   libopenimageio-dev openimageio-tools   # image codecs (PNG, JPEG, TIFF, EXR, HDR, FITS) and oiiotool
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
+  libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
   python3
 )
 

@@ -5,6 +5,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/solver.h"
+#include "bands/solve_bands.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp {
@@ -41,6 +42,7 @@ void SolverOptions::validate() const {
     throw UsageError(fmt::format("--tolerance must be a non-negative number, got {}", tolerance));
   if (max_vcycles < 1) throw UsageError("the V-cycle cap must be at least 1");
   if (coarsest_size < 1) throw UsageError(fmt::format("coarsest size must be positive, got {}", coarsest_size));
+  if (bands < 1) throw UsageError(fmt::format("--bands must be at least 1, got {}", bands));
   if (threads < 1) throw UsageError(fmt::format("--threads must be at least 1, got {}", threads));
   if (half_scratch && precision == Precision::Float64)
     throw UsageError("half-float scratch would throw away double precision: use one or the other");
@@ -58,7 +60,10 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
   SolveSummary& s = summary ? *summary : local;
   s = SolveSummary{};
   const bool streaming = options.schedule == Schedule::Streaming;
-  if (options.precision == Precision::Float64) {
+  if (options.schedule == Schedule::Bands) {
+    options.precision == Precision::Float64 ? bands::solve_bands<double>(source, options, out, s)
+                                            : bands::solve_bands<float>(source, options, out, s);
+  } else if (options.precision == Precision::Float64) {
     streaming ? schedule::solve_streaming<double>(source, options, out, s)
               : schedule::solve_incore<double>(source, options, out, s);
   } else {

@@ -21,6 +21,8 @@ enum class Precision { Float32, Float64 };
 enum class Schedule {
   Streaming,  // two passes over the rows per V-cycle, a few rows per level in memory
   InCore,     // every level held whole in memory
+  Bands,      // streaming, the columns split into bands solved in lockstep (docs/how-bands-work.md);
+              // a valid Gauss-Seidel ordering of its own, so close to but not bit-identical with the others
 };
 
 struct SolverOptions {
@@ -35,6 +37,7 @@ struct SolverOptions {
   Precision precision = Precision::Float32;
   int threads = 1;            // in-core: channels are solved concurrently on up to this many threads
   Schedule schedule = Schedule::Streaming;
+  int bands = 1;              // Schedule::Bands: bands (worker threads) in this process
   std::filesystem::path temp_dir;  // streaming scratch files (empty: the system's temporary directory)
   bool half_scratch = false;       // keep streamed rows between passes as 16-bit floats
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in

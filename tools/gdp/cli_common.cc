@@ -36,6 +36,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
     cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
     cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");
+    cmd.add_option("--bands", o.bands, "split the columns into this many bands solved in parallel, one thread each "
+                                       "(paper section 6; docs/how-bands-work.md)");
     cmd.add_option("--temp", o.solver.temp_dir, "directory for scratch files (default: the system's)");
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
@@ -85,6 +87,11 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
     throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", o.pq_height));
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
+  if (o.bands != 0) {
+    if (o.in_core) throw UsageError("--bands streams: it does not combine with --in-core");
+    s.schedule = Schedule::Bands;
+    s.bands = o.bands;
+  }
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
   s.validate();

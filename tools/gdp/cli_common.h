@@ -31,6 +31,7 @@ struct CommonOptions {
   bool tiled = false; // tiled TIFF / OpenEXR output
   std::string compression;
   bool in_core = false;
+  int bands = 0;  // > 0: the band schedule with this many bands (threads)
   bool sphere = false;  // --sphere: equirectangular or PQ input, solved on the PQ domain
   int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
 };

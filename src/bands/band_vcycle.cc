@@ -1,0 +1,616 @@
+// Band V-cycle: groups of tiled sweeps per level, strips exchanged between lanes, tail on worker 0.
+#include "bands/band_vcycle.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "multigrid/band_ops.h"
+
+namespace gdp::bands {
+
+using multigrid::BandWindow;
+using multigrid::LevelOperator;
+using multigrid::Plane;
+
+namespace {
+
+// Message tags: level l's strips use tag l; the collectives use these.
+constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003;
+
+class Packer {
+ public:
+  template <class V>
+  void put(const V* p, std::size_t n) {
+    const std::size_t at = bytes.size();
+    bytes.resize(at + n * sizeof(V));
+    if (n) std::memcpy(bytes.data() + at, p, n * sizeof(V));
+  }
+  void put(double v) { put(&v, 1); }
+  Bytes bytes;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const Bytes& b) : b_(b) {}
+  template <class V>
+  void get(V* p, std::size_t n) {
+    if (at_ + n * sizeof(V) > b_.size()) throw std::logic_error("band message shorter than expected");
+    if (n) std::memcpy(p, b_.data() + at_, n * sizeof(V));
+    at_ += n * sizeof(V);
+  }
+  double get() {
+    double v;
+    get(&v, 1);
+    return v;
+  }
+  void finish() const {
+    if (at_ != b_.size()) throw std::logic_error("band message longer than expected");
+  }
+
+ private:
+  const Bytes& b_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+template <class T>
+struct BandVCycle<T>::Level {
+  const LevelOperator<T>* op = nullptr;
+  int width = 0, height = 0, ring = 0;
+  int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
+  std::vector<int> lanes;                 // lane boundaries: A, red end, green ends..., B
+  std::vector<T> u, b, w;                 // ring slots: channels * len (w: len)
+  multigrid::BandScratch<T> scratch;
+  int groups = 0;         // groups per pass: height + 2k + 3
+  int arrived = 0;        // rows that entered this pass
+  int next_group = 0;     // the next group to run
+  int zeroed = 0;         // restriction pass: coarser rows cleared for accumulation
+  int next_complete = 0;  // restriction pass: coarser rows completed by this level
+  int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
+  std::vector<int> last_touch;
+  std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store;
+  bool inputs_stored = false;
+  std::vector<double> rr, dots;
+};
+
+template <class T>
+BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
+                          const Settings& settings)
+    : ops_(ops), layout_(layout), net_(transport), set_(settings), band_(transport.rank()), k_(layout.sweeps) {
+  if (transport.size() != layout.bands)
+    throw std::logic_error(fmt::format("{} workers for {} bands", transport.size(), layout.bands));
+  const int channels = set_.channels;
+  const auto& geo = ops.hierarchy->levels;
+  for (int l = 0; l < layout.levels; ++l) {
+    auto L = std::make_unique<Level>();
+    const LevelOperator<T>& op = ops.levels[l];
+    L->op = &op;
+    L->width = op.width;
+    L->height = op.height;
+    L->A = layout.begin(l, band_);
+    L->B = layout.end(l, band_);
+    L->origin = layout.origin(l, band_);
+    L->len = layout.row_length(l, band_);
+    L->lanes = {L->A, L->A + layout.edge_lane};
+    const int green = (L->B - layout.edge_lane) - (L->A + layout.edge_lane);
+    const int count = std::max(1, (green + layout.green_lane / 2) / layout.green_lane);
+    for (int q = 1; q < count; ++q) L->lanes.push_back(L->A + layout.edge_lane + green * q / count);
+    L->lanes.push_back(L->B - layout.edge_lane);
+    L->lanes.push_back(L->B);
+    for (int j = 0; j < op.height; ++j)
+      for (int d = 0; d < 5; ++d)
+        if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
+          throw std::logic_error("bands need every row's neighbours within two rows");
+    L->ring = 2 * k_ + 16;
+    L->groups = op.height + 2 * k_ + 3;
+    const std::size_t slot = static_cast<std::size_t>(channels) * L->len;
+    L->u.assign(L->ring * slot, T(0));
+    L->b.assign(L->ring * slot, T(0));
+    if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
+    L->last_touch.assign(geo[l + 1].height(), -1);
+    for (int j = 0; j < op.height; ++j)
+      for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
+    const std::string name = fmt::format("band{}-level{}", band_, l);
+    L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
+    L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
+    if (l == 0 && set_.weights && set_.more_cycles)
+      L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
+    levels_.push_back(std::move(L));
+  }
+  const LevelOperator<T>& tail = ops.levels[layout.levels];
+  tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
+  tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
+  if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
+  if (band_ == 0)
+    tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, layout.levels);
+  r_.resize(layout.row_length(0, band_) + 8);
+  probes_.resize(channels);
+  if (set_.measure_initial) initial_.assign(8 * static_cast<std::size_t>(channels) * levels_[0]->len, T(0));
+}
+
+template <class T>
+BandVCycle<T>::~BandVCycle() = default;
+
+template <class T>
+T* BandVCycle<T>::u_row(int l, int c, int j) {
+  Level& L = *levels_[l];
+  return L.u.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
+}
+template <class T>
+T* BandVCycle<T>::b_row(int l, int c, int j) {
+  Level& L = *levels_[l];
+  return L.b.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
+}
+template <class T>
+T* BandVCycle<T>::w_row(int l, int j) {
+  Level& L = *levels_[l];
+  return L.w.data() + static_cast<std::size_t>(j % L.ring) * L.len;
+}
+
+template <class T>
+BandWindow<T> BandVCycle<T>::window(int l, int c, int j) {
+  const Level& L = *levels_[l];
+  BandWindow<T> w;
+  for (int d = 0; d < 5; ++d) {
+    const int r = L.op->row_of(j, d);
+    w.rows[d] = r < 0 ? nullptr : u_row(l, c, r);
+    w.origin[d] = L.origin;
+  }
+  return w;
+}
+
+template <class T>
+BandWindow<T> BandVCycle<T>::initial_window(int j) {
+  const Level& L = *levels_[0];
+  BandWindow<T> w;
+  for (int d = 0; d < 5; ++d) {
+    const int r = L.op->row_of(j, d);
+    w.rows[d] = r < 0 ? nullptr : initial_.data() + static_cast<std::size_t>(r % 8) * set_.channels * L.len;
+    w.origin[d] = L.origin;
+  }
+  return w;
+}
+
+template <class T>
+void BandVCycle<T>::begin_cycle() {
+  ++cycle_;
+  prolongation_ = false;
+  pulled_ = 0;
+  const int channels = set_.channels;
+  for (int l = 0; l < static_cast<int>(levels_.size()); ++l) {
+    Level& L = *levels_[l];
+    L.arrived = L.next_group = L.zeroed = L.next_complete = L.needed_from = 0;
+    L.rr.assign(channels, 0.0);
+    L.dots.assign(channels, 0.0);
+    L.u_store->clear();
+    if (l == 0 && L.inputs_stored) {
+      L.b_store->rewind();
+      if (L.w_store) L.w_store->rewind();
+    } else {
+      L.b_store->clear();
+      if (L.w_store) L.w_store->clear();
+    }
+  }
+  for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
+  std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
+  initial_rr_.assign(channels, 0.0);
+  final_rr_.assign(channels, 0.0);
+  for (auto& p : probes_) p = {};
+}
+
+template <class T>
+void BandVCycle<T>::check_slot(int l, int row) const {
+  const Level& L = *levels_[l];
+  int live = L.next_group - 2 * k_ - 5;
+  if (prolongation_) live = std::min(live, L.needed_from);
+  if (row - L.ring >= live)
+    throw std::logic_error(fmt::format("band ring overrun on level {} at row {}", l, row));
+}
+
+template <class T>
+void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w) {
+  Level& L = *levels_[0];
+  const int r = L.arrived;
+  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
+  if (prolongation_ || r >= L.height) throw std::logic_error("BandVCycle::push after the last row");
+  if (u.size() != slot) throw std::logic_error("BandVCycle::push: row of the wrong length");
+  check_slot(0, r);
+  std::copy(u.begin(), u.end(), u_row(0, 0, r));
+  if (L.inputs_stored) {
+    L.b_store->read({b_row(0, 0, r), slot});
+    if (L.w_store) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.len)});
+  } else {
+    std::copy(b.begin(), b.end(), b_row(0, 0, r));
+    if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
+  }
+  if (set_.measure_initial && cycle_ == 1) {
+    std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
+    const auto measure_row = [&](int j) {
+      for (int c = 0; c < set_.channels; ++c) {
+        BandWindow<T> win = initial_window(j);
+        for (int d = 0; d < 5; ++d)
+          if (win.rows[d]) win.rows[d] += static_cast<std::size_t>(c) * L.len;
+        multigrid::residual_columns(*L.op, j, win, b_row(0, c, j), r_.data(), L.origin, L.A, L.B, L.scratch);
+        initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
+      }
+    };
+    if (r >= 2) measure_row(r - 2);
+    if (r == L.height - 1)
+      for (int j = std::max(0, r - 1); j < L.height; ++j) measure_row(j);
+  }
+  ++L.arrived;
+  advance(0);
+}
+
+template <class T>
+void BandVCycle<T>::advance(int l) {
+  Level& L = *levels_[l];
+  while (L.next_group < L.groups && (L.next_group < L.arrived || L.arrived == L.height)) {
+    const int g = L.next_group;
+    run_group(l, g);
+    L.next_group = g + 1;
+  }
+}
+
+template <class T>
+void BandVCycle<T>::run_group(int l, int g) {
+  const Level& L = *levels_[l];
+  const int last = static_cast<int>(L.lanes.size()) - 2;  // lanes 0 (red) .. last (blue)
+  if (g % 2 == 0) {  // left to right
+    relax_lane(l, g, 0, true);
+    send_strips(l, g, true);
+    for (int q = 1; q < last; ++q) relax_lane(l, g, q, true);
+    receive_strips(l, g, false);
+    relax_lane(l, g, last, true);
+  } else {  // right to left
+    relax_lane(l, g, last, false);
+    send_strips(l, g, false);
+    for (int q = last - 1; q >= 1; --q) relax_lane(l, g, q, false);
+    receive_strips(l, g, true);
+    relax_lane(l, g, 0, false);
+  }
+  const int j = g - 2 * k_ - 3;
+  if (j >= 0 && j < L.height) finish_row(l, j);
+}
+
+template <class T>
+void BandVCycle<T>::relax_lane(int l, int g, int q, bool forward) {
+  Level& L = *levels_[l];
+  const int last = static_cast<int>(L.lanes.size()) - 2;
+  const bool has_left = layout_.left(band_) >= 0, has_right = layout_.right(band_) >= 0;
+  for (int s = 1; s <= k_; ++s) {
+    const int j = g - 2 * s;
+    if (j < 0 || j >= L.height) continue;
+    // Lane boundaries inside the band move with the traversal, band boundaries against it.
+    const int d = layout_.shift(s), dir = forward ? 1 : -1;
+    int lo = L.lanes[q], hi = L.lanes[q + 1];
+    lo = q == 0 ? (has_left ? lo - dir * d : lo) : lo + dir * d;
+    hi = q == last ? (has_right ? hi - dir * d : hi) : hi + dir * d;
+    for (int c = 0; c < set_.channels; ++c)
+      multigrid::relax_columns(*L.op, j, window(l, c, j), u_row(l, c, j), b_row(l, c, j), lo, hi, forward, L.scratch);
+  }
+}
+
+// The strip a group sends: u of the rows the neighbour may read before the next message
+// (the window, rows g - 2k - 2 .. g), with the columns of the neighbour's band that this group
+// relaxed (2(k - s) on row g - 2s); b and w of the rows that arrived in the last two groups.
+template <class T>
+void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
+  const int to = to_left ? layout_.left(band_) : layout_.right(band_);
+  if (to < 0) return;
+  Level& L = *levels_[l];
+  const int H = layout_.halo;
+  Packer p;
+  const auto extra = [&](int row) {
+    const int d = g - row;
+    return d >= 2 && d <= 2 * k_ && d % 2 == 0 ? layout_.shift(d / 2) : 0;
+  };
+  const int r0 = std::max(0, g - 2 * k_ - 2), r1 = std::min(g, L.height - 1);
+  for (int c = 0; c < set_.channels; ++c)
+    for (int row = r0; row <= r1; ++row) {
+      const int e = extra(row), from = to_left ? L.A - e : L.B - H, until = to_left ? L.A + H : L.B + e;
+      p.put(u_row(l, c, row) + (from - L.origin), static_cast<std::size_t>(until - from));
+    }
+  const int b0 = std::max(0, g - 1), b1 = std::min(g, L.height - 1);
+  const int from = to_left ? L.A : L.B - H;
+  for (int c = 0; c < set_.channels; ++c)
+    for (int row = b0; row <= b1; ++row) p.put(b_row(l, c, row) + (from - L.origin), static_cast<std::size_t>(H));
+  if (set_.weights)
+    for (int row = b0; row <= b1; ++row) p.put(w_row(l, row) + (from - L.origin), static_cast<std::size_t>(H));
+  net_.send(to, l, std::move(p.bytes));
+}
+
+template <class T>
+void BandVCycle<T>::receive_strips(int l, int g, bool from_left) {
+  const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
+  if (from_worker < 0) return;
+  Level& L = *levels_[l];
+  const int H = layout_.halo;
+  const Bytes bytes = net_.receive(from_worker, l);
+  Unpacker p(bytes);
+  const auto extra = [&](int row) {
+    const int d = g - row;
+    return d >= 2 && d <= 2 * k_ && d % 2 == 0 ? layout_.shift(d / 2) : 0;
+  };
+  const int r0 = std::max(0, g - 2 * k_ - 2), r1 = std::min(g, L.height - 1);
+  for (int c = 0; c < set_.channels; ++c)
+    for (int row = r0; row <= r1; ++row) {
+      const int e = extra(row), lo = from_left ? L.A - H : L.B - e, hi = from_left ? L.A + e : L.B + H;
+      p.get(u_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(hi - lo));
+    }
+  const int b0 = std::max(0, g - 1), b1 = std::min(g, L.height - 1);
+  const int lo = from_left ? L.A - H : L.B;
+  for (int c = 0; c < set_.channels; ++c)
+    for (int row = b0; row <= b1; ++row) p.get(b_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(H));
+  if (set_.weights)
+    for (int row = b0; row <= b1; ++row) p.get(w_row(l, row) + (lo - L.origin), static_cast<std::size_t>(H));
+  p.finish();
+}
+
+template <class T>
+void BandVCycle<T>::finish_row(int l, int j) {
+  if (!prolongation_) return restrict_row(l, j);
+  Level& L = *levels_[l];
+  if (l != 0 || !set_.measure_final) return;
+  for (int c = 0; c < set_.channels; ++c) {
+    multigrid::residual_columns(*L.op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, L.A, L.B, L.scratch);
+    final_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
+  }
+}
+
+template <class T>
+void BandVCycle<T>::restrict_row(int l, int j) {
+  Level& L = *levels_[l];
+  const LevelOperator<T>& op = *L.op;
+  const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+  const fem::ProlongationRow& py = g.py.rows[j];
+  const bool tail = l + 1 == layout_.levels, periodic = layout_.periodic;
+  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
+  if (!tail) {  // clear the coarse rows this row is the first to reach
+    Level& C = *levels_[l + 1];
+    for (; C.zeroed <= std::max(py.index[0], py.index[1]); ++C.zeroed) {
+      check_slot(l + 1, C.zeroed);
+      std::fill_n(b_row(l + 1, 0, C.zeroed), static_cast<std::size_t>(set_.channels) * C.len, T(0));
+      if (set_.weights) std::fill_n(w_row(l + 1, C.zeroed), C.len, T(0));
+    }
+  }
+  const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
+  const int corigin = tail ? 0 : levels_[l + 1]->origin;
+  int lo = L.A - 2, hi = L.B + 2;
+  if (!periodic) lo = std::max(lo, 0), hi = std::min(hi, L.width);
+  const int own = L.A - L.origin;
+  for (int c = 0; c < set_.channels; ++c) {
+    multigrid::residual_columns(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, lo, hi, L.scratch);
+    L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
+    const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
+    multigrid::restrict_columns(g.px, py, periodic, r_.data(), L.origin, lo, hi, coarse(py.index[0]),
+                                coarse(py.index[1]), corigin, ca, cb);
+    if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j) + own, u_row(l, c, j) + own, L.B - L.A);
+  }
+  if (set_.weights) {
+    const auto coarse = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
+    multigrid::restrict_columns(g.px, py, periodic, w_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
+                                coarse(py.index[1]), corigin, ca, cb);
+  }
+  L.u_store->append({u_row(l, 0, j), slot});
+  if (!L.inputs_stored) {
+    L.b_store->append({b_row(l, 0, j), slot});
+    if (L.w_store) L.w_store->append({w_row(l, j), static_cast<std::size_t>(L.len)});
+  }
+  while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) complete_coarse_row(l);
+}
+
+template <class T>
+void BandVCycle<T>::complete_coarse_row(int l) {
+  Level& L = *levels_[l];
+  const int row = L.next_complete++;
+  if (l + 1 == layout_.levels) {
+    if (L.next_complete == ops_.levels[l + 1].height) run_tail();
+    return;
+  }
+  Level& C = *levels_[l + 1];
+  check_slot(l + 1, row);
+  std::fill_n(u_row(l + 1, 0, row), static_cast<std::size_t>(set_.channels) * C.len, T(0));
+  C.arrived = row + 1;
+  advance(l + 1);
+}
+
+// The level below the bands: every worker's columns of b (and w) and its partial sums go to
+// worker 0, which solves in-core and sends the whole correction and the cycle's sums back.
+template <class T>
+void BandVCycle<T>::run_tail() {
+  const int tl = layout_.levels, channels = set_.channels, banded = layout_.levels;
+  const int th = ops_.levels[tl].height;
+  const auto pack_part = [&](Packer& p) {
+    const int a = layout_.begin(tl, band_), b = layout_.end(tl, band_);
+    for (int c = 0; c < channels; ++c)
+      for (int row = 0; row < th; ++row) p.put(tail_b_[c].row(row) + a, static_cast<std::size_t>(b - a));
+    if (set_.weights)
+      for (int row = 0; row < th; ++row) p.put(tail_w_.row(row) + a, static_cast<std::size_t>(b - a));
+    for (int c = 0; c < channels; ++c) {
+      p.put(initial_rr_[c]);
+      for (int l = 0; l < banded; ++l) {
+        p.put(levels_[l]->rr[c]);
+        p.put(levels_[l]->dots[c]);
+      }
+    }
+  };
+  if (band_ != 0) {
+    Packer p;
+    pack_part(p);
+    net_.send(0, kGather, std::move(p.bytes));
+    const Bytes reply = net_.receive(0, kScatter);
+    Unpacker u(reply);
+    for (int c = 0; c < channels; ++c) {
+      u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
+      auto& probe = probes_[c];
+      probe.dots.resize(static_cast<std::size_t>(u.get()));
+      u.get(probe.dots.data(), probe.dots.size());
+      probe.level_norms.resize(static_cast<std::size_t>(u.get()));
+      u.get(probe.level_norms.data(), probe.level_norms.size());
+      initial_rr_[c] = u.get();
+    }
+    u.finish();
+    return;
+  }
+  // Worker 0: sums in band order (the same bits run to run).
+  std::vector<double> initial(channels, 0.0), rr(static_cast<std::size_t>(channels) * banded, 0.0),
+      dots(static_cast<std::size_t>(channels) * banded, 0.0);
+  for (int b = 0; b < layout_.bands; ++b) {
+    Bytes bytes;
+    if (b == 0) {
+      Packer p;
+      pack_part(p);
+      bytes = std::move(p.bytes);
+    } else {
+      bytes = net_.receive(b, kGather);
+    }
+    Unpacker u(bytes);
+    const int a = layout_.begin(tl, b), e = layout_.end(tl, b);
+    for (int c = 0; c < channels; ++c)
+      for (int row = 0; row < th; ++row) u.get(tail_b_[c].row(row) + a, static_cast<std::size_t>(e - a));
+    if (set_.weights)
+      for (int row = 0; row < th; ++row) u.get(tail_w_.row(row) + a, static_cast<std::size_t>(e - a));
+    for (int c = 0; c < channels; ++c) {
+      initial[c] += u.get();
+      for (int l = 0; l < banded; ++l) {
+        rr[c * banded + l] += u.get();
+        dots[c * banded + l] += u.get();
+      }
+    }
+    u.finish();
+  }
+  std::vector<Plane<T>> weights;
+  if (set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
+  Packer reply;
+  for (int c = 0; c < channels; ++c) {
+    std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
+    multigrid::CycleProbe tail;
+    tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
+    multigrid::CycleProbe& p = probes_[c];
+    for (int l = 0; l < banded; ++l) {
+      if (set_.weights) p.dots.push_back(dots[c * banded + l]);
+      p.level_norms.push_back(std::sqrt(rr[c * banded + l]));
+    }
+    p.dots.insert(p.dots.end(), tail.dots.begin(), tail.dots.end());
+    p.level_norms.insert(p.level_norms.end(), tail.level_norms.begin(), tail.level_norms.end());
+    initial_rr_[c] = initial[c];
+    reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
+    reply.put(static_cast<double>(p.dots.size()));
+    reply.put(p.dots.data(), p.dots.size());
+    reply.put(static_cast<double>(p.level_norms.size()));
+    reply.put(p.level_norms.data(), p.level_norms.size());
+    reply.put(initial_rr_[c]);
+  }
+  for (int b = 1; b < layout_.bands; ++b) net_.send(b, kScatter, reply.bytes);
+}
+
+template <class T>
+void BandVCycle<T>::pull(std::span<T> u) {
+  if (!prolongation_) {
+    if (levels_[0]->arrived != levels_[0]->height) throw std::logic_error("BandVCycle::pull before the last push");
+    prolongation_ = true;
+    levels_[0]->inputs_stored = true;
+    for (auto& L : levels_) {
+      L->arrived = L->next_group = L->needed_from = 0;
+      L->u_store->rewind();
+      L->b_store->rewind();
+    }
+  }
+  Level& L = *levels_[0];
+  const int j = pulled_;
+  if (j >= L.height) throw std::logic_error("BandVCycle::pull after the last row");
+  L.needed_from = j;
+  ensure_final(0, j);
+  std::copy_n(u_row(0, 0, j), static_cast<std::size_t>(set_.channels) * L.len, u.begin());
+  if (++pulled_ == L.height && set_.measure_final) reduce_final();
+}
+
+template <class T>
+void BandVCycle<T>::ensure_final(int l, int row) {
+  Level& L = *levels_[l];
+  const int target = std::min(row + 2 * k_ + 4, L.groups);  // groups up to row + 2k + 3 done
+  while (L.next_group < target) {
+    const int before = L.next_group;
+    if (L.arrived < L.height) {
+      const int r = L.arrived;
+      check_slot(l, r);
+      const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
+      L.u_store->read({u_row(l, 0, r), slot});
+      L.b_store->read({b_row(l, 0, r), slot});
+      const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+      const fem::ProlongationRow& py = g.py.rows[r];
+      const bool tail = l + 1 == layout_.levels;
+      int corigin = 0;
+      if (!tail) {
+        Level& C = *levels_[l + 1];
+        C.needed_from = std::min(py.index[0], py.index[1]);
+        ensure_final(l + 1, std::max(py.index[0], py.index[1]));
+        corigin = C.origin;
+      }
+      for (int c = 0; c < set_.channels; ++c) {
+        const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
+        multigrid::prolong_columns(g.px, py, layout_.periodic, coarse(py.index[0]), coarse(py.index[1]),
+                                   {corigin, corigin}, tail, u_row(l, c, r), L.origin, L.origin, L.origin + L.len);
+      }
+      ++L.arrived;
+    }
+    advance(l);
+    if (L.next_group == before && L.arrived == L.height)
+      throw std::logic_error(fmt::format("band level {} stalled at group {}", l, before));
+  }
+}
+
+template <class T>
+void BandVCycle<T>::reduce_final() {
+  const int channels = set_.channels;
+  if (band_ != 0) {
+    Packer p;
+    p.put(final_rr_.data(), final_rr_.size());
+    net_.send(0, kFinalUp, std::move(p.bytes));
+    const Bytes reply = net_.receive(0, kFinalDown);
+    Unpacker u(reply);
+    u.get(final_rr_.data(), final_rr_.size());
+    u.finish();
+    return;
+  }
+  std::vector<double> sum(final_rr_);
+  for (int b = 1; b < layout_.bands; ++b) {
+    const Bytes bytes = net_.receive(b, kFinalUp);
+    Unpacker u(bytes);
+    std::vector<double> part(channels);
+    u.get(part.data(), part.size());
+    u.finish();
+    for (int c = 0; c < channels; ++c) sum[c] += part[c];
+  }
+  final_rr_ = sum;
+  for (int b = 1; b < layout_.bands; ++b) {
+    Packer p;
+    p.put(final_rr_.data(), final_rr_.size());
+    net_.send(b, kFinalDown, std::move(p.bytes));
+  }
+}
+
+template <class T>
+std::size_t BandVCycle<T>::store_bytes() const {
+  std::size_t n = 0;
+  for (const auto& L : levels_) n += L->u_store->bytes() + L->b_store->bytes() + (L->w_store ? L->w_store->bytes() : 0);
+  return n;
+}
+
+template <class T>
+std::size_t BandVCycle<T>::window_bytes() const {
+  std::size_t n = (initial_.size() + r_.size()) * sizeof(T);
+  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size()) * sizeof(T);
+  for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
+  return n + tail_w_.data.size() * sizeof(T);
+}
+
+template class BandVCycle<float>;
+template class BandVCycle<double>;
+
+}  // namespace gdp::bands

@@ -1,0 +1,99 @@
+// One worker's part of a band-parallel streaming V-cycle (paper section 6).
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "bands/band_layout.h"
+#include "bands/transport.h"
+#include "multigrid/band_ops.h"
+#include "multigrid/incore_vcycle.h"
+#include "schedule/row_store.h"
+
+namespace gdp::bands {
+
+// The streaming V-cycle of schedule::StreamingVCycle (two passes, levels in lockstep) on band
+// `transport.rank()` of every banded level, all workers streaming through the same rows in
+// lockstep (docs/how-bands-work.md):
+//  - rows are relaxed in groups: group g holds sweep s of row g - 2s for s = 1 .. k, which is
+//    k Gauss-Seidel sweeps when groups run in order; groups alternate direction
+//    (boustrophedon), and inside a group the band's lanes are the outer loop: red lane (all k
+//    rows), send the boundary strip to the neighbour behind, green lanes, receive the strip
+//    from the neighbour ahead, blue lane. Each sweep's tiles are shifted by 2(k - s) columns
+//    so that one sweep's rows never wait for another worker within the group (section 6.2).
+//  - a row is restricted (and measured) three groups after its last sweep, once both halos
+//    hold the neighbours' final values; the level that is no longer banded is gathered to
+//    worker 0, solved in-core there and handed back whole.
+// Rows handed in and out are a band's columns with `layout.halo` columns of each neighbour
+// on both sides: channels * layout.row_length(0, band) samples (w: one channel).
+template <class T>
+class BandVCycle {
+ public:
+  struct Settings {
+    int channels = 1;
+    double coarse_tolerance = 1e-10;
+    bool measure_initial = false;  // |b - A u| of the pushed rows (first cycle)
+    bool measure_final = false;    // |b - A u| of the pulled rows
+    bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
+    bool more_cycles = false;      // keep the finest weights for later cycles
+    schedule::StorePolicy stores;
+  };
+
+  BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
+             const Settings& settings);
+  ~BandVCycle();
+
+  void begin_cycle();
+  // Restriction pass: the next finest row (b and w only in the first cycle; later: empty).
+  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w);
+  // Prolongation pass: the next finished row, halo columns included.
+  void pull(std::span<T> u);
+
+  // After the cycle, the same on every worker: sums over all bands.
+  const multigrid::CycleProbe& probe(int c) const { return probes_[c]; }
+  double initial_norm(int c) const { return std::sqrt(initial_rr_[c]); }
+  double final_norm(int c) const { return std::sqrt(final_rr_[c]); }
+  std::size_t store_bytes() const;
+  std::size_t window_bytes() const;
+  int row_length() const { return layout_.row_length(0, band_); }
+
+ private:
+  struct Level;
+  void advance(int l);
+  void run_group(int l, int g);
+  void relax_lane(int l, int g, int lane, bool forward);
+  void send_strips(int l, int g, bool to_left);
+  void receive_strips(int l, int g, bool from_left);
+  void finish_row(int l, int j);
+  void restrict_row(int l, int j);
+  void complete_coarse_row(int l);
+  void run_tail();
+  void ensure_final(int l, int row);
+  void check_slot(int l, int row) const;
+  void reduce_final();
+  multigrid::BandWindow<T> window(int l, int c, int j);
+  multigrid::BandWindow<T> initial_window(int j);
+  T* u_row(int l, int c, int j);
+  T* b_row(int l, int c, int j);
+  T* w_row(int l, int j);
+
+  const multigrid::Operators<T>& ops_;
+  const BandLayout& layout_;
+  Transport& net_;
+  Settings set_;
+  int band_, k_;
+  std::vector<std::unique_ptr<Level>> levels_;
+  std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)
+  multigrid::Plane<T> tail_w_;
+  std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
+  std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
+  std::vector<multigrid::CycleProbe> probes_;
+  std::vector<double> initial_rr_, final_rr_;
+  std::vector<T> r_;
+  int cycle_ = 0, pulled_ = 0;
+  bool prolongation_ = false;
+};
+
+}  // namespace gdp::bands

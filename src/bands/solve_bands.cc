@@ -1,0 +1,317 @@
+// The band solve schedule on threads: one worker thread per band, fed and drained by the caller's thread.
+#include "bands/solve_bands.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "bands/band_vcycle.h"
+#include "bands/thread_transport.h"
+#include "gdp/errors.h"
+#include "schedule/bounded_queue.h"
+#include "schedule/input_rows.h"
+
+namespace gdp::bands {
+
+using schedule::BoundedQueue;
+using schedule::Clock;
+using schedule::seconds_since;
+
+namespace {
+
+constexpr std::size_t kQueued = 2;  // batches in flight per band and direction
+
+template <class T>
+struct Batch {
+  int first = 0, rows = 0;
+  std::vector<T> u, b, w;  // rows of channels * row length (w: one channel)
+};
+
+// What the input thread knows once every row is read (published before the last batch).
+struct InputTotals {
+  std::vector<double> weighted_sums, rhs_norms2;
+  double weight_total = 0.0;
+};
+
+int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
+
+// Columns [origin, origin + length) of a full row of n samples: wrapped on periodic rows,
+// zero outside the row otherwise.
+template <class T>
+void cut(const T* row, int n, bool periodic, int origin, int length, std::vector<T>& out) {
+  for (int x = 0; x < length; ++x) {
+    const int i = origin + x;
+    out.push_back(periodic ? row[fem::wrap_index(i, n)] : (i >= 0 && i < n ? row[i] : T(0)));
+  }
+}
+
+// One band's worker: its V-cycles on rows from `in`, its columns of the result to `out`.
+template <class T>
+class BandWorker {
+ public:
+  BandWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
+             const typename BandVCycle<T>::Settings& s, const InputTotals& totals, int channels, bool keep_lines)
+      : in(kQueued), out(kQueued), ops_(ops), layout_(layout), opt_(opt), totals_(totals), channels_(channels),
+        band_(net.rank()), len_(layout.row_length(0, band_)), height_(ops.levels[0].height),
+        log(channels, keep_lines), vcycle_(ops, layout, net, s) {
+    if (cycles() > 1)
+      carry_ = std::make_unique<schedule::RowStore<T>>(s.stores, static_cast<std::size_t>(channels) * len_, height_,
+                                                       fmt::format("band{}-result", band_));
+  }
+  const BandVCycle<T>& vcycle() const { return vcycle_; }
+  std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
+
+  void run() {
+    const std::size_t n = static_cast<std::size_t>(channels_) * len_;
+    std::vector<T> u(n);
+    std::vector<double> shift(channels_);
+    Batch<T> batch;
+    int next_in = 0;
+    for (int k = 0; k < cycles(); ++k) {
+      vcycle_.begin_cycle();
+      if (carry_) carry_->rewind();
+      for (int j = 0; j < height_; ++j) {
+        if (k > 0) {
+          carry_->read(u);
+          vcycle_.push(u, {}, {});
+          continue;
+        }
+        if (next_in == batch.rows) {
+          auto b = in.pop();
+          if (!b) throw TransportStopped("stopped");
+          batch = std::move(*b);
+          next_in = 0;
+        }
+        const std::size_t at = static_cast<std::size_t>(next_in) * n;
+        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n},
+                     batch.w.empty() ? std::span<const T>{}
+                                     : std::span<const T>{batch.w.data() + static_cast<std::size_t>(next_in) * len_,
+                                                          static_cast<std::size_t>(len_)});
+        ++next_in;
+      }
+      for (int c = 0; c < channels_; ++c) {
+        if (k == 0) {
+          log.set_rhs_norm(c, std::sqrt(totals_.rhs_norms2[c]));
+          log.initial(c, vcycle_.initial_norm(c));
+        }
+        shift[c] = schedule::mean_shift(ops_.singular, totals_.weighted_sums[c], totals_.weight_total,
+                                        vcycle_.probe(c).dots);
+      }
+      const bool surely_last = k + 1 == cycles();
+      if (carry_ && !surely_last) carry_->clear();
+      Batch<T> result;
+      for (int j = 0; j < height_; ++j) {
+        vcycle_.pull(u);
+        for (int c = 0; c < channels_; ++c) {
+          if (shift[c] == 0.0) continue;
+          T* p = u.data() + static_cast<std::size_t>(c) * len_;
+          for (int i = 0; i < len_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
+        }
+        if (!surely_last) carry_->append(u);
+        else emit(result, j, u);
+      }
+      bool converged = opt_.tolerance > 0.0;
+      for (int c = 0; c < channels_; ++c) {
+        log.cycle(c, vcycle_.final_norm(c), vcycle_.probe(c));
+        converged = converged && log.last(c) <= opt_.tolerance;
+      }
+      if (surely_last) return;
+      if (converged) {  // every band sees the same sums, so all stop here
+        carry_->rewind();
+        for (int j = 0; j < height_; ++j) {
+          carry_->read(u);
+          emit(result, j, u);
+        }
+        return;
+      }
+    }
+  }
+
+  BoundedQueue<Batch<T>> in, out;
+
+ private:
+  int cycles() const { return opt_.tolerance > 0.0 ? opt_.max_vcycles : opt_.vcycles; }
+  // The band's own columns of row j into the result batch, sent when full or last.
+  void emit(Batch<T>& result, int j, const std::vector<T>& u) {
+    const int own = layout_.end(0, band_) - layout_.begin(0, band_);
+    if (result.rows == 0) result.first = j;
+    for (int c = 0; c < channels_; ++c) {
+      const T* p = u.data() + static_cast<std::size_t>(c) * len_ + layout_.halo;
+      result.u.insert(result.u.end(), p, p + own);
+    }
+    ++result.rows;
+    if (result.rows < batch_rows(own, channels_) && j + 1 < height_) return;
+    if (!out.push(std::move(result))) throw TransportStopped("stopped");
+    result = Batch<T>{};
+  }
+
+  const multigrid::Operators<T>& ops_;
+  const BandLayout& layout_;
+  const SolverOptions& opt_;
+  const InputTotals& totals_;
+  int channels_, band_, len_, height_;
+
+ public:
+  schedule::ResidualLog log;
+
+ private:
+  BandVCycle<T> vcycle_;
+  std::unique_ptr<schedule::RowStore<T>> carry_;
+};
+
+}  // namespace
+
+template <class T>
+int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes) {
+  for (int l = 1; l < ops.count(); ++l) {
+    const auto& op = ops.levels[l];
+    if (2.0 * channels * op.width * static_cast<double>(op.height) * sizeof(T) <= static_cast<double>(bytes)) return l;
+  }
+  return ops.count() - 1;
+}
+
+template <class T>
+typename BandVCycle<T>::Settings band_settings(const multigrid::Operators<T>& ops, const SolverOptions& opt,
+                                               int channels) {
+  typename BandVCycle<T>::Settings s;
+  s.channels = channels;
+  s.coarse_tolerance = opt.coarse_tolerance;
+  s.measure_initial = s.measure_final = true;
+  s.weights = ops.singular;
+  s.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
+  s.stores.dir = opt.temp_dir;
+  s.stores.encoding = opt.half_scratch ? schedule::StoreEncoding::Half : schedule::StoreEncoding::Native;
+  return s;
+}
+
+template <class T>
+void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
+  const schedule::Problem<T> problem(source, opt, summary);
+  const multigrid::Operators<T>& ops = problem.ops;
+  if (ops.count() == 1) return schedule::solve_incore<T>(source, opt, out, summary);  // nothing to band
+  const int w = source.width(), h = source.height(), channels = source.channels();
+  if (opt.domain == Domain::Spherical && opt.bands > 1)
+    throw UsageError("the band schedule does not split spherical images yet: use --bands 1");
+  const bool periodic = problem.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+  const BandLayout layout = make_band_layout(problem.hierarchy, periodic, opt.bands, opt.sweeps,
+                                             first_whole_level(ops, channels, opt.incore_bytes));
+  const auto t_start = Clock::now();
+  summary.schedule = "bands";
+  summary.streamed_levels = layout.levels;
+  const auto settings = band_settings(ops, opt, channels);
+
+  ThreadHub hub(layout.bands);
+  InputTotals totals;
+  std::vector<std::unique_ptr<BandWorker<T>>> workers;
+  for (int b = 0; b < layout.bands; ++b)
+    workers.push_back(std::make_unique<BandWorker<T>>(ops, layout, hub.endpoint(b), opt, settings, totals, channels,
+                                                      b == 0 && static_cast<bool>(opt.log)));
+  std::vector<std::exception_ptr> errors(workers.size());
+  const auto stop_all = [&](const std::string& why) {
+    hub.endpoint(0).abort(why);
+    for (auto& wk : workers) {
+      wk->in.close();
+      wk->out.close();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (std::size_t b = 0; b < workers.size(); ++b)
+    threads.emplace_back([&, b] {
+      try {
+        workers[b]->run();
+      } catch (const std::exception& e) {
+        errors[b] = std::current_exception();
+        stop_all(fmt::format("band {} stopped: {}", b, e.what()));
+      } catch (...) {
+        errors[b] = std::current_exception();
+        stop_all(fmt::format("band {} stopped", b));
+      }
+    });
+  // Joins the workers; rethrows the first that failed for a reason of its own (which explains
+  // more than "stopped"), and with `any` also one that was only stopped.
+  const auto join = [&](bool any) {
+    for (std::thread& th : threads) th.join();
+    for (const auto& e : errors) {
+      if (!e) continue;
+      try {
+        std::rethrow_exception(e);
+      } catch (const TransportStopped&) {
+        continue;
+      }
+    }
+    for (const auto& e : errors)
+      if (e && any) std::rethrow_exception(e);
+  };
+  const auto report = [&](double fraction) {
+    if (opt.progress) opt.progress(fraction);
+  };
+
+  double seconds_input = 0.0;
+  try {
+    schedule::InputRows<T> input(source, problem.hierarchy);
+    const std::size_t n = static_cast<std::size_t>(channels) * w;
+    std::vector<T> u(n), b(n), wt(w);
+    std::vector<Batch<T>> batches(workers.size());
+    for (int j = 0; j < h; ++j) {
+      const auto t = Clock::now();
+      input.next(u, b, wt);
+      seconds_input += seconds_since(t);
+      const bool last = j + 1 == h;
+      if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
+      for (int band = 0; band < layout.bands; ++band) {
+        Batch<T>& batch = batches[band];
+        const int origin = layout.origin(0, band), length = layout.row_length(0, band);
+        if (batch.rows == 0) batch.first = j;
+        for (int c = 0; c < channels; ++c) {
+          cut(u.data() + static_cast<std::size_t>(c) * w, w, periodic, origin, length, batch.u);
+          cut(b.data() + static_cast<std::size_t>(c) * w, w, periodic, origin, length, batch.b);
+        }
+        if (settings.weights) cut(wt.data(), w, periodic, origin, length, batch.w);
+        if (++batch.rows < batch_rows(length, channels) && !last) continue;
+        if (!workers[band]->in.push(std::move(batch))) throw TransportStopped("stopped");
+        batch = Batch<T>{};
+      }
+      if (j % 64 == 63) report(0.5 * (j + 1) / h);
+    }
+    std::vector<float> row(n);
+    std::vector<Batch<T>> results(workers.size());
+    for (int j = 0; j < h; ++j) {
+      for (int band = 0; band < layout.bands; ++band) {
+        Batch<T>& r = results[band];
+        if (r.rows == 0 || j >= r.first + r.rows) {
+          auto next = workers[band]->out.pop();
+          if (!next) throw TransportStopped("stopped");
+          r = std::move(*next);
+        }
+        const int a = layout.begin(0, band), own = layout.end(0, band) - a;
+        const T* src = r.u.data() + static_cast<std::size_t>(j - r.first) * channels * own;
+        for (int c = 0; c < channels; ++c)
+          std::transform(src + static_cast<std::size_t>(c) * own, src + static_cast<std::size_t>(c + 1) * own,
+                         row.begin() + static_cast<std::ptrdiff_t>(c) * w + a, [](T v) { return static_cast<float>(v); });
+      }
+      out.write_row(j, row);
+      if (j % 64 == 63 || j + 1 == h) report(0.5 + 0.5 * (j + 1) / h);
+    }
+  } catch (const std::exception& e) {
+    stop_all(fmt::format("the input/output thread stopped: {}", e.what()));
+    join(false);
+    throw;
+  }
+  join(true);
+  for (const auto& wk : workers) {
+    summary.scratch_bytes += wk->vcycle().store_bytes() + wk->carry_bytes();
+    summary.window_bytes += wk->vcycle().window_bytes();
+  }
+  summary.seconds_rhs = seconds_input;
+  summary.seconds_solve = seconds_since(t_start) - seconds_input;
+  workers[0]->log.finish(summary, opt);
+}
+
+template void solve_bands<float>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+template void solve_bands<double>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+template int first_whole_level(const multigrid::Operators<float>&, int, std::size_t);
+template int first_whole_level(const multigrid::Operators<double>&, int, std::size_t);
+
+}  // namespace gdp::bands

@@ -1,0 +1,78 @@
+// The thread transport (order per sender and tag, stop wakes every waiter) and failures in a band solve.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "bands/thread_transport.h"
+#include "gdp/errors.h"
+#include "gdp/solver.h"
+#include "test_util.h"
+
+namespace gdp::bands {
+namespace {
+
+TEST(ThreadTransport, MessagesArriveInOrderPerSenderAndTag) {
+  ThreadHub hub(3);
+  std::thread a([&] {
+    for (unsigned char i = 0; i < 50; ++i) hub.endpoint(0).send(2, 7, Bytes{i});
+  });
+  std::thread b([&] {
+    for (unsigned char i = 0; i < 50; ++i) hub.endpoint(1).send(2, 7, Bytes{static_cast<unsigned char>(100 + i)});
+    hub.endpoint(1).send(2, 8, Bytes{1, 2, 3});
+  });
+  Transport& me = hub.endpoint(2);
+  EXPECT_EQ(me.receive(1, 8), (Bytes{1, 2, 3}));  // another tag may overtake
+  for (unsigned char i = 0; i < 50; ++i) {
+    EXPECT_EQ(me.receive(0, 7), Bytes{i});
+    EXPECT_EQ(me.receive(1, 7), Bytes{static_cast<unsigned char>(100 + i)});
+  }
+  a.join();
+  b.join();
+}
+
+TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
+  ThreadHub hub(3);
+  std::vector<std::string> seen(2);
+  std::vector<std::thread> waiters;
+  for (int w = 0; w < 2; ++w)
+    waiters.emplace_back([&, w] {
+      try {
+        hub.endpoint(w).receive(2, 0);
+      } catch (const TransportStopped& e) {
+        seen[w] = e.what();
+      }
+    });
+  hub.endpoint(2).abort("band 2 stopped: disk full");
+  for (auto& t : waiters) t.join();
+  EXPECT_EQ(seen[0], "band 2 stopped: disk full");
+  EXPECT_EQ(seen[1], "band 2 stopped: disk full");
+  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), TransportStopped);
+}
+
+// Guidance that fails part-way through, like a truncated input file.
+class FailingSource : public test::ExactGradients {
+ public:
+  using ExactGradients::ExactGradients;
+  void read_row(int j, GuidanceRow& out) override {
+    if (j == 150) throw InputError("input.tif: row 150 is truncated");
+    ExactGradients::read_row(j, out);
+  }
+};
+
+TEST(BandSolve, AnInputErrorStopsEveryBandWithItsMessage) {
+  const Image img = test::random_image(400, 200, 1, 2);
+  FailingSource src(img, Domain::Planar);
+  SolverOptions o;
+  o.schedule = Schedule::Bands;
+  o.bands = 3;
+  o.incore_bytes = 4096;
+  try {
+    solve(src, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "input.tif: row 150 is truncated");
+  }
+}
+
+}  // namespace
+}  // namespace gdp::bands
