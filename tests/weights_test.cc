@@ -5,6 +5,7 @@
 #include <cstring>
 #include <functional>
 
+#include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "multigrid/coarse_cg.h"
 #include "multigrid/hierarchy.h"
@@ -137,6 +138,15 @@ TEST(Weights, StreamingIsBitIdenticalToInCore) {
     const Image c = solve(c_src, o);
     EXPECT_LT(test::max_difference(a, c), 2e-3);
   }
+}
+
+TEST(Weights, TheBandScheduleRefusesThemClearly) {
+  const Image f = test::random_image(40, 30, 1, 3);
+  WeightedGuidance src(f, f, mixed_weight);
+  SolverOptions o;
+  o.schedule = Schedule::Bands;
+  o.bands = 2;
+  EXPECT_THROW(solve(src, o), UsageError);
 }
 
 TEST(Weights, UniformWeightsActLikeScreening) {
