@@ -1,15 +1,21 @@
-// The band solve schedule on threads: one worker thread per band, fed and drained by the caller's thread.
+// The band solve schedule: one worker thread per band, fed and drained by the caller's thread; under
+// mpirun, every rank runs its share of the bands and rank 0 gathers the result rows.
 #include "bands/solve_bands.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "bands/band_vcycle.h"
+#include "bands/mpi_agree.h"
+#include "bands/mpi_transport.h"
 #include "bands/thread_transport.h"
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 #include "schedule/bounded_queue.h"
 #include "schedule/input_rows.h"
 
@@ -22,11 +28,43 @@ using schedule::seconds_since;
 namespace {
 
 constexpr std::size_t kQueued = 2;  // batches in flight per band and direction
+constexpr int kResult = 2000;       // tag of result batches sent to rank 0 (band_vcycle.cc uses < 2000)
 
 template <class T>
 struct Batch {
   int first = 0, rows = 0;
   std::vector<T> u, b, w;  // rows of channels * row length (w: one channel)
+};
+
+// A result batch as one message (rows of a remote band for rank 0) and back.
+template <class T>
+Bytes pack(const Batch<T>& batch) {
+  Bytes bytes(2 * sizeof(int) + batch.u.size() * sizeof(T));
+  std::memcpy(bytes.data(), &batch.first, sizeof(int));
+  std::memcpy(bytes.data() + sizeof(int), &batch.rows, sizeof(int));
+  if (!batch.u.empty()) std::memcpy(bytes.data() + 2 * sizeof(int), batch.u.data(), batch.u.size() * sizeof(T));
+  return bytes;
+}
+
+template <class T>
+Batch<T> unpack(const Bytes& bytes) {
+  if (bytes.size() < 2 * sizeof(int) || (bytes.size() - 2 * sizeof(int)) % sizeof(T) != 0)
+    throw std::logic_error("result message of the wrong size");
+  Batch<T> batch;
+  std::memcpy(&batch.first, bytes.data(), sizeof(int));
+  std::memcpy(&batch.rows, bytes.data() + sizeof(int), sizeof(int));
+  batch.u.resize((bytes.size() - 2 * sizeof(int)) / sizeof(T));
+  if (!batch.u.empty()) std::memcpy(batch.u.data(), bytes.data() + 2 * sizeof(int), batch.u.size() * sizeof(T));
+  return batch;
+}
+
+// The workers of this process: all bands on threads, or under mpirun this rank's bands
+// [first, first + local) of opt.bands per rank.
+struct Team {
+  std::unique_ptr<ThreadHub> threads;
+  std::unique_ptr<MpiHub> ranks;
+  int first = 0, local = 1;
+  Transport& endpoint(int band) { return ranks ? ranks->endpoint(band) : threads->endpoint(band); }
 };
 
 // What the input thread knows once every row is read (published before the last batch).
@@ -188,29 +226,60 @@ typename BandVCycle<T>::Settings band_settings(const multigrid::Operators<T>& op
 
 template <class T>
 void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
-  const schedule::Problem<T> problem(source, opt, summary);
+  // Under mpirun every rank sets up the same problem; they compare before anyone starts solving.
+  const bool distributed = MpiRun::size() > 1;
+  const int total_bands = opt.bands * MpiRun::size();
+  std::unique_ptr<schedule::Problem<T>> problem_ptr;
+  std::optional<BandLayout> layout_or;
+  std::string setup_error;
+  bool periodic = false;
+  try {
+    problem_ptr = std::make_unique<schedule::Problem<T>>(source, opt, summary);
+    if (problem_ptr->ops.count() > 1) {
+      if (opt.domain == Domain::Spherical && total_bands > 1)
+        throw UsageError("the band schedule does not split spherical images yet: use --bands 1");
+      periodic = problem_ptr->hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+      layout_or = make_band_layout(problem_ptr->hierarchy, periodic, total_bands, opt.sweeps,
+                                   first_whole_level(problem_ptr->ops, source.channels(), opt.incore_bytes));
+    }
+  } catch (const Error& e) {
+    if (!distributed) throw;
+    setup_error = e.what();
+  }
+  if (distributed)
+    agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), opt.bands, opt.sweeps,
+                                       opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
+                                       static_cast<long long>(sizeof(T)),
+                                       problem_ptr ? problem_ptr->ops.count() : -1});
+  const schedule::Problem<T>& problem = *problem_ptr;
   const multigrid::Operators<T>& ops = problem.ops;
   if (ops.count() == 1) return schedule::solve_incore<T>(source, opt, out, summary);  // nothing to band
   const int w = source.width(), h = source.height(), channels = source.channels();
-  if (opt.domain == Domain::Spherical && opt.bands > 1)
-    throw UsageError("the band schedule does not split spherical images yet: use --bands 1");
-  const bool periodic = problem.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
-  const BandLayout layout = make_band_layout(problem.hierarchy, periodic, opt.bands, opt.sweeps,
-                                             first_whole_level(ops, channels, opt.incore_bytes));
+  const BandLayout& layout = *layout_or;
   const auto t_start = Clock::now();
   summary.schedule = "bands";
   summary.streamed_levels = layout.levels;
   const auto settings = band_settings(ops, opt, channels);
 
-  ThreadHub hub(layout.bands);
+  Team team;
+  if (distributed) {
+    team.ranks = std::make_unique<MpiHub>(opt.bands);
+    team.first = team.ranks->first();
+    team.local = opt.bands;
+  } else {
+    team.threads = std::make_unique<ThreadHub>(layout.bands);
+    team.local = layout.bands;
+  }
+  const bool writes = team.first == 0;  // the process with band 0 writes the result
   InputTotals totals;
   std::vector<std::unique_ptr<BandWorker<T>>> workers;
-  for (int b = 0; b < layout.bands; ++b)
-    workers.push_back(std::make_unique<BandWorker<T>>(ops, layout, hub.endpoint(b), opt, settings, totals, channels,
-                                                      b == 0 && static_cast<bool>(opt.log)));
+  for (int i = 0; i < team.local; ++i)
+    workers.push_back(std::make_unique<BandWorker<T>>(ops, layout, team.endpoint(team.first + i), opt, settings,
+                                                      totals, channels,
+                                                      team.first + i == 0 && static_cast<bool>(opt.log)));
   std::vector<std::exception_ptr> errors(workers.size());
   const auto stop_all = [&](const std::string& why) {
-    hub.endpoint(0).abort(why);
+    team.endpoint(team.first).abort(why);
     for (auto& wk : workers) {
       wk->in.close();
       wk->out.close();
@@ -223,10 +292,10 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         workers[b]->run();
       } catch (const std::exception& e) {
         errors[b] = std::current_exception();
-        stop_all(fmt::format("band {} stopped: {}", b, e.what()));
+        stop_all(fmt::format("band {} stopped: {}", team.first + b, e.what()));
       } catch (...) {
         errors[b] = std::current_exception();
-        stop_all(fmt::format("band {} stopped", b));
+        stop_all(fmt::format("band {} stopped", team.first + b));
       }
     });
   // Joins the workers; rethrows the first that failed for a reason of its own (which explains
@@ -260,8 +329,9 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
       if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
-      for (int band = 0; band < layout.bands; ++band) {
-        Batch<T>& batch = batches[band];
+      for (int i = 0; i < team.local; ++i) {
+        const int band = team.first + i;
+        Batch<T>& batch = batches[i];
         const int origin = layout.origin(0, band), length = layout.row_length(0, band);
         if (batch.rows == 0) batch.first = j;
         for (int c = 0; c < channels; ++c) {
@@ -270,21 +340,35 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         }
         if (settings.weights) cut(wt.data(), w, periodic, origin, length, batch.w);
         if (++batch.rows < batch_rows(length, channels) && !last) continue;
-        if (!workers[band]->in.push(std::move(batch))) throw TransportStopped("stopped");
+        if (!workers[i]->in.push(std::move(batch))) throw TransportStopped("stopped");
         batch = Batch<T>{};
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
     }
-    std::vector<float> row(n);
-    std::vector<Batch<T>> results(workers.size());
-    for (int j = 0; j < h; ++j) {
+    // The next result batch of `band`: from its worker here, or from the rank that runs it.
+    const auto next_batch = [&](int band) {
+      if (band >= team.first && band < team.first + team.local) {
+        auto next = workers[band - team.first]->out.pop();
+        if (!next) throw TransportStopped("stopped");
+        return std::move(*next);
+      }
+      return unpack<T>(team.endpoint(0).receive(band, kResult));
+    };
+    std::vector<Batch<T>> results(layout.bands);
+    if (!writes) {  // a rank other than 0 hands its bands' rows on to rank 0
+      for (int j = 0; j < h; ++j)
+        for (int band = team.first; band < team.first + team.local; ++band) {
+          Batch<T>& r = results[band];
+          if (r.rows != 0 && j < r.first + r.rows) continue;
+          r = next_batch(band);
+          team.endpoint(band).send(0, kResult, pack(r));
+        }
+    }
+    std::vector<float> row(writes ? n : 0);
+    for (int j = 0; j < h && writes; ++j) {
       for (int band = 0; band < layout.bands; ++band) {
         Batch<T>& r = results[band];
-        if (r.rows == 0 || j >= r.first + r.rows) {
-          auto next = workers[band]->out.pop();
-          if (!next) throw TransportStopped("stopped");
-          r = std::move(*next);
-        }
+        if (r.rows == 0 || j >= r.first + r.rows) r = next_batch(band);
         const int a = layout.begin(0, band), own = layout.end(0, band) - a;
         const T* src = r.u.data() + static_cast<std::size_t>(j - r.first) * channels * own;
         for (int c = 0; c < channels; ++c)

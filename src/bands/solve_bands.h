@@ -8,7 +8,8 @@
 
 namespace gdp::bands {
 
-// options.bands workers, one thread each, in this process.
+// options.bands workers, one thread each, in this process; under mpirun (gdp::MpiRun) options.bands
+// workers on every rank, rank 0 writing the whole result to `out` (other ranks write nothing).
 template <class T>
 void solve_bands(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
 

@@ -1,6 +1,8 @@
 // Shared CLI plumbing: flag definitions, progress with ETA on a terminal, JSON statistics.
 #include "cli_common.h"
 
+#include "gdp/mpi_run.h"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -87,6 +89,8 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
     throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", o.pq_height));
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
+  if (MpiRun::size() > 1 && o.bands == 0)
+    throw UsageError("under mpirun, --bands N is needed (N bands on every rank; docs/how-bands-work.md)");
   if (o.bands != 0) {
     if (o.in_core) throw UsageError("--bands streams: it does not combine with --in-core");
     s.schedule = Schedule::Bands;
@@ -141,8 +145,24 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   return w;
 }
 
+namespace {
+
+// Rows a rank other than 0 would write under mpirun: rank 0 writes the whole image.
+class NoOutput final : public RowWriter {
+ public:
+  void write_row(int, std::span<const float>) override {}
+};
+
+}  // namespace
+
+std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
+                                       const WriteOptions& options) {
+  if (MpiRun::rank() != 0) return std::make_unique<NoOutput>();
+  return std::make_unique<ImageFileWriter>(path, width, height, channels, options);
+}
+
 void note(const CommonOptions& o, const std::string& message) {
-  if (!o.quiet) std::fprintf(stderr, "%s\n", message.c_str());
+  if (!o.quiet && MpiRun::rank() == 0) std::fprintf(stderr, "%s\n", message.c_str());
 }
 
 void Stats::summary(const SolveSummary& s) {
@@ -170,7 +190,7 @@ void Stats::image(int width, int height, int channels) {
 }
 
 void Stats::write(const std::string& path) const {
-  if (path.empty()) return;
+  if (path.empty() || MpiRun::rank() != 0) return;
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   std::string json = fmt::format("{{\n  \"command\": \"{}\",\n", command_);

@@ -60,6 +60,11 @@ struct FidelityInputs {
 std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,
                                               const std::string& main_name, SphereRows* sphere);
 
+// The output file's writer; under mpirun only rank 0 writes (the band schedule gathers the
+// result rows there) and the other ranks get a writer that keeps nothing.
+std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
+                                       const WriteOptions& options);
+
 // Output write options: sample type from --depth or else the input file's.
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);
 

@@ -57,12 +57,12 @@ class Sharpen final : public Command {
     if (scale_deg_ > 0.0 && solver.domain != Domain::Spherical)
       throw UsageError("--scale-deg needs a spherical image (--sphere or --domain spherical)");
     ImageFileReader in(input_);
-    ImageFileWriter out(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
+    const auto out = open_output(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
     SolveSummary summary;
     stats.time("total", [&] {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
-      RowWriter& w = sphere ? sphere->output(out, in.channels()) : out;
+      RowWriter& w = sphere ? sphere->output(*out, in.channels()) : *out;
       if (alpha_ == 0.0) alpha_ = 1.0 / std::pow(scale_pixels(in, r), 2);
       const auto fidelity = open_fidelity(fidelity_, in, input_, sphere.get());
       if (low_.empty()) {

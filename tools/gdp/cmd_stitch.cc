@@ -46,14 +46,14 @@ class Stitch final : public Command {
       note(common_, fmt::format("gdp: warning: {}: label map in a lossy format ({}); compression noise "
                                 "creates spurious labels",
                                 labels_, labels.info().format_name));
-    ImageFileWriter out(output_, composite.width(), composite.height(), composite.channels(),
-                        write_options(common_, composite.info()));
+    const auto out = open_output(output_, composite.width(), composite.height(), composite.channels(),
+                                 write_options(common_, composite.info()));
     SolveSummary summary;
     stats.time("total", [&] {
       const auto sphere = sphere_rows(common_, composite, composite_);
       RowReader& c = sphere ? sphere->input(composite, composite_) : composite;
       RowReader& l = sphere ? sphere->input(labels, labels_, true) : labels;
-      RowWriter& w = sphere ? sphere->output(out, composite.channels()) : out;
+      RowWriter& w = sphere ? sphere->output(*out, composite.channels()) : *out;
       const auto fidelity = open_fidelity(fidelity_, composite, composite_, sphere.get());
       stitch(c, l, options_, solver, w, &summary, fidelity->fidelity);
       w.commit();

@@ -1,12 +1,15 @@
 // gdp command line entry point: parses a subcommand, runs it, maps errors to exit codes.
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "commands.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 
 int main(int argc, char** argv) {
+  const gdp::MpiRun mpi(argc, argv);  // under mpirun: MPI for the whole run (docs/how-bands-work.md)
   CLI::App root{"gdp: gradient-domain processing of large planar and spherical images"};
   root.require_subcommand(1);
   std::vector<std::unique_ptr<gdp::cli::Command>> commands;
@@ -25,17 +28,27 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return root.exit(e);
   } catch (const CLI::ParseError& e) {
+    if (gdp::MpiRun::size() > 1) gdp::MpiRun::abort(e.what());
     std::fprintf(stderr, "gdp: %s\nRun 'gdp --help' or 'gdp SUBCOMMAND --help' for usage.\n", e.what());
     return 2;
   }
   gdp::cleanup::install_signal_handlers();
   try {
-    for (auto& c : commands)
-      if (c->app->parsed()) return c->run();
+    for (auto& c : commands) {
+      if (!c->app->parsed()) continue;
+      const std::string name = c->app->get_name();
+      if (gdp::MpiRun::size() > 1 && name != "stitch" && name != "sharpen" && name != "smooth")
+        throw gdp::UsageError("under mpirun, only stitch, sharpen and smooth run (with --bands), not " + name);
+      return c->run();
+    }
   } catch (const gdp::Error& e) {
-    std::fprintf(stderr, "gdp: %s\n", e.what());
+    // Under mpirun a rank that fails alone ends them all (the others may be waiting for it);
+    // an error every rank saw in the collective check is printed once, by rank 0.
+    if (gdp::MpiRun::size() > 1 && !gdp::MpiRun::failed_together()) gdp::MpiRun::abort(e.what());
+    if (gdp::MpiRun::rank() == 0) std::fprintf(stderr, "gdp: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
+    if (gdp::MpiRun::size() > 1) gdp::MpiRun::abort(std::string("internal error: ") + e.what());
     std::fprintf(stderr, "gdp: internal error: %s\n", e.what());
     return 1;
   }

@@ -1,0 +1,30 @@
+// Running under mpirun: MPI started for the life of the process, and which rank this process is.
+#pragma once
+
+#include <string>
+
+namespace gdp {
+
+// The process's MPI session (docs/how-bands-work.md, "Running under mpirun"). Constructed once in
+// main(): when the process was launched by mpirun (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK in
+// the environment) it starts MPI with MPI_THREAD_MULTIPLE, otherwise it does nothing and the
+// process is rank 0 of 1. The band schedule (--bands) then runs `--bands` bands on every rank.
+class MpiRun {
+ public:
+  MpiRun(int& argc, char**& argv);
+  ~MpiRun();  // MPI_Finalize, when started
+  MpiRun(const MpiRun&) = delete;
+  MpiRun& operator=(const MpiRun&) = delete;
+
+  static bool launched();  // started by mpirun (whether or not MPI is initialised yet)
+  static int rank();       // 0 without MPI
+  static int size();       // 1 without MPI
+  // True once every rank has seen the same error in the collective check before a solve:
+  // every rank then returns normally (rank 0 prints the message) instead of aborting.
+  static bool failed_together();
+  // Prints "gdp: rank R: why" and ends every rank with exit status 2 (MPI_Abort, the MPI
+  // transport's abort path); without MPI it returns and the caller reports the error.
+  static void abort(const std::string& why);
+};
+
+}  // namespace gdp

@@ -1,0 +1,50 @@
+// gdp::MpiRun: starts and ends MPI when the process was launched by mpirun.
+#include "gdp/mpi_run.h"
+
+#include <mpi.h>
+
+#include <atomic>
+#include <cstdlib>
+
+#include "bands/mpi_transport.h"
+
+namespace gdp {
+namespace {
+
+std::atomic<bool> started{false}, together{false};
+int the_rank = 0, the_size = 1;
+
+}  // namespace
+
+namespace bands {
+void mark_failed_together() { together = true; }
+}  // namespace bands
+
+bool MpiRun::launched() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
+}
+
+MpiRun::MpiRun(int& argc, char**& argv) {
+  if (!launched()) return;
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
+  started = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &the_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &the_size);
+  if (provided < MPI_THREAD_MULTIPLE && the_size > 1)
+    bands::abort_ranks("this MPI library does not provide MPI_THREAD_MULTIPLE, which the band schedule needs");
+}
+
+MpiRun::~MpiRun() {
+  if (started) MPI_Finalize();
+}
+
+int MpiRun::rank() { return the_rank; }
+int MpiRun::size() { return the_size; }
+bool MpiRun::failed_together() { return together; }
+
+void MpiRun::abort(const std::string& why) {
+  if (started) bands::abort_ranks(why);
+}
+
+}  // namespace gdp
