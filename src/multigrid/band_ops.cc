@@ -25,6 +25,25 @@ void combine_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, 
   }
   T* a = s.a.data();
   T* c = s.c.data();
+  // Common case (rows inside the level, none mirrored): one fused pass over the five rows.
+  const bool inside = op.periodic_x || (lo >= 0 && lo + len <= n);
+  bool plain = inside;
+  for (int d = 0; d < 5; ++d) plain = plain && (!w.rows[d] || op.mirror_of(j, d) == fem::Mirror::None);
+  if (plain) {
+    if (static_cast<int>(s.zero.size()) < len) s.zero.assign(len, T(0));
+    std::array<const T*, 5> u;
+    std::array<T, 5> m{}, k{};
+    for (int d = 0; d < 5; ++d) {
+      u[d] = w.rows[d] ? w.rows[d] + (lo - w.origin[d]) : s.zero.data();
+      if (w.rows[d]) m[d] = op.my[j][d], k[d] = op.cy[j][d];
+    }
+#pragma GCC ivdep
+    for (int x = 0; x < len; ++x) {
+      a[x] = m[0] * u[0][x] + m[1] * u[1][x] + m[2] * u[2][x] + m[3] * u[3][x] + m[4] * u[4][x];
+      c[x] = k[0] * u[0][x] + k[1] * u[1][x] + k[2] * u[2][x] + k[3] * u[3][x] + k[4] * u[4][x];
+    }
+    return;
+  }
   std::fill_n(a, len, T(0));
   std::fill_n(c, len, T(0));
   for (int d = 0; d < 5; ++d) {
@@ -127,15 +146,35 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
   T* dx = s.dx.data() + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const T* q = s.q.data();
+  // The right-hand side of the recurrence first (vectorised), then the recurrence alone. Within
+  // [0, n) the columns are the coefficient indices themselves; periodic ranges may leave it.
+  if (static_cast<int>(s.t.size()) < len) s.t.resize(len);
+  T* t = s.t.data();
+  const bool direct = i0 >= 0 && i1 <= op.width;
+  const int shift = i0;
+  if (direct) {
+    const T* inv = K.inv.data() + shift;
+#pragma GCC ivdep
+    for (int x = 0; x < len; ++x) t[x] = (b[i0 + x - origin] - q[x]) * inv[x];
+  } else {
+    for (int x = 0; x < len; ++x) t[x] = (b[i0 + x - origin] - q[x]) * K.inv[column_of(op, i0 + x)];
+  }
+  const auto coefficient = [&](int d, int x) { return direct ? K.k[d][shift + x] : K.k[d][column_of(op, i0 + x)]; };
   if (forward) {
+    T d1 = T(0), d2 = T(0);  // dx[x - 1], dx[x - 2]
     for (int x = 0; x < len; ++x) {
-      const int col = column_of(op, i0 + x);
-      dx[x] = (b[i0 + x - origin] - q[x]) * K.inv[col] - K.k[1][col] * dx[x - 1] - K.k[0][col] * dx[x - 2];
+      const T v = t[x] - coefficient(1, x) * d1 - coefficient(0, x) * d2;
+      dx[x] = v;
+      d2 = d1;
+      d1 = v;
     }
   } else {
+    T d1 = T(0), d2 = T(0);  // dx[x + 1], dx[x + 2]
     for (int x = len - 1; x >= 0; --x) {
-      const int col = column_of(op, i0 + x);
-      dx[x] = (b[i0 + x - origin] - q[x]) * K.inv[col] - K.k[3][col] * dx[x + 1] - K.k[4][col] * dx[x + 2];
+      const T v = t[x] - coefficient(3, x) * d1 - coefficient(4, x) * d2;
+      dx[x] = v;
+      d2 = d1;
+      d1 = v;
     }
   }
   for (int x = 0; x < len; ++x) u[i0 + x - origin] += dx[x];
@@ -150,7 +189,8 @@ GDP_KERNEL void restrict_columns(const fem::Prolongation& px, const fem::Prolong
   // Coarse J collects from fine 2J - 2 .. 2J + 2 at most: walk the fine columns that can
   // reach [c0, c1) and keep the contributions that land there.
   const int lo = std::max(f0, 2 * c0 - 3), hi = std::min(f1, 2 * c1 + 3);
-  std::vector<T> tmp(static_cast<std::size_t>(std::max(0, c1 - c0)), T(0));
+  thread_local std::vector<T> tmp;  // no allocation per call
+  tmp.assign(static_cast<std::size_t>(std::max(0, c1 - c0)), T(0));
   for (int i = lo; i < hi; ++i) {
     if (!periodic && (i < 0 || i >= n)) continue;
     const fem::ProlongationRow& p = px.rows[periodic ? fem::wrap_index(i, n) : i];

@@ -23,7 +23,7 @@ struct BandWindow {
 // Temporary rows and per-column recurrence coefficients (one per thread).
 template <class T>
 struct BandScratch {
-  std::vector<T> a, c, q, dx;
+  std::vector<T> a, c, q, dx, t, zero;
   struct Coefficients {  // per global column, for one level and one (m0, c0) pair
     const void* op = nullptr;
     T m0{}, c0{};
