@@ -119,6 +119,27 @@ const typename BandScratch<T>::Coefficients& BandScratch<T>::coefficients(const 
     k.inv[i] = T(1) / (op.sx[2][i] * m0 + op.mx[2][i] * c0);
     for (int d = 0; d < 5; ++d) k.k[d][i] = (op.sx[d][i] * m0 + op.mx[d][i] * c0) * k.inv[i];
   }
+  // Forward block from q: dx[q + r] = A_r + fb[q + r] dx[q - 1] + fc[q + r] dx[q - 2]; backward
+  // block down from e = q + 3: dx[e - r] = A_r + bb[e - r] dx[e + 1] + bc[e - r] dx[e + 2].
+  k.fb.assign(n, T(0));
+  k.fc.assign(n, T(0));
+  k.bb.assign(n, T(0));
+  k.bc.assign(n, T(0));
+  for (int q = 0; q + 4 <= n; q += 4) {
+    const auto block = [&](std::vector<T>& B, std::vector<T>& C, const std::vector<T>& k1, const std::vector<T>& k2,
+                           auto at) {
+      B[at(0)] = -k1[at(0)];
+      C[at(0)] = -k2[at(0)];
+      B[at(1)] = -k1[at(1)] * B[at(0)] - k2[at(1)];
+      C[at(1)] = -k1[at(1)] * C[at(0)];
+      for (int r = 2; r < 4; ++r) {
+        B[at(r)] = -k1[at(r)] * B[at(r - 1)] - k2[at(r)] * B[at(r - 2)];
+        C[at(r)] = -k1[at(r)] * C[at(r - 1)] - k2[at(r)] * C[at(r - 2)];
+      }
+    };
+    block(k.fb, k.fc, k.k[1], k.k[0], [q](int r) { return q + r; });
+    block(k.bb, k.bc, k.k[3], k.k[4], [q](int r) { return q + 3 - r; });
+  }
   return k;
 }
 
@@ -160,22 +181,67 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
     for (int x = 0; x < len; ++x) t[x] = (b[i0 + x - origin] - q[x]) * K.inv[column_of(op, i0 + x)];
   }
   const auto coefficient = [&](int d, int x) { return direct ? K.k[d][shift + x] : K.k[d][column_of(op, i0 + x)]; };
+  // Whole blocks [4q, 4q + 3] inside the range go four samples per step (the chain carried from
+  // block to block is two multiply-adds); the ends sample by sample.
+  const int first_block = direct ? (i0 + 3) / 4 * 4 : i1, last_block = direct ? i1 / 4 * 4 : i1;
   if (forward) {
     T d1 = T(0), d2 = T(0);  // dx[x - 1], dx[x - 2]
-    for (int x = 0; x < len; ++x) {
+    const auto one = [&](int x) {
       const T v = t[x] - coefficient(1, x) * d1 - coefficient(0, x) * d2;
       dx[x] = v;
       d2 = d1;
       d1 = v;
+    };
+    int x = 0;
+    for (; i0 + x < std::min(first_block, i1); ++x) one(x);
+    for (; i0 + x + 4 <= last_block; x += 4) {
+      const int g = i0 + x;
+      const T* k1 = K.k[1].data() + g;
+      const T* k2 = K.k[0].data() + g;
+      const T a0 = t[x];
+      const T a1 = t[x + 1] - k1[1] * a0;
+      const T a2 = t[x + 2] - k1[2] * a1 - k2[2] * a0;
+      const T a3 = t[x + 3] - k1[3] * a2 - k2[3] * a1;
+      const T* B = K.fb.data() + g;
+      const T* C = K.fc.data() + g;
+      dx[x] = a0 + B[0] * d1 + C[0] * d2;
+      dx[x + 1] = a1 + B[1] * d1 + C[1] * d2;
+      const T n2 = a2 + B[2] * d1 + C[2] * d2, n1 = a3 + B[3] * d1 + C[3] * d2;
+      dx[x + 2] = n2;
+      dx[x + 3] = n1;
+      d2 = n2;
+      d1 = n1;
     }
+    for (; x < len; ++x) one(x);
   } else {
     T d1 = T(0), d2 = T(0);  // dx[x + 1], dx[x + 2]
-    for (int x = len - 1; x >= 0; --x) {
+    const auto one = [&](int x) {
       const T v = t[x] - coefficient(3, x) * d1 - coefficient(4, x) * d2;
       dx[x] = v;
       d2 = d1;
       d1 = v;
+    };
+    int x = len - 1;
+    for (; x >= 0 && i0 + x >= std::max(last_block, i0); --x) one(x);
+    for (; x - 3 >= 0 && i0 + x - 3 >= first_block; x -= 4) {
+      const int e = i0 + x;  // the block's top column (4q + 3)
+      const T* k1 = K.k[3].data() + e;
+      const T* k2 = K.k[4].data() + e;
+      const T a0 = t[x];
+      const T a1 = t[x - 1] - k1[-1] * a0;
+      const T a2 = t[x - 2] - k1[-2] * a1 - k2[-2] * a0;
+      const T a3 = t[x - 3] - k1[-3] * a2 - k2[-3] * a1;
+      const T* B = K.bb.data() + e;
+      const T* C = K.bc.data() + e;
+      dx[x] = a0 + B[0] * d1 + C[0] * d2;
+      dx[x - 1] = a1 + B[-1] * d1 + C[-1] * d2;
+      const T n2 = a2 + B[-2] * d1 + C[-2] * d2, n1 = a3 + B[-3] * d1 + C[-3] * d2;
+      dx[x - 2] = n2;
+      dx[x - 3] = n1;
+      d2 = n2;
+      d1 = n1;
     }
+    for (; x >= 0; --x) one(x);
   }
   for (int x = 0; x < len; ++x) u[i0 + x - origin] += dx[x];
 }

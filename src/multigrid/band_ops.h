@@ -28,6 +28,9 @@ struct BandScratch {
     const void* op = nullptr;
     T m0{}, c0{};
     std::vector<T> inv, k[5];  // k[d][i] = K_{d-2}(i) / K_0(i)
+    // The recurrence four samples at a time over blocks [4q, 4q + 3] (as relax_row): the terms
+    // multiplying the two corrections carried into a block, forward and backward.
+    std::vector<T> fb, fc, bb, bc;
   };
   std::vector<Coefficients> cached;  // a few, most recent last
   const Coefficients& coefficients(const LevelOperator<T>& op, T m0, T c0);
