@@ -61,9 +61,6 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
   s = SolveSummary{};
   const bool streaming = options.schedule == Schedule::Streaming;
   if (options.schedule == Schedule::Bands) {
-    if (source.has_weights())
-      throw UsageError("--bands does not take per-pixel weights or pins yet (--weights, --pin, clone): "
-                       "use the streaming schedule");
     options.precision == Precision::Float64 ? bands::solve_bands<double>(source, options, out, s)
                                             : bands::solve_bands<float>(source, options, out, s);
   } else if (options.precision == Precision::Float64) {

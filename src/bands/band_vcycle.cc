@@ -63,7 +63,7 @@ struct BandVCycle<T>::Level {
   int width = 0, height = 0, ring = 0;
   int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
   std::vector<int> lanes;                 // lane boundaries: A, red end, green ends..., B
-  std::vector<T> u, b, w;                 // ring slots: channels * len (w: len)
+  std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
   multigrid::BandScratch<T> scratch;
   int groups = 0;         // groups per pass: height + 2k + 3
   int arrived = 0;        // rows that entered this pass
@@ -72,7 +72,7 @@ struct BandVCycle<T>::Level {
   int next_complete = 0;  // restriction pass: coarser rows completed by this level
   int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
   std::vector<int> last_touch;
-  std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store;
+  std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
   bool inputs_stored = false;
   std::vector<double> rr, dots;
 };
@@ -111,6 +111,7 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     L->u.assign(L->ring * slot, T(0));
     L->b.assign(L->ring * slot, T(0));
     if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
+    if (set_.diagonal) L->d.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
     L->last_touch.assign(geo[l + 1].height(), -1);
     for (int j = 0; j < op.height; ++j)
       for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
@@ -119,12 +120,18 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
     if (l == 0 && set_.weights && set_.more_cycles)
       L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
+    if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
+      schedule::StorePolicy exact = set_.stores;
+      exact.encoding = schedule::StoreEncoding::Native;
+      L->d_store = std::make_unique<schedule::RowStore<T>>(exact, L->len, op.height, name + "-d");
+    }
     levels_.push_back(std::move(L));
   }
   const LevelOperator<T>& tail = ops.levels[layout.levels];
   tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
   tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
   if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
+  if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
   if (band_ == 0)
     tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, layout.levels);
   r_.resize(layout.row_length(0, band_) + 8);
@@ -149,6 +156,12 @@ template <class T>
 T* BandVCycle<T>::w_row(int l, int j) {
   Level& L = *levels_[l];
   return L.w.data() + static_cast<std::size_t>(j % L.ring) * L.len;
+}
+
+template <class T>
+T* BandVCycle<T>::d_row(int l, int j) {
+  Level& L = *levels_[l];
+  return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.len;
 }
 
 template <class T>
@@ -190,13 +203,16 @@ void BandVCycle<T>::begin_cycle() {
     if (l == 0 && L.inputs_stored) {
       L.b_store->rewind();
       if (L.w_store) L.w_store->rewind();
+      if (L.d_store) L.d_store->rewind();
     } else {
       L.b_store->clear();
       if (L.w_store) L.w_store->clear();
+      if (L.d_store) L.d_store->clear();
     }
   }
   for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
   std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
+  std::fill(tail_d_.data.begin(), tail_d_.data.end(), T(0));
   initial_rr_.assign(channels, 0.0);
   final_rr_.assign(channels, 0.0);
   for (auto& p : probes_) p = {};
@@ -212,7 +228,7 @@ void BandVCycle<T>::check_slot(int l, int row) const {
 }
 
 template <class T>
-void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w) {
+void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
   Level& L = *levels_[0];
   const int r = L.arrived;
   const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
@@ -223,9 +239,11 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
   if (L.inputs_stored) {
     L.b_store->read({b_row(0, 0, r), slot});
     if (L.w_store) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.len)});
+    if (L.d_store) L.d_store->read({d_row(0, r), static_cast<std::size_t>(L.len)});
   } else {
     std::copy(b.begin(), b.end(), b_row(0, 0, r));
     if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
+    if (set_.diagonal) std::copy(d.begin(), d.end(), d_row(0, r));
   }
   if (set_.measure_initial && cycle_ == 1) {
     std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
@@ -234,7 +252,8 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
         BandWindow<T> win = initial_window(j);
         for (int d = 0; d < 5; ++d)
           if (win.rows[d]) win.rows[d] += static_cast<std::size_t>(c) * L.len;
-        multigrid::residual_columns(*L.op, j, win, b_row(0, c, j), r_.data(), L.origin, L.A, L.B, L.scratch);
+        multigrid::residual_columns(*L.op, j, win, b_row(0, c, j), r_.data(), L.origin, L.A, L.B, L.scratch,
+                                    d_row(0, j));
         initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
       }
     };
@@ -291,7 +310,8 @@ void BandVCycle<T>::relax_lane(int l, int g, int q, bool forward) {
     lo = q == 0 ? (has_left ? lo - dir * d : lo) : lo + dir * d;
     hi = q == last ? (has_right ? hi - dir * d : hi) : hi + dir * d;
     for (int c = 0; c < set_.channels; ++c)
-      multigrid::relax_columns(*L.op, j, window(l, c, j), u_row(l, c, j), b_row(l, c, j), lo, hi, forward, L.scratch);
+      multigrid::relax_columns(*L.op, j, window(l, c, j), u_row(l, c, j), b_row(l, c, j), lo, hi, forward, L.scratch,
+                               d_row(l, j));
   }
 }
 
@@ -321,6 +341,8 @@ void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
     for (int row = b0; row <= b1; ++row) p.put(b_row(l, c, row) + (from - L.origin), static_cast<std::size_t>(H));
   if (set_.weights)
     for (int row = b0; row <= b1; ++row) p.put(w_row(l, row) + (from - L.origin), static_cast<std::size_t>(H));
+  if (set_.diagonal)
+    for (int row = b0; row <= b1; ++row) p.put(d_row(l, row) + (from - L.origin), static_cast<std::size_t>(H));
   net_.send(to, l, std::move(p.bytes));
 }
 
@@ -348,6 +370,8 @@ void BandVCycle<T>::receive_strips(int l, int g, bool from_left) {
     for (int row = b0; row <= b1; ++row) p.get(b_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(H));
   if (set_.weights)
     for (int row = b0; row <= b1; ++row) p.get(w_row(l, row) + (lo - L.origin), static_cast<std::size_t>(H));
+  if (set_.diagonal)
+    for (int row = b0; row <= b1; ++row) p.get(d_row(l, row) + (lo - L.origin), static_cast<std::size_t>(H));
   p.finish();
 }
 
@@ -357,7 +381,8 @@ void BandVCycle<T>::finish_row(int l, int j) {
   Level& L = *levels_[l];
   if (l != 0 || !set_.measure_final) return;
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_columns(*L.op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, L.A, L.B, L.scratch);
+    multigrid::residual_columns(*L.op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, L.A, L.B, L.scratch,
+                                d_row(l, j));
     final_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
@@ -376,6 +401,7 @@ void BandVCycle<T>::restrict_row(int l, int j) {
       check_slot(l + 1, C.zeroed);
       std::fill_n(b_row(l + 1, 0, C.zeroed), static_cast<std::size_t>(set_.channels) * C.len, T(0));
       if (set_.weights) std::fill_n(w_row(l + 1, C.zeroed), C.len, T(0));
+      if (set_.diagonal) std::fill_n(d_row(l + 1, C.zeroed), C.len, T(0));
     }
   }
   const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
@@ -384,7 +410,8 @@ void BandVCycle<T>::restrict_row(int l, int j) {
   if (!periodic) lo = std::max(lo, 0), hi = std::min(hi, L.width);
   const int own = L.A - L.origin;
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_columns(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, lo, hi, L.scratch);
+    multigrid::residual_columns(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, lo, hi, L.scratch,
+                                d_row(l, j));
     L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
     const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
     multigrid::restrict_columns(g.px, py, periodic, r_.data(), L.origin, lo, hi, coarse(py.index[0]),
@@ -396,10 +423,16 @@ void BandVCycle<T>::restrict_row(int l, int j) {
     multigrid::restrict_columns(g.px, py, periodic, w_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
                                 coarse(py.index[1]), corigin, ca, cb);
   }
+  if (set_.diagonal) {
+    const auto coarse = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
+    multigrid::restrict_columns(g.px, py, periodic, d_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
+                                coarse(py.index[1]), corigin, ca, cb);
+  }
   L.u_store->append({u_row(l, 0, j), slot});
   if (!L.inputs_stored) {
     L.b_store->append({b_row(l, 0, j), slot});
     if (L.w_store) L.w_store->append({w_row(l, j), static_cast<std::size_t>(L.len)});
+    if (L.d_store) L.d_store->append({d_row(l, j), static_cast<std::size_t>(L.len)});
   }
   while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) complete_coarse_row(l);
 }
@@ -431,6 +464,8 @@ void BandVCycle<T>::run_tail() {
       for (int row = 0; row < th; ++row) p.put(tail_b_[c].row(row) + a, static_cast<std::size_t>(b - a));
     if (set_.weights)
       for (int row = 0; row < th; ++row) p.put(tail_w_.row(row) + a, static_cast<std::size_t>(b - a));
+    if (set_.diagonal)
+      for (int row = 0; row < th; ++row) p.put(tail_d_.row(row) + a, static_cast<std::size_t>(b - a));
     for (int c = 0; c < channels; ++c) {
       p.put(initial_rr_[c]);
       for (int l = 0; l < banded; ++l) {
@@ -475,6 +510,8 @@ void BandVCycle<T>::run_tail() {
       for (int row = 0; row < th; ++row) u.get(tail_b_[c].row(row) + a, static_cast<std::size_t>(e - a));
     if (set_.weights)
       for (int row = 0; row < th; ++row) u.get(tail_w_.row(row) + a, static_cast<std::size_t>(e - a));
+    if (set_.diagonal)
+      for (int row = 0; row < th; ++row) u.get(tail_d_.row(row) + a, static_cast<std::size_t>(e - a));
     for (int c = 0; c < channels; ++c) {
       initial[c] += u.get();
       for (int l = 0; l < banded; ++l) {
@@ -486,6 +523,10 @@ void BandVCycle<T>::run_tail() {
   }
   std::vector<Plane<T>> weights;
   if (set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
+  if (set_.diagonal) {
+    tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
+    tail_->set_diagonal(&tail_diag_);
+  }
   Packer reply;
   for (int c = 0; c < channels; ++c) {
     std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
@@ -519,6 +560,7 @@ void BandVCycle<T>::pull(std::span<T> u) {
       L->arrived = L->next_group = L->needed_from = 0;
       L->u_store->rewind();
       L->b_store->rewind();
+      if (L->d_store) L->d_store->rewind();
     }
   }
   Level& L = *levels_[0];
@@ -542,6 +584,7 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
       L.u_store->read({u_row(l, 0, r), slot});
       L.b_store->read({b_row(l, 0, r), slot});
+      if (L.d_store) L.d_store->read({d_row(l, r), static_cast<std::size_t>(L.len)});
       const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
       const bool tail = l + 1 == layout_.levels;
@@ -598,7 +641,9 @@ void BandVCycle<T>::reduce_final() {
 template <class T>
 std::size_t BandVCycle<T>::store_bytes() const {
   std::size_t n = 0;
-  for (const auto& L : levels_) n += L->u_store->bytes() + L->b_store->bytes() + (L->w_store ? L->w_store->bytes() : 0);
+  for (const auto& L : levels_)
+    n += L->u_store->bytes() + L->b_store->bytes() + (L->w_store ? L->w_store->bytes() : 0) +
+         (L->d_store ? L->d_store->bytes() : 0);
   return n;
 }
 

@@ -38,6 +38,7 @@ class BandVCycle {
     bool measure_final = false;    // |b - A u| of the pulled rows
     bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
     bool more_cycles = false;      // keep the finest weights for later cycles
+    bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
     schedule::StorePolicy stores;
   };
 
@@ -47,7 +48,7 @@ class BandVCycle {
 
   void begin_cycle();
   // Restriction pass: the next finest row (b and w only in the first cycle; later: empty).
-  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w);
+  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d = {});
   // Prolongation pass: the next finished row, halo columns included.
   void pull(std::span<T> u);
 
@@ -78,6 +79,7 @@ class BandVCycle {
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
+  T* d_row(int l, int j);  // null without a diagonal term
 
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;
@@ -86,7 +88,8 @@ class BandVCycle {
   int band_, k_;
   std::vector<std::unique_ptr<Level>> levels_;
   std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)
-  multigrid::Plane<T> tail_w_;
+  multigrid::Plane<T> tail_w_, tail_d_;
+  std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
   std::vector<multigrid::CycleProbe> probes_;

@@ -33,7 +33,7 @@ constexpr int kResult = 2000;       // tag of result batches sent to rank 0 (ban
 template <class T>
 struct Batch {
   int first = 0, rows = 0;
-  std::vector<T> u, b, w;  // rows of channels * row length (w: one channel)
+  std::vector<T> u, b, w, d;  // rows of channels * row length (w, d: one channel)
 };
 
 // A result batch as one message (rows of a remote band for rank 0) and back.
@@ -123,10 +123,12 @@ class BandWorker {
           next_in = 0;
         }
         const std::size_t at = static_cast<std::size_t>(next_in) * n;
-        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n},
-                     batch.w.empty() ? std::span<const T>{}
-                                     : std::span<const T>{batch.w.data() + static_cast<std::size_t>(next_in) * len_,
-                                                          static_cast<std::size_t>(len_)});
+        const auto pixel_row = [&](const std::vector<T>& v) {
+          return v.empty() ? std::span<const T>{}
+                           : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * len_,
+                                                static_cast<std::size_t>(len_)};
+        };
+        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
         ++next_in;
       }
       for (int c = 0; c < channels_; ++c) {
@@ -212,12 +214,13 @@ int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::siz
 
 template <class T>
 typename BandVCycle<T>::Settings band_settings(const multigrid::Operators<T>& ops, const SolverOptions& opt,
-                                               int channels) {
+                                               int channels, bool diagonal) {
   typename BandVCycle<T>::Settings s;
   s.channels = channels;
   s.coarse_tolerance = opt.coarse_tolerance;
   s.measure_initial = s.measure_final = true;
   s.weights = ops.singular;
+  s.diagonal = diagonal;
   s.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
   s.stores.dir = opt.temp_dir;
   s.stores.encoding = opt.half_scratch ? schedule::StoreEncoding::Half : schedule::StoreEncoding::Native;
@@ -259,7 +262,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   const auto t_start = Clock::now();
   summary.schedule = "bands";
   summary.streamed_levels = layout.levels;
-  const auto settings = band_settings(ops, opt, channels);
+  const auto settings = band_settings(ops, opt, channels, source.has_weights());
 
   Team team;
   if (distributed) {
@@ -321,11 +324,11 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   try {
     schedule::InputRows<T> input(source, problem.hierarchy);
     const std::size_t n = static_cast<std::size_t>(channels) * w;
-    std::vector<T> u(n), b(n), wt(w);
+    std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
     std::vector<Batch<T>> batches(workers.size());
     for (int j = 0; j < h; ++j) {
       const auto t = Clock::now();
-      input.next(u, b, wt);
+      input.next(u, b, wt, d);
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
       if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
@@ -339,6 +342,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
           cut(b.data() + static_cast<std::size_t>(c) * w, w, periodic, origin, length, batch.b);
         }
         if (settings.weights) cut(wt.data(), w, periodic, origin, length, batch.w);
+        if (settings.diagonal) cut(d.data(), w, periodic, origin, length, batch.d);
         if (++batch.rows < batch_rows(length, channels) && !last) continue;
         if (!workers[i]->in.push(std::move(batch))) throw TransportStopped("stopped");
         batch = Batch<T>{};

@@ -145,11 +145,19 @@ const typename BandScratch<T>::Coefficients& BandScratch<T>::coefficients(const 
 
 template <class T>
 GDP_KERNEL void residual_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, const T* b, T* out,
-                                 int out_origin, int i0, int i1, BandScratch<T>& s) {
+                                 int out_origin, int i0, int i1, BandScratch<T>& s, const T* diag) {
   if (i1 <= i0) return;
   combine_columns(op, j, w, i0, i1, s);
   convolve_columns(op, i0, i1, s);
-  for (int i = i0; i < i1; ++i) out[i - out_origin] = b[i - out_origin] - s.q[i - i0];
+  if (!diag) {
+    for (int i = i0; i < i1; ++i) out[i - out_origin] = b[i - out_origin] - s.q[i - i0];
+    return;
+  }
+  const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
+  for (int i = i0; i < i1; ++i) {  // as residual_row: zero at pinned pixels
+    const T d = diag[i - out_origin];
+    out[i - out_origin] = d >= pinned ? T(0) : b[i - out_origin] - s.q[i - i0] - d * u[i - w.origin[2]];
+  }
 }
 
 // Gauss-Seidel as a recurrence on the corrections (as relax_row): with q the operator applied
@@ -157,7 +165,7 @@ GDP_KERNEL void residual_columns(const LevelOperator<T>& op, int j, const BandWi
 // the neighbours being the two before i (forward) or after it (backward) inside the range.
 template <class T>
 GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, T* u, const T* b, int i0,
-                              int i1, bool forward, BandScratch<T>& s) {
+                              int i1, bool forward, BandScratch<T>& s, const T* diag) {
   if (i1 <= i0) return;
   combine_columns(op, j, w, i0, i1, s);
   convolve_columns(op, i0, i1, s);
@@ -181,6 +189,25 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
     for (int x = 0; x < len; ++x) t[x] = (b[i0 + x - origin] - q[x]) * K.inv[column_of(op, i0 + x)];
   }
   const auto coefficient = [&](int d, int x) { return direct ? K.k[d][shift + x] : K.k[d][column_of(op, i0 + x)]; };
+  if (diag) {
+    // With a diagonal term D: every coefficient divided by K_0 + D instead of K_0, i.e. scaled by
+    // 1 / (1 + D / K_0); sample by sample.
+    const auto scale = [&](int x) { return T(1) / (T(1) + diag[i0 + x - origin] * K.inv[column_of(op, i0 + x)]); };
+    for (int x = 0; x < len; ++x)
+      t[x] = (t[x] - diag[i0 + x - origin] * u[i0 + x - origin] * K.inv[column_of(op, i0 + x)]) * scale(x);
+    T d1 = T(0), d2 = T(0);
+    for (int n = 0; n < len; ++n) {
+      const int x = forward ? n : len - 1 - n;
+      const T r = scale(x);
+      const T v = t[x] - r * (forward ? coefficient(1, x) * d1 + coefficient(0, x) * d2
+                                      : coefficient(3, x) * d1 + coefficient(4, x) * d2);
+      dx[x] = v;
+      d2 = d1;
+      d1 = v;
+    }
+    for (int x = 0; x < len; ++x) u[i0 + x - origin] += dx[x];
+    return;
+  }
   // Whole blocks [4q, 4q + 3] inside the range go four samples per step (the chain carried from
   // block to block is two multiply-adds); the ends sample by sample.
   const int first_block = direct ? (i0 + 3) / 4 * 4 : i1, last_block = direct ? i1 / 4 * 4 : i1;
@@ -303,9 +330,9 @@ GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::Prolonga
 #define GDP_INSTANTIATE(T)                                                                                 \
   template struct BandScratch<T>;                                                                          \
   template void residual_columns(const LevelOperator<T>&, int, const BandWindow<T>&, const T*, T*, int, int, \
-                                 int, BandScratch<T>&);                                                    \
+                                 int, BandScratch<T>&, const T*);                                          \
   template void relax_columns(const LevelOperator<T>&, int, const BandWindow<T>&, T*, const T*, int, int,  \
-                              bool, BandScratch<T>&);                                                      \
+                              bool, BandScratch<T>&, const T*);                                            \
   template void restrict_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*, int, \
                                  int, int, T*, T*, int, int, int);                                         \
   template void prolong_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*,     \

@@ -37,15 +37,16 @@ struct BandScratch {
 };
 
 // out[i - out_origin] = (b - A u)[i] on row j for i in [i0, i1); b is read at b[i - out_origin].
+// `diag` (optional, indexed like b) is row_ops.h's per-pixel diagonal term.
 template <class T>
 void residual_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, const T* b, T* out,
-                      int out_origin, int i0, int i1, BandScratch<T>& s);
+                      int out_origin, int i0, int i1, BandScratch<T>& s, const T* diag = nullptr);
 
 // One Gauss-Seidel sweep over columns [i0, i1) of row j, left to right (forward) or right to
 // left: u is row j itself (u[i - origin[2]]), updated in place; b is read like u.
 template <class T>
 void relax_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, T* u, const T* b, int i0,
-                   int i1, bool forward, BandScratch<T>& s);
+                   int i1, bool forward, BandScratch<T>& s, const T* diag = nullptr);
 
 // Restriction of fine row j, known at fine columns [f0, f1) (fine[i - fine_origin]), into
 // coarse columns [c0, c1) of the coarse rows py.index[0] and [1] (coarse[i - coarse_origin];
