@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "multigrid/hierarchy.h"
 #include "multigrid/plane.h"
@@ -19,9 +20,15 @@ using ApplyOperator = std::function<void(std::span<const double> in, std::span<d
 int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<const double> b, std::span<double> u,
                         double tolerance, int max_iterations, std::span<const double> inverse_diagonal = {});
 
+// The reciprocal diagonal of A + diag on one level (the Jacobi preconditioner solve_cg uses
+// with a diagonal term), exact where a mirrored row couples a pixel to itself.
+std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plane<double>& diag);
+
 // The same on one level (singular when alpha == 0 and there is no diagonal term), with the
-// optional per-pixel diagonal term of row_ops.h (then preconditioned).
+// optional per-pixel diagonal term of row_ops.h, then preconditioned with `inverse` (computed
+// here when empty: callers solving many times pass inverse_diagonal()'s once).
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
-             double tolerance, int max_iterations, const Plane<double>* diag = nullptr);
+             double tolerance, int max_iterations, const Plane<double>* diag = nullptr,
+             std::span<const double> inverse = {});
 
 }  // namespace gdp::multigrid

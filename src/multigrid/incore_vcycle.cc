@@ -97,13 +97,9 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     Plane<double> b(op.width, op.height), u(op.width, op.height);
     std::copy(B(levels - 1).data.begin(), B(levels - 1).data.end(), b.data.begin());
     std::copy(U(levels - 1).data.begin(), U(levels - 1).data.end(), u.data.begin());
-    Plane<double> d;
-    if (diag_) {
-      d = Plane<double>(op.width, op.height);
-      std::copy(D(levels - 1)->data.begin(), D(levels - 1)->data.end(), d.data.begin());
-    }
-    const Plane<double>* dp = diag_ ? &d : nullptr;
-    solve_cg(op, ops_.singular && !diag_, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100, dp);
+    const Plane<double>* dp = diag_ ? &coarse_diag_ : nullptr;
+    solve_cg(op, ops_.singular && !diag_, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100, dp,
+             coarse_inverse_);
     if (probe) {
       Plane<double> r(op.width, op.height);
       RowScratch<double> s(op.width);
@@ -125,6 +121,18 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     }
     relax(op, U(l), B(l), sweeps_, scratch_, D(l));
   }
+}
+
+template <class T>
+void InCoreVCycle<T>::set_diagonal(const std::vector<Plane<T>>* diag) {
+  diag_ = diag;
+  coarse_diag_ = Plane<double>();
+  coarse_inverse_.clear();
+  if (!diag) return;
+  const Plane<T>& coarsest = diag->back();
+  coarse_diag_ = Plane<double>(coarsest.width, coarsest.height);
+  std::copy(coarsest.data.begin(), coarsest.data.end(), coarse_diag_.data.begin());
+  coarse_inverse_ = inverse_diagonal(ops_.coarsest, coarse_diag_);
 }
 
 template <class T>

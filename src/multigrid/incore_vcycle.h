@@ -53,7 +53,7 @@ class InCoreVCycle {
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
   // A per-pixel diagonal term (row_ops.h) on every level: (*diag)[l - first] for level l
   // (restrict_weights() of the finest level's), or null for none. Not owned.
-  void set_diagonal(const std::vector<Plane<T>>* diag) { diag_ = diag; }
+  void set_diagonal(const std::vector<Plane<T>>* diag);
 
  private:
   const Operators<T>& ops_;
@@ -61,6 +61,8 @@ class InCoreVCycle {
   double coarse_tolerance_;
   int first_;
   const std::vector<Plane<T>>* diag_ = nullptr;
+  Plane<double> coarse_diag_;           // the coarsest level's diagonal term in double ...
+  std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   std::vector<T> tmp_, r_row_;
   RowScratch<T> scratch_;
