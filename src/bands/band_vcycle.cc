@@ -317,14 +317,13 @@ void BandVCycle<T>::relax_lane(int l, int g, int q, bool forward) {
 
 // The strip a group sends: u of the rows the neighbour may read before the next message
 // (the window, rows g - 2k - 2 .. g), with the columns of the neighbour's band that this group
-// relaxed (2(k - s) on row g - 2s); b and w of the rows that arrived in the last two groups.
+// relaxed (2(k - s) on row g - 2s); b, w and d of the rows that arrived in the last two groups.
+// One description for both ends: f gets each piece in the same order when sending and receiving.
 template <class T>
-void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
-  const int to = to_left ? layout_.left(band_) : layout_.right(band_);
-  if (to < 0) return;
+template <class F>
+void BandVCycle<T>::strip_rows(int l, int g, bool left, bool outgoing, F&& f) {
   Level& L = *levels_[l];
   const int H = layout_.halo;
-  Packer p;
   const auto extra = [&](int row) {
     const int d = g - row;
     return d >= 2 && d <= 2 * k_ && d % 2 == 0 ? layout_.shift(d / 2) : 0;
@@ -332,17 +331,30 @@ void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
   const int r0 = std::max(0, g - 2 * k_ - 2), r1 = std::min(g, L.height - 1);
   for (int c = 0; c < set_.channels; ++c)
     for (int row = r0; row <= r1; ++row) {
-      const int e = extra(row), from = to_left ? L.A - e : L.B - H, until = to_left ? L.A + H : L.B + e;
-      p.put(u_row(l, c, row) + (from - L.origin), static_cast<std::size_t>(until - from));
+      // Outgoing to the left: our columns [A - e, A + H); incoming from the left: its columns
+      // [A - H, A + e) in our numbering (and the mirror image on the right).
+      const int e = extra(row);
+      const int lo = left ? (outgoing ? L.A - e : L.A - H) : (outgoing ? L.B - H : L.B - e);
+      const int hi = left ? (outgoing ? L.A + H : L.A + e) : (outgoing ? L.B + e : L.B + H);
+      f(u_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(hi - lo));
     }
   const int b0 = std::max(0, g - 1), b1 = std::min(g, L.height - 1);
-  const int from = to_left ? L.A : L.B - H;
+  const int at = (left ? (outgoing ? L.A : L.A - H) : (outgoing ? L.B - H : L.B)) - L.origin;
+  const auto h = static_cast<std::size_t>(H);
   for (int c = 0; c < set_.channels; ++c)
-    for (int row = b0; row <= b1; ++row) p.put(b_row(l, c, row) + (from - L.origin), static_cast<std::size_t>(H));
+    for (int row = b0; row <= b1; ++row) f(b_row(l, c, row) + at, h);
   if (set_.weights)
-    for (int row = b0; row <= b1; ++row) p.put(w_row(l, row) + (from - L.origin), static_cast<std::size_t>(H));
+    for (int row = b0; row <= b1; ++row) f(w_row(l, row) + at, h);
   if (set_.diagonal)
-    for (int row = b0; row <= b1; ++row) p.put(d_row(l, row) + (from - L.origin), static_cast<std::size_t>(H));
+    for (int row = b0; row <= b1; ++row) f(d_row(l, row) + at, h);
+}
+
+template <class T>
+void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
+  const int to = to_left ? layout_.left(band_) : layout_.right(band_);
+  if (to < 0) return;
+  Packer p;
+  strip_rows(l, g, to_left, true, [&](const T* row, std::size_t n) { p.put(row, n); });
   net_.send(to, l, std::move(p.bytes));
 }
 
@@ -350,28 +362,9 @@ template <class T>
 void BandVCycle<T>::receive_strips(int l, int g, bool from_left) {
   const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
   if (from_worker < 0) return;
-  Level& L = *levels_[l];
-  const int H = layout_.halo;
   const Bytes bytes = net_.receive(from_worker, l);
   Unpacker p(bytes);
-  const auto extra = [&](int row) {
-    const int d = g - row;
-    return d >= 2 && d <= 2 * k_ && d % 2 == 0 ? layout_.shift(d / 2) : 0;
-  };
-  const int r0 = std::max(0, g - 2 * k_ - 2), r1 = std::min(g, L.height - 1);
-  for (int c = 0; c < set_.channels; ++c)
-    for (int row = r0; row <= r1; ++row) {
-      const int e = extra(row), lo = from_left ? L.A - H : L.B - e, hi = from_left ? L.A + e : L.B + H;
-      p.get(u_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(hi - lo));
-    }
-  const int b0 = std::max(0, g - 1), b1 = std::min(g, L.height - 1);
-  const int lo = from_left ? L.A - H : L.B;
-  for (int c = 0; c < set_.channels; ++c)
-    for (int row = b0; row <= b1; ++row) p.get(b_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(H));
-  if (set_.weights)
-    for (int row = b0; row <= b1; ++row) p.get(w_row(l, row) + (lo - L.origin), static_cast<std::size_t>(H));
-  if (set_.diagonal)
-    for (int row = b0; row <= b1; ++row) p.get(d_row(l, row) + (lo - L.origin), static_cast<std::size_t>(H));
+  strip_rows(l, g, from_left, false, [&](T* row, std::size_t n) { p.get(row, n); });
   p.finish();
 }
 

@@ -67,6 +67,10 @@ class BandVCycle {
   void relax_lane(int l, int g, int lane, bool forward);
   void send_strips(int l, int g, bool to_left);
   void receive_strips(int l, int g, bool from_left);
+  // The pieces of the strip exchanged with the neighbour on the `left` (else right) side after
+  // group g, as (row pointer, count) in one order for the sender (`outgoing`) and the receiver.
+  template <class F>
+  void strip_rows(int l, int g, bool left, bool outgoing, F&& f);
   void finish_row(int l, int j);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);

@@ -192,13 +192,16 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
   if (diag) {
     // With a diagonal term D: every coefficient divided by K_0 + D instead of K_0, i.e. scaled by
     // 1 / (1 + D / K_0); sample by sample.
-    const auto scale = [&](int x) { return T(1) / (T(1) + diag[i0 + x - origin] * K.inv[column_of(op, i0 + x)]); };
-    for (int x = 0; x < len; ++x)
-      t[x] = (t[x] - diag[i0 + x - origin] * u[i0 + x - origin] * K.inv[column_of(op, i0 + x)]) * scale(x);
+    T* scale = s.q.data();  // q is folded into t already
+    for (int x = 0; x < len; ++x) {
+      const T d_over_k0 = diag[i0 + x - origin] * K.inv[column_of(op, i0 + x)];
+      scale[x] = T(1) / (T(1) + d_over_k0);
+      t[x] = (t[x] - d_over_k0 * u[i0 + x - origin]) * scale[x];
+    }
     T d1 = T(0), d2 = T(0);
     for (int n = 0; n < len; ++n) {
       const int x = forward ? n : len - 1 - n;
-      const T r = scale(x);
+      const T r = scale[x];
       const T v = t[x] - r * (forward ? coefficient(1, x) * d1 + coefficient(0, x) * d2
                                       : coefficient(3, x) * d1 + coefficient(4, x) * d2);
       dx[x] = v;
