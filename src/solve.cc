@@ -20,6 +20,7 @@ class WithInitial final : public GuidanceSource {
   int channels() const override { return inner_.channels(); }
   double alpha() const override { return inner_.alpha(); }
   bool has_initial() const override { return true; }
+  void set_columns(int begin, int end) override { inner_.set_columns(begin, end); }
   void read_row(int j, GuidanceRow& out) override {
     inner_.read_row(j, out);
     for (int c = 0; c < initial_.channels; ++c) {

@@ -55,6 +55,10 @@ class GuidanceSource {
   // False: start from zero all the same (initial then only sets the mean to keep).
   virtual bool start_from_initial() const { return true; }
   virtual void read_row(int j, GuidanceRow& out) = 0;
+  // A hint before the first read_row: only columns [begin, end) of every row's fields are needed
+  // (edges gx[i] for i in [begin, end - 1)); sources may then read only those columns of their
+  // images (RowReader::set_columns) and leave the other entries as they are.
+  virtual void set_columns(int /*begin*/, int /*end*/) {}
 };
 
 }  // namespace gdp

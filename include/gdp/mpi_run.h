@@ -1,7 +1,10 @@
 // Running under mpirun: MPI started for the life of the process, and which rank this process is.
 #pragma once
 
+#include <memory>
 #include <string>
+
+#include "gdp/rows.h"
 
 namespace gdp {
 
@@ -25,6 +28,13 @@ class MpiRun {
   // Prints "gdp: rank R: why" and ends every rank with exit status 2 (MPI_Abort, the MPI
   // transport's abort path); without MPI it returns and the caller reports the error.
   static void abort(const std::string& why);
+  // The writer every rank hands a solve's rows to: without MPI (or with one rank) `file` itself.
+  // Under mpirun with ranks that write only their columns (RowWriter::set_columns, as the band
+  // schedule does) rank 0 puts every row together from all ranks' columns and writes it to
+  // `file`; the other ranks pass a null `file` and send theirs. Rows written whole (no
+  // set_columns) go to rank 0's file as they are; other ranks drop theirs.
+  static std::unique_ptr<RowWriter> gather_writer(std::unique_ptr<RowWriter> file, int width, int height,
+                                                  int channels);
 };
 
 }  // namespace gdp

@@ -20,6 +20,10 @@ class RowReader {
   // Fills `out` (channels * width samples) with row y. Throws gdp::InputError on bad data.
   virtual void read_row(int y, std::span<float> out) = 0;
   virtual void rewind() = 0;
+  // A hint that, from the next row read on, only columns [begin, end) of every row are needed
+  // (a rank of a distributed solve): readers may then decode only those and leave the other
+  // samples of `out` as they are. Readers that ignore it stay correct.
+  virtual void set_columns(int /*begin*/, int /*end*/) {}
 };
 
 // A destination for rows, written in order y = 0, 1, ..., height - 1; commit() after the
@@ -29,6 +33,10 @@ class RowWriter {
   virtual ~RowWriter() = default;
   virtual void write_row(int y, std::span<const float> row) = 0;
   virtual void commit() {}
+  // Called before the first row when only columns [begin, end) of the rows written will hold
+  // results (a rank of a distributed solve writes its own columns); writers that transform
+  // rows pass it on, writers that gather columns from several processes need it.
+  virtual void set_columns(int /*begin*/, int /*end*/) {}
 };
 
 // Rows of an in-memory image.

@@ -27,6 +27,7 @@ class SpaceReader final : public RowReader {
     to_space(space_, out, width(), channels());
   }
   void rewind() override { in_.rewind(); }
+  void set_columns(int begin, int end) override { in_.set_columns(begin, end); }
 
  private:
   RowReader& in_;
@@ -44,6 +45,7 @@ class SpaceWriter final : public RowWriter {
     out_.write_row(y, row_);
   }
   void commit() override { out_.commit(); }
+  void set_columns(int begin, int end) override { out_.set_columns(begin, end); }
 
  private:
   RowWriter& out_;

@@ -28,6 +28,12 @@ FidelityGuidance::FidelityGuidance(GuidanceSource& inner, const Fidelity& fideli
   if (fidelity.pins) pins_row_.resize(static_cast<std::size_t>(fidelity.pins->channels()) * width());
 }
 
+void FidelityGuidance::set_columns(int begin, int end) {
+  inner_.set_columns(begin, end);
+  for (RowReader* r : {fidelity_.weights, fidelity_.pins})
+    if (r) r->set_columns(begin, end);
+}
+
 void FidelityGuidance::read_row(int j, GuidanceRow& out) {
   inner_.read_row(j, out);
   const int w = width();

@@ -25,6 +25,7 @@ class FidelityGuidance final : public GuidanceSource {
   bool has_initial() const override { return true; }
   bool start_from_initial() const override { return inner_.start_from_initial(); }
   void read_row(int j, GuidanceRow& out) override;
+  void set_columns(int begin, int end) override;
 
  private:
   GuidanceSource& inner_;

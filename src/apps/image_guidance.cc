@@ -11,6 +11,8 @@ ImageGuidance::ImageGuidance(RowReader& source, double alpha, double beta, bool 
   for (auto& r : rows_) r.assign(static_cast<std::size_t>(source.channels()) * source.width(), 0.0f);
 }
 
+void ImageGuidance::set_columns(int begin, int end) { src_.set_columns(begin, std::min(end + 1, width())); }
+
 void ImageGuidance::read_source(int y) {
   src_.read_row(y, rows_[y % 2]);
   on_source_row(y, rows_[y % 2]);

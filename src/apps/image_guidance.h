@@ -24,6 +24,8 @@ class ImageGuidance : public GuidanceSource {
   bool has_initial() const override { return true; }
   bool start_from_initial() const override { return start_; }
   void read_row(int j, GuidanceRow& out) override;
+  // Passes the columns on to the source image (with the one column beyond that gx needs).
+  void set_columns(int begin, int end) override;
 
  protected:
   // Row j's edges that keep their gradient: right[i] from (i, j) to (i + 1, j) (wrapping to

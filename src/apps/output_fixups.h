@@ -24,6 +24,7 @@ class OutputFixups final : public RowWriter {
   void record(int y, std::span<const float> input, std::span<const unsigned char> zero = {});
   void write_row(int y, std::span<const float> row) override;
   void commit() override { out_.commit(); }
+  void set_columns(int begin, int end) override { out_.set_columns(begin, end); }
 
  private:
   RowWriter& out_;

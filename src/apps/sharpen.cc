@@ -20,6 +20,10 @@ class Recorded final : public apps::ImageGuidance {
       : ImageGuidance(image, alpha, beta, start), fixups_(fixups), low_(low) {
     if (low) low_row_.resize(static_cast<std::size_t>(low->channels()) * low->width());
   }
+  void set_columns(int begin, int end) override {
+    ImageGuidance::set_columns(begin, end);
+    if (low_) low_->set_columns(begin, end);
+  }
   void read_row(int j, GuidanceRow& out) override {
     ImageGuidance::read_row(j, out);
     if (!low_) return;

@@ -1,4 +1,5 @@
 // Seamless stitching, streamed: composite gradients, cut where labels change.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -59,6 +60,10 @@ class StitchGuidance final : public apps::ImageGuidance {
         ids_(composite.width(), labels.channels(), options.unknown == UnknownMode::Label),
         label_row_(static_cast<std::size_t>(labels.channels()) * labels.width()), zero_(composite.width()) {
     if (options.deramp) compute_ramps(composite);
+  }
+  void set_columns(int begin, int end) override {
+    ImageGuidance::set_columns(begin, end);
+    labels_.set_columns(begin, std::min(end + 1, width()));
   }
   void read_row(int j, GuidanceRow& out) override {
     ImageGuidance::read_row(j, out);

@@ -1,10 +1,11 @@
 // The band solve schedule: one worker thread per band, fed and drained by the caller's thread; under
-// mpirun, every rank runs its share of the bands and rank 0 gathers the result rows.
+// mpirun, every rank reads, solves and writes only its share of the columns.
 #include "bands/solve_bands.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <optional>
 #include <thread>
 
@@ -28,7 +29,12 @@ using schedule::seconds_since;
 namespace {
 
 constexpr std::size_t kQueued = 2;  // batches in flight per band and direction
-constexpr int kResult = 2000;       // tag of result batches sent to rank 0 (band_vcycle.cc uses < 2000)
+constexpr int kTotals = 2000;       // tag of the input sums' exchange (band_vcycle.cc uses < 2000)
+// Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column
+// reads the guidance of the columns within two of it.
+constexpr int kInputMargin = 4;
+
+using schedule::InputTotals;
 
 template <class T>
 struct Batch {
@@ -36,26 +42,32 @@ struct Batch {
   std::vector<T> u, b, w, d;  // rows of channels * row length (w, d: one channel)
 };
 
-// A result batch as one message (rows of a remote band for rank 0) and back.
-template <class T>
-Bytes pack(const Batch<T>& batch) {
-  Bytes bytes(2 * sizeof(int) + batch.u.size() * sizeof(T));
-  std::memcpy(bytes.data(), &batch.first, sizeof(int));
-  std::memcpy(bytes.data() + sizeof(int), &batch.rows, sizeof(int));
-  if (!batch.u.empty()) std::memcpy(bytes.data() + 2 * sizeof(int), batch.u.data(), batch.u.size() * sizeof(T));
+// Input sums as one message and back.
+Bytes pack(const std::vector<InputTotals>& totals) {
+  std::vector<double> v;
+  for (const InputTotals& t : totals) {
+    v.insert(v.end(), t.weighted_sums.begin(), t.weighted_sums.end());
+    v.insert(v.end(), t.rhs_norms2.begin(), t.rhs_norms2.end());
+    v.push_back(t.weight_total);
+  }
+  Bytes bytes(v.size() * sizeof(double));
+  if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
   return bytes;
 }
 
-template <class T>
-Batch<T> unpack(const Bytes& bytes) {
-  if (bytes.size() < 2 * sizeof(int) || (bytes.size() - 2 * sizeof(int)) % sizeof(T) != 0)
-    throw std::logic_error("result message of the wrong size");
-  Batch<T> batch;
-  std::memcpy(&batch.first, bytes.data(), sizeof(int));
-  std::memcpy(&batch.rows, bytes.data() + sizeof(int), sizeof(int));
-  batch.u.resize((bytes.size() - 2 * sizeof(int)) / sizeof(T));
-  if (!batch.u.empty()) std::memcpy(batch.u.data(), bytes.data() + 2 * sizeof(int), batch.u.size() * sizeof(T));
-  return batch;
+std::vector<InputTotals> unpack(const Bytes& bytes, int count, int channels) {
+  const std::size_t each = 2 * static_cast<std::size_t>(channels) + 1;
+  if (bytes.size() != count * each * sizeof(double)) throw std::logic_error("input sums message of the wrong size");
+  std::vector<double> v(count * each);
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+  std::vector<InputTotals> totals(count);
+  for (int i = 0; i < count; ++i) {
+    const double* p = v.data() + i * each;
+    totals[i].weighted_sums.assign(p, p + channels);
+    totals[i].rhs_norms2.assign(p + channels, p + 2 * channels);
+    totals[i].weight_total = p[2 * channels];
+  }
+  return totals;
 }
 
 // The workers of this process: all bands on threads, or under mpirun this rank's bands
@@ -67,11 +79,30 @@ struct Team {
   Transport& endpoint(int band) { return ranks ? ranks->endpoint(band) : threads->endpoint(band); }
 };
 
-// What the input thread knows once every row is read (published before the last batch).
-struct InputTotals {
-  std::vector<double> weighted_sums, rhs_norms2;
-  double weight_total = 0.0;
-};
+// The input sums of all bands, added in band order (the same bits however the bands are spread
+// over processes) from this process's bands' sums: under mpirun the first band of every rank
+// sends its rank's to band 0, whose rank adds them all up and sends the total back.
+InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team, int channels) {
+  const auto add_all = [](const std::vector<InputTotals>& all) {
+    InputTotals total;
+    for (const InputTotals& t : all) total.add(t);
+    return total;
+  };
+  if (!team.ranks) return add_all(local);
+  Transport& me = team.endpoint(team.first);
+  if (team.first != 0) {
+    me.send(0, kTotals, pack(local));
+    return unpack(me.receive(0, kTotals), 1, channels)[0];
+  }
+  std::vector<InputTotals> all = local;
+  for (int first = team.local; first < team.ranks->size(); first += team.local) {
+    const auto part = unpack(me.receive(first, kTotals), team.local, channels);
+    all.insert(all.end(), part.begin(), part.end());
+  }
+  const InputTotals total = add_all(all);
+  for (int first = team.local; first < team.ranks->size(); first += team.local) me.send(first, kTotals, pack({total}));
+  return total;
+}
 
 int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
 
@@ -90,8 +121,9 @@ template <class T>
 class BandWorker {
  public:
   BandWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
-             const typename BandVCycle<T>::Settings& s, const InputTotals& totals, int channels, bool keep_lines)
-      : in(kQueued), out(kQueued), ops_(ops), layout_(layout), opt_(opt), totals_(totals), channels_(channels),
+             const typename BandVCycle<T>::Settings& s, std::shared_future<InputTotals> totals, int channels,
+             bool keep_lines)
+      : in(kQueued), out(kQueued), ops_(ops), layout_(layout), opt_(opt), totals_(std::move(totals)), channels_(channels),
         band_(net.rank()), len_(layout.row_length(0, band_)), height_(ops.levels[0].height),
         log(channels, keep_lines), vcycle_(ops, layout, net, s) {
     if (cycles() > 1)
@@ -131,12 +163,13 @@ class BandWorker {
         vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
         ++next_in;
       }
+      const InputTotals& totals = totals_.get();  // every band's input sums, once all are read
       for (int c = 0; c < channels_; ++c) {
         if (k == 0) {
-          log.set_rhs_norm(c, std::sqrt(totals_.rhs_norms2[c]));
+          log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
           log.initial(c, vcycle_.initial_norm(c));
         }
-        shift[c] = schedule::mean_shift(ops_.singular, totals_.weighted_sums[c], totals_.weight_total,
+        shift[c] = schedule::mean_shift(ops_.singular, totals.weighted_sums[c], totals.weight_total,
                                         vcycle_.probe(c).dots);
       }
       const bool surely_last = k + 1 == cycles();
@@ -190,7 +223,7 @@ class BandWorker {
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;
   const SolverOptions& opt_;
-  const InputTotals& totals_;
+  std::shared_future<InputTotals> totals_;
   int channels_, band_, len_, height_;
 
  public:
@@ -273,8 +306,18 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
     team.threads = std::make_unique<ThreadHub>(layout.bands);
     team.local = layout.bands;
   }
-  const bool writes = team.first == 0;  // the process with band 0 writes the result
-  InputTotals totals;
+  // This process's bands and columns: every band, or under mpirun a contiguous share of them,
+  // whose own columns [own_begin, own_end) it writes and whose rows it reads (plus margins).
+  const int last_local = team.first + team.local - 1;
+  const int own_begin = layout.begin(0, team.first), own_end = layout.end(0, last_local);
+  if (distributed) {
+    const int from = layout.origin(0, team.first) - kInputMargin;
+    const int to = layout.origin(0, last_local) + layout.row_length(0, last_local) + kInputMargin;
+    if (from >= 0 && to <= w) source.set_columns(from, to);  // a window wrapping around: whole rows
+    out.set_columns(own_begin, own_end);
+  }
+  std::promise<InputTotals> totals_promise;
+  std::shared_future<InputTotals> totals = totals_promise.get_future().share();
   std::vector<std::unique_ptr<BandWorker<T>>> workers;
   for (int i = 0; i < team.local; ++i)
     workers.push_back(std::make_unique<BandWorker<T>>(ops, layout, team.endpoint(team.first + i), opt, settings,
@@ -282,6 +325,10 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
                                                       team.first + i == 0 && static_cast<bool>(opt.log)));
   std::vector<std::exception_ptr> errors(workers.size());
   const auto stop_all = [&](const std::string& why) {
+    try {  // workers waiting for the sums stop too
+      totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
+    } catch (const std::future_error&) {
+    }
     team.endpoint(team.first).abort(why);
     for (auto& wk : workers) {
       wk->in.close();
@@ -322,7 +369,9 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
 
   double seconds_input = 0.0;
   try {
-    schedule::InputRows<T> input(source, problem.hierarchy);
+    std::vector<std::pair<int, int>> own_columns;
+    for (int band = team.first; band <= last_local; ++band) own_columns.emplace_back(layout.begin(0, band), layout.end(0, band));
+    schedule::InputRows<T> input(source, problem.hierarchy, own_columns);
     const std::size_t n = static_cast<std::size_t>(channels) * w;
     std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
     std::vector<Batch<T>> batches(workers.size());
@@ -331,7 +380,6 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
       input.next(u, b, wt, d);
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
-      if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
       for (int i = 0; i < team.local; ++i) {
         const int band = team.first + i;
         Batch<T>& batch = batches[i];
@@ -349,30 +397,19 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
     }
-    // The next result batch of `band`: from its worker here, or from the rank that runs it.
-    const auto next_batch = [&](int band) {
-      if (band >= team.first && band < team.first + team.local) {
-        auto next = workers[band - team.first]->out.pop();
-        if (!next) throw TransportStopped("stopped");
-        return std::move(*next);
-      }
-      return unpack<T>(team.endpoint(0).receive(band, kResult));
-    };
-    std::vector<Batch<T>> results(layout.bands);
-    if (!writes) {  // a rank other than 0 hands its bands' rows on to rank 0
-      for (int j = 0; j < h; ++j)
-        for (int band = team.first; band < team.first + team.local; ++band) {
-          Batch<T>& r = results[band];
-          if (r.rows != 0 && j < r.first + r.rows) continue;
-          r = next_batch(band);
-          team.endpoint(band).send(0, kResult, pack(r));
+    totals_promise.set_value(exchange_totals(input.range_totals(), team, channels));
+    // This process's bands' columns of every row, in order, to `out`.
+    std::vector<Batch<T>> results(team.local);
+    std::vector<float> row(n, 0.0f);
+    for (int j = 0; j < h; ++j) {
+      for (int i = 0; i < team.local; ++i) {
+        const int band = team.first + i;
+        Batch<T>& r = results[i];
+        if (r.rows == 0 || j >= r.first + r.rows) {
+          auto next = workers[i]->out.pop();
+          if (!next) throw TransportStopped("stopped");
+          r = std::move(*next);
         }
-    }
-    std::vector<float> row(writes ? n : 0);
-    for (int j = 0; j < h && writes; ++j) {
-      for (int band = 0; band < layout.bands; ++band) {
-        Batch<T>& r = results[band];
-        if (r.rows == 0 || j >= r.first + r.rows) r = next_batch(band);
         const int a = layout.begin(0, band), own = layout.end(0, band) - a;
         const T* src = r.u.data() + static_cast<std::size_t>(j - r.first) * channels * own;
         for (int c = 0; c < channels; ++c)

@@ -9,12 +9,30 @@
 
 namespace gdp::schedule {
 
+void InputTotals::add(const InputTotals& t) {
+  weighted_sums.resize(t.weighted_sums.size(), 0.0);
+  rhs_norms2.resize(t.rhs_norms2.size(), 0.0);
+  for (std::size_t c = 0; c < t.weighted_sums.size(); ++c) weighted_sums[c] += t.weighted_sums[c];
+  for (std::size_t c = 0; c < t.rhs_norms2.size(); ++c) rhs_norms2[c] += t.rhs_norms2[c];
+  weight_total += t.weight_total;
+}
+
 template <class T>
-InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy)
+InputTotals InputRows<T>::totals() const {
+  InputTotals all;
+  for (const InputTotals& t : totals_) all.add(t);
+  return all;
+}
+
+template <class T>
+InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges)
     : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
-      initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing),
-      weighted_sum_(source.channels(), 0.0), b_norm2_(source.channels(), 0.0) {
+      initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing), ranges_(std::move(sum_ranges)) {
+  if (ranges_.empty()) ranges_.emplace_back(0, width_);
+  for (const Range& r : ranges_)
+    if (r.first < 0 || r.first > r.second || r.second > width_) throw std::logic_error("InputRows: bad sum range");
+  totals_.assign(ranges_.size(), InputTotals{std::vector<double>(channels_, 0.0), std::vector<double>(channels_, 0.0), 0.0});
   const std::size_t n = static_cast<std::size_t>(channels_) * width_;
   row_.x_edges = hierarchy.levels[0].x.edges();
   row_.gx.assign(static_cast<std::size_t>(channels_) * row_.x_edges, 0.0);
@@ -80,16 +98,20 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   } else {
     for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i]);
   }
-  for (int c = 0; c < channels_; ++c) {
-    const T* bc = b.data() + static_cast<std::size_t>(c) * width_;
-    if (!source_.has_weights()) {
-      b_norm2_[c] += multigrid::row_dot(bc, bc, width_);
-      continue;
+  for (std::size_t r = 0; r < ranges_.size(); ++r) {
+    const auto [a, e] = ranges_[r];
+    for (int c = 0; c < channels_; ++c) {
+      const T* bc = b.data() + static_cast<std::size_t>(c) * width_;
+      double& norm2 = totals_[r].rhs_norms2[c];
+      if (!source_.has_weights()) {
+        norm2 += multigrid::row_dot(bc + a, bc + a, e - a);
+        continue;
+      }
+      // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
+      // residuals are measured against: they are left out of it.
+      for (int i = a; i < e; ++i)
+        if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
     }
-    // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
-    // residuals are measured against: they are left out of it.
-    for (int i = 0; i < width_; ++i)
-      if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) b_norm2_[c] += static_cast<double>(bc[i]) * bc[i];
   }
   const std::vector<float>& init = initial_[k];
   for (int i = 0; i < width_; ++i) {
@@ -101,10 +123,14 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     }
     w[i] = finite && counted_[k][i] ? T(1) : T(0);
   }
-  for (int c = 0; c < channels_; ++c)
-    weighted_sum_[c] += multigrid::row_dot(w.data(), u.data() + static_cast<std::size_t>(c) * width_, width_);
+  for (std::size_t r = 0; r < ranges_.size(); ++r) {
+    const auto [a, e] = ranges_[r];
+    for (int c = 0; c < channels_; ++c)
+      totals_[r].weighted_sums[c] +=
+          multigrid::row_dot(w.data() + a, u.data() + static_cast<std::size_t>(c) * width_ + a, e - a);
+    for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
+  }
   if (!source_.start_from_initial()) std::fill(u.begin(), u.end(), T(0));
-  for (int i = 0; i < width_; ++i) weight_total_ += static_cast<double>(w[i]);
 }
 
 template class InputRows<float>;

@@ -10,22 +10,34 @@
 
 namespace gdp::schedule {
 
+// What a solve needs to know of all its input rows: per channel the sum of w * u (the mean a
+// pure gradient solve keeps) and |b|^2 (relative residuals), and the sum of w.
+struct InputTotals {
+  std::vector<double> weighted_sums, rhs_norms2;
+  double weight_total = 0.0;
+  void add(const InputTotals& t);
+};
+
 // Reads guidance rows in order and hands out, for rows j = 0, 1, ..., the starting guess u
 // (non-finite samples -> 0), the right-hand side b (multiplied by LevelOperator::kScale) and the
 // weight w of the pixel in the preserved mean (1 where counted and every channel of the
 // starting guess is finite, else 0), converted to the kernel precision T. Sources with
 // per-pixel weights also give the diagonal term d (row_ops.h: kScale * weight, or
 // kPinnedDiagonal) and add d * value to b; d is empty otherwise. Keeps a few rows.
+//
+// The sums a solve needs (InputTotals) are kept per column range: the whole row by default, or each band's own columns, so that the band schedule
+// adds them up in band order however its bands are spread over processes.
 template <class T>
 class InputRows {
  public:
-  InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy);
+  using Range = std::pair<int, int>;  // columns [first, second)
+
+  InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges = {});
   void next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d = {});
 
-  // After the last row: per channel sum of w * u and |b|^2, and the sum of w.
-  const std::vector<double>& weighted_sums() const { return weighted_sum_; }
-  const std::vector<double>& rhs_norms2() const { return b_norm2_; }
-  double weight_total() const { return weight_total_; }
+  // After the last row: the sums over each range, and over all of them (added in range order).
+  const std::vector<InputTotals>& range_totals() const { return totals_; }
+  InputTotals totals() const;
 
  private:
   static constexpr int kRing = 4;  // guidance rows run two ahead of right-hand-side rows
@@ -40,8 +52,8 @@ class InputRows {
   std::vector<std::vector<double>> b_;                // ring of assembled rows, channels * width
   std::vector<std::vector<double>> d_, dv_;           // ring of diagonal rows and d * value
   int read_ = 0, emitted_ = 0, next_ = 0;
-  std::vector<double> weighted_sum_, b_norm2_;
-  double weight_total_ = 0.0;
+  std::vector<Range> ranges_;
+  std::vector<InputTotals> totals_;
 };
 
 }  // namespace gdp::schedule

@@ -38,6 +38,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
   summary.seconds_rhs = seconds_since(t_rhs);
+  const InputTotals totals = input.totals();
   summary.window_bytes = 2 * n * h * sizeof(T);
 
   const auto t_solve = Clock::now();
@@ -51,13 +52,13 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
   };
   const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc) {
-    log.set_rhs_norm(c, std::sqrt(input.rhs_norms2()[c]));
+    log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     log.initial(c, vc.residual_norm(u[c], b[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
       vc.run(u[c], b[c], weights.empty() ? nullptr : &weights, &probe);
       log.cycle(c, vc.residual_norm(u[c], b[c]), probe);
-      const double shift = mean_shift(ops.singular, input.weighted_sums()[c], input.weight_total(), probe.dots);
+      const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probe.dots);
       if (shift != 0.0)
         for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
       report();

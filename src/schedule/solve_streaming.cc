@@ -26,12 +26,6 @@ struct Batch {
   std::vector<T> u, b, w, d;
 };
 
-// What the input thread knows once every row is read (published before the last batch).
-struct InputTotals {
-  std::vector<double> weighted_sums, rhs_norms2;
-  double weight_total = 0.0;
-};
-
 // The first level (>= 1) whose planes, u and b for every channel, fit in `bytes`.
 template <class T>
 int first_incore_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes) {
@@ -221,7 +215,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
       input.next(u, b, wt, d);
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
-      if (last) totals = {input.weighted_sums(), input.rhs_norms2(), input.weight_total()};
+      if (last) totals = input.totals();
       for (std::size_t l = 0; l < lanes.size(); ++l) {
         Batch<T>& batch = batches[l];
         const Lane<T>& lane = *lanes[l];

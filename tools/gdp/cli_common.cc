@@ -145,20 +145,12 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   return w;
 }
 
-namespace {
-
-// Rows a rank other than 0 would write under mpirun: rank 0 writes the whole image.
-class NoOutput final : public RowWriter {
- public:
-  void write_row(int, std::span<const float>) override {}
-};
-
-}  // namespace
-
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options) {
-  if (MpiRun::rank() != 0) return std::make_unique<NoOutput>();
-  return std::make_unique<ImageFileWriter>(path, width, height, channels, options);
+  // Under mpirun rank 0 writes the file, from every rank's columns.
+  std::unique_ptr<RowWriter> file;
+  if (MpiRun::rank() == 0) file = std::make_unique<ImageFileWriter>(path, width, height, channels, options);
+  return MpiRun::gather_writer(std::move(file), width, height, channels);
 }
 
 void note(const CommonOptions& o, const std::string& message) {

@@ -60,8 +60,8 @@ struct FidelityInputs {
 std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,
                                               const std::string& main_name, SphereRows* sphere);
 
-// The output file's writer; under mpirun only rank 0 writes (the band schedule gathers the
-// result rows there) and the other ranks get a writer that keeps nothing.
+// The output file's writer; under mpirun rank 0 writes the file, putting every row together from
+// the columns each rank solved (gdp::MpiRun::gather_writer).
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options);
 
