@@ -82,6 +82,54 @@ TEST_F(MpiBands, SameBitsRunToRun) {
   EXPECT_EQ(test::max_difference(result("a.tif"), result("b.tif")), 0.0);
 }
 
+// A stitch (a pure gradient problem: the kept mean needs every rank's input sums), every rank
+// writing its own columns to its own file and keeping its scratch in its own directory.
+TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {
+  const Image wave = test::cosine_image(300, 80, 3, 2);
+  Image comp(300, 80, 3), labels(300, 80, 1);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 300; ++x) {
+      const int region = (x + y / 2) / 70;
+      labels.at(0, x, y) = static_cast<float>(region) / 8.0f;
+      for (int c = 0; c < 3; ++c)
+        comp.at(c, x, y) = 0.4f + 0.2f * wave.at(0, x, y) + 0.05f * static_cast<float>(region * (c + 1));
+    }
+  write_image(path("comp.tif"), comp, {});
+  write_image(path("labels.png"), labels, {});
+  std::filesystem::create_directory(path("tmp_0"));
+  std::filesystem::create_directory(path("tmp_1"));
+  const std::string stitch = std::string(GDP_CLI_PATH) + " stitch -c " + path("comp.tif") + " -l " +
+                             path("labels.png") + " --depth float ";
+  const test::CliRun r =
+      mpi("-np 2 " + stitch + "--bands 1 -o " + path("out_{rank}.tif") + " --temp " + path("tmp_{rank}"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("rank 1 wrote columns"), std::string::npos) << r.err;
+  ASSERT_EQ(gdp_raw(stitch + "-q --bands 2 -o " + path("threads.tif")).code, 0);
+  const Image left = result("out_0.tif"), right = result("out_1.tif"), whole = result("threads.tif");
+  ASSERT_EQ(left.width + right.width, whole.width);
+  ASSERT_GT(left.width, 0);
+  ASSERT_GT(right.width, 0);
+  double diff = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < whole.height; ++y)
+      for (int x = 0; x < whole.width; ++x) {
+        const float v = x < left.width ? left.at(c, x, y) : right.at(c, x - left.width, y);
+        diff = std::max(diff, static_cast<double>(std::abs(v - whole.at(c, x, y))));
+      }
+  EXPECT_EQ(diff, 0.0) << "two rank files side by side are the two-band result";
+  // And gathered into one file by rank 0.
+  ASSERT_EQ(mpi("-np 2 " + stitch + "--bands 1 -q -o " + path("gathered.tif")).code, 0);
+  EXPECT_EQ(test::max_difference(result("gathered.tif"), whole), 0.0);
+
+  // One rank's scratch directory missing: every rank stops, naming it.
+  std::filesystem::remove(path("tmp_1"));
+  const test::CliRun bad = mpi("-np 2 " + stitch + "--bands 1 -q -o " + path("x.tif") + " --temp " + path("tmp_{rank}"));
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.code, 124) << "timed out: a rank hung";
+  EXPECT_NE(bad.err.find("tmp_1"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(path("x.tif")));
+}
+
 TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   const std::string good = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif");
   const std::string bad = std::string(GDP_CLI_PATH) + " sharpen " + path("missing.tif");

@@ -40,7 +40,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");
     cmd.add_option("--bands", o.bands, "split the columns into this many bands solved in parallel, one thread each "
                                        "(paper section 6; docs/how-bands-work.md)");
-    cmd.add_option("--temp", o.solver.temp_dir, "directory for scratch files (default: the system's)");
+    cmd.add_option("--temp", o.solver.temp_dir,
+                   "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
+                   "rank's number (a directory per rank, e.g. on each node's own disk)");
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
@@ -87,6 +89,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   }
   if (o.pq_height < 0 || o.pq_height % 2 != 0)
     throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", o.pq_height));
+  s.temp_dir = for_this_rank(o.solver.temp_dir.string());
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
   if (MpiRun::size() > 1 && o.bands == 0)
@@ -145,8 +148,58 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   return w;
 }
 
+std::string for_this_rank(std::string path) {
+  const std::string key = "{rank}", rank = std::to_string(MpiRun::rank());
+  for (auto at = path.find(key); at != std::string::npos; at = path.find(key, at + rank.size()))
+    path.replace(at, key.size(), rank);
+  return path;
+}
+
+namespace {
+
+// A rank's own output file (`-o` with {rank}): the columns it solved (RowWriter::set_columns),
+// or whole rows when it solved them all; opened at the first row, when the width is known.
+class RankFileWriter final : public RowWriter {
+ public:
+  RankFileWriter(std::string path, int width, int height, int channels, const WriteOptions& options, bool quiet)
+      : path_(std::move(path)), width_(width), height_(height), channels_(channels), end_(width), options_(options),
+        quiet_(quiet) {}
+  void set_columns(int begin, int end) override {
+    begin_ = begin;
+    end_ = end;
+  }
+  void write_row(int y, std::span<const float> row) override {
+    const int n = end_ - begin_;
+    if (!file_) file_ = std::make_unique<ImageFileWriter>(path_, n, height_, channels_, options_);
+    row_.resize(static_cast<std::size_t>(channels_) * n);
+    for (int c = 0; c < channels_; ++c)
+      std::copy_n(row.begin() + static_cast<std::ptrdiff_t>(c) * width_ + begin_, n,
+                  row_.begin() + static_cast<std::ptrdiff_t>(c) * n);
+    file_->write_row(y, row_);
+  }
+  void commit() override {
+    if (!file_) return;
+    file_->commit();
+    if (!quiet_)
+      std::fprintf(stderr, "gdp: rank %d wrote columns [%d, %d) of %d to %s\n", MpiRun::rank(), begin_, end_, width_,
+                   path_.c_str());
+  }
+
+ private:
+  std::string path_;
+  int width_, height_, channels_, begin_ = 0, end_;
+  WriteOptions options_;
+  bool quiet_;
+  std::unique_ptr<ImageFileWriter> file_;
+  std::vector<float> row_;
+};
+
+}  // namespace
+
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
-                                       const WriteOptions& options) {
+                                       const WriteOptions& options, bool quiet) {
+  if (path.find("{rank}") != std::string::npos)
+    return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
   // Under mpirun rank 0 writes the file, from every rank's columns.
   std::unique_ptr<RowWriter> file;
   if (MpiRun::rank() == 0) file = std::make_unique<ImageFileWriter>(path, width, height, channels, options);

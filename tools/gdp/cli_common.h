@@ -61,9 +61,14 @@ std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowR
                                               const std::string& main_name, SphereRows* sphere);
 
 // The output file's writer; under mpirun rank 0 writes the file, putting every row together from
-// the columns each rank solved (gdp::MpiRun::gather_writer).
+// the columns each rank solved (gdp::MpiRun::gather_writer). A path with {rank} gives every rank
+// a file of its own columns instead (`out_{rank}.tif`: out_0.tif, out_1.tif, ... left to right;
+// each rank says on stderr which columns it wrote, unless `quiet`).
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
-                                       const WriteOptions& options);
+                                       const WriteOptions& options, bool quiet);
+
+// `path` with every {rank} replaced by this process's MPI rank (0 without mpirun).
+std::string for_this_rank(std::string path);
 
 // Output write options: sample type from --depth or else the input file's.
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);

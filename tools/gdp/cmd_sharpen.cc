@@ -57,7 +57,8 @@ class Sharpen final : public Command {
     if (scale_deg_ > 0.0 && solver.domain != Domain::Spherical)
       throw UsageError("--scale-deg needs a spherical image (--sphere or --domain spherical)");
     ImageFileReader in(input_);
-    const auto out = open_output(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
+    const auto out = open_output(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()),
+                                 common_.quiet);
     SolveSummary summary;
     stats.time("total", [&] {
       const auto sphere = sphere_rows(common_, in, input_);

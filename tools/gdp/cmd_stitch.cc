@@ -47,7 +47,7 @@ class Stitch final : public Command {
                                 "creates spurious labels",
                                 labels_, labels.info().format_name));
     const auto out = open_output(output_, composite.width(), composite.height(), composite.channels(),
-                                 write_options(common_, composite.info()));
+                                 write_options(common_, composite.info()), common_.quiet);
     SolveSummary summary;
     stats.time("total", [&] {
       const auto sphere = sphere_rows(common_, composite, composite_);
