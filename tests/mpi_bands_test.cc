@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <tuple>
 
 #include "cli_fixture.h"
 #include "gdp/image_io.h"
@@ -120,6 +121,19 @@ TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {
   // And gathered into one file by rank 0.
   ASSERT_EQ(mpi("-np 2 " + stitch + "--bands 1 -q -o " + path("gathered.tif")).code, 0);
   EXPECT_EQ(test::max_difference(result("gathered.tif"), whole), 0.0);
+  // From per-band input files: the composite as three strips (each rank decodes the ones its
+  // columns touch), the same result.
+  for (const auto& [i, x0, w] : {std::tuple{0, 0, 100}, std::tuple{1, 100, 120}, std::tuple{2, 220, 80}}) {
+    Image strip(w, 80, 3);
+    for (int c = 0; c < 3; ++c)
+      for (int y = 0; y < 80; ++y)
+        for (int x = 0; x < w; ++x) strip.at(c, x, y) = comp.at(c, x0 + x, y);
+    write_image(path("comp_" + std::to_string(i) + ".tif"), strip, {});
+  }
+  const std::string from_strips = std::string(GDP_CLI_PATH) + " stitch -c " + path("comp_{rank}.tif") + " -l " +
+                                  path("labels.png") + " --depth float --bands 1 -q -o " + path("strips.tif");
+  ASSERT_EQ(mpi("-np 2 " + from_strips).code, 0);
+  EXPECT_EQ(test::max_difference(result("strips.tif"), whole), 0.0);
 
   // One rank's scratch directory missing: every rank stops, naming it.
   std::filesystem::remove(path("tmp_1"));

@@ -119,9 +119,9 @@ void add_fidelity_options(CLI::App& cmd, FidelityFiles& f) {
 std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,
                                               const std::string& main_name, SphereRows* sphere) {
   auto in = std::make_unique<FidelityInputs>();
-  const auto open = [&](const std::string& path, std::unique_ptr<ImageFileReader>& file, bool nearest) -> RowReader* {
+  const auto open = [&](const std::string& path, std::unique_ptr<StripFilesReader>& file, bool nearest) -> RowReader* {
     if (path.empty()) return nullptr;
-    file = std::make_unique<ImageFileReader>(path);
+    file = std::make_unique<StripFilesReader>(path);
     if (sphere) return &sphere->input(*file, path, nearest);
     if (file->width() != main.width() || file->height() != main.height())
       throw InputError(fmt::format("{}: {}x{}, but {} is {}x{}", path, file->width(), file->height(), main_name,

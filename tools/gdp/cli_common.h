@@ -15,6 +15,7 @@
 #include "gdp/image_stream.h"
 #include "gdp/solver.h"
 #include "gdp/sphere_rows.h"
+#include "gdp/strip_files.h"
 
 namespace gdp::cli {
 
@@ -54,7 +55,7 @@ void add_fidelity_options(CLI::App& cmd, FidelityFiles& f);
 // The fidelity images opened beside the main input `main` (named `main_name`): size-checked
 // (InputError naming the file) or, with --sphere, resampled like it (pins nearest-neighbour).
 struct FidelityInputs {
-  std::unique_ptr<ImageFileReader> weights_file, pins_file;
+  std::unique_ptr<StripFilesReader> weights_file, pins_file;
   Fidelity fidelity;
 };
 std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowReader& main,

@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
-#include "gdp/image_stream.h"
+#include "gdp/strip_files.h"
 
 namespace gdp::cli {
 namespace {
@@ -18,7 +18,7 @@ class Sharpen final : public Command {
     name_ = smooth ? "smooth" : "sharpen";
     app = root.add_subcommand(name_, smooth ? "gradient-domain smoothing (beta < 1)"
                                             : "gradient-domain sharpening (beta > 1)");
-    app->add_option("input", input_, "input image")->required();
+    app->add_option("input", input_, "input image ({rank} in the name: vertical strips 0, 1, ... side by side)")->required();
     app->add_option("-o,--output", output_, "output image")->required();
     app->add_option("--beta,-b", beta_, "gradient scale")->capture_default_str();
     auto* a = app->add_option("--alpha,-a", alpha_, "value weight; detail finer than 1/sqrt(alpha) pixels is scaled");
@@ -56,7 +56,7 @@ class Sharpen final : public Command {
     const SolverOptions solver = solver_options(common_, name_);
     if (scale_deg_ > 0.0 && solver.domain != Domain::Spherical)
       throw UsageError("--scale-deg needs a spherical image (--sphere or --domain spherical)");
-    ImageFileReader in(input_);
+    StripFilesReader in(input_);
     const auto out = open_output(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()),
                                  common_.quiet);
     SolveSummary summary;
@@ -69,7 +69,7 @@ class Sharpen final : public Command {
       if (low_.empty()) {
         sharpen(r, alpha_, beta_, solver, w, &summary, fidelity->fidelity);
       } else {
-        ImageFileReader low_file(low_);
+        StripFilesReader low_file(low_);
         if (low_file.width() != in.width() || low_file.height() != in.height() || low_file.channels() != in.channels())
           throw InputError(fmt::format("{}: {}x{}x{}, but {} is {}x{}x{}", low_, low_file.width(), low_file.height(),
                                        low_file.channels(), input_, in.width(), in.height(), in.channels()));

@@ -4,7 +4,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/apps.h"
-#include "gdp/image_stream.h"
+#include "gdp/strip_files.h"
 
 namespace gdp::cli {
 namespace {
@@ -13,7 +13,7 @@ class Stitch final : public Command {
  public:
   explicit Stitch(CLI::App& root) {
     app = root.add_subcommand("stitch", "seamless stitching: composite gradients, cut where labels change");
-    app->add_option("--composite,-c", composite_, "composite image (any format OpenImageIO reads)")->required();
+    app->add_option("--composite,-c", composite_, "composite image (any format OpenImageIO reads; {rank} in the name: vertical strips 0, 1, ... side by side)")->required();
     app->add_option("--labels,-l", labels_, "label map: one colour per source image; white = unknown")->required();
     app->add_option("-o,--output", output_, "output image")->required();
     app->add_option("--unknown", unknown_, "pixels labelled white: black | harmonic | label")
@@ -36,7 +36,7 @@ class Stitch final : public Command {
     options_.unknown = unknown_ == "black" ? UnknownMode::Black
                        : unknown_ == "label" ? UnknownMode::Label
                                              : UnknownMode::Harmonic;
-    ImageFileReader composite(composite_), labels(labels_);
+    StripFilesReader composite(composite_), labels(labels_);
     options_.space.kind = space_ == "log" ? BlendSpace::Kind::Log
                           : space_ == "lab" ? BlendSpace::Kind::Lab
                                             : BlendSpace::Kind::Values;

@@ -1,0 +1,101 @@
+// StripFilesReader: one image from several files side by side, each decoded only where needed.
+#include "gdp/strip_files.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
+namespace gdp {
+namespace {
+
+constexpr std::string_view kKey = "{rank}";
+
+std::string strip_path(std::string pattern, int i) {
+  for (auto at = pattern.find(kKey); at != std::string::npos; at = pattern.find(kKey))
+    pattern.replace(at, kKey.size(), std::to_string(i));
+  return pattern;
+}
+
+}  // namespace
+
+StripFilesReader::StripFilesReader(const std::string& path) {
+  if (path.find(kKey) == std::string::npos) {
+    strips_.push_back(Strip{path, 0, 0, 0, 0, std::make_unique<ImageFileReader>(path)});
+  } else {
+    pattern_ = true;
+    for (int i = 0;; ++i) {
+      const std::string p = strip_path(path, i);
+      std::error_code ec;
+      if (!std::filesystem::exists(p, ec)) {
+        if (i == 0) throw InputError(fmt::format("{}: no strip {} (strips are numbered from 0)", path, p));
+        break;
+      }
+      strips_.push_back(Strip{p, 0, 0, 0, 0, std::make_unique<ImageFileReader>(p, /*prefetch=*/false)});
+    }
+  }
+  const ImageFileReader& first = *strips_.front().reader;
+  info_ = first.info();
+  height_ = first.height();
+  channels_ = first.channels();
+  for (Strip& s : strips_) {
+    if (s.reader->height() != height_ || s.reader->channels() != channels_)
+      throw InputError(fmt::format("{}: {}x{} with {} channel(s), but {} has height {} and {} channel(s)", s.path,
+                                   s.reader->width(), s.reader->height(), s.reader->channels(), strips_.front().path,
+                                   height_, channels_));
+    s.x0 = width_;
+    s.width = s.reader->width();
+    s.begin = 0;
+    s.end = s.width;
+    width_ += s.width;
+  }
+}
+
+StripFilesReader::~StripFilesReader() = default;
+
+void StripFilesReader::set_columns(int begin, int end) {
+  for (Strip& s : strips_) {
+    s.begin = std::clamp(begin - s.x0, 0, s.width);
+    s.end = std::clamp(end - s.x0, 0, s.width);
+    if (s.begin >= s.end) {
+      s.reader.reset();
+    } else if (s.reader) {
+      s.reader->set_columns(s.begin, s.end);
+    }
+  }
+}
+
+// Strips of several files are opened without a decoding thread until it is known which are
+// needed; then the needed ones start one.
+void StripFilesReader::start() {
+  started_ = true;
+  if (!pattern_) return;
+  for (Strip& s : strips_) {
+    if (!s.reader) continue;
+    s.reader = std::make_unique<ImageFileReader>(s.path);
+    if (s.begin != 0 || s.end != s.width) s.reader->set_columns(s.begin, s.end);
+  }
+}
+
+void StripFilesReader::read_row(int y, std::span<float> out) {
+  if (!started_) start();
+  if (strips_.size() == 1) return strips_.front().reader->read_row(y, out);
+  for (Strip& s : strips_) {
+    if (!s.reader) continue;
+    row_.resize(static_cast<std::size_t>(channels_) * s.width);
+    s.reader->read_row(y, row_);
+    for (int c = 0; c < channels_; ++c)
+      std::copy(row_.begin() + static_cast<std::ptrdiff_t>(c) * s.width + s.begin,
+                row_.begin() + static_cast<std::ptrdiff_t>(c) * s.width + s.end,
+                out.begin() + static_cast<std::ptrdiff_t>(c) * width_ + s.x0 + s.begin);
+  }
+}
+
+void StripFilesReader::rewind() {
+  for (Strip& s : strips_)
+    if (s.reader) s.reader->rewind();
+}
+
+}  // namespace gdp
