@@ -144,6 +144,21 @@ TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {
   EXPECT_FALSE(std::filesystem::exists(path("x.tif")));
 }
 
+// Seamless cloning (pinned pixels outside the mask, V-cycles to a tolerance) on ranks.
+TEST_F(MpiBands, CloneOnRanksGivesTheThreadResult) {
+  Image mask(120, 60, 1);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 120; ++x) mask.at(0, x, y) = (x - 60) * (x - 60) + 4 * (y - 30) * (y - 30) < 50 * 50 ? 1.0f : 0.0f;
+  write_image(path("source.tif"), test::random_image(120, 60, 1, 3), {});
+  write_image(path("mask.png"), mask, {});
+  const std::string clone = std::string(GDP_CLI_PATH) + " clone -t " + path("in.tif") + " -s " + path("source.tif") +
+                            " -m " + path("mask.png") + " --offset 150,20 --depth float -q ";
+  const test::CliRun r = mpi("-np 2 " + clone + "--bands 1 -o " + path("mpi.tif"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(gdp_raw(clone + "--bands 2 -o " + path("threads.tif")).code, 0);
+  EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+}
+
 TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   const std::string good = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif");
   const std::string bad = std::string(GDP_CLI_PATH) + " sharpen " + path("missing.tif");

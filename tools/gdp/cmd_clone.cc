@@ -42,12 +42,12 @@ class Clone final : public Command {
     if (source.channels() < target.channels())
       throw InputError(fmt::format("{}: {} channel(s), but the target {} has {}", source_, source.channels(),
                                    target_, target.channels()));
-    ImageFileWriter out(output_, target.width(), target.height(), target.channels(),
-                        write_options(common_, target.info()));
+    const auto out = open_output(output_, target.width(), target.height(), target.channels(),
+                                 write_options(common_, target.info()), common_.quiet);
     SolveSummary summary;
     stats.time("total", [&] {
-      clone(target, source, mask, options_, solver, out, &summary);
-      out.commit();
+      clone(target, source, mask, options_, solver, *out, &summary);
+      out->commit();
     });
     stats.summary(summary);
     note(common_, fmt::format("clone: {}x{}x{}, {} V-cycle(s), relative residual {:.2e} -> {}", summary.width,

@@ -37,8 +37,8 @@ int main(int argc, char** argv) {
     for (auto& c : commands) {
       if (!c->app->parsed()) continue;
       const std::string name = c->app->get_name();
-      if (gdp::MpiRun::size() > 1 && name != "stitch" && name != "sharpen" && name != "smooth")
-        throw gdp::UsageError("under mpirun, only stitch, sharpen and smooth run (with --bands), not " + name);
+      if (gdp::MpiRun::size() > 1 && name != "stitch" && name != "sharpen" && name != "smooth" && name != "clone")
+        throw gdp::UsageError("under mpirun, only stitch, sharpen, smooth and clone run (with --bands), not " + name);
       return c->run();
     }
   } catch (const gdp::Error& e) {
