@@ -17,30 +17,24 @@
 #include "bands/thread_transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
-#include "schedule/bounded_queue.h"
+#include "schedule/cycle_worker.h"
 #include "schedule/input_rows.h"
 
 namespace gdp::bands {
 
-using schedule::BoundedQueue;
+using schedule::Batch;
+using schedule::batch_rows;
 using schedule::Clock;
 using schedule::seconds_since;
 
 namespace {
 
-constexpr std::size_t kQueued = 2;  // batches in flight per band and direction
 constexpr int kTotals = 2000;       // tag of the input sums' exchange (band_vcycle.cc uses < 2000)
 // Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column
 // reads the guidance of the columns within two of it.
 constexpr int kInputMargin = 4;
 
 using schedule::InputTotals;
-
-template <class T>
-struct Batch {
-  int first = 0, rows = 0;
-  std::vector<T> u, b, w, d;  // rows of channels * row length (w, d: one channel)
-};
 
 // Input sums as one message and back.
 Bytes pack(const std::vector<InputTotals>& totals) {
@@ -104,8 +98,6 @@ InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team, i
   return total;
 }
 
-int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
-
 // Columns [origin, origin + length) of a full row of n samples: wrapped on periodic rows,
 // zero outside the row otherwise.
 template <class T>
@@ -123,127 +115,32 @@ class BandWorker {
   BandWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
              const typename BandVCycle<T>::Settings& s, std::shared_future<InputTotals> totals, int channels,
              bool keep_lines)
-      : in(kQueued), out(kQueued), ops_(ops), layout_(layout), opt_(opt), totals_(std::move(totals)), channels_(channels),
-        band_(net.rank()), len_(layout.row_length(0, band_)), height_(ops.levels[0].height),
-        log(channels, keep_lines), vcycle_(ops, layout, net, s) {
-    if (cycles() > 1)
-      carry_ = std::make_unique<schedule::RowStore<T>>(s.stores, static_cast<std::size_t>(channels) * len_, height_,
-                                                       fmt::format("band{}-result", band_));
-  }
+      : log(channels, keep_lines), band_(net.rank()), layout_(layout), totals_(std::move(totals)),
+        vcycle_(ops, layout, net, s),
+        worker(vcycle_, opt, ops.singular, channels, layout.row_length(0, band_), ops.levels[0].height, s.stores,
+               fmt::format("band{}-result", band_)) {}
   const BandVCycle<T>& vcycle() const { return vcycle_; }
-  std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
 
   void run() {
-    const std::size_t n = static_cast<std::size_t>(channels_) * len_;
-    std::vector<T> u(n);
-    std::vector<double> shift(channels_);
-    Batch<T> batch;
-    int next_in = 0;
-    for (int k = 0; k < cycles(); ++k) {
-      vcycle_.begin_cycle();
-      if (carry_) carry_->rewind();
-      for (int j = 0; j < height_; ++j) {
-        if (k > 0) {
-          carry_->read(u);
-          vcycle_.push(u, {}, {});
-          continue;
-        }
-        if (next_in == batch.rows) {
-          auto b = in.pop();
-          if (!b) throw TransportStopped("stopped");
-          batch = std::move(*b);
-          next_in = 0;
-        }
-        const std::size_t at = static_cast<std::size_t>(next_in) * n;
-        const auto pixel_row = [&](const std::vector<T>& v) {
-          return v.empty() ? std::span<const T>{}
-                           : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * len_,
-                                                static_cast<std::size_t>(len_)};
-        };
-        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
-        ++next_in;
-      }
-      const InputTotals& totals = totals_.get();  // every band's input sums, once all are read
-      for (int c = 0; c < channels_; ++c) {
-        if (k == 0) {
-          log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
-          log.initial(c, vcycle_.initial_norm(c));
-        }
-        shift[c] = schedule::mean_shift(ops_.singular, totals.weighted_sums[c], totals.weight_total,
-                                        vcycle_.probe(c).dots);
-      }
-      const bool surely_last = k + 1 == cycles();
-      if (carry_ && !surely_last) carry_->clear();
-      Batch<T> result;
-      for (int j = 0; j < height_; ++j) {
-        vcycle_.pull(u);
-        for (int c = 0; c < channels_; ++c) {
-          if (shift[c] == 0.0) continue;
-          T* p = u.data() + static_cast<std::size_t>(c) * len_;
-          for (int i = 0; i < len_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
-        }
-        if (!surely_last) carry_->append(u);
-        else emit(result, j, u);
-      }
-      bool converged = opt_.tolerance > 0.0;
-      for (int c = 0; c < channels_; ++c) {
-        log.cycle(c, vcycle_.final_norm(c), vcycle_.probe(c));
-        converged = converged && log.last(c) <= opt_.tolerance;
-      }
-      if (surely_last) return;
-      if (converged) {  // every band sees the same sums, so all stop here
-        carry_->rewind();
-        for (int j = 0; j < height_; ++j) {
-          carry_->read(u);
-          emit(result, j, u);
-        }
-        return;
-      }
-    }
-  }
-
-  BoundedQueue<Batch<T>> in, out;
-
- private:
-  int cycles() const { return opt_.tolerance > 0.0 ? opt_.max_vcycles : opt_.vcycles; }
-  // The band's own columns of row j into the result batch, sent when full or last.
-  void emit(Batch<T>& result, int j, const std::vector<T>& u) {
     const int own = layout_.end(0, band_) - layout_.begin(0, band_);
-    if (result.rows == 0) result.first = j;
-    for (int c = 0; c < channels_; ++c) {
-      const T* p = u.data() + static_cast<std::size_t>(c) * len_ + layout_.halo;
-      result.u.insert(result.u.end(), p, p + own);
-    }
-    ++result.rows;
-    if (result.rows < batch_rows(own, channels_) && j + 1 < height_) return;
-    if (!out.push(std::move(result))) throw TransportStopped("stopped");
-    result = Batch<T>{};
+    // Every band's input sums, once all are read.
+    if (!worker.run([this]() -> const InputTotals& { return totals_.get(); }, log, 0, layout_.halo, own))
+      throw TransportStopped("stopped");
   }
 
-  const multigrid::Operators<T>& ops_;
-  const BandLayout& layout_;
-  const SolverOptions& opt_;
-  std::shared_future<InputTotals> totals_;
-  int channels_, band_, len_, height_;
-
- public:
   schedule::ResidualLog log;
 
  private:
+  int band_;
+  const BandLayout& layout_;
+  std::shared_future<InputTotals> totals_;
   BandVCycle<T> vcycle_;
-  std::unique_ptr<schedule::RowStore<T>> carry_;
+
+ public:
+  schedule::CycleWorker<T, BandVCycle<T>> worker;
 };
 
 }  // namespace
-
-template <class T>
-int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes) {
-  for (int l = 1; l < ops.count(); ++l) {
-    const auto& op = ops.levels[l];
-    if (2.0 * channels * op.width * static_cast<double>(op.height) * sizeof(T) <= static_cast<double>(bytes)) return l;
-  }
-  return ops.count() - 1;
-}
 
 template <class T>
 typename BandVCycle<T>::Settings band_settings(const multigrid::Operators<T>& ops, const SolverOptions& opt,
@@ -276,7 +173,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         throw UsageError("the band schedule does not split spherical images yet: use --bands 1");
       periodic = problem_ptr->hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
       layout_or = make_band_layout(problem_ptr->hierarchy, periodic, total_bands, opt.sweeps,
-                                   first_whole_level(problem_ptr->ops, source.channels(), opt.incore_bytes));
+                                   schedule::first_whole_level(problem_ptr->ops, source.channels(), opt.incore_bytes));
     }
   } catch (const Error& e) {
     if (!distributed) throw;
@@ -331,8 +228,8 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
     }
     team.endpoint(team.first).abort(why);
     for (auto& wk : workers) {
-      wk->in.close();
-      wk->out.close();
+      wk->worker.in.close();
+      wk->worker.out.close();
     }
   };
   std::vector<std::thread> threads;
@@ -392,7 +289,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         if (settings.weights) cut(wt.data(), w, periodic, origin, length, batch.w);
         if (settings.diagonal) cut(d.data(), w, periodic, origin, length, batch.d);
         if (++batch.rows < batch_rows(length, channels) && !last) continue;
-        if (!workers[i]->in.push(std::move(batch))) throw TransportStopped("stopped");
+        if (!workers[i]->worker.in.push(std::move(batch))) throw TransportStopped("stopped");
         batch = Batch<T>{};
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
@@ -406,7 +303,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         const int band = team.first + i;
         Batch<T>& r = results[i];
         if (r.rows == 0 || j >= r.first + r.rows) {
-          auto next = workers[i]->out.pop();
+          auto next = workers[i]->worker.out.pop();
           if (!next) throw TransportStopped("stopped");
           r = std::move(*next);
         }
@@ -426,7 +323,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   }
   join(true);
   for (const auto& wk : workers) {
-    summary.scratch_bytes += wk->vcycle().store_bytes() + wk->carry_bytes();
+    summary.scratch_bytes += wk->vcycle().store_bytes() + wk->worker.carry_bytes();
     summary.window_bytes += wk->vcycle().window_bytes();
   }
   summary.seconds_rhs = seconds_input;
@@ -436,7 +333,5 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
 
 template void solve_bands<float>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
 template void solve_bands<double>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
-template int first_whole_level(const multigrid::Operators<float>&, int, std::size_t);
-template int first_whole_level(const multigrid::Operators<double>&, int, std::size_t);
 
 }  // namespace gdp::bands

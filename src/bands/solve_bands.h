@@ -18,8 +18,4 @@ namespace gdp::bands {
 template <class T>
 void solve_bands(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
 
-// The first level (>= 1) whose planes, u and b for every channel, fit in `bytes`.
-template <class T>
-int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes);
-
 }  // namespace gdp::bands

@@ -23,6 +23,17 @@ struct Problem {
   Problem(const Problem&) = delete;
 };
 
+// The first level (>= 1) whose planes, u and b for every channel, fit in `bytes`: the first that
+// streaming schedules hold whole (and solve in-core).
+template <class T>
+int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes) {
+  for (int l = 1; l < ops.count(); ++l) {
+    const auto& op = ops.levels[l];
+    if (2.0 * channels * op.width * static_cast<double>(op.height) * sizeof(T) <= static_cast<double>(bytes)) return l;
+  }
+  return ops.count() - 1;
+}
+
 // With alpha == 0, the constant added to a channel's result after a V-cycle so that its
 // weighted mean is the starting guess's: (target sum - predicted sum) / total weight, the
 // prediction being the sum of the cycle's per-level dots (multigrid::CycleProbe).

@@ -5,36 +5,13 @@
 #include <exception>
 #include <thread>
 
-#include "schedule/bounded_queue.h"
+#include "schedule/cycle_worker.h"
 #include "schedule/input_rows.h"
 #include "schedule/solve_parts.h"
 #include "schedule/streaming_vcycle.h"
 
 namespace gdp::schedule {
 namespace {
-
-// Rows handed between threads at a time: about 256K samples (1 MB of floats), 1 to 16 rows.
-int batch_rows(int width, int channels) {
-  return std::clamp((1 << 18) / std::max(1, width * channels), 1, 16);
-}
-constexpr std::size_t kQueued = 2;  // batches in flight per lane and direction
-
-// Rows first .. first + rows - 1 of some channels: u and b (channels * width per row), w and d.
-template <class T>
-struct Batch {
-  int first = 0, rows = 0;
-  std::vector<T> u, b, w, d;
-};
-
-// The first level (>= 1) whose planes, u and b for every channel, fit in `bytes`.
-template <class T>
-int first_incore_level(const multigrid::Operators<T>& ops, int channels, std::size_t bytes) {
-  for (int l = 1; l < ops.count(); ++l) {
-    const auto& op = ops.levels[l];
-    if (2.0 * channels * op.width * static_cast<double>(op.height) * sizeof(T) <= static_cast<double>(bytes)) return l;
-  }
-  return ops.count() - 1;
-}
 
 // Channels [c0, c0 + n) solved by one streaming V-cycle on its own thread: input batches in,
 // result batches out, as many V-cycles as asked for.
@@ -43,107 +20,23 @@ class Lane {
  public:
   Lane(const multigrid::Operators<T>& ops, const SolverOptions& opt, typename StreamingVCycle<T>::Settings s,
        int c0, int n, const InputTotals& totals, ResidualLog& log)
-      : in(kQueued), out(kQueued), ops_(ops), opt_(opt), c0_(c0), n_(n), width_(ops.levels[0].width),
-        height_(ops.levels[0].height), totals_(totals), log_(log),
-        vcycle_(ops, (s.channels = n, s)) {
-    if (cycles() > 1)
-      carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * width_, height_, "result");
-  }
+      : c0_(c0), n_(n), width_(ops.levels[0].width), totals_(totals), log_(log), vcycle_(ops, (s.channels = n, s)),
+        worker(vcycle_, opt, ops.singular, n, width_, ops.levels[0].height, s.stores, "result") {}
   int first_channel() const { return c0_; }
   int channels() const { return n_; }
   const StreamingVCycle<T>& vcycle() const { return vcycle_; }
-  std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
-
   void run() {
-    const std::size_t n = static_cast<std::size_t>(n_) * width_;
-    std::vector<T> u(n);
-    std::vector<double> shift(n_);
-    Batch<T> batch;
-    int next_in = 0;  // row of `batch` to push next
-    for (int k = 0; k < cycles(); ++k) {
-      vcycle_.begin_cycle();
-      if (carry_) carry_->rewind();
-      for (int j = 0; j < height_; ++j) {
-        if (k > 0) {
-          carry_->read(u);
-          vcycle_.push(u, {}, {});
-          continue;
-        }
-        if (next_in == batch.rows) {
-          auto b = in.pop();
-          if (!b) return;  // stopped
-          batch = std::move(*b);
-          next_in = 0;
-        }
-        const std::size_t at = static_cast<std::size_t>(next_in) * n;
-        const auto pixel_row = [&](const std::vector<T>& v) {
-          return v.empty() ? std::span<const T>{}
-                           : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * width_,
-                                                static_cast<std::size_t>(width_)};
-        };
-        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
-        ++next_in;
-      }
-      for (int c = 0; c < n_; ++c) {
-        if (k == 0) {
-          log_.set_rhs_norm(c0_ + c, std::sqrt(totals_.rhs_norms2[c0_ + c]));
-          log_.initial(c0_ + c, vcycle_.initial_norm(c));
-        }
-        shift[c] = mean_shift(ops_.singular, totals_.weighted_sums[c0_ + c], totals_.weight_total,
-                              vcycle_.probe(c).dots);
-      }
-      const bool surely_last = k + 1 == cycles();
-      if (carry_ && !surely_last) carry_->clear();
-      Batch<T> result;
-      for (int j = 0; j < height_; ++j) {
-        vcycle_.pull(u);
-        for (int c = 0; c < n_; ++c) {
-          if (shift[c] == 0.0) continue;
-          T* p = u.data() + static_cast<std::size_t>(c) * width_;
-          for (int i = 0; i < width_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
-        }
-        if (!surely_last) carry_->append(u);
-        else if (!emit(result, j, u)) return;
-      }
-      bool converged = opt_.tolerance > 0.0;
-      for (int c = 0; c < n_; ++c) {
-        log_.cycle(c0_ + c, vcycle_.final_norm(c), vcycle_.probe(c));
-        converged = converged && log_.last(c0_ + c) <= opt_.tolerance;
-      }
-      if (surely_last) return;
-      if (converged) {  // the carried result is the answer
-        carry_->rewind();
-        for (int j = 0; j < height_; ++j) {
-          carry_->read(u);
-          if (!emit(result, j, u)) return;
-        }
-        return;
-      }
-    }
+    worker.run([this]() -> const InputTotals& { return totals_; }, log_, c0_, 0, width_);  // false: stopped
   }
-
-  BoundedQueue<Batch<T>> in, out;
 
  private:
-  int cycles() const { return opt_.tolerance > 0.0 ? opt_.max_vcycles : opt_.vcycles; }
-  // Adds row j to the result batch, sending it when full or last; false when stopped.
-  bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
-    if (result.rows == 0) result.first = j;
-    result.u.insert(result.u.end(), u.begin(), u.end());
-    ++result.rows;
-    if (result.rows < batch_rows(width_, n_) && j + 1 < height_) return true;
-    const bool ok = out.push(std::move(result));
-    result = Batch<T>{};
-    return ok;
-  }
-
-  const multigrid::Operators<T>& ops_;
-  const SolverOptions& opt_;
-  int c0_, n_, width_, height_;
+  int c0_, n_, width_;
   const InputTotals& totals_;
   ResidualLog& log_;
   StreamingVCycle<T> vcycle_;
-  std::unique_ptr<RowStore<T>> carry_;
+
+ public:
+  CycleWorker<T, StreamingVCycle<T>> worker;
 };
 
 }  // namespace
@@ -159,7 +52,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   typename StreamingVCycle<T>::Settings settings;
   settings.sweeps = opt.sweeps;
   settings.coarse_tolerance = opt.coarse_tolerance;
-  settings.incore_from = first_incore_level(ops, channels, opt.incore_bytes);
+  settings.incore_from = first_whole_level(ops, channels, opt.incore_bytes);
   settings.measure_initial = settings.measure_final = true;
   settings.weights = ops.singular;
   settings.diagonal = source.has_weights();
@@ -182,8 +75,8 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   std::vector<std::thread> threads;
   const auto stop_all = [&] {
     for (auto& lane : lanes) {
-      lane->in.close();
-      lane->out.close();
+      lane->worker.in.close();
+      lane->worker.out.close();
     }
   };
   for (std::size_t t = 0; t < lanes.size(); ++t)
@@ -227,7 +120,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
         if (settings.weights) batch.w.insert(batch.w.end(), wt.begin(), wt.end());
         batch.d.insert(batch.d.end(), d.begin(), d.end());
         if (++batch.rows < batch_rows(w, channels) && !last) continue;
-        if (!lanes[l]->in.push(std::move(batch))) throw std::runtime_error("stopped");
+        if (!lanes[l]->worker.in.push(std::move(batch))) throw std::runtime_error("stopped");
         batch = Batch<T>{};
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
@@ -238,7 +131,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
       for (std::size_t l = 0; l < lanes.size(); ++l) {
         Batch<T>& r = results[l];
         if (r.rows == 0 || j >= r.first + r.rows) {
-          auto next = lanes[l]->out.pop();
+          auto next = lanes[l]->worker.out.pop();
           if (!next) throw std::runtime_error("stopped");
           r = std::move(*next);
         }
@@ -257,7 +150,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   }
   join();
   for (const auto& lane : lanes) {
-    summary.scratch_bytes += lane->vcycle().store_bytes() + lane->carry_bytes();
+    summary.scratch_bytes += lane->vcycle().store_bytes() + lane->worker.carry_bytes();
     summary.window_bytes += lane->vcycle().window_bytes();
   }
   summary.seconds_rhs = seconds_input;
