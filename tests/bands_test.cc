@@ -135,7 +135,8 @@ INSTANTIATE_TEST_SUITE_P(Domains, Bands,
                          ::testing::Values(Case{Domain::Planar, 300, 70, 2, 0.0}, Case{Domain::Planar, 257, 41, 1, 0.01},
                                            Case{Domain::Cylindrical, 320, 64, 1, 0.0},
                                            Case{Domain::Cylindrical, 301, 97, 1, 0.02, 5e-4},
-                                           Case{Domain::Spherical, 512, 128, 1, 0.0, 2e-4}));
+                                           Case{Domain::Spherical, 512, 128, 1, 0.0, 2e-4},
+                                           Case{Domain::Planar, 2560, 64, 1, 0.0, 2e-4}, Case{Domain::Cylindrical, 2560, 64, 1, 0.0, 2e-4}));
 
 TEST(BandsOptions, TooManyBandsForTheWidthIsAUsageError) {
   const Case k{Domain::Planar, 64, 32, 1, 0.0};
