@@ -19,8 +19,8 @@ struct Case {
   // Agreement after one V-cycle, as a fraction of the range: 1e-4 where the V-cycle itself is
   // accurate to about 1e-4; odd periodic widths (rediscretised coarse levels) and the sphere
   // leave a V-cycle error 40x and 1x that, and orderings differ by a few percent of it. Bands
-  // wide enough for 8-16 row groups a phase (2560 columns) reorder more (docs/how-bands-work.md,
-  // "Groups, phases, regions"): 1.2-1.6e-4 measured there.
+  // wide enough for 4-16 row groups a phase (2560 columns) reorder more (docs/how-bands-work.md,
+  // "Groups, phases, regions"): 0.9-1.4e-4 measured there.
   double agree = 1e-4;
 };
 
