@@ -15,7 +15,8 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   L.bands = bands;
   L.sweeps = sweeps;
   L.periodic = periodic;
-  // Lower G until the finest bands are at least 16 min_band_width() wide.
+  // Lower G until the finest bands are at least 16 min_band_width() wide: edges that are a large
+  // part of a band reorder its rows more (agreement with streaming, tests/bands_test.cc).
   const int finest = h.levels[0].width() / std::max(bands, 1);
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
