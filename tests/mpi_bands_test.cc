@@ -77,6 +77,23 @@ TEST_F(MpiBands, RanksGiveTheThreadResultAndAgreeWithOneBand) {
   }
 }
 
+// bench/mpi_delay (the latency injector) delays messages, in both of its modes, without changing
+// them or their order: the same bits as without it, and no hang.
+TEST_F(MpiBands, DelayedMessagesGiveTheSameBits) {
+  const std::string lib = GDP_MPI_DELAY_LIB;
+  if (lib.empty()) GTEST_SKIP() << "bench/mpi_delay is not built (GDP_BUILD_BENCH=OFF)";
+  ASSERT_EQ(sharpen("threads.tif", 2).code, 0);
+  const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("delayed.tif") +
+                          " --depth float -q --bands 1";
+  for (const std::string from : {"receive", "arrival"}) {
+    SCOPED_TRACE(from);
+    const test::CliRun r =
+        mpi("-np 2 -x LD_PRELOAD=" + lib + " -x GDP_MPI_DELAY_US=300 -x GDP_MPI_DELAY_FROM=" + from + " " + run);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(test::max_difference(result("delayed.tif"), result("threads.tif")), 0.0);
+  }
+}
+
 TEST_F(MpiBands, SameBitsRunToRun) {
   ASSERT_EQ(sharpen("a.tif", 1, 3).code, 0);
   ASSERT_EQ(sharpen("b.tif", 1, 3).code, 0);

@@ -10,16 +10,21 @@
 namespace gdp::bands {
 
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
-                            int green_lane) {
+                            int green_lane, int phase_groups) {
   BandLayout L;
   L.bands = bands;
   L.sweeps = sweeps;
   L.periodic = periodic;
-  L.halo = std::max(2 * sweeps, 4);
-  // Red and blue lanes: the halo plus both extensions of the tiles (2 (k - 1) each way) and
-  // room for the stencil, so that only they touch the columns a neighbour keeps a copy of.
-  L.edge_lane = L.halo + 4 * std::max(sweeps - 1, 0) + 4;
-  L.green_lane = std::max(green_lane, L.edge_lane);
+  // Lower G until the finest bands are at least 16 min_band_width() wide: edges that are a large
+  // part of a band reorder its rows more (agreement with streaming, tests/bands_test.cc).
+  const int finest = h.levels[0].width() / std::max(bands, 1);
+  // Spherical rows next to the poles read rows mirrored left to right, columns far from their
+  // own: a lead region running G groups ahead would change what they read. One group a phase.
+  const bool mirrored = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
+  L.phase_groups = mirrored ? 1 : std::max(phase_groups, 1);
+  while (L.phase_groups > 1 && finest < 16 * L.min_band_width()) L.phase_groups /= 2;
+  L.halo = band_halo(sweeps, L.phase_groups);
+  L.green_lane = std::max(green_lane, 2 * L.edge());
   const int count = static_cast<int>(h.levels.size());
   const auto fits = [&](int levels) {
     // Boundaries on multiples of 2^(levels - 1), halved level by level.

@@ -1,6 +1,7 @@
 // Where the bands lie on every level, and the lanes inside them (docs/how-bands-work.md).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "multigrid/hierarchy.h"
@@ -10,9 +11,9 @@ namespace gdp::bands {
 struct BandLayout {
   int bands = 1;
   int sweeps = 3;        // k: Gauss-Seidel sweeps per pass
-  int halo = 4;          // columns kept of each neighbour: max(2k, 4)
-  int edge_lane = 0;     // width of the red and blue lanes
-  int green_lane = 0;    // the green lane is split into lanes of about this width (cache locality)
+  int phase_groups = 1;  // G: row groups per phase (one strip each way per phase)
+  int halo = 4;          // columns kept of each neighbour: band_halo(k, G)
+  int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
   int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is gathered to worker 0
   bool periodic = false;
   // bounds[l][b] .. bounds[l][b + 1]: the columns band b owns on level l (l = 0 .. levels).
@@ -24,17 +25,34 @@ struct BandLayout {
   int row_length(int l, int b) const { return end(l, b) - begin(l, b) + 2 * halo; }
   int left(int b) const { return b > 0 ? b - 1 : periodic ? bands - 1 : -1; }   // -1: none
   int right(int b) const { return b + 1 < bands ? b + 1 : periodic ? 0 : -1; }
-  // 2(k - s): how far sweep s's tiles are shifted (section 6.2); s = 1 .. k.
+  // 2(k - s): how far sweep s's interior lanes are shifted (section 6.2); s = 1 .. k.
   int shift(int s) const { return 2 * (sweeps - s); }
+  // G + k - 1: the (group, sweep) steps u = t - t0 + s - 1 of a phase; tiles move 2 columns a step.
+  int steps() const { return phase_groups + sweeps - 1; }
+  // How far a band's lead region reaches into the neighbour's band at a phase's first step (it
+  // moves back 2 columns a step): 2(G + k - 2) on level 0, whose rows arrive with the
+  // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts).
+  int lead_offset(int l) const { return l == 0 ? 2 * (steps() - 1) : 0; }
+  // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
+  int edge() const { return 4 * steps(); }
   // The narrowest band a level may have.
-  int min_band_width() const { return 2 * edge_lane + 4; }
+  int min_band_width() const { return 2 * edge() + 4; }
 };
+
+// The halo a band keeps of each neighbour for k sweeps and G groups per phase: max(2(G + k - 1), 4).
+inline int band_halo(int sweeps, int phase_groups) { return std::max(2 * (phase_groups + sweeps - 1), 4); }
+
+// Row groups per phase when none is asked for: enough rows between a strip's sending and its use
+// to hide about a millisecond of network latency on the images measured in docs/how-bands-work.md.
+constexpr int kDefaultPhaseGroups = 16;
 
 // Bands of (nearly) equal width, boundaries on multiples of 2^(levels - 1) so that each level's
 // bands halve into the next one's. Levels are banded while every band stays at least
 // min_band_width() wide, and at most up to `max_levels` (the first level small enough to hold
-// whole); the rest run on worker 0. Throws UsageError when even the finest level is too narrow.
+// whole); the rest run on worker 0. `phase_groups` (G) is lowered, down to 1, while the finest
+// level's bands are narrower than 16 min_band_width(). Throws UsageError when even the finest level
+// is too narrow for G = 1.
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
-                            int green_lane = 4096);
+                            int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
 
 }  // namespace gdp::bands

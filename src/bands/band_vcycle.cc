@@ -1,4 +1,4 @@
-// Band V-cycle: groups of tiled sweeps per level, strips exchanged between lanes, tail on worker 0.
+// Band V-cycle: phases of tiled sweeps per level (band_phase.h), strips exchanged once a phase, tail on worker 0.
 #include "bands/band_vcycle.h"
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "bands/band_phase.h"
 #include "multigrid/band_ops.h"
 
 namespace gdp::bands {
@@ -62,12 +63,12 @@ struct BandVCycle<T>::Level {
   const LevelOperator<T>* op = nullptr;
   int width = 0, height = 0, ring = 0;
   int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
-  std::vector<int> lanes;                 // lane boundaries: A, red end, green ends..., B
   std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
   multigrid::BandScratch<T> scratch;
-  int groups = 0;         // groups per pass: height + 2k + 3
+  int phases = 0;         // phases per pass (band_phase.h)
   int arrived = 0;        // rows that entered this pass
-  int next_group = 0;     // the next group to run
+  int next_phase = 0;     // the next phase to run
+  int finished = 0;       // rows restricted (or measured) in this pass
   int zeroed = 0;         // restriction pass: coarser rows cleared for accumulation
   int next_complete = 0;  // restriction pass: coarser rows completed by this level
   int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
@@ -95,18 +96,13 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     L->B = layout.end(l, band_);
     L->origin = layout.origin(l, band_);
     L->len = layout.row_length(l, band_);
-    L->lanes = {L->A, L->A + layout.edge_lane};
-    const int green = (L->B - layout.edge_lane) - (L->A + layout.edge_lane);
-    const int count = std::max(1, (green + layout.green_lane / 2) / layout.green_lane);
-    for (int q = 1; q < count; ++q) L->lanes.push_back(L->A + layout.edge_lane + green * q / count);
-    L->lanes.push_back(L->B - layout.edge_lane);
-    L->lanes.push_back(L->B);
     for (int j = 0; j < op.height; ++j)
       for (int d = 0; d < 5; ++d)
         if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
           throw std::logic_error("bands need every row's neighbours within two rows");
-    L->ring = 2 * k_ + 16;
-    L->groups = op.height + 2 * k_ + 3;
+    // Live rows span at most about 3 phases (check_slot says if not).
+    L->ring = 4 * layout.phase_groups + 2 * k_ + 16;
+    L->phases = phase_count(layout, op.height);
     const std::size_t slot = static_cast<std::size_t>(channels) * L->len;
     L->u.assign(L->ring * slot, T(0));
     L->b.assign(L->ring * slot, T(0));
@@ -196,7 +192,7 @@ void BandVCycle<T>::begin_cycle() {
   const int channels = set_.channels;
   for (int l = 0; l < static_cast<int>(levels_.size()); ++l) {
     Level& L = *levels_[l];
-    L.arrived = L.next_group = L.zeroed = L.next_complete = L.needed_from = 0;
+    L.arrived = L.next_phase = L.finished = L.zeroed = L.next_complete = L.needed_from = 0;
     L.rr.assign(channels, 0.0);
     L.dots.assign(channels, 0.0);
     L.u_store->clear();
@@ -221,7 +217,7 @@ void BandVCycle<T>::begin_cycle() {
 template <class T>
 void BandVCycle<T>::check_slot(int l, int row) const {
   const Level& L = *levels_[l];
-  int live = L.next_group - 2 * k_ - 5;
+  int live = L.finished;  // the strips and tiles of the phases to come read no row below it
   if (prolongation_) live = std::min(live, L.needed_from);
   if (row - L.ring >= live)
     throw std::logic_error(fmt::format("band ring overrun on level {} at row {}", l, row));
@@ -268,104 +264,65 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
 template <class T>
 void BandVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
-  while (L.next_group < L.groups && (L.next_group < L.arrived || L.arrived == L.height)) {
-    const int g = L.next_group;
-    run_group(l, g);
-    L.next_group = g + 1;
+  const int G = layout_.phase_groups;
+  while (L.next_phase < L.phases && (L.next_phase * G + G - 1 < L.arrived || L.arrived == L.height)) {
+    const int p = L.next_phase;
+    run_phase(l, p);
+    L.next_phase = p + 1;
   }
 }
 
 template <class T>
-void BandVCycle<T>::run_group(int l, int g) {
-  const Level& L = *levels_[l];
-  const int last = static_cast<int>(L.lanes.size()) - 2;  // lanes 0 (red) .. last (blue)
-  if (g % 2 == 0) {  // left to right
-    relax_lane(l, g, 0, true);
-    send_strips(l, g, true);
-    for (int q = 1; q < last; ++q) relax_lane(l, g, q, true);
-    receive_strips(l, g, false);
-    relax_lane(l, g, last, true);
-  } else {  // right to left
-    relax_lane(l, g, last, false);
-    send_strips(l, g, false);
-    for (int q = last - 1; q >= 1; --q) relax_lane(l, g, q, false);
-    receive_strips(l, g, true);
-    relax_lane(l, g, 0, false);
-  }
-  const int j = g - 2 * k_ - 3;
-  if (j >= 0 && j < L.height) finish_row(l, j);
-}
-
-template <class T>
-void BandVCycle<T>::relax_lane(int l, int g, int q, bool forward) {
+void BandVCycle<T>::run_phase(int l, int p) {
   Level& L = *levels_[l];
-  const int last = static_cast<int>(L.lanes.size()) - 2;
-  const bool has_left = layout_.left(band_) >= 0, has_right = layout_.right(band_) >= 0;
-  for (int s = 1; s <= k_; ++s) {
-    const int j = g - 2 * s;
-    if (j < 0 || j >= L.height) continue;
-    // Lane boundaries inside the band move with the traversal, band boundaries against it.
-    const int d = layout_.shift(s), dir = forward ? 1 : -1;
-    int lo = L.lanes[q], hi = L.lanes[q + 1];
-    lo = q == 0 ? (has_left ? lo - dir * d : lo) : lo + dir * d;
-    hi = q == last ? (has_right ? hi - dir * d : hi) : hi + dir * d;
-    for (int c = 0; c < set_.channels; ++c)
-      multigrid::relax_columns(*L.op, j, window(l, c, j), u_row(l, c, j), b_row(l, c, j), lo, hi, forward, L.scratch,
-                               d_row(l, j));
-  }
+  plan_phase(
+      layout_, l, band_, L.height, p,
+      [&](const Tile& t) {
+        for (int c = 0; c < set_.channels; ++c)
+          multigrid::relax_columns(*L.op, t.row, window(l, c, t.row), u_row(l, c, t.row), b_row(l, c, t.row), t.lo,
+                                   t.hi, t.forward, L.scratch, d_row(l, t.row));
+      },
+      [&](bool left) { send_strips(l, p, left); }, [&](bool left) { receive_strips(l, p, left); });
+  while (L.finished < L.height && final_phase(layout_, L.height, L.finished) <= p) finish_row(l, L.finished++);
 }
 
-// The strip a group sends: u of the rows the neighbour may read before the next message
-// (the window, rows g - 2k - 2 .. g), with the columns of the neighbour's band that this group
-// relaxed (2(k - s) on row g - 2s); b, w and d of the rows that arrived in the last two groups.
-// One description for both ends: f gets each piece in the same order when sending and receiving.
+// The strip of phase p (band_phase.h strip_shape): u, then b, w and d, row by row and channel by
+// channel. One description for both ends: f gets each piece in the same order when sending and receiving.
 template <class T>
 template <class F>
-void BandVCycle<T>::strip_rows(int l, int g, bool left, bool outgoing, F&& f) {
+void BandVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
   Level& L = *levels_[l];
-  const int H = layout_.halo;
-  const auto extra = [&](int row) {
-    const int d = g - row;
-    return d >= 2 && d <= 2 * k_ && d % 2 == 0 ? layout_.shift(d / 2) : 0;
-  };
-  const int r0 = std::max(0, g - 2 * k_ - 2), r1 = std::min(g, L.height - 1);
+  const StripShape s = strip_shape(layout_, l, band_, L.height, p, left, outgoing);
+  const auto n = static_cast<std::size_t>(s.u_cols[1] - s.u_cols[0]);
+  const auto m = static_cast<std::size_t>(s.b_cols[1] - s.b_cols[0]);
+  const int at = s.u_cols[0] - L.origin, bat = s.b_cols[0] - L.origin;
   for (int c = 0; c < set_.channels; ++c)
-    for (int row = r0; row <= r1; ++row) {
-      // Outgoing to the left: our columns [A - e, A + H); incoming from the left: its columns
-      // [A - H, A + e) in our numbering (and the mirror image on the right).
-      const int e = extra(row);
-      const int lo = left ? (outgoing ? L.A - e : L.A - H) : (outgoing ? L.B - H : L.B - e);
-      const int hi = left ? (outgoing ? L.A + H : L.A + e) : (outgoing ? L.B + e : L.B + H);
-      f(u_row(l, c, row) + (lo - L.origin), static_cast<std::size_t>(hi - lo));
-    }
-  const int b0 = std::max(0, g - 1), b1 = std::min(g, L.height - 1);
-  const int at = (left ? (outgoing ? L.A : L.A - H) : (outgoing ? L.B - H : L.B)) - L.origin;
-  const auto h = static_cast<std::size_t>(H);
+    for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) f(u_row(l, c, row) + at, n);
   for (int c = 0; c < set_.channels; ++c)
-    for (int row = b0; row <= b1; ++row) f(b_row(l, c, row) + at, h);
+    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(b_row(l, c, row) + bat, m);
   if (set_.weights)
-    for (int row = b0; row <= b1; ++row) f(w_row(l, row) + at, h);
+    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(w_row(l, row) + bat, m);
   if (set_.diagonal)
-    for (int row = b0; row <= b1; ++row) f(d_row(l, row) + at, h);
+    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(d_row(l, row) + bat, m);
 }
 
 template <class T>
-void BandVCycle<T>::send_strips(int l, int g, bool to_left) {
+void BandVCycle<T>::send_strips(int l, int p, bool to_left) {
   const int to = to_left ? layout_.left(band_) : layout_.right(band_);
   if (to < 0) return;
-  Packer p;
-  strip_rows(l, g, to_left, true, [&](const T* row, std::size_t n) { p.put(row, n); });
-  net_.send(to, l, std::move(p.bytes));
+  Packer pk;
+  strip_rows(l, p, to_left, true, [&](const T* row, std::size_t n) { pk.put(row, n); });
+  net_.send(to, l, std::move(pk.bytes));
 }
 
 template <class T>
-void BandVCycle<T>::receive_strips(int l, int g, bool from_left) {
+void BandVCycle<T>::receive_strips(int l, int p, bool from_left) {
   const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
   if (from_worker < 0) return;
   const Bytes bytes = net_.receive(from_worker, l);
-  Unpacker p(bytes);
-  strip_rows(l, g, from_left, false, [&](T* row, std::size_t n) { p.get(row, n); });
-  p.finish();
+  Unpacker un(bytes);
+  strip_rows(l, p, from_left, false, [&](T* row, std::size_t n) { un.get(row, n); });
+  un.finish();
 }
 
 template <class T>
@@ -550,7 +507,7 @@ void BandVCycle<T>::pull(std::span<T> u) {
     prolongation_ = true;
     levels_[0]->inputs_stored = true;
     for (auto& L : levels_) {
-      L->arrived = L->next_group = L->needed_from = 0;
+      L->arrived = L->next_phase = L->finished = L->needed_from = 0;
       L->u_store->rewind();
       L->b_store->rewind();
       if (L->d_store) L->d_store->rewind();
@@ -568,9 +525,8 @@ void BandVCycle<T>::pull(std::span<T> u) {
 template <class T>
 void BandVCycle<T>::ensure_final(int l, int row) {
   Level& L = *levels_[l];
-  const int target = std::min(row + 2 * k_ + 4, L.groups);  // groups up to row + 2k + 3 done
-  while (L.next_group < target) {
-    const int before = L.next_group;
+  while (L.finished <= row) {
+    const int before = L.next_phase;
     if (L.arrived < L.height) {
       const int r = L.arrived;
       check_slot(l, r);
@@ -596,8 +552,8 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       ++L.arrived;
     }
     advance(l);
-    if (L.next_group == before && L.arrived == L.height)
-      throw std::logic_error(fmt::format("band level {} stalled at group {}", l, before));
+    if (L.next_phase == before && L.arrived == L.height)
+      throw std::logic_error(fmt::format("band level {} stalled at phase {}", l, before));
   }
 }
 

@@ -19,13 +19,13 @@ namespace gdp::bands {
 // lockstep (docs/how-bands-work.md):
 //  - rows are relaxed in groups: group g holds sweep s of row g - 2s for s = 1 .. k, which is
 //    k Gauss-Seidel sweeps when groups run in order; groups alternate direction
-//    (boustrophedon), and inside a group the band's lanes are the outer loop: red lane (all k
-//    rows), send the boundary strip to the neighbour behind, green lanes, receive the strip
-//    from the neighbour ahead, blue lane. Each sweep's tiles are shifted by 2(k - s) columns
-//    so that one sweep's rows never wait for another worker within the group (section 6.2).
-//  - a row is restricted (and measured) three groups after its last sweep, once both halos
-//    hold the neighbours' final values; the level that is no longer banded is gathered to
-//    worker 0, solved in-core there and handed back whole.
+//    (boustrophedon). G groups make a phase (band_phase.h): the band relaxes its lead edge
+//    for all of them, sends one strip to the neighbour it leads against, relaxes its interior
+//    group by group, receives one strip from the neighbour it follows and relaxes its follow
+//    edge; a strip is needed a whole phase after it was sent, which hides network latency.
+//  - a row is restricted (and measured) once both halos hold the neighbours' final values
+//    (final_phase); the level that is no longer banded is gathered to worker 0, solved
+//    in-core there and handed back whole.
 // Rows handed in and out are a band's columns with `layout.halo` columns of each neighbour
 // on both sides: channels * layout.row_length(0, band) samples (w: one channel).
 template <class T>
@@ -63,14 +63,13 @@ class BandVCycle {
  private:
   struct Level;
   void advance(int l);
-  void run_group(int l, int g);
-  void relax_lane(int l, int g, int lane, bool forward);
-  void send_strips(int l, int g, bool to_left);
-  void receive_strips(int l, int g, bool from_left);
-  // The pieces of the strip exchanged with the neighbour on the `left` (else right) side after
-  // group g, as (row pointer, count) in one order for the sender (`outgoing`) and the receiver.
+  void run_phase(int l, int p);
+  void send_strips(int l, int p, bool to_left);
+  void receive_strips(int l, int p, bool from_left);
+  // The pieces of the strip exchanged with the neighbour on the `left` (else right) side in
+  // phase p, as (row pointer, count) in one order for the sender (`outgoing`) and the receiver.
   template <class F>
-  void strip_rows(int l, int g, bool left, bool outgoing, F&& f);
+  void strip_rows(int l, int p, bool left, bool outgoing, F&& f);
   void finish_row(int l, int j);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);

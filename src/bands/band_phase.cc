@@ -1,0 +1,62 @@
+// Phase geometry of the band schedule: region boundaries per step, interior lanes, strip extents.
+#include "bands/band_phase.h"
+
+#include <algorithm>
+
+namespace gdp::bands {
+
+int phase_count(const BandLayout& L, int height) {
+  return (height - 1 + 2 * L.sweeps) / L.phase_groups + 2;
+}
+
+int final_phase(const BandLayout& L, int height, int j) {
+  // Rows j - 2 .. j + 2 have had their last sweep (group row + 2k) and, one phase later, the
+  // neighbour's writes into this band's edge have come back in its strip.
+  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + 1;
+}
+
+PhaseRegions phase_regions(const BandLayout& L, int l, int band, int p, int u) {
+  const int A = L.begin(l, band), B = L.end(l, band), C = L.edge(), o = L.lead_offset(l);
+  const int left = L.left(band) >= 0 ? 2 * u - o : 0, right = L.right(band) >= 0 ? 2 * u - o : 0;
+  PhaseRegions r;
+  if (p % 2 == 0) {  // lead at the left edge, follow at the right one
+    r.lead[0] = A + left, r.lead[1] = A + C - 2 * u;
+    r.mid[0] = A + C - 2 * u, r.mid[1] = B - C - 2 * u;
+    r.follow[0] = B - C - 2 * u, r.follow[1] = B + right;
+  } else {
+    r.lead[0] = B - C + 2 * u, r.lead[1] = B - right;
+    r.mid[0] = A + C + 2 * u, r.mid[1] = B - C + 2 * u;
+    r.follow[0] = A - left, r.follow[1] = A + C + 2 * u;
+  }
+  return r;
+}
+
+std::vector<int> interior_lanes(const BandLayout& L, int l, int band) {
+  const int a = L.begin(l, band) + L.edge(), b = L.end(l, band) - L.edge();
+  const int width = b - a, count = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
+  std::vector<int> inner;
+  for (int q = 1; q < count; ++q) inner.push_back(a + static_cast<int>(static_cast<long long>(width) * q / count));
+  return inner;
+}
+
+StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {
+  const int G = L.phase_groups, k = L.sweeps, t0 = p * G, H = L.halo, ext = 2 * (L.steps() - 1);
+  const int A = L.begin(l, band), B = L.end(l, band);
+  StripShape s;
+  // u: every row this band relaxed since its last strip that way (phases p - 1 and p) and the
+  // rows the follower reads around them; the columns it may have written last: its own H
+  // columns by the edge and `ext` of the neighbour's (written as follower in phase p - 1).
+  s.u_rows[0] = std::max(0, t0 - G - 2 * k - 2), s.u_rows[1] = std::min(t0 + G - 1, height - 1);
+  // b (w, d): the rows that arrived since the last strip that way, H columns of the sender's.
+  s.b_rows[0] = std::max(0, t0 - G), s.b_rows[1] = std::min(t0 + G - 1, height - 1);
+  if (left) {
+    s.u_cols[0] = outgoing ? A - ext : A - H, s.u_cols[1] = outgoing ? A + H : A + ext;
+    s.b_cols[0] = outgoing ? A : A - H, s.b_cols[1] = outgoing ? A + H : A;
+  } else {
+    s.u_cols[0] = outgoing ? B - H : B - ext, s.u_cols[1] = outgoing ? B + ext : B + H;
+    s.b_cols[0] = outgoing ? B - H : B, s.b_cols[1] = outgoing ? B : B + H;
+  }
+  return s;
+}
+
+}  // namespace gdp::bands
