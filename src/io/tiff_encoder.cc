@@ -1,0 +1,226 @@
+// Encoding TIFF with libtiff: strips or tiles, 8/16-bit unsigned or 32/64-bit float, compressed, through a checked file.
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/codec_util.h"
+#include "io/codecs.h"
+#include "io/output_file.h"
+#include "io/tiff_util.h"
+
+namespace gdp::io {
+namespace {
+
+// libtiff's I/O through an io::OutputFile (handle = the encoder's Io). Writes always "succeed";
+// a failure is recorded in the file and reported by the encoder.
+struct Io {
+  OutputFile* file = nullptr;
+  std::int64_t at = 0;
+};
+
+tmsize_t io_read(thandle_t h, void* data, tmsize_t size) {
+  Io* io = static_cast<Io*>(h);
+  const std::size_t n = io->file->read_at(io->at, data, static_cast<std::size_t>(size));
+  io->at += static_cast<std::int64_t>(n);
+  return static_cast<tmsize_t>(n);
+}
+
+tmsize_t io_write(thandle_t h, void* data, tmsize_t size) {
+  Io* io = static_cast<Io*>(h);
+  io->file->write_at(io->at, data, static_cast<std::size_t>(size));
+  io->at += size;
+  return size;
+}
+
+toff_t io_seek(thandle_t h, toff_t offset, int whence) {
+  Io* io = static_cast<Io*>(h);
+  const auto off = static_cast<std::int64_t>(offset);
+  if (whence == SEEK_SET) io->at = off;
+  else if (whence == SEEK_CUR) io->at += off;
+  else io->at = io->file->size() + off;
+  return static_cast<toff_t>(io->at);
+}
+
+int io_close(thandle_t) { return 0; }  // the encoder closes the file itself
+toff_t io_size(thandle_t h) { return static_cast<toff_t>(static_cast<Io*>(h)->file->size()); }
+int io_map(thandle_t, void**, toff_t*) { return 0; }
+void io_unmap(thandle_t, void*, toff_t) {}
+
+// WriteOptions::compression ("zip", "lzw:...", ...) as a libtiff code and a level (0: default).
+// Unknown or unavailable names give zip (deflate), as OpenImageIO 2.4 did.
+std::pair<std::uint16_t, int> compression_of(const std::string& text) {
+  std::string name = text.substr(0, text.find(':'));
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const int level = text.find(':') == std::string::npos ? 0 : std::atoi(text.c_str() + text.find(':') + 1);
+  std::uint16_t code = COMPRESSION_ADOBE_DEFLATE;
+  if (name == "none") code = COMPRESSION_NONE;
+  else if (name == "lzw") code = COMPRESSION_LZW;
+  else if (name == "packbits") code = COMPRESSION_PACKBITS;
+  else if (name == "jpeg") code = COMPRESSION_JPEG;
+  else if (name == "zstd") code = COMPRESSION_ZSTD;
+  else if (name == "lzma") code = COMPRESSION_LZMA;
+  if (!TIFFIsCODECConfigured(code)) code = COMPRESSION_ADOBE_DEFLATE;
+  return {code, level};
+}
+
+class TiffEncoder final : public Encoder {
+ public:
+  ~TiffEncoder() override {
+    if (tif_) TIFFCleanup(tif_);  // abandoned: free without writing the directory
+  }
+
+  std::string format_name() const override { return "tiff"; }
+
+  void open(const std::string& path, const EncodeSpec& spec) override {
+    file_ = std::make_unique<OutputFile>(path);
+    check_file();
+    io_.file = file_.get();
+    width_ = spec.width;
+    height_ = spec.height;
+    channels_ = spec.channels;
+    tile_ = spec.tile_size;
+    switch (spec.sample_type) {
+      case SampleType::UInt8: kind_ = TiffSample::U8; break;
+      case SampleType::UInt16: kind_ = TiffSample::U16; break;
+      case SampleType::Double: kind_ = TiffSample::F64; break;
+      default: kind_ = TiffSample::F32; break;  // Half is written as Float, as OpenImageIO 2.4 did
+    }
+    stored_ = kind_ == TiffSample::U8 ? SampleType::UInt8 : kind_ == TiffSample::U16 ? SampleType::UInt16 : SampleType::Float;
+    tif_ = TIFFClientOpenExt(path.c_str(), spec.bigtiff ? "w8" : "w", &io_, io_read, io_write, io_seek, io_close,
+                             io_size, io_map, io_unmap, messages_.options());
+    if (!tif_) throw failure();
+    const bool floating = kind_ == TiffSample::F32 || kind_ == TiffSample::F64;
+    const int bits = static_cast<int>(tiff_sample_bytes(kind_) * 8);
+    auto [compression, level] = compression_of(spec.compression);
+    if (compression == COMPRESSION_JPEG && !(kind_ == TiffSample::U8 && channels_ == 3))
+      compression = COMPRESSION_ADOBE_DEFLATE;  // JPEG holds 8-bit RGB only
+    int photometric = channels_ >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
+    TIFFSetField(tif_, TIFFTAG_IMAGEWIDTH, static_cast<std::uint32_t>(width_));
+    TIFFSetField(tif_, TIFFTAG_IMAGELENGTH, static_cast<std::uint32_t>(height_));
+    TIFFSetField(tif_, TIFFTAG_SAMPLESPERPIXEL, static_cast<std::uint16_t>(channels_));
+    TIFFSetField(tif_, TIFFTAG_BITSPERSAMPLE, static_cast<std::uint16_t>(bits));
+    TIFFSetField(tif_, TIFFTAG_SAMPLEFORMAT, floating ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT);
+    TIFFSetField(tif_, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif_, TIFFTAG_ORIENTATION, ORIENTATION_TOPLEFT);
+    TIFFSetField(tif_, TIFFTAG_COMPRESSION, compression);
+    if (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_LZW ||
+        compression == COMPRESSION_ZSTD || compression == COMPRESSION_LZMA)
+      TIFFSetField(tif_, TIFFTAG_PREDICTOR, floating ? PREDICTOR_FLOATINGPOINT : PREDICTOR_HORIZONTAL);
+    if (compression == COMPRESSION_ADOBE_DEFLATE && level > 0) TIFFSetField(tif_, TIFFTAG_ZIPQUALITY, std::clamp(level, 1, 9));
+    if (compression == COMPRESSION_ZSTD && level > 0) TIFFSetField(tif_, TIFFTAG_ZSTD_LEVEL, std::clamp(level, 1, 22));
+    if (compression == COMPRESSION_LZMA && level > 0) TIFFSetField(tif_, TIFFTAG_LZMAPRESET, std::clamp(level, 0, 9));
+    if (compression == COMPRESSION_JPEG) {
+      TIFFSetField(tif_, TIFFTAG_JPEGQUALITY, std::clamp(level > 0 ? level : 95, 1, 100));
+      photometric = PHOTOMETRIC_YCBCR;  // libjpeg converts from RGB: compresses much better
+    }
+    TIFFSetField(tif_, TIFFTAG_PHOTOMETRIC, photometric);
+    if (compression == COMPRESSION_JPEG) TIFFSetField(tif_, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
+    if (channels_ == 2 || channels_ == 4) {
+      const std::uint16_t extra[1] = {EXTRASAMPLE_UNASSALPHA};  // the last channel: alpha, kept as given
+      TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, 1, extra);
+    } else if (channels_ > 4) {
+      std::vector<std::uint16_t> extra(static_cast<std::size_t>(channels_ - 3), EXTRASAMPLE_UNSPECIFIED);
+      TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, static_cast<std::uint16_t>(extra.size()), extra.data());
+    }
+    if (tile_ > 0) {
+      TIFFSetField(tif_, TIFFTAG_TILEWIDTH, static_cast<std::uint32_t>(tile_));
+      TIFFSetField(tif_, TIFFTAG_TILELENGTH, static_cast<std::uint32_t>(tile_));
+      chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * tiff_sample_bytes(kind_));
+    } else {
+      TIFFSetField(tif_, TIFFTAG_ROWSPERSTRIP, compression == COMPRESSION_JPEG ? 64u : 32u);
+      if (kind_ == TiffSample::F64) chunk_.resize(static_cast<std::size_t>(width_) * channels_ * 8);
+    }
+    check();
+  }
+
+  SampleType stored() const override { return stored_; }
+  bool integer_file() const override { return kind_ == TiffSample::U8 || kind_ == TiffSample::U16; }
+
+  void write(int y0, int y1, const void* rows) override {
+    const auto* src = static_cast<const unsigned char*>(rows);
+    const std::size_t row_bytes = static_cast<std::size_t>(width_) * channels_ * sample_bytes(stored_);
+    if (tile_ > 0) {
+      write_tiles(y0, y1, src, row_bytes);
+    } else {
+      for (int y = y0; y < y1; ++y) {
+        void* row = const_cast<unsigned char*>(src + (y - y0) * row_bytes);
+        if (kind_ == TiffSample::F64) {
+          to_double(static_cast<const unsigned char*>(row), chunk_.data(), static_cast<std::size_t>(width_) * channels_);
+          row = chunk_.data();
+        }
+        if (TIFFWriteScanline(tif_, row, static_cast<std::uint32_t>(y), 0) < 0) throw failure();
+      }
+    }
+    check();
+  }
+
+  void close() override {
+    const bool flushed = TIFFFlush(tif_) == 1;
+    check();
+    if (!flushed) throw failure();
+    TIFFClose(tif_);
+    tif_ = nullptr;
+    file_->close();
+    check_file();
+  }
+
+ private:
+  static void to_double(const unsigned char* src, unsigned char* dst, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) {
+      float f;
+      std::memcpy(&f, src + i * 4, 4);
+      const double d = f;
+      std::memcpy(dst + i * 8, &d, 8);
+    }
+  }
+
+  // Whole tile rows: each tile gathered from the band (zeros past the image's edges), then encoded.
+  void write_tiles(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
+    const std::size_t in = sample_bytes(stored_), out = tiff_sample_bytes(kind_);
+    for (int ty = y0; ty < y1; ty += tile_) {
+      for (int tx = 0; tx < width_; tx += tile_) {
+        std::fill(chunk_.begin(), chunk_.end(), 0);
+        const int rows = std::min({tile_, y1 - ty}), cols = std::min(tile_, width_ - tx);
+        for (int r = 0; r < rows; ++r) {
+          const unsigned char* from = src + static_cast<std::size_t>(ty - y0 + r) * row_bytes + tx * channels_ * in;
+          unsigned char* to = chunk_.data() + static_cast<std::size_t>(r) * tile_ * channels_ * out;
+          const std::size_t count = static_cast<std::size_t>(cols) * channels_;
+          if (kind_ == TiffSample::F64) to_double(from, to, count);
+          else std::memcpy(to, from, count * in);
+        }
+        const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
+        if (TIFFWriteEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
+      }
+    }
+  }
+
+  void check_file() const {
+    if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
+  }
+  void check() {
+    check_file();
+  }
+  CodecError failure() {
+    if (file_->failed()) return CodecError("cannot write: " + file_->problem());
+    return CodecError("cannot write: " + messages_.take());
+  }
+
+  std::unique_ptr<OutputFile> file_;
+  Io io_;
+  TiffMessages messages_;
+  TIFF* tif_ = nullptr;  // last: cleaned up first
+  TiffSample kind_ = TiffSample::F32;
+  SampleType stored_ = SampleType::Float;
+  int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0;
+  std::vector<unsigned char> chunk_;
+};
+
+}  // namespace
+
+std::unique_ptr<Encoder> create_tiff_encoder() { return std::make_unique<TiffEncoder>(); }
+
+}  // namespace gdp::io
