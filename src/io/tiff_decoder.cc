@@ -27,7 +27,8 @@ class TiffDecoder final : public Decoder {
 
   // False for a variant left to OpenImageIO (palette, CMYK, 1-bit, signed integers, ...).
   bool open(const std::string& path) {
-    tif_ = TIFFOpenExt(path.c_str(), "r", messages_.options());
+    // "m": no memory mapping, whose touched pages would count as resident memory (the whole file).
+    tif_ = TIFFOpenExt(path.c_str(), "rm", messages_.options());
     if (!tif_) throw CodecError(fmt::format("not a TIFF file libtiff can read ({})", messages_.take()));
     std::uint32_t width = 0, height = 0;
     std::uint16_t spp = 1, bits = 1, format = SAMPLEFORMAT_UINT, photometric = 0, planar = PLANARCONFIG_CONTIG;
