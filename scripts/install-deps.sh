@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libpng-dev libtiff-dev libjpeg-dev     # gdp's own PNG, TIFF and JPEG codecs (zlib comes with them)
+  libdeflate-dev                         # TIFF strips deflated on two threads
   libopenimageio-dev openimageio-tools   # other formats (EXR, HDR, FITS, ...) in the loadable module; oiiotool
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks

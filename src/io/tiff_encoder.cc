@@ -10,10 +10,14 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/output_file.h"
+#include "io/tiff_strip_compressor.h"
 #include "io/tiff_util.h"
 
 namespace gdp::io {
 namespace {
+
+constexpr int kCompressThreads = 2;
+constexpr std::size_t kStripBytes = std::size_t{1} << 20;
 
 // libtiff's I/O through an io::OutputFile (handle = the encoder's Io). Writes always "succeed";
 // a failure is recorded in the file and reported by the encoder.
@@ -131,9 +135,20 @@ class TiffEncoder final : public Encoder {
       TIFFSetField(tif_, TIFFTAG_TILELENGTH, static_cast<std::uint32_t>(tile_));
       chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * tiff_sample_bytes(kind_));
     } else {
-      rows_per_strip_ = compression == COMPRESSION_JPEG ? 64 : 32;
+      // 32 rows (as OpenImageIO wrote them), fewer where a strip would exceed kStripBytes (wide
+      // float images), so that the strips in flight stay small; JPEG needs multiples of 16.
+      const std::size_t file_row = static_cast<std::size_t>(width_) * channels_ * tiff_sample_bytes(kind_);
+      rows_per_strip_ = compression == COMPRESSION_JPEG
+                            ? 64
+                            : static_cast<int>(std::clamp<std::size_t>(kStripBytes / file_row, 1, 32));
       TIFFSetField(tif_, TIFFTAG_ROWSPERSTRIP, static_cast<std::uint32_t>(rows_per_strip_));
       chunk_.reserve(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * tiff_sample_bytes(kind_));
+      // Deflated strips are compressed by gdp on two threads and written raw (same bytes a
+      // reader expects: predictor, then a zlib stream); libtiff would deflate them one at a time.
+      if (compression == COMPRESSION_ADOBE_DEFLATE)
+        compressor_ = std::make_unique<StripCompressor>(
+            StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, level > 0 ? std::clamp(level, 1, 9) : 6},
+            kCompressThreads);
     }
     check();
   }
@@ -153,6 +168,7 @@ class TiffEncoder final : public Encoder {
   }
 
   void close() override {
+    if (compressor_) compressor_->finish(sink());
     const bool flushed = TIFFFlush(tif_) == 1;
     check();
     if (!flushed) throw failure();
@@ -185,6 +201,13 @@ class TiffEncoder final : public Encoder {
       else std::memcpy(chunk_.data() + at, row, file_row);
       if ((y + 1) % rows_per_strip_ == 0 || y + 1 == height_) {
         const tstrile_t strip = static_cast<tstrile_t>(y / rows_per_strip_);
+        if (compressor_) {
+          std::vector<unsigned char> rows;
+          rows.reserve(chunk_.capacity());
+          rows.swap(chunk_);
+          compressor_->submit(static_cast<int>(strip), std::move(rows), sink());
+          continue;
+        }
         if (TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
         chunk_.clear();
       }
@@ -211,6 +234,14 @@ class TiffEncoder final : public Encoder {
     }
   }
 
+  StripCompressor::Sink sink() {
+    return [this](int strip, const std::vector<unsigned char>& data) {
+      if (TIFFWriteRawStrip(tif_, static_cast<tstrile_t>(strip), const_cast<unsigned char*>(data.data()),
+                            static_cast<tmsize_t>(data.size())) < 0)
+        throw failure();
+    };
+  }
+
   void check_file() const {
     if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
   }
@@ -230,6 +261,7 @@ class TiffEncoder final : public Encoder {
   SampleType stored_ = SampleType::Float;
   int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
   std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled
+  std::unique_ptr<StripCompressor> compressor_;  // deflated strips only
 };
 
 }  // namespace
