@@ -66,6 +66,15 @@ TEST_F(CodecErrors, TruncatedFilesAreInputErrors) {
   }
 }
 
+TEST_F(CodecErrors, AJpegMissingOnlyItsEndMarkerStillReads) {
+  const fs::path p = dir_ / "no_eoi.jpg";
+  const Image image = noise(100, 70, 3);
+  oiio_write(p, image, OIIO::TypeDesc::UINT8);
+  const Image whole = read_image(p).image;
+  fs::resize_file(p, fs::file_size(p) - 2);  // FF D9
+  EXPECT_EQ(read_image(p).image.data, whole.data);
+}
+
 TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
   // A deflate-compressed TIFF whose directory is intact but whose middle strips are garbage.
   const fs::path p = dir_ / "garbage.tif";

@@ -26,9 +26,6 @@ std::unique_ptr<Encoder> create_png_encoder();
 std::unique_ptr<Encoder> create_tiff_encoder();
 std::unique_ptr<Encoder> create_jpeg_encoder();
 
-}  // namespace gdp::io
-
-namespace gdp::io {
 // Tiles decoded by gdp's TIFF decoder in this process so far (tests check column windows with it).
 long tiff_tiles_decoded();
 }  // namespace gdp::io

@@ -18,7 +18,7 @@ namespace {
 // libjpeg reports errors by calling error_exit(), which here records the message and longjmp()s
 // back to the setjmp() of the guarded call that started it. Only the guarded functions below call
 // libjpeg, and they hold no C++ objects with destructors. A file that ends early is an error too
-// (libjpeg itself only warns and fills the rest with gray).
+// (libjpeg itself only warns and fills the rest with gray), unless only its end marker is missing.
 struct JpegState {
   jpeg_decompress_struct cinfo{};
   jpeg_error_mgr errors{};
@@ -42,8 +42,15 @@ void on_error(j_common_ptr cinfo) {
   std::longjmp(state_of(cinfo)->jump, 1);
 }
 
+// The file ended early. Fatal unless the rows still to come are within the last row of MCUs,
+// which libjpeg reads ahead of the rows it returns: then only the end marker is missing.
 void on_message(j_common_ptr cinfo, int level) {
-  if (level < 0 && cinfo->err->msg_code == JWRN_JPEG_EOF) on_error(cinfo);  // truncated file
+  if (level >= 0 || cinfo->err->msg_code != JWRN_JPEG_EOF || !cinfo->is_decompressor) return;
+  const auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
+  const JDIMENSION last_mcu_rows = static_cast<JDIMENSION>(d->max_v_samp_factor * DCTSIZE);
+  if (d->global_state == 0 || d->output_height == 0 || d->output_scanline + last_mcu_rows < d->output_height ||
+      d->progressive_mode)
+    on_error(cinfo);
 }
 
 // Reads the header; false on a libjpeg error.

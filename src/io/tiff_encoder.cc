@@ -150,7 +150,7 @@ class TiffEncoder final : public Encoder {
             StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, level > 0 ? std::clamp(level, 1, 9) : 6},
             kCompressThreads);
     }
-    check();
+    check_file();
   }
 
   SampleType stored() const override { return stored_; }
@@ -164,13 +164,13 @@ class TiffEncoder final : public Encoder {
     } else {
       write_strips(y0, y1, src, row_bytes);
     }
-    check();
+    check_file();
   }
 
   void close() override {
     if (compressor_) compressor_->finish(sink());
     const bool flushed = TIFFFlush(tif_) == 1;
-    check();
+    check_file();
     if (!flushed) throw failure();
     TIFFClose(tif_);
     tif_ = nullptr;
@@ -244,9 +244,6 @@ class TiffEncoder final : public Encoder {
 
   void check_file() const {
     if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
-  }
-  void check() {
-    check_file();
   }
   CodecError failure() {
     if (file_->failed()) return CodecError("cannot write: " + file_->problem());
