@@ -144,6 +144,18 @@ TEST_F(NativeCodecs, TiffFromOpenImageIOReadsTheSame) {
       }
 }
 
+TEST_F(NativeCodecs, TiffVariantsGdpLeavesGoThroughOpenImageIOsModule) {
+  for (OIIO::TypeDesc type : {OIIO::TypeDesc::INT16, OIIO::TypeDesc::UINT32, OIIO::TypeDesc::INT8}) {
+    const fs::path p = dir_ / fmt::format("{}.tif", type.c_str());
+    SCOPED_TRACE(p.filename().string());
+    oiio_write_with(p, pattern(40, 30, 3), type, [](OIIO::ImageSpec&) {});
+    EXPECT_FALSE(native(p));
+    const ReadResult ours = read_image(p);
+    expect_same(oiio_read(p), ours.image, p.filename().string());
+    EXPECT_EQ(ours.info.format_name, "tiff");
+  }
+}
+
 TEST_F(NativeCodecs, JpegTiffReadsAsOpenImageIOReadsIt) {
   const fs::path p = dir_ / "jpeg.tif";
   oiio_write_with(p, pattern(64, 48, 3), OIIO::TypeDesc::UINT8,
