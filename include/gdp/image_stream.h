@@ -23,7 +23,7 @@ namespace gdp {
 //
 // A column window reads columns [begin, end) only: width() stays the file's width, and
 // read_row() fills channels x window_width() samples (channel-major, stride window_width()).
-// Tiled TIFFs then decode only the tiles the window overlaps; other files decode whole rows.
+// Tiled files then decode only the tiles the window overlaps; others decode whole rows.
 struct ColumnRange {
   int begin = 0;
   int end = -1;  // -1: the image's width
