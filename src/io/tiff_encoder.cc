@@ -1,4 +1,4 @@
-// Encoding TIFF with libtiff: strips or tiles, 8/16-bit unsigned or 32/64-bit float, compressed, through a checked file.
+// Encoding TIFF with libtiff: strips or tiles, 8/16-bit unsigned or 32/64-bit float, compressed (deflate on two threads), through a checked file.
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -130,10 +130,14 @@ class TiffEncoder final : public Encoder {
       std::vector<std::uint16_t> extra(static_cast<std::size_t>(channels_ - 3), EXTRASAMPLE_UNSPECIFIED);
       TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, static_cast<std::uint16_t>(extra.size()), extra.data());
     }
+    const int deflate_level = level > 0 ? std::clamp(level, 1, 9) : 6;
     if (tile_ > 0) {
       TIFFSetField(tif_, TIFFTAG_TILEWIDTH, static_cast<std::uint32_t>(tile_));
       TIFFSetField(tif_, TIFFTAG_TILELENGTH, static_cast<std::uint32_t>(tile_));
       chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * tiff_sample_bytes(kind_));
+      if (compression == COMPRESSION_ADOBE_DEFLATE)  // tiles' rows are tile_ pixels wide
+        compressor_ = std::make_unique<StripCompressor>(
+            StripFormat{tile_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
     } else {
       // 32 rows (as OpenImageIO wrote them), fewer where a strip would exceed kStripBytes (wide
       // float images), so that the strips in flight stay small; JPEG needs multiples of 16.
@@ -147,8 +151,7 @@ class TiffEncoder final : public Encoder {
       // reader expects: predictor, then a zlib stream); libtiff would deflate them one at a time.
       if (compression == COMPRESSION_ADOBE_DEFLATE)
         compressor_ = std::make_unique<StripCompressor>(
-            StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, level > 0 ? std::clamp(level, 1, 9) : 6},
-            kCompressThreads);
+            StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
     }
     check_file();
   }
@@ -229,16 +232,23 @@ class TiffEncoder final : public Encoder {
           else std::memcpy(to, from, count * in);
         }
         const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
+        if (compressor_) {  // tiles come in index order: row of tiles by row of tiles, left to right
+          std::vector<unsigned char> tile(chunk_);
+          compressor_->submit(static_cast<int>(index), std::move(tile), sink());
+          continue;
+        }
         if (TIFFWriteEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
       }
     }
   }
 
   StripCompressor::Sink sink() {
-    return [this](int strip, const std::vector<unsigned char>& data) {
-      if (TIFFWriteRawStrip(tif_, static_cast<tstrile_t>(strip), const_cast<unsigned char*>(data.data()),
-                            static_cast<tmsize_t>(data.size())) < 0)
-        throw failure();
+    return [this](int index, const std::vector<unsigned char>& data) {
+      auto* bytes = const_cast<unsigned char*>(data.data());
+      const auto size = static_cast<tmsize_t>(data.size());
+      const tmsize_t written = tile_ > 0 ? TIFFWriteRawTile(tif_, static_cast<ttile_t>(index), bytes, size)
+                                         : TIFFWriteRawStrip(tif_, static_cast<tstrile_t>(index), bytes, size);
+      if (written < 0) throw failure();
     };
   }
 
@@ -258,7 +268,7 @@ class TiffEncoder final : public Encoder {
   SampleType stored_ = SampleType::Float;
   int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
   std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled
-  std::unique_ptr<StripCompressor> compressor_;  // deflated strips only
+  std::unique_ptr<StripCompressor> compressor_;  // deflated strips and tiles only
 };
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Deflate-compressed TIFF strips made on worker threads (predictor + libdeflate), handed back in strip order.
+// Deflate-compressed TIFF strips or tiles made on worker threads (predictor + libdeflate), handed back in order.
 #pragma once
 
 #include <condition_variable>
@@ -13,18 +13,19 @@
 
 namespace gdp::io {
 
-// How a strip's rows are laid out and predicted.
+// How a strip's (or tile's) rows are laid out and predicted.
 struct StripFormat {
-  int width = 0, channels = 0;
+  int width = 0, channels = 0;  // of a row: the image's width for strips, the tile width for tiles
   std::size_t sample_bytes = 1;  // 1, 2 (unsigned: horizontal predictor) or 4, 8 (float: floating-point predictor)
   bool floating = false;
   int level = 6;  // deflate level, 1..12
 };
 
 // libtiff deflates a strip on the thread that writes it; this compresses several at once. The
-// strips (uncompressed rows, as they go into TIFFWriteEncodedStrip) are submitted in order from
-// one thread; `sink` receives each compressed strip, in strip order, on that same thread (it
-// calls TIFFWriteRawStrip). At most threads + 2 strips are held at a time.
+// strips (uncompressed rows, as they go into TIFFWriteEncodedStrip; or tiles, as into
+// TIFFWriteEncodedTile) are submitted in order (0, 1, 2, ...) from one thread; `sink` receives
+// each compressed one, in that order, on that same thread (it calls TIFFWriteRawStrip or
+// TIFFWriteRawTile). At most threads + 2 are held at a time.
 class StripCompressor {
  public:
   using Sink = std::function<void(int strip, const std::vector<unsigned char>& zlib_stream)>;
