@@ -48,7 +48,7 @@ void on_message(j_common_ptr cinfo, int level) {
   if (level >= 0 || cinfo->err->msg_code != JWRN_JPEG_EOF || !cinfo->is_decompressor) return;
   const auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
   const JDIMENSION last_mcu_rows = static_cast<JDIMENSION>(d->max_v_samp_factor * DCTSIZE);
-  if (d->global_state == 0 || d->output_height == 0 || d->output_scanline + last_mcu_rows < d->output_height ||
+  if (d->output_height == 0 || d->output_scanline + last_mcu_rows < d->output_height ||
       d->progressive_mode)
     on_error(cinfo);
 }
