@@ -12,7 +12,7 @@
 #include "gdp/image_io.h"
 #include "gdp/image_stream.h"
 #include "image_stream_util.h"
-#include "io/oiio_util.h"
+#include "io/codec_util.h"
 
 namespace gdp {
 namespace {

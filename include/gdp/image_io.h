@@ -1,4 +1,4 @@
-// Reading and writing image files (through OpenImageIO), with atomic writes.
+// Reading and writing image files (PNG/TIFF/JPEG by gdp's codecs, others through OpenImageIO's module), with atomic writes.
 #pragma once
 
 #include <filesystem>
@@ -31,7 +31,8 @@ struct WriteOptions {
   std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
   bool tiled = false;                     // tiled TIFF / OpenEXR (other formats: OutputError)
-  std::string compression;                // OpenImageIO "Compression" ("none", "zip", "lzw", ...); empty: the format's default
+  std::string compression;                // TIFF: "none", "zip" (deflate; "zip:1".."zip:9"), "lzw", "packbits", "jpeg", "zstd",
+                                          // "lzma", others -> zip; other formats: OpenImageIO "Compression"; empty: the format's default
   int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
 };
 

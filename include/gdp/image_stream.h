@@ -17,11 +17,27 @@ namespace gdp {
 // next bands while the caller uses the current one (at most three bands exist). Errors (also
 // the decoder thread's, rethrown by read_row()) are InputError naming the file; rows out of
 // order throw std::logic_error. rewind() reopens the file unless one band holds the image.
+//
+// PNG, TIFF and JPEG are decoded by gdp itself (libpng, libtiff, libjpeg); other formats by
+// OpenImageIO, loaded from its module (libgdp_oiio.so) only when such a file is opened.
+//
+// A column window reads columns [begin, end) only: width() stays the file's width, and
+// read_row() fills channels x window_width() samples (channel-major, stride window_width()).
+// Tiled files then decode only the tiles the window overlaps; others decode whole rows.
+struct ColumnRange {
+  int begin = 0;
+  int end = -1;  // -1: the image's width
+};
+
 class ImageFileReader final : public RowReader {
  public:
   explicit ImageFileReader(const std::filesystem::path& path, bool prefetch = true);
+  // Throws InputError when the window is empty or outside the image.
+  ImageFileReader(const std::filesystem::path& path, bool prefetch, ColumnRange columns);
   ~ImageFileReader() override;
   const ImageFileInfo& info() const;
+  int window_begin() const;
+  int window_width() const;
   int width() const override;
   int height() const override;
   int channels() const override;
@@ -40,8 +56,8 @@ class ImageFileReader final : public RowReader {
 // stops that thread and deletes the temporary file: nothing is left behind. Integer outputs are
 // clamped to [0, 1]. Errors, also the encoder's and failed writes to the disk (full, say), are
 // OutputError naming the final file, thrown by the constructor, write_row() or commit(); rows
-// out of order throw std::logic_error. (Exception: a JPEG of over 512 MiB of pixels is written
-// without the checked file, and libjpeg ends the process on a failed write; see io/oiio_util.h.)
+// out of order throw std::logic_error. PNG, TIFF and JPEG are encoded by gdp itself, other formats
+// through OpenImageIO's module (loaded only then).
 class ImageFileWriter final : public RowWriter {
  public:
   ImageFileWriter(const std::filesystem::path& path, int width, int height, int channels, const WriteOptions& options,

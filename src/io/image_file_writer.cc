@@ -1,4 +1,4 @@
-// Streaming image output: bands of rows encoded by OpenImageIO on a thread into a temporary file, renamed at the end.
+// Streaming image output: bands of rows encoded by a codec (io/codecs.h) on a thread into a temporary file, renamed at the end.
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -11,8 +11,8 @@
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
-#include "io/checked_file.h"
-#include "io/oiio_util.h"
+#include "io/codec_util.h"
+#include "io/codecs.h"
 #include "io/temp_file.h"
 #include "schedule/bounded_queue.h"
 
@@ -25,8 +25,6 @@ struct Band {
   int y0 = 0, y1 = 0;
   std::vector<unsigned char> bytes;  // interleaved samples of the writer's band type
 };
-
-float clamp01(float v) { return v > 0.0f ? std::min(v, 1.0f) : 0.0f; }  // NaN -> 0
 
 // A channel-major row into interleaved samples of type T.
 template <class T, class Convert>
@@ -44,12 +42,10 @@ struct ImageFileWriter::Impl {
   fs::path path, temp;
   std::string name;
   int cleanup_handle = -1;
-  // Declared before `output`, which writes through it, so it is destroyed after it.
-  std::unique_ptr<io::CheckedFile> file;
-  std::unique_ptr<OIIO::ImageOutput> output;
+  std::unique_ptr<io::Encoder> output;
   int width = 0, height = 0, channels = 0, band_rows = 1, next_row = 0;
-  OIIO::ImageSpec spec;
-  OIIO::TypeDesc band_type = OIIO::TypeFloat;  // as stored for 8- and 16-bit files (io::native_integer_type)
+  io::EncodeSpec spec;
+  SampleType band_type = SampleType::Float;  // UInt8 / UInt16 for 8- and 16-bit files, else Float
   std::size_t row_bytes = 0;
   bool integer_file = false, tiled = false, committed = false, opened = false, write_behind = true;
   Band band;
@@ -62,11 +58,11 @@ struct ImageFileWriter::Impl {
   void open();
 
   void encode(const Band& b) {
-    const bool ok = tiled ? output->write_tiles(0, width, b.y0, b.y1, 0, 1, band_type, b.bytes.data())
-                          : output->write_scanlines(b.y0, b.y1, 0, band_type, b.bytes.data());
-    // A failed write to the file itself explains more than the codec's message, if it has one.
-    if (file && file->failed()) throw fail("cannot write: " + file->problem());
-    if (!ok) throw fail("cannot write: " + io::one_line(output->geterror()));
+    try {
+      output->write(b.y0, b.y1, b.bytes.data());
+    } catch (const std::exception& e) {
+      throw fail(e.what());
+    }
   }
 
   void run_encoder() {
@@ -112,7 +108,6 @@ struct ImageFileWriter::Impl {
     queue.close();
     if (encoder.joinable()) encoder.join();
     output.reset();
-    file.reset();
     if (!committed && !temp.empty()) {
       std::error_code ignored;
       fs::remove(temp, ignored);
@@ -132,64 +127,50 @@ ImageFileWriter::ImageFileWriter(const fs::path& path, int width, int height, in
   m.channels = channels;
   m.write_behind = write_behind;
   if (width <= 0 || height <= 0 || channels <= 0) throw m.fail("cannot write an empty image");
-  // The plugin is chosen by the final name; the temporary name keeps the same extension.
-  m.output = OIIO::ImageOutput::create(m.name);
-  if (!m.output) {
-    OIIO::geterror();  // clear OpenImageIO's pending message; ours names the cause
-    if (!path.has_extension()) throw m.fail("cannot write: no file extension to choose an image format by");
-    throw m.fail(fmt::format("cannot write: no image format for extension '{}'", path.extension().string()));
+  // The codec is chosen by the final name; the temporary name keeps the same extension.
+  try {
+    m.output = io::create_encoder(m.name);
+  } catch (const std::exception& e) {
+    throw m.fail(e.what());
   }
   const std::string format = m.output->format_name();
-  OIIO::ImageSpec spec(width, height, channels, io::type_desc_of(io::choose_sample_type(format, options.sample_type)));
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // write alpha as given, never un-premultiply it
-  // OpenImageIO 2.4 takes the quality as "Compression" = "CODEC:Q" (jpeg and webp also accept
-  // "CompressionQuality"; heif does not); without it JPEG is written at quality 98.
-  if (format == "jpeg" || format == "webp" || format == "heif") {
-    const std::string codec = format == "heif" ? "heic" : format;
-    spec.attribute("Compression", fmt::format("{}:{}", codec, std::clamp(options.jpeg_quality, 1, 100)));
-  }
-  if (!options.compression.empty()) spec.attribute("Compression", options.compression);
-  const double bytes = static_cast<double>(width) * height * channels * spec.format.size();
-  if (format == "tiff" && bytes > io::kBigTiffBytes) spec.attribute("tiff:bigtiff", 1);
+  io::EncodeSpec& spec = m.spec;
+  spec.width = width;
+  spec.height = height;
+  spec.channels = channels;
+  spec.sample_type = io::choose_sample_type(format, options.sample_type);
+  spec.jpeg_quality = options.jpeg_quality;
+  spec.compression = options.compression;
+  const double bytes = static_cast<double>(width) * height * channels * io::sample_bytes(spec.sample_type);
+  spec.bigtiff = format == "tiff" && bytes > io::kBigTiffBytes;
   if (options.tiled) {
     if (format != "tiff" && format != "openexr")
       throw m.fail(fmt::format("tiled output needs a .tif or .exr file, not {}", format));
     if (options.tile_size <= 0 || options.tile_size % 16 != 0)
       throw m.fail(fmt::format("tile size {} is not a positive multiple of 16", options.tile_size));
-    spec.tile_width = spec.tile_height = options.tile_size;
+    spec.tile_size = options.tile_size;
     m.tiled = true;
   }
   std::string why;
   m.temp = io::create_temp_file(path, why);
   if (m.temp.empty()) throw m.fail("cannot write: " + why);
   m.cleanup_handle = cleanup::track(m.temp.string());  // also deleted if the process is interrupted
-  m.spec = spec;
-  m.band_rows = io::band_rows(width, height, channels, m.tiled ? spec.tile_height : 1);
+  m.band_rows = io::band_rows(width, height, channels, m.tiled ? spec.tile_size : 1);
 }
 
 // The file is opened with the first row, so that a run failing before it (bad input, say) does
 // not make the codec complain about an empty image.
 void ImageFileWriter::Impl::open() {
-  // OpenImageIO 2.4's JPEG writer keeps the whole compressed file in memory when it writes
-  // through a proxy: accept that up to kJpegBufferBytes of 8-bit pixels (some 10-100 MB of JPEG);
-  // larger JPEGs stream to the file, where a failed write makes libjpeg exit() the process (the
-  // temporary file is still removed, by gdp::cleanup's exit handler).
-  const double pixel_bytes = static_cast<double>(width) * height * channels;
-  const bool buffers_whole_file = output->format_name() == std::string_view("jpeg");
-  if (output->supports("ioproxy") && (!buffers_whole_file || pixel_bytes <= io::kJpegBufferBytes)) {
-    file = std::make_unique<io::CheckedFile>(temp.string());
-    if (!output->set_ioproxy(file.get())) file.reset();
-  }
-  if (!output->open(temp.string(), spec)) {
-    const std::string problem = io::one_line(output->geterror());
-    throw fail("cannot write: " + (file && file->failed() ? file->problem() : problem));
+  try {
+    output->open(temp.string(), spec);
+  } catch (const std::exception& e) {
+    throw fail(e.what());
   }
   // For integer files values are clamped to [0, 1] here (NaN -> 0), so the result never depends
-  // on how the writer converts out-of-range values; 8- and 16-bit samples are also quantised here.
-  integer_file = !output->spec().format.is_floating_point();
-  const OIIO::TypeDesc native = io::native_integer_type(output->spec());
-  if (native != OIIO::TypeDesc::UNKNOWN) band_type = native;
-  row_bytes = static_cast<std::size_t>(width) * channels * band_type.size();
+  // on how the codec converts out-of-range values; 8- and 16-bit samples are also quantised here.
+  integer_file = output->integer_file();
+  band_type = output->stored();
+  row_bytes = static_cast<std::size_t>(width) * channels * io::sample_bytes(band_type);
   if (write_behind) encoder = std::thread([this] { run_encoder(); });
   opened = true;
 }
@@ -210,14 +191,12 @@ void ImageFileWriter::write_row(int y, std::span<const float> row) {
   const std::size_t at = m.band.bytes.size();
   m.band.bytes.resize(at + m.row_bytes);
   unsigned char* dst = m.band.bytes.data() + at;
-  if (m.band_type == OIIO::TypeDesc::UINT8) {
-    interleave<std::uint8_t>(row.data(), w, ch, dst,
-                             [](float v) { return static_cast<std::uint8_t>(clamp01(v) * 255.0f + 0.5f); });
-  } else if (m.band_type == OIIO::TypeDesc::UINT16) {
-    interleave<std::uint16_t>(row.data(), w, ch, dst,
-                              [](float v) { return static_cast<std::uint16_t>(clamp01(v) * 65535.0f + 0.5f); });
+  if (m.band_type == SampleType::UInt8) {
+    interleave<std::uint8_t>(row.data(), w, ch, dst, io::to_u8);
+  } else if (m.band_type == SampleType::UInt16) {
+    interleave<std::uint16_t>(row.data(), w, ch, dst, io::to_u16);
   } else if (m.integer_file) {
-    interleave<float>(row.data(), w, ch, dst, clamp01);
+    interleave<float>(row.data(), w, ch, dst, io::clamp01);
   } else {
     interleave<float>(row.data(), w, ch, dst, [](float v) { return v; });
   }
@@ -232,14 +211,12 @@ void ImageFileWriter::commit() {
   m.queue.finish();  // the encoder writes what is queued, then stops
   if (m.encoder.joinable()) m.encoder.join();
   m.check();
-  const bool closed = m.output->close();
-  if (m.file) {
-    m.file->close();
-    if (m.file->failed()) throw m.fail("cannot write: " + m.file->problem());
+  try {
+    m.output->close();
+  } catch (const std::exception& e) {
+    throw m.fail(e.what());
   }
-  if (!closed) throw m.fail("cannot write: " + io::one_line(m.output->geterror()));
   m.output.reset();
-  m.file.reset();
   std::error_code ec;
   fs::rename(m.temp, m.path, ec);
   if (ec) throw m.fail("cannot move the finished file into place: " + ec.message());

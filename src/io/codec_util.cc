@@ -1,8 +1,10 @@
-// Message cleanup, sample type mapping and band sizing for the OpenImageIO reader and writer.
-#include "io/oiio_util.h"
+// Band sizing, sample type rules, message cleanup and half floats shared by the codec backends.
+#include "io/codec_util.h"
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
+#include <filesystem>
 
 namespace gdp::io {
 
@@ -29,28 +31,6 @@ std::string one_line(std::string_view message) {
   return result.empty() ? "unknown error" : result;
 }
 
-SampleType sample_type_of(OIIO::TypeDesc type) {
-  switch (type.basetype) {
-    case OIIO::TypeDesc::UINT8: return SampleType::UInt8;
-    case OIIO::TypeDesc::UINT16: return SampleType::UInt16;
-    case OIIO::TypeDesc::HALF: return SampleType::Half;
-    case OIIO::TypeDesc::FLOAT: return SampleType::Float;
-    case OIIO::TypeDesc::DOUBLE: return SampleType::Double;
-    default: return type.is_floating_point() ? SampleType::Float : SampleType::UInt16;
-  }
-}
-
-OIIO::TypeDesc type_desc_of(SampleType type) {
-  switch (type) {
-    case SampleType::UInt8: return OIIO::TypeDesc::UINT8;
-    case SampleType::UInt16: return OIIO::TypeDesc::UINT16;
-    case SampleType::Half: return OIIO::TypeDesc::HALF;
-    case SampleType::Float: return OIIO::TypeDesc::FLOAT;
-    case SampleType::Double: return OIIO::TypeDesc::DOUBLE;
-  }
-  return OIIO::TypeDesc::FLOAT;
-}
-
 SampleType choose_sample_type(const std::string& format_name, const std::optional<SampleType>& requested) {
   const bool holds_float =
       format_name == "tiff" || format_name == "openexr" || format_name == "hdr" || format_name == "fits";
@@ -61,13 +41,51 @@ SampleType choose_sample_type(const std::string& format_name, const std::optiona
   return *requested;
 }
 
-OIIO::TypeDesc native_integer_type(const OIIO::ImageSpec& spec) {
-  const bool integer = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
-  return integer && spec.channelformats.empty() ? spec.format : OIIO::TypeDesc::UNKNOWN;
-}
-
 bool is_lossy_format(const std::string& format_name) {
   return format_name == "jpeg" || format_name == "webp" || format_name == "heif" || format_name == "jpeg2000";
+}
+
+std::size_t sample_bytes(SampleType type) {
+  switch (type) {
+    case SampleType::UInt8: return 1;
+    case SampleType::UInt16: return 2;
+    case SampleType::Half: return 2;
+    case SampleType::Float: return 4;
+    case SampleType::Double: return 8;
+  }
+  return 4;
+}
+
+float half_to_float(std::uint16_t h) {
+  const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
+  std::uint32_t exponent = (h >> 10) & 0x1fu;
+  std::uint32_t mantissa = h & 0x3ffu;
+  std::uint32_t bits;
+  if (exponent == 0x1f) {
+    bits = sign | 0x7f800000u | (mantissa << 13);  // infinity or NaN
+  } else if (exponent != 0) {
+    bits = sign | ((exponent + 112u) << 23) | (mantissa << 13);
+  } else if (mantissa == 0) {
+    bits = sign;  // signed zero
+  } else {
+    // Subnormal half: normalise the mantissa.
+    exponent = 113;
+    while ((mantissa & 0x400u) == 0) {
+      mantissa <<= 1;
+      --exponent;
+    }
+    bits = sign | (exponent << 23) | ((mantissa & 0x3ffu) << 13);
+  }
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
 }
 
 }  // namespace gdp::io

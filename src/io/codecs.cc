@@ -1,0 +1,53 @@
+// The codec registry: file signatures and extensions to gdp's own codecs or OpenImageIO's module.
+#include "io/codecs.h"
+
+#include <cstdio>
+#include <cstring>
+
+#include "io/codec_util.h"
+#include "io/oiio_backend.h"
+
+namespace gdp::io {
+namespace {
+
+enum class Kind { Png, Tiff, Jpeg, Other };
+
+Kind sniff(const std::string& path) {
+  unsigned char head[8] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return Kind::Other;  // the caller checked it opens; let OpenImageIO explain
+  const std::size_t n = std::fread(head, 1, sizeof head, f);
+  std::fclose(f);
+  static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (n >= 8 && std::memcmp(head, png, 8) == 0) return Kind::Png;
+  // Classic TIFF (42) and BigTIFF (43), little- and big-endian.
+  if (n >= 4 && head[0] == 'I' && head[1] == 'I' && (head[2] == 42 || head[2] == 43) && head[3] == 0) return Kind::Tiff;
+  if (n >= 4 && head[0] == 'M' && head[1] == 'M' && head[2] == 0 && (head[3] == 42 || head[3] == 43)) return Kind::Tiff;
+  if (n >= 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff) return Kind::Jpeg;
+  return Kind::Other;
+}
+
+}  // namespace
+
+std::unique_ptr<Decoder> open_decoder(const std::string& path) {
+  std::unique_ptr<Decoder> decoder;
+  switch (sniff(path)) {
+    case Kind::Png: decoder = open_png_decoder(path); break;
+    case Kind::Tiff: decoder = open_tiff_decoder(path); break;
+    case Kind::Jpeg: decoder = open_jpeg_decoder(path); break;
+    case Kind::Other: break;
+  }
+  if (decoder) return decoder;
+  return oiio_backend().open_decoder(path);
+}
+
+std::unique_ptr<Encoder> create_encoder(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == "png") return create_png_encoder();
+  if (ext == "tif" || ext == "tiff") return create_tiff_encoder();
+  if (ext == "jpg" || ext == "jpeg" || ext == "jpe" || ext == "jfif" || ext == "jif" || ext == "jfi")
+    return create_jpeg_encoder();
+  return oiio_backend().create_encoder(path);
+}
+
+}  // namespace gdp::io

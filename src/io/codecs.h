@@ -1,0 +1,31 @@
+// Choosing a codec: by the file's signature for reading, by the file name's extension for writing.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "io/codec.h"
+
+namespace gdp::io {
+
+// PNG, TIFF and JPEG files are decoded by gdp's own codecs (libpng, libtiff, libjpeg), chosen by
+// their first bytes; variants those do not handle (CMYK JPEG, palette TIFF, ...) and every other
+// format go to OpenImageIO's module (io/oiio_backend.h). Throws std::exception's with the problem.
+std::unique_ptr<Decoder> open_decoder(const std::string& path);
+
+// .png, .tif/.tiff and .jpg/.jpeg/.jpe/.jfif/.jif/.jfi are written by gdp's own encoders, the
+// rest through OpenImageIO's module.
+std::unique_ptr<Encoder> create_encoder(const std::string& path);
+
+// Decoders and encoders of gdp's own codecs; a decoder returns nullptr for a variant it leaves
+// to OpenImageIO.
+std::unique_ptr<Decoder> open_png_decoder(const std::string& path);
+std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path);
+std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path);
+std::unique_ptr<Encoder> create_png_encoder();
+std::unique_ptr<Encoder> create_tiff_encoder();
+std::unique_ptr<Encoder> create_jpeg_encoder();
+
+// Tiles decoded by gdp's TIFF decoder in this process so far (tests check column windows with it).
+long tiff_tiles_decoded();
+}  // namespace gdp::io

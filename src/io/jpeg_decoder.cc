@@ -1,0 +1,146 @@
+// Decoding JPEG with libjpeg: gray or RGB (from YCbCr) rows in order; CMYK is left to OpenImageIO.
+#include <cstdio>
+// jpeglib.h needs FILE and size_t declared first.
+#include <jerror.h>
+#include <jpeglib.h>
+
+#include <csetjmp>
+#include <cstring>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/codecs.h"
+
+namespace gdp::io {
+namespace {
+
+// libjpeg reports errors by calling error_exit(), which here records the message and longjmp()s
+// back to the setjmp() of the guarded call that started it. Only the guarded functions below call
+// libjpeg, and they hold no C++ objects with destructors. A file that ends early is an error too
+// (libjpeg itself only warns and fills the rest with gray), unless only its end marker is missing.
+struct JpegState {
+  jpeg_decompress_struct cinfo{};
+  jpeg_error_mgr errors{};
+  std::jmp_buf jump{};
+  std::FILE* file = nullptr;
+  bool created = false;
+  char message[JMSG_LENGTH_MAX] = {};
+  JpegState() = default;
+  JpegState(const JpegState&) = delete;
+  JpegState& operator=(const JpegState&) = delete;
+  ~JpegState() {
+    if (created) jpeg_destroy_decompress(&cinfo);
+    if (file) std::fclose(file);
+  }
+};
+
+JpegState* state_of(j_common_ptr cinfo) { return static_cast<JpegState*>(cinfo->client_data); }
+
+void on_error(j_common_ptr cinfo) {
+  (*cinfo->err->format_message)(cinfo, state_of(cinfo)->message);
+  std::longjmp(state_of(cinfo)->jump, 1);
+}
+
+// The file ended early. Fatal unless the rows still to come are within the last row of MCUs,
+// which libjpeg reads ahead of the rows it returns: then only the end marker is missing.
+void on_message(j_common_ptr cinfo, int level) {
+  if (level >= 0 || cinfo->err->msg_code != JWRN_JPEG_EOF || !cinfo->is_decompressor) return;
+  const auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
+  const JDIMENSION last_mcu_rows = static_cast<JDIMENSION>(d->max_v_samp_factor * DCTSIZE);
+  if (d->output_height == 0 || d->output_scanline + last_mcu_rows < d->output_height ||
+      d->progressive_mode)
+    on_error(cinfo);
+}
+
+// Reads the header; false on a libjpeg error.
+bool guarded_header(JpegState* s) {
+  if (setjmp(s->jump)) return false;
+  jpeg_create_decompress(&s->cinfo);
+  s->created = true;
+  jpeg_stdio_src(&s->cinfo, s->file);
+  jpeg_read_header(&s->cinfo, TRUE);
+  return true;
+}
+
+bool guarded_start(JpegState* s, J_COLOR_SPACE out) {
+  if (setjmp(s->jump)) return false;
+  s->cinfo.out_color_space = out;
+  jpeg_start_decompress(&s->cinfo);
+  return true;
+}
+
+bool guarded_rows(JpegState* s, unsigned char* const* rows, int count) {
+  if (setjmp(s->jump)) return false;
+  int done = 0;
+  while (done < count) {
+    JSAMPARRAY at = const_cast<JSAMPARRAY>(rows + done);
+    const JDIMENSION n = jpeg_read_scanlines(&s->cinfo, at, static_cast<JDIMENSION>(count - done));
+    if (n == 0) {  // suspended: cannot happen with a stdio source, but never loop on it
+      std::snprintf(s->message, sizeof s->message, "no more rows");
+      return false;
+    }
+    done += static_cast<int>(n);
+  }
+  return true;
+}
+
+class JpegDecoder final : public Decoder {
+ public:
+  // False when the colour space is one gdp leaves to OpenImageIO (CMYK, YCCK).
+  bool open(const std::string& path) {
+    s_.file = std::fopen(path.c_str(), "rb");
+    if (!s_.file) throw CodecError("cannot open");
+    s_.cinfo.err = jpeg_std_error(&s_.errors);
+    s_.errors.error_exit = on_error;
+    s_.errors.emit_message = on_message;
+    s_.cinfo.client_data = &s_;
+    if (!guarded_header(&s_)) throw error();
+    J_COLOR_SPACE out;
+    if (s_.cinfo.num_components == 1) out = JCS_GRAYSCALE;
+    else if (s_.cinfo.num_components == 3 && (s_.cinfo.jpeg_color_space == JCS_YCbCr || s_.cinfo.jpeg_color_space == JCS_RGB))
+      out = JCS_RGB;
+    else
+      return false;
+    if (!guarded_start(&s_, out)) throw error();
+    layout_.width = static_cast<int>(s_.cinfo.output_width);
+    layout_.height = static_cast<int>(s_.cinfo.output_height);
+    layout_.channels = s_.cinfo.output_components;
+    layout_.stored = SampleType::UInt8;
+    layout_.info = {SampleType::UInt8, "jpeg", true};
+    return true;
+  }
+
+  const ImageLayout& layout() const override { return layout_; }
+
+  void read(int y0, int y1, int x0, int x1, void* out) override {
+    const std::size_t pixel = static_cast<std::size_t>(layout_.channels);
+    const std::size_t row_bytes = pixel * layout_.width, out_row = pixel * (x1 - x0);
+    auto* dst = static_cast<unsigned char*>(out);
+    const bool direct = x0 == 0 && x1 == layout_.width;
+    std::vector<unsigned char*> rows(static_cast<std::size_t>(y1 - y0));
+    if (!direct) scratch_.resize(row_bytes * rows.size());
+    for (int y = y0; y < y1; ++y)
+      rows[y - y0] = direct ? dst + (y - y0) * row_bytes : scratch_.data() + (y - y0) * row_bytes;
+    if (!guarded_rows(&s_, rows.data(), y1 - y0)) throw error();
+    if (direct) return;
+    for (int y = y0; y < y1; ++y) std::memcpy(dst + (y - y0) * out_row, rows[y - y0] + x0 * pixel, out_row);
+  }
+
+ private:
+  CodecError error() const { return CodecError(fmt::format("cannot read JPEG: {}", s_.message)); }
+
+  JpegState s_;
+  ImageLayout layout_;
+  std::vector<unsigned char> scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path) {
+  auto decoder = std::make_unique<JpegDecoder>();
+  if (!decoder->open(path)) return nullptr;
+  return decoder;
+}
+
+}  // namespace gdp::io

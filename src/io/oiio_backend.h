@@ -1,0 +1,37 @@
+// The entry point of OpenImageIO's module (libgdp_oiio.so), which gdp loads with dlopen() when a file needs it.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "io/codec.h"
+
+namespace gdp::io {
+
+// The formats gdp does not decode itself (OpenEXR, Radiance HDR, FITS, WebP, BMP, ...), through
+// OpenImageIO. Errors are std::exception's whose what() is the problem, as for every codec.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::unique_ptr<Decoder> open_decoder(const std::string& path) = 0;
+  // Throws when no OpenImageIO writer matches the extension.
+  virtual std::unique_ptr<Encoder> create_encoder(const std::string& path) = 0;
+};
+
+// The module exports this one C function; the version in its name changes with Backend.
+inline constexpr const char* kOiioEntryPoint = "gdp_oiio_backend_v1";
+using OiioEntryPoint = Backend* (*)();
+
+// File name of the module, and the variable that overrides where it is looked for.
+inline constexpr const char* kOiioModuleName = "libgdp_oiio.so";
+inline constexpr const char* kOiioModuleVariable = "GDP_OIIO_MODULE";
+
+// The module's backend, loaded on first use (thread-safe). Looked for at $GDP_OIIO_MODULE, then
+// where the build tree puts it, then at ../lib/gdp/libgdp_oiio.so next to the executable. Throws
+// CodecError ("needs OpenImageIO's module (libgdp_oiio.so): not found at ...") when none loads.
+Backend& oiio_backend();
+
+// True once the module has been loaded into this process (for tests and --stats).
+bool oiio_backend_loaded();
+
+}  // namespace gdp::io

@@ -1,0 +1,132 @@
+// Decoding PNG with libpng: rows in order, palette/gray/low bit depths and tRNS expanded as OpenImageIO does.
+#include <png.h>
+
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/codecs.h"
+
+namespace gdp::io {
+namespace {
+
+// libpng reports errors by calling on_error(), which records the message and longjmp()s back to
+// the setjmp() in the guarded call that started it. Only the guarded functions below call
+// libpng, and they hold no C++ objects with destructors: nothing is skipped by the longjmp.
+struct PngState {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  std::FILE* file = nullptr;
+  char message[256] = {};
+  PngState() = default;
+  PngState(const PngState&) = delete;
+  PngState& operator=(const PngState&) = delete;
+  ~PngState() {
+    if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+    if (file) std::fclose(file);
+  }
+};
+
+void on_error(png_structp png, png_const_charp message) {
+  auto* state = static_cast<PngState*>(png_get_error_ptr(png));
+  std::snprintf(state->message, sizeof state->message, "%s", message ? message : "libpng error");
+  png_longjmp(png, 1);
+}
+
+void on_warning(png_structp, png_const_charp) {}  // benign (unknown chunks, sRGB profile notes)
+
+// Reads the header and sets the expansions; false on a libpng error.
+bool guarded_start(PngState* s) {
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  png_init_io(s->png, s->file);
+  png_read_info(s->png, s->info);
+  const int color = png_get_color_type(s->png, s->info);
+  const int depth = png_get_bit_depth(s->png, s->info);
+  if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s->png);
+  if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s->png);
+  if (png_get_valid(s->png, s->info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s->png);
+  if (depth == 16) png_set_swap(s->png);  // to the machine's (little-endian) order
+  if (png_get_interlace_type(s->png, s->info) != PNG_INTERLACE_NONE) png_set_interlace_handling(s->png);
+  png_read_update_info(s->png, s->info);
+  return true;
+}
+
+bool guarded_rows(PngState* s, unsigned char* const* rows, int count) {
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  for (int i = 0; i < count; ++i) png_read_row(s->png, rows[i], nullptr);
+  return true;
+}
+
+bool guarded_image(PngState* s, unsigned char** rows) {
+  if (setjmp(png_jmpbuf(s->png))) return false;
+  png_read_image(s->png, rows);
+  return true;
+}
+
+class PngDecoder final : public Decoder {
+ public:
+  explicit PngDecoder(const std::string& path) {
+    s_.file = std::fopen(path.c_str(), "rb");
+    if (!s_.file) throw CodecError("cannot open");
+    s_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s_, on_error, on_warning);
+    if (s_.png) s_.info = png_create_info_struct(s_.png);
+    if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
+    // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.
+    png_set_user_limits(s_.png, 0x7fffffff, 0x7fffffff);
+    if (!guarded_start(&s_)) throw error();
+    layout_.width = static_cast<int>(png_get_image_width(s_.png, s_.info));
+    layout_.height = static_cast<int>(png_get_image_height(s_.png, s_.info));
+    layout_.channels = png_get_channels(s_.png, s_.info);
+    const bool sixteen = png_get_bit_depth(s_.png, s_.info) == 16;
+    layout_.stored = sixteen ? SampleType::UInt16 : SampleType::UInt8;
+    layout_.info = {layout_.stored, "png", false};
+    row_bytes_ = png_get_rowbytes(s_.png, s_.info);
+    interlaced_ = png_get_interlace_type(s_.png, s_.info) != PNG_INTERLACE_NONE;
+  }
+
+  const ImageLayout& layout() const override { return layout_; }
+
+  void read(int y0, int y1, int x0, int x1, void* out) override {
+    const std::size_t pixel = row_bytes_ / static_cast<std::size_t>(layout_.width);
+    const std::size_t out_row = static_cast<std::size_t>(x1 - x0) * pixel;
+    auto* dst = static_cast<unsigned char*>(out);
+    if (interlaced_) {
+      // Interlaced rows are complete only after the last pass: decode the whole image once.
+      if (whole_.empty()) {
+        whole_.resize(row_bytes_ * static_cast<std::size_t>(layout_.height));
+        std::vector<unsigned char*> rows(static_cast<std::size_t>(layout_.height));
+        for (int y = 0; y < layout_.height; ++y) rows[y] = whole_.data() + y * row_bytes_;
+        if (!guarded_image(&s_, rows.data())) throw error();
+      }
+      for (int y = y0; y < y1; ++y)
+        std::memcpy(dst + (y - y0) * out_row, whole_.data() + y * row_bytes_ + x0 * pixel, out_row);
+      return;
+    }
+    const bool direct = x0 == 0 && x1 == layout_.width;
+    std::vector<unsigned char*> rows(static_cast<std::size_t>(y1 - y0));
+    if (!direct) scratch_.resize(row_bytes_ * rows.size());
+    for (int y = y0; y < y1; ++y)
+      rows[y - y0] = direct ? dst + (y - y0) * row_bytes_ : scratch_.data() + (y - y0) * row_bytes_;
+    if (!guarded_rows(&s_, rows.data(), y1 - y0)) throw error();
+    if (direct) return;
+    for (int y = y0; y < y1; ++y) std::memcpy(dst + (y - y0) * out_row, rows[y - y0] + x0 * pixel, out_row);
+  }
+
+ private:
+  CodecError error() const { return CodecError(fmt::format("cannot read PNG: {}", s_.message)); }
+
+  PngState s_;
+  ImageLayout layout_;
+  std::size_t row_bytes_ = 0;
+  bool interlaced_ = false;
+  std::vector<unsigned char> whole_, scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<Decoder> open_png_decoder(const std::string& path) { return std::make_unique<PngDecoder>(path); }
+
+}  // namespace gdp::io

@@ -1,0 +1,278 @@
+// Encoding TIFF with libtiff: strips or tiles, 8/16-bit unsigned or 32/64-bit float, compressed (deflate on two threads), through a checked file.
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "io/codec_util.h"
+#include "io/codecs.h"
+#include "io/output_file.h"
+#include "io/tiff_strip_compressor.h"
+#include "io/tiff_util.h"
+
+namespace gdp::io {
+namespace {
+
+constexpr int kCompressThreads = 2;
+constexpr std::size_t kStripBytes = std::size_t{1} << 20;
+
+// libtiff's I/O through an io::OutputFile (handle = the encoder's Io). Writes always "succeed";
+// a failure is recorded in the file and reported by the encoder.
+struct Io {
+  OutputFile* file = nullptr;
+  std::int64_t at = 0;
+};
+
+tmsize_t io_read(thandle_t h, void* data, tmsize_t size) {
+  Io* io = static_cast<Io*>(h);
+  const std::size_t n = io->file->read_at(io->at, data, static_cast<std::size_t>(size));
+  io->at += static_cast<std::int64_t>(n);
+  return static_cast<tmsize_t>(n);
+}
+
+tmsize_t io_write(thandle_t h, void* data, tmsize_t size) {
+  Io* io = static_cast<Io*>(h);
+  io->file->write_at(io->at, data, static_cast<std::size_t>(size));
+  io->at += size;
+  return size;
+}
+
+toff_t io_seek(thandle_t h, toff_t offset, int whence) {
+  Io* io = static_cast<Io*>(h);
+  const auto off = static_cast<std::int64_t>(offset);
+  if (whence == SEEK_SET) io->at = off;
+  else if (whence == SEEK_CUR) io->at += off;
+  else io->at = io->file->size() + off;
+  return static_cast<toff_t>(io->at);
+}
+
+int io_close(thandle_t) { return 0; }  // the encoder closes the file itself
+toff_t io_size(thandle_t h) { return static_cast<toff_t>(static_cast<Io*>(h)->file->size()); }
+int io_map(thandle_t, void**, toff_t*) { return 0; }
+void io_unmap(thandle_t, void*, toff_t) {}
+
+// WriteOptions::compression ("zip", "lzw:...", ...) as a libtiff code and a level (0: default).
+// Unknown or unavailable names give zip (deflate), as OpenImageIO 2.4 did.
+std::pair<std::uint16_t, int> compression_of(const std::string& text) {
+  std::string name = text.substr(0, text.find(':'));
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const int level = text.find(':') == std::string::npos ? 0 : std::atoi(text.c_str() + text.find(':') + 1);
+  std::uint16_t code = COMPRESSION_ADOBE_DEFLATE;
+  if (name == "none") code = COMPRESSION_NONE;
+  else if (name == "lzw") code = COMPRESSION_LZW;
+  else if (name == "packbits") code = COMPRESSION_PACKBITS;
+  else if (name == "jpeg") code = COMPRESSION_JPEG;
+  else if (name == "zstd") code = COMPRESSION_ZSTD;
+  else if (name == "lzma") code = COMPRESSION_LZMA;
+  if (!TIFFIsCODECConfigured(code)) code = COMPRESSION_ADOBE_DEFLATE;
+  return {code, level};
+}
+
+class TiffEncoder final : public Encoder {
+ public:
+  ~TiffEncoder() override {
+    if (tif_) TIFFCleanup(tif_);  // abandoned: free without writing the directory
+  }
+
+  std::string format_name() const override { return "tiff"; }
+
+  void open(const std::string& path, const EncodeSpec& spec) override {
+    file_ = std::make_unique<OutputFile>(path);
+    check_file();
+    io_.file = file_.get();
+    width_ = spec.width;
+    height_ = spec.height;
+    channels_ = spec.channels;
+    tile_ = spec.tile_size;
+    switch (spec.sample_type) {
+      case SampleType::UInt8: kind_ = TiffSample::U8; break;
+      case SampleType::UInt16: kind_ = TiffSample::U16; break;
+      case SampleType::Double: kind_ = TiffSample::F64; break;
+      default: kind_ = TiffSample::F32; break;  // Half is written as Float, as OpenImageIO 2.4 did
+    }
+    stored_ = kind_ == TiffSample::U8 ? SampleType::UInt8 : kind_ == TiffSample::U16 ? SampleType::UInt16 : SampleType::Float;
+    tif_ = TIFFClientOpenExt(path.c_str(), spec.bigtiff ? "w8" : "w", &io_, io_read, io_write, io_seek, io_close,
+                             io_size, io_map, io_unmap, messages_.options());
+    if (!tif_) throw failure();
+    const bool floating = kind_ == TiffSample::F32 || kind_ == TiffSample::F64;
+    const int bits = static_cast<int>(tiff_sample_bytes(kind_) * 8);
+    auto [compression, level] = compression_of(spec.compression);
+    if (compression == COMPRESSION_JPEG && !(kind_ == TiffSample::U8 && channels_ == 3))
+      compression = COMPRESSION_ADOBE_DEFLATE;  // JPEG holds 8-bit RGB only
+    int photometric = channels_ >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
+    TIFFSetField(tif_, TIFFTAG_IMAGEWIDTH, static_cast<std::uint32_t>(width_));
+    TIFFSetField(tif_, TIFFTAG_IMAGELENGTH, static_cast<std::uint32_t>(height_));
+    TIFFSetField(tif_, TIFFTAG_SAMPLESPERPIXEL, static_cast<std::uint16_t>(channels_));
+    TIFFSetField(tif_, TIFFTAG_BITSPERSAMPLE, static_cast<std::uint16_t>(bits));
+    TIFFSetField(tif_, TIFFTAG_SAMPLEFORMAT, floating ? SAMPLEFORMAT_IEEEFP : SAMPLEFORMAT_UINT);
+    TIFFSetField(tif_, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
+    TIFFSetField(tif_, TIFFTAG_ORIENTATION, ORIENTATION_TOPLEFT);
+    TIFFSetField(tif_, TIFFTAG_COMPRESSION, compression);
+    if (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_LZW ||
+        compression == COMPRESSION_ZSTD || compression == COMPRESSION_LZMA)
+      TIFFSetField(tif_, TIFFTAG_PREDICTOR, floating ? PREDICTOR_FLOATINGPOINT : PREDICTOR_HORIZONTAL);
+    if (compression == COMPRESSION_ADOBE_DEFLATE && level > 0) TIFFSetField(tif_, TIFFTAG_ZIPQUALITY, std::clamp(level, 1, 9));
+    if (compression == COMPRESSION_ZSTD && level > 0) TIFFSetField(tif_, TIFFTAG_ZSTD_LEVEL, std::clamp(level, 1, 22));
+    if (compression == COMPRESSION_LZMA && level > 0) TIFFSetField(tif_, TIFFTAG_LZMAPRESET, std::clamp(level, 0, 9));
+    if (compression == COMPRESSION_JPEG) {
+      TIFFSetField(tif_, TIFFTAG_JPEGQUALITY, std::clamp(level > 0 ? level : 95, 1, 100));
+      photometric = PHOTOMETRIC_YCBCR;  // libjpeg converts from RGB: compresses much better
+    }
+    TIFFSetField(tif_, TIFFTAG_PHOTOMETRIC, photometric);
+    if (compression == COMPRESSION_JPEG) TIFFSetField(tif_, TIFFTAG_JPEGCOLORMODE, JPEGCOLORMODE_RGB);
+    if (channels_ == 2 || channels_ == 4) {
+      const std::uint16_t extra[1] = {EXTRASAMPLE_UNASSALPHA};  // the last channel: alpha, kept as given
+      TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, 1, extra);
+    } else if (channels_ > 4) {
+      std::vector<std::uint16_t> extra(static_cast<std::size_t>(channels_ - 3), EXTRASAMPLE_UNSPECIFIED);
+      TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, static_cast<std::uint16_t>(extra.size()), extra.data());
+    }
+    const int deflate_level = level > 0 ? std::clamp(level, 1, 9) : 6;
+    if (tile_ > 0) {
+      TIFFSetField(tif_, TIFFTAG_TILEWIDTH, static_cast<std::uint32_t>(tile_));
+      TIFFSetField(tif_, TIFFTAG_TILELENGTH, static_cast<std::uint32_t>(tile_));
+      chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * tiff_sample_bytes(kind_));
+      if (compression == COMPRESSION_ADOBE_DEFLATE)  // tiles' rows are tile_ pixels wide
+        compressor_ = std::make_unique<StripCompressor>(
+            StripFormat{tile_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
+    } else {
+      // 32 rows (as OpenImageIO wrote them), fewer where a strip would exceed kStripBytes (wide
+      // float images), so that the strips in flight stay small; JPEG needs multiples of 16.
+      const std::size_t file_row = static_cast<std::size_t>(width_) * channels_ * tiff_sample_bytes(kind_);
+      rows_per_strip_ = compression == COMPRESSION_JPEG
+                            ? 64
+                            : static_cast<int>(std::clamp<std::size_t>(kStripBytes / file_row, 1, 32));
+      TIFFSetField(tif_, TIFFTAG_ROWSPERSTRIP, static_cast<std::uint32_t>(rows_per_strip_));
+      chunk_.reserve(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * tiff_sample_bytes(kind_));
+      // Deflated strips are compressed by gdp on two threads and written raw (same bytes a
+      // reader expects: predictor, then a zlib stream); libtiff would deflate them one at a time.
+      if (compression == COMPRESSION_ADOBE_DEFLATE)
+        compressor_ = std::make_unique<StripCompressor>(
+            StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
+    }
+    check_file();
+  }
+
+  SampleType stored() const override { return stored_; }
+  bool integer_file() const override { return kind_ == TiffSample::U8 || kind_ == TiffSample::U16; }
+
+  void write(int y0, int y1, const void* rows) override {
+    const auto* src = static_cast<const unsigned char*>(rows);
+    const std::size_t row_bytes = static_cast<std::size_t>(width_) * channels_ * sample_bytes(stored_);
+    if (tile_ > 0) {
+      write_tiles(y0, y1, src, row_bytes);
+    } else {
+      write_strips(y0, y1, src, row_bytes);
+    }
+    check_file();
+  }
+
+  void close() override {
+    if (compressor_) compressor_->finish(sink());
+    const bool flushed = TIFFFlush(tif_) == 1;
+    check_file();
+    if (!flushed) throw failure();
+    TIFFClose(tif_);
+    tif_ = nullptr;
+    file_->close();
+    check_file();
+  }
+
+ private:
+  static void to_double(const unsigned char* src, unsigned char* dst, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) {
+      float f;
+      std::memcpy(&f, src + i * 4, 4);
+      const double d = f;
+      std::memcpy(dst + i * 8, &d, 8);
+    }
+  }
+
+  // Rows collect in chunk_ until a strip is whole (or the image ends), which is then encoded in
+  // one call: libtiff deflates whole strips with libdeflate, rows one by one with zlib (~2x slower).
+  void write_strips(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
+    const std::size_t count = static_cast<std::size_t>(width_) * channels_;
+    const std::size_t file_row = count * tiff_sample_bytes(kind_);
+    for (int y = y0; y < y1; ++y) {
+      const unsigned char* row = src + (y - y0) * row_bytes;
+      const std::size_t at = chunk_.size();
+      chunk_.resize(at + file_row);
+      if (kind_ == TiffSample::F64) to_double(row, chunk_.data() + at, count);
+      else std::memcpy(chunk_.data() + at, row, file_row);
+      if ((y + 1) % rows_per_strip_ == 0 || y + 1 == height_) {
+        const tstrile_t strip = static_cast<tstrile_t>(y / rows_per_strip_);
+        if (compressor_) {
+          std::vector<unsigned char> rows;
+          rows.reserve(chunk_.capacity());
+          rows.swap(chunk_);
+          compressor_->submit(static_cast<int>(strip), std::move(rows), sink());
+          continue;
+        }
+        if (TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
+        chunk_.clear();
+      }
+    }
+  }
+
+  // Whole tile rows: each tile gathered from the band (zeros past the image's edges), then encoded.
+  void write_tiles(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
+    const std::size_t in = sample_bytes(stored_), out = tiff_sample_bytes(kind_);
+    for (int ty = y0; ty < y1; ty += tile_) {
+      for (int tx = 0; tx < width_; tx += tile_) {
+        std::fill(chunk_.begin(), chunk_.end(), 0);
+        const int rows = std::min({tile_, y1 - ty}), cols = std::min(tile_, width_ - tx);
+        for (int r = 0; r < rows; ++r) {
+          const unsigned char* from = src + static_cast<std::size_t>(ty - y0 + r) * row_bytes + tx * channels_ * in;
+          unsigned char* to = chunk_.data() + static_cast<std::size_t>(r) * tile_ * channels_ * out;
+          const std::size_t count = static_cast<std::size_t>(cols) * channels_;
+          if (kind_ == TiffSample::F64) to_double(from, to, count);
+          else std::memcpy(to, from, count * in);
+        }
+        const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
+        if (compressor_) {  // tiles come in index order: row of tiles by row of tiles, left to right
+          std::vector<unsigned char> tile(chunk_);
+          compressor_->submit(static_cast<int>(index), std::move(tile), sink());
+          continue;
+        }
+        if (TIFFWriteEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
+      }
+    }
+  }
+
+  StripCompressor::Sink sink() {
+    return [this](int index, const std::vector<unsigned char>& data) {
+      auto* bytes = const_cast<unsigned char*>(data.data());
+      const auto size = static_cast<tmsize_t>(data.size());
+      const tmsize_t written = tile_ > 0 ? TIFFWriteRawTile(tif_, static_cast<ttile_t>(index), bytes, size)
+                                         : TIFFWriteRawStrip(tif_, static_cast<tstrile_t>(index), bytes, size);
+      if (written < 0) throw failure();
+    };
+  }
+
+  void check_file() const {
+    if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
+  }
+  CodecError failure() {
+    if (file_->failed()) return CodecError("cannot write: " + file_->problem());
+    return CodecError("cannot write: " + messages_.take());
+  }
+
+  std::unique_ptr<OutputFile> file_;
+  Io io_;
+  TiffMessages messages_;
+  TIFF* tif_ = nullptr;  // last: cleaned up first
+  TiffSample kind_ = TiffSample::F32;
+  SampleType stored_ = SampleType::Float;
+  int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
+  std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled
+  std::unique_ptr<StripCompressor> compressor_;  // deflated strips and tiles only
+};
+
+}  // namespace
+
+std::unique_ptr<Encoder> create_tiff_encoder() { return std::make_unique<TiffEncoder>(); }
+
+}  // namespace gdp::io

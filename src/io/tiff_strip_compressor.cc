@@ -1,0 +1,104 @@
+// Worker threads that predict and deflate TIFF strips with libdeflate, and their in-order hand-back.
+#include "io/tiff_strip_compressor.h"
+
+#include <libdeflate.h>
+
+#include <memory>
+
+#include "io/codec.h"
+#include "io/tiff_predictor.h"
+
+namespace gdp::io {
+
+StripCompressor::StripCompressor(const StripFormat& format, int threads) : format_(format), limit_(threads + 2) {
+  for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { work(); });
+}
+
+StripCompressor::~StripCompressor() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  for (std::thread& t : workers_) t.join();
+}
+
+void StripCompressor::work() {
+  struct Free {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+  };
+  const std::unique_ptr<libdeflate_compressor, Free> compressor(libdeflate_alloc_compressor(format_.level));
+  std::vector<unsigned char> predicted;
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return stopping_ || !jobs_.empty(); });
+    if (stopping_) return;
+    Job job = std::move(jobs_.front());
+    jobs_.pop_front();
+    lock.unlock();
+    std::vector<unsigned char> out;
+    std::string failure;
+    try {
+      if (!compressor) throw CodecError("out of memory for a deflate compressor");
+      const std::size_t row = static_cast<std::size_t>(format_.width) * format_.channels * format_.sample_bytes;
+      unsigned char* data = job.rows.data();
+      if (format_.floating) {
+        predicted.resize(job.rows.size());
+        for (std::size_t at = 0; at < job.rows.size(); at += row)
+          float_difference(job.rows.data() + at, predicted.data() + at, format_.width, format_.channels,
+                           format_.sample_bytes);
+        data = predicted.data();
+      } else {
+        for (std::size_t at = 0; at < job.rows.size(); at += row)
+          horizontal_difference(job.rows.data() + at, format_.width, format_.channels, format_.sample_bytes);
+      }
+      out.resize(libdeflate_zlib_compress_bound(compressor.get(), job.rows.size()));
+      const std::size_t n = libdeflate_zlib_compress(compressor.get(), data, job.rows.size(), out.data(), out.size());
+      if (n == 0) throw CodecError("deflate failed");
+      out.resize(n);
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+    lock.lock();
+    if (!failure.empty() && error_.empty()) error_ = failure;
+    done_[job.strip] = std::move(out);
+    changed_.notify_all();
+  }
+}
+
+void StripCompressor::sink_ready(std::unique_lock<std::mutex>& lock, const Sink& sink) {
+  for (auto it = done_.find(next_); it != done_.end(); it = done_.find(next_)) {
+    std::vector<unsigned char> data = std::move(it->second);
+    done_.erase(it);
+    if (!error_.empty()) throw CodecError("cannot write: " + error_);
+    const int strip = next_++;
+    lock.unlock();
+    sink(strip, data);  // libtiff, on the submitting thread, without the lock
+    lock.lock();
+    --outstanding_;
+  }
+  if (!error_.empty()) throw CodecError("cannot write: " + error_);
+}
+
+void StripCompressor::submit(int strip, std::vector<unsigned char> rows, const Sink& sink) {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    sink_ready(lock, sink);
+    if (outstanding_ < limit_) break;
+    changed_.wait(lock);
+  }
+  jobs_.push_back(Job{strip, std::move(rows)});
+  ++outstanding_;
+  changed_.notify_all();
+}
+
+void StripCompressor::finish(const Sink& sink) {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    sink_ready(lock, sink);
+    if (outstanding_ == 0) return;
+    changed_.wait(lock);
+  }
+}
+
+}  // namespace gdp::io

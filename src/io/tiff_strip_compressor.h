@@ -1,0 +1,61 @@
+// Deflate-compressed TIFF strips or tiles made on worker threads (predictor + libdeflate), handed back in order.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace gdp::io {
+
+// How a strip's (or tile's) rows are laid out and predicted.
+struct StripFormat {
+  int width = 0, channels = 0;  // of a row: the image's width for strips, the tile width for tiles
+  std::size_t sample_bytes = 1;  // 1, 2 (unsigned: horizontal predictor) or 4, 8 (float: floating-point predictor)
+  bool floating = false;
+  int level = 6;  // deflate level, 1..12
+};
+
+// libtiff deflates a strip on the thread that writes it; this compresses several at once. The
+// strips (uncompressed rows, as they go into TIFFWriteEncodedStrip; or tiles, as into
+// TIFFWriteEncodedTile) are submitted in order (0, 1, 2, ...) from one thread; `sink` receives
+// each compressed one, in that order, on that same thread (it calls TIFFWriteRawStrip or
+// TIFFWriteRawTile). At most threads + 2 are held at a time.
+class StripCompressor {
+ public:
+  using Sink = std::function<void(int strip, const std::vector<unsigned char>& zlib_stream)>;
+  StripCompressor(const StripFormat& format, int threads);
+  ~StripCompressor();
+  StripCompressor(const StripCompressor&) = delete;
+  StripCompressor& operator=(const StripCompressor&) = delete;
+
+  void submit(int strip, std::vector<unsigned char> rows, const Sink& sink);  // strips 0, 1, 2, ...
+  void finish(const Sink& sink);  // waits for every strip and sinks it; throws CodecError on a failure
+
+ private:
+  struct Job {
+    int strip;
+    std::vector<unsigned char> rows;
+  };
+  void work();
+  void sink_ready(std::unique_lock<std::mutex>& lock, const Sink& sink);  // in-order finished strips
+
+  StripFormat format_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Job> jobs_;
+  std::map<int, std::vector<unsigned char>> done_;
+  int next_ = 0;         // next strip to sink
+  int outstanding_ = 0;  // submitted, not yet sunk
+  int limit_ = 4;
+  bool stopping_ = false;
+  std::string error_;
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace gdp::io

@@ -1,0 +1,38 @@
+// libtiff's messages captured per file handle, and TIFF sample kinds converted to band samples.
+#pragma once
+
+#include <tiffio.h>
+
+#include <cstddef>
+#include <string>
+
+namespace gdp::io {
+
+// Error messages of one TIFF handle: given to TIFFOpenOptions' handlers, so that no message
+// reaches the process-wide handlers (which print to stderr) and threads never mix them up.
+// Warnings are dropped.
+class TiffMessages {
+ public:
+  TiffMessages();
+  ~TiffMessages();
+  TiffMessages(const TiffMessages&) = delete;
+  TiffMessages& operator=(const TiffMessages&) = delete;
+  TIFFOpenOptions* options() const { return options_; }
+  std::string take();  // the messages since the last take(), one line; "unknown error" if none
+  void add(const char* text);
+
+ private:
+  TIFFOpenOptions* options_;
+  std::string text_;
+};
+
+// How a TIFF stores a sample.
+enum class TiffSample { U8, U16, F16, F32, F64 };
+std::size_t tiff_sample_bytes(TiffSample kind);
+
+// Copies `count` samples of `kind` (every `src_step`-th from src) to band samples (UInt8, UInt16 or
+// Float for the float kinds), every `dst_step`-th into dst.
+void tiff_to_band(TiffSample kind, const unsigned char* src, std::size_t src_step, unsigned char* dst,
+                  std::size_t dst_step, std::size_t count);
+
+}  // namespace gdp::io

@@ -1,0 +1,104 @@
+// ImageFileReader's column window: the window's slice of every row, and tiled TIFFs decoding only the tiles it overlaps.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gdp/errors.h"
+#include "gdp/image_io.h"
+#include "gdp/image_stream.h"
+#include "image_stream_util.h"
+#include "io/codecs.h"
+
+namespace gdp {
+namespace {
+
+namespace fs = std::filesystem;
+using test::oiio_write;
+using test::pattern;
+
+class ColumnWindow : public test::TempDirTest {
+ protected:
+  // Every row of the window [x0, x1) equals the same columns of the whole image.
+  static void expect_window(const fs::path& p, int x0, int x1, bool prefetch) {
+    SCOPED_TRACE(::testing::Message() << p.filename() << " [" << x0 << ", " << x1 << ")");
+    const Image whole = read_image(p).image;
+    ImageFileReader reader(p, prefetch, ColumnRange{x0, x1});
+    const int w = (x1 < 0 ? whole.width : x1) - x0;
+    ASSERT_EQ(reader.width(), whole.width);
+    ASSERT_EQ(reader.window_begin(), x0);
+    ASSERT_EQ(reader.window_width(), w);
+    std::vector<float> row(static_cast<std::size_t>(w) * whole.channels);
+    for (int y = 0; y < whole.height; ++y) {
+      reader.read_row(y, row);
+      for (int c = 0; c < whole.channels; ++c)
+        for (int x = 0; x < w; ++x)
+          ASSERT_EQ(row[static_cast<std::size_t>(c) * w + x], whole.at(c, x0 + x, y)) << "row " << y << " x " << x;
+    }
+  }
+};
+
+TEST_F(ColumnWindow, EveryFormatGivesTheWindowsColumns) {
+  struct Case {
+    const char* name;
+    OIIO::TypeDesc type;
+    int channels, tile;
+  };
+  // 300 x 900: several bands; windows inside tiles, across tile edges, at both image edges.
+  for (const Case& k : {Case{"a.png", OIIO::TypeDesc::UINT16, 4, 0}, Case{"a.jpg", OIIO::TypeDesc::UINT8, 3, 0},
+                        Case{"strips.tif", OIIO::TypeDesc::UINT8, 2, 0}, Case{"tiles.tif", OIIO::TypeDesc::FLOAT, 3, 64},
+                        Case{"a.exr", OIIO::TypeDesc::HALF, 3, 0}, Case{"tiles.exr", OIIO::TypeDesc::FLOAT, 1, 32}}) {
+    const fs::path p = dir_ / k.name;
+    oiio_write(p, pattern(300, 900, k.channels), k.type, k.tile);
+    for (auto [x0, x1] : {std::pair{0, -1}, std::pair{0, 1}, std::pair{70, 100}, std::pair{60, 200}, std::pair{250, 300},
+                          std::pair{299, 300}})
+      expect_window(p, x0, x1, x0 % 20 == 0);
+  }
+}
+
+TEST_F(ColumnWindow, TiledTiffDecodesOnlyTheTilesTheWindowOverlaps) {
+  const fs::path p = dir_ / "tiles.tif";
+  oiio_write(p, pattern(512, 256, 3), OIIO::TypeDesc::UINT8, 64);  // 8 x 4 tiles
+  auto count = [&](ColumnRange window) {
+    const long before = io::tiff_tiles_decoded();
+    ImageFileReader reader(p, false, window);
+    std::vector<float> row(static_cast<std::size_t>(reader.window_width()) * 3);
+    for (int y = 0; y < reader.height(); ++y) reader.read_row(y, row);
+    return io::tiff_tiles_decoded() - before;
+  };
+  EXPECT_EQ(count({}), 32);
+  EXPECT_EQ(count({64, 128}), 4);   // one tile column
+  EXPECT_EQ(count({100, 180}), 8);  // two tile columns, neither whole
+  EXPECT_EQ(count({511, 512}), 4);
+}
+
+TEST_F(ColumnWindow, WindowsOutsideTheImageAreInputErrors) {
+  const fs::path p = dir_ / "a.png";
+  oiio_write(p, pattern(30, 20, 1), OIIO::TypeDesc::UINT8);
+  for (auto [x0, x1] : {std::pair{-1, 10}, std::pair{10, 31}, std::pair{10, 10}, std::pair{20, 5}}) {
+    try {
+      ImageFileReader reader(p, true, ColumnRange{x0, x1});
+      ADD_FAILURE() << "no error for [" << x0 << ", " << x1 << ")";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(p.string()), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST_F(ColumnWindow, RewindReadsTheSameWindowAgain) {
+  const fs::path p = dir_ / "tall.tif";
+  oiio_write(p, pattern(200, 3000, 3), OIIO::TypeDesc::UINT16, 32);
+  ImageFileReader reader(p, true, ColumnRange{40, 90});
+  std::vector<float> first(50 * 3), again(50 * 3);
+  for (int y = 0; y < 3000; ++y) reader.read_row(y, first);
+  reader.rewind();
+  for (int y = 0; y < 3000; ++y) reader.read_row(y, again);
+  EXPECT_EQ(first, again);
+  const Image whole = read_image(p).image;
+  EXPECT_EQ(again[2 * 50 + 7], whole.at(2, 47, 2999));
+}
+
+}  // namespace
+}  // namespace gdp
