@@ -70,7 +70,9 @@ TEST(Clone, SourceHangingOverTheTargetsEdgesIsCut) {
     for (int y = 0; y < 40; ++y)
       for (int x = 0; x < 50; ++x) {
         const bool inside = x - ox >= 0 && x - ox < 30 && y - oy >= 0 && y - oy < 30;
-        if (!inside) EXPECT_NEAR(u.at(0, x, y), target.at(0, x, y), 1e-4) << x << "," << y;
+        if (!inside) {
+          EXPECT_NEAR(u.at(0, x, y), target.at(0, x, y), 1e-4) << x << "," << y;
+        }
       }
   }
 }

@@ -74,6 +74,27 @@ TEST_F(ColumnWindow, TiledTiffDecodesOnlyTheTilesTheWindowOverlaps) {
   EXPECT_EQ(count({511, 512}), 4);
 }
 
+// RowReader::set_columns (a rank of a distributed solve): the window's columns at their place in
+// full rows, the other samples untouched, and only the overlapping tiles decoded.
+TEST_F(ColumnWindow, SetColumnsFillsTheWindowInPlace) {
+  const fs::path p = dir_ / "tiles.tif";
+  const Image whole = pattern(300, 200, 2);
+  oiio_write(p, whole, OIIO::TypeDesc::FLOAT, 64);
+  ImageFileReader reader(p);
+  const long before = io::tiff_tiles_decoded();
+  reader.set_columns(70, 130);  // tiles 1 and 2 of 5 per tile row
+  std::vector<float> row(2 * 300, -1.0f);
+  for (int y = 0; y < 200; ++y) {
+    reader.read_row(y, row);
+    for (int c = 0; c < 2; ++c)
+      for (int x = 70; x < 130; ++x) ASSERT_EQ(row[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
+  }
+  EXPECT_EQ(row[0], -1.0f);
+  EXPECT_EQ(row[300 + 299], -1.0f);
+  EXPECT_EQ(io::tiff_tiles_decoded() - before, 2 * 4) << "two tile columns of four tile rows";
+  EXPECT_THROW(reader.set_columns(0, 10), std::logic_error) << "rows were read already";
+}
+
 TEST_F(ColumnWindow, WindowsOutsideTheImageAreInputErrors) {
   const fs::path p = dir_ / "a.png";
   oiio_write(p, pattern(30, 20, 1), OIIO::TypeDesc::UINT8);

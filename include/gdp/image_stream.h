@@ -43,6 +43,10 @@ class ImageFileReader final : public RowReader {
   int channels() const override;
   void read_row(int y, std::span<float> out) override;
   void rewind() override;
+  // RowReader's hint, before the first row: decodes only columns [begin, end) from then on (as
+  // a window does) but read_row() fills them in at their place in a full-width row and leaves
+  // the other samples of `out` as they are.
+  void set_columns(int begin, int end) override;
 
  private:
   struct Impl;

@@ -36,12 +36,9 @@ class StripFilesReader final : public RowReader {
     int begin = 0, end = 0;  // the columns wanted, in the strip's own coordinates
     std::unique_ptr<ImageFileReader> reader;  // null: not needed
   };
-  void start();
-
   std::vector<Strip> strips_;
   ImageFileInfo info_;
   int width_ = 0, height_ = 0, channels_ = 0;
-  bool pattern_ = false, started_ = false;
   std::vector<float> row_;
 };
 

@@ -29,12 +29,12 @@ struct Band {
   std::string error;  // non-empty: decoding failed here
 };
 
-// One row of a band into a channel-major row of floats.
+// One row of a band (w columns) into a channel-major row of floats, channels `stride` apart.
 template <class T, class Convert>
-void deinterleave(const unsigned char* band_row, int w, int ch, float* out, Convert convert) {
+void deinterleave(const unsigned char* band_row, int w, int ch, std::size_t stride, float* out, Convert convert) {
   const T* src = reinterpret_cast<const T*>(band_row);
   for (int c = 0; c < ch; ++c) {
-    float* dst = out + static_cast<std::size_t>(c) * w;
+    float* dst = out + c * stride;
     for (int x = 0; x < w; ++x) dst[x] = convert(src[static_cast<std::size_t>(x) * ch + c]);
   }
 }
@@ -47,6 +47,7 @@ struct ImageFileReader::Impl {
   bool prefetch;
   ColumnRange columns;
   int x0 = 0, x1 = 0;  // the window
+  bool in_place = false;  // set_columns(): the window's samples go to their columns of a full row
   std::unique_ptr<io::Decoder> decoder;
   io::ImageLayout layout;
   int band_rows = 1;
@@ -99,11 +100,15 @@ struct ImageFileReader::Impl {
     return b;
   }
 
+  // A new pass from row 0; with prefetch, decoding starts at the first read_row() (so that a
+  // set_columns() hint before it wastes nothing).
   void start() {
     next_row = 0;
     band = Band{};
     failed.clear();
-    if (!prefetch) return;
+  }
+
+  void start_decoding() {
     // One band queued, one being decoded, one being read: three at most.
     queue = std::make_unique<schedule::BoundedQueue<Band>>(1);
     decoder_thread = std::thread([this] {
@@ -122,6 +127,7 @@ struct ImageFileReader::Impl {
   }
 
   void next_band() {
+    if (prefetch && !queue) start_decoding();
     if (!prefetch) {
       band = decode(band.y1);
     } else {
@@ -161,22 +167,36 @@ int ImageFileReader::channels() const { return impl_->layout.channels; }
 void ImageFileReader::read_row(int y, std::span<float> out) {
   Impl& m = *impl_;
   const int w = m.x1 - m.x0, ch = m.layout.channels;
+  const std::size_t stride = m.in_place ? m.layout.width : w;
+  float* dst = out.data() + (m.in_place ? m.x0 : 0);
   if (y != m.next_row)
     throw std::logic_error(fmt::format("{}: row {} read out of order (next is {})", m.name, y, m.next_row));
   if (y >= m.layout.height) throw std::logic_error(fmt::format("{}: row {} past the end", m.name, y));
-  if (out.size() < static_cast<std::size_t>(w) * ch)
-    throw std::logic_error(fmt::format("{}: row buffer of {} samples, {} needed", m.name, out.size(), w * ch));
+  if (out.size() < stride * ch)
+    throw std::logic_error(fmt::format("{}: row buffer of {} samples, {} needed", m.name, out.size(), stride * ch));
   if (!m.failed.empty()) throw m.fail(m.failed);
   if (y >= m.band.y1) m.next_band();
   const unsigned char* src = m.band.bytes.data() + static_cast<std::size_t>(y - m.band.y0) * m.row_bytes;
   if (m.layout.stored == SampleType::UInt8) {
-    deinterleave<std::uint8_t>(src, w, ch, out.data(), io::from_u8);
+    deinterleave<std::uint8_t>(src, w, ch, stride, dst, io::from_u8);
   } else if (m.layout.stored == SampleType::UInt16) {
-    deinterleave<std::uint16_t>(src, w, ch, out.data(), io::from_u16);
+    deinterleave<std::uint16_t>(src, w, ch, stride, dst, io::from_u16);
   } else {
-    deinterleave<float>(src, w, ch, out.data(), [](float v) { return v; });
+    deinterleave<float>(src, w, ch, stride, dst, [](float v) { return v; });
   }
   ++m.next_row;
+}
+
+void ImageFileReader::set_columns(int begin, int end) {
+  Impl& m = *impl_;
+  if (m.next_row != 0) throw std::logic_error(m.name + ": set_columns after rows were read");
+  if (m.in_place && begin == m.x0 && end == m.x1) return;
+  m.stop();
+  m.decoder.reset();
+  m.columns = {begin, end};
+  m.in_place = true;
+  m.open();
+  m.start();
 }
 
 void ImageFileReader::rewind() {

@@ -25,7 +25,6 @@ StripFilesReader::StripFilesReader(const std::string& path) {
   if (path.find(kKey) == std::string::npos) {
     strips_.push_back(Strip{path, 0, 0, 0, 0, std::make_unique<ImageFileReader>(path)});
   } else {
-    pattern_ = true;
     for (int i = 0;; ++i) {
       const std::string p = strip_path(path, i);
       std::error_code ec;
@@ -33,7 +32,7 @@ StripFilesReader::StripFilesReader(const std::string& path) {
         if (i == 0) throw InputError(fmt::format("{}: no strip {} (strips are numbered from 0)", path, p));
         break;
       }
-      strips_.push_back(Strip{p, 0, 0, 0, 0, std::make_unique<ImageFileReader>(p, /*prefetch=*/false)});
+      strips_.push_back(Strip{p, 0, 0, 0, 0, std::make_unique<ImageFileReader>(p)});
     }
   }
   const ImageFileReader& first = *strips_.front().reader;
@@ -67,20 +66,7 @@ void StripFilesReader::set_columns(int begin, int end) {
   }
 }
 
-// Strips of several files are opened without a decoding thread until it is known which are
-// needed; then the needed ones start one.
-void StripFilesReader::start() {
-  started_ = true;
-  if (!pattern_) return;
-  for (Strip& s : strips_) {
-    if (!s.reader) continue;
-    s.reader = std::make_unique<ImageFileReader>(s.path);
-    if (s.begin != 0 || s.end != s.width) s.reader->set_columns(s.begin, s.end);
-  }
-}
-
 void StripFilesReader::read_row(int y, std::span<float> out) {
-  if (!started_) start();
   if (strips_.size() == 1) return strips_.front().reader->read_row(y, out);
   for (Strip& s : strips_) {
     if (!s.reader) continue;
