@@ -3,7 +3,8 @@
 # Usage: bench/e2e_stitch.sh [SIZE=2048] [BUILD=build] [EXT=png]
 # Makes a SIZE x SIZE composite + label map from a real photo (bench/make_composite: mirrored
 # tiles, Voronoi regions with exposure offsets), then times `gdp convert` of each input to the
-# output format and `gdp stitch` with 1 and 2 threads (all in one run: compare the ratios).
+# output format and `gdp stitch` with 1 and 2 threads and with 2 bands (all in one run: compare
+# the ratios).
 set -euo pipefail
 size=${1:-2048}
 build=${2:-build}
@@ -20,6 +21,8 @@ for t in 1 2; do
   "$gdp" stitch -c "$work/composite.$ext" -l "$work/labels.$ext" -o "$work/out.tif" --threads $t \
     --stats "$work/stitch$t.json" -q
 done
+"$gdp" stitch -c "$work/composite.$ext" -l "$work/labels.$ext" -o "$work/out.tif" --bands 2 \
+  --stats "$work/stitch_bands2.json" -q
 python3 - "$work" <<'PY'
 import json, sys
 w = sys.argv[1]
@@ -27,9 +30,9 @@ conv = json.load(open(f"{w}/convert.json"))
 lab = json.load(open(f"{w}/convert_labels.json"))
 floor = conv['seconds_total']
 print(f"convert composite: {floor:.2f} s, peak {conv['peak_rss_mb']} MB; convert labels: {lab['seconds_total']:.2f} s")
-for t in (1, 2):
+for t, name in ((1, "--threads 1"), (2, "--threads 2"), ("_bands2", "--bands 2")):
     s = json.load(open(f"{w}/stitch{t}.json"))
-    print(f"stitch --threads {t}: {s['seconds_total']:.2f} s = {s['seconds_total'] / floor:.2f}x convert composite,"
+    print(f"stitch {name}: {s['seconds_total']:.2f} s = {s['seconds_total'] / floor:.2f}x convert composite,"
           f" {s['seconds_total'] / (floor + lab['seconds_total']):.2f}x both converts; peak {s['peak_rss_mb']} MB,"
           f" solver {s['solver_memory_mb']} MB, scratch {s['scratch_mb']} MB, residuals {s['relative_residuals']}")
 PY
