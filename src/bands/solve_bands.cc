@@ -102,9 +102,18 @@ InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team, i
 // zero outside the row otherwise.
 template <class T>
 void cut(const T* row, int n, bool periodic, int origin, int length, std::vector<T>& out) {
-  for (int x = 0; x < length; ++x) {
-    const int i = origin + x;
-    out.push_back(periodic ? row[fem::wrap_index(i, n)] : (i >= 0 && i < n ? row[i] : T(0)));
+  const std::size_t at = out.size();
+  out.resize(at + static_cast<std::size_t>(length), T(0));
+  T* dst = out.data() + at;
+  for (int x = 0; x < length;) {  // copied in runs up to the row's end
+    const int i = periodic ? fem::wrap_index(origin + x, n) : origin + x;
+    if (i < 0 || i >= n) {
+      ++x;
+      continue;
+    }
+    const int run = std::min(length - x, n - i);
+    std::copy_n(row + i, run, dst + x);
+    x += run;
   }
 }
 
