@@ -10,6 +10,7 @@
 #include "bands/transport.h"
 #include "multigrid/band_ops.h"
 #include "multigrid/incore_vcycle.h"
+#include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
 
 namespace gdp::bands {
@@ -31,16 +32,7 @@ namespace gdp::bands {
 template <class T>
 class BandVCycle {
  public:
-  struct Settings {
-    int channels = 1;
-    double coarse_tolerance = 1e-10;
-    bool measure_initial = false;  // |b - A u| of the pushed rows (first cycle)
-    bool measure_final = false;    // |b - A u| of the pulled rows
-    bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
-    bool more_cycles = false;      // keep the finest weights for later cycles
-    bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
-    schedule::StorePolicy stores;
-  };
+  using Settings = schedule::CycleSettings;  // its sweeps are the layout's (BandLayout::sweeps)
 
   BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
              const Settings& settings);

@@ -152,21 +152,6 @@ class BandWorker {
 }  // namespace
 
 template <class T>
-typename BandVCycle<T>::Settings band_settings(const multigrid::Operators<T>& ops, const SolverOptions& opt,
-                                               int channels, bool diagonal) {
-  typename BandVCycle<T>::Settings s;
-  s.channels = channels;
-  s.coarse_tolerance = opt.coarse_tolerance;
-  s.measure_initial = s.measure_final = true;
-  s.weights = ops.singular;
-  s.diagonal = diagonal;
-  s.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
-  s.stores.dir = opt.temp_dir;
-  s.stores.encoding = opt.half_scratch ? schedule::StoreEncoding::Half : schedule::StoreEncoding::Native;
-  return s;
-}
-
-template <class T>
 void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
   // Under mpirun every rank sets up the same problem; they compare before anyone starts solving.
   const bool distributed = MpiRun::size() > 1;
@@ -201,7 +186,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   const auto t_start = Clock::now();
   summary.schedule = "bands";
   summary.streamed_levels = layout.levels;
-  const auto settings = band_settings(ops, opt, channels, source.has_weights());
+  const auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
 
   Team team;
   if (distributed) {

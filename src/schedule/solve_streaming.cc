@@ -49,16 +49,8 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   const int w = source.width(), h = source.height(), channels = source.channels();
   const auto t_start = Clock::now();
 
-  typename StreamingVCycle<T>::Settings settings;
-  settings.sweeps = opt.sweeps;
-  settings.coarse_tolerance = opt.coarse_tolerance;
+  typename StreamingVCycle<T>::Settings settings{cycle_settings(opt, ops.singular, channels, source.has_weights())};
   settings.incore_from = first_whole_level(ops, channels, opt.incore_bytes);
-  settings.measure_initial = settings.measure_final = true;
-  settings.weights = ops.singular;
-  settings.diagonal = source.has_weights();
-  settings.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
-  settings.stores.dir = opt.temp_dir;
-  settings.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
   summary.schedule = "streaming";
   summary.streamed_levels = settings.incore_from;
 

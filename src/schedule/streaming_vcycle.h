@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "multigrid/incore_vcycle.h"
+#include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
 
 namespace gdp::schedule {
@@ -27,17 +28,8 @@ namespace gdp::schedule {
 template <class T>
 class StreamingVCycle {
  public:
-  struct Settings {
-    int channels = 1;
-    int sweeps = 3;
-    double coarse_tolerance = 1e-10;
-    int incore_from = 1;            // first level held whole (1 .. levels - 1)
-    bool measure_initial = false;   // |b - A u| of the pushed rows (first cycle)
-    bool measure_final = false;     // |b - A u| of the pulled rows
-    bool weights = false;           // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
-    bool more_cycles = false;       // keep the finest weights for later cycles (b is always kept)
-    bool diagonal = false;          // a per-pixel diagonal term (row_ops.h), pushed with b
-    StorePolicy stores;
+  struct Settings : CycleSettings {
+    int incore_from = 1;  // first level held whole (1 .. levels - 1)
   };
 
   StreamingVCycle(const multigrid::Operators<T>& ops, const Settings& settings);

@@ -1,0 +1,37 @@
+// What a streamed V-cycle (streaming lanes and bands alike) is told about its problem and its scratch.
+#pragma once
+
+#include "gdp/solver.h"
+#include "schedule/row_store.h"
+
+namespace gdp::schedule {
+
+struct CycleSettings {
+  int channels = 1;
+  int sweeps = 3;
+  double coarse_tolerance = 1e-10;
+  bool measure_initial = false;  // |b - A u| of the pushed rows (first cycle)
+  bool measure_final = false;    // |b - A u| of the pulled rows
+  bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
+  bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
+  bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  StorePolicy stores;
+};
+
+// The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
+// singular problems, scratch in opt.temp_dir (half floats with opt.half_scratch).
+inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
+  CycleSettings s;
+  s.channels = channels;
+  s.sweeps = opt.sweeps;
+  s.coarse_tolerance = opt.coarse_tolerance;
+  s.measure_initial = s.measure_final = true;
+  s.weights = singular;
+  s.diagonal = diagonal;
+  s.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
+  s.stores.dir = opt.temp_dir;
+  s.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
+  return s;
+}
+
+}  // namespace gdp::schedule
