@@ -3,12 +3,18 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gdp/image_io.h"
 #include "gdp/image_stream.h"
 
 namespace gdp {
+
+// The placeholder in file names that stands for an MPI rank or a strip's number.
+inline constexpr std::string_view kRankKey = "{rank}";
+// `pattern` with every {rank} replaced by `rank`.
+std::string with_rank(std::string pattern, int rank);
 
 // Reads `path` as ImageFileReader does; a path with {rank} in it names the strips of one image
 // instead: {rank} replaced by 0, 1, 2, ... for as long as such a file exists, placed left to
@@ -34,7 +40,7 @@ class StripFilesReader final : public RowReader {
     std::string path;
     int x0 = 0, width = 0;
     int begin = 0, end = 0;  // the columns wanted, in the strip's own coordinates
-    std::unique_ptr<ImageFileReader> reader;  // null: not needed
+    std::unique_ptr<ImageFileReader> reader;  // opened, decoding only if read (begin < end)
   };
   std::vector<Strip> strips_;
   ImageFileInfo info_;

@@ -9,24 +9,20 @@
 #include "gdp/errors.h"
 
 namespace gdp {
-namespace {
 
-constexpr std::string_view kKey = "{rank}";
-
-std::string strip_path(std::string pattern, int i) {
-  for (auto at = pattern.find(kKey); at != std::string::npos; at = pattern.find(kKey))
-    pattern.replace(at, kKey.size(), std::to_string(i));
+std::string with_rank(std::string pattern, int rank) {
+  const std::string number = std::to_string(rank);
+  for (auto at = pattern.find(kRankKey); at != std::string::npos; at = pattern.find(kRankKey, at + number.size()))
+    pattern.replace(at, kRankKey.size(), number);
   return pattern;
 }
 
-}  // namespace
-
 StripFilesReader::StripFilesReader(const std::string& path) {
-  if (path.find(kKey) == std::string::npos) {
+  if (path.find(kRankKey) == std::string::npos) {
     strips_.push_back(Strip{path, 0, 0, 0, 0, std::make_unique<ImageFileReader>(path)});
   } else {
     for (int i = 0;; ++i) {
-      const std::string p = strip_path(path, i);
+      const std::string p = with_rank(path, i);
       std::error_code ec;
       if (!std::filesystem::exists(p, ec)) {
         if (i == 0) throw InputError(fmt::format("{}: no strip {} (strips are numbered from 0)", path, p));
@@ -58,18 +54,15 @@ void StripFilesReader::set_columns(int begin, int end) {
   for (Strip& s : strips_) {
     s.begin = std::clamp(begin - s.x0, 0, s.width);
     s.end = std::clamp(end - s.x0, 0, s.width);
-    if (s.begin >= s.end) {
-      s.reader.reset();
-    } else if (s.reader) {
-      s.reader->set_columns(s.begin, s.end);
-    }
+    if (s.begin < s.end) s.reader->set_columns(s.begin, s.end);  // others are never decoded
   }
 }
 
 void StripFilesReader::read_row(int y, std::span<float> out) {
-  if (strips_.size() == 1) return strips_.front().reader->read_row(y, out);
+  if (strips_.size() == 1 && strips_.front().begin < strips_.front().end)
+    return strips_.front().reader->read_row(y, out);
   for (Strip& s : strips_) {
-    if (!s.reader) continue;
+    if (s.begin >= s.end) continue;
     row_.resize(static_cast<std::size_t>(channels_) * s.width);
     s.reader->read_row(y, row_);
     for (int c = 0; c < channels_; ++c)
@@ -81,7 +74,7 @@ void StripFilesReader::read_row(int y, std::span<float> out) {
 
 void StripFilesReader::rewind() {
   for (Strip& s : strips_)
-    if (s.reader) s.reader->rewind();
+    if (s.begin < s.end) s.reader->rewind();
 }
 
 }  // namespace gdp

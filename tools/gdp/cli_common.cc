@@ -148,12 +148,7 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   return w;
 }
 
-std::string for_this_rank(std::string path) {
-  const std::string key = "{rank}", rank = std::to_string(MpiRun::rank());
-  for (auto at = path.find(key); at != std::string::npos; at = path.find(key, at + rank.size()))
-    path.replace(at, key.size(), rank);
-  return path;
-}
+std::string for_this_rank(const std::string& path) { return with_rank(path, MpiRun::rank()); }
 
 namespace {
 
@@ -198,7 +193,7 @@ class RankFileWriter final : public RowWriter {
 
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet) {
-  if (path.find("{rank}") != std::string::npos)
+  if (path.find(kRankKey) != std::string::npos)
     return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
   // Under mpirun rank 0 writes the file, from every rank's columns.
   std::unique_ptr<RowWriter> file;

@@ -69,7 +69,7 @@ std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int h
                                        const WriteOptions& options, bool quiet);
 
 // `path` with every {rank} replaced by this process's MPI rank (0 without mpirun).
-std::string for_this_rank(std::string path);
+std::string for_this_rank(const std::string& path);
 
 // Output write options: sample type from --depth or else the input file's.
 WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input);
