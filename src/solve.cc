@@ -19,6 +19,7 @@ class WithInitial final : public GuidanceSource {
   int height() const override { return inner_.height(); }
   int channels() const override { return inner_.channels(); }
   double alpha() const override { return inner_.alpha(); }
+  bool has_weights() const override { return inner_.has_weights(); }
   bool has_initial() const override { return true; }
   void set_columns(int begin, int end) override { inner_.set_columns(begin, end); }
   void read_row(int j, GuidanceRow& out) override {

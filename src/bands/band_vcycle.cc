@@ -591,17 +591,17 @@ template <class T>
 std::size_t BandVCycle<T>::store_bytes() const {
   std::size_t n = 0;
   for (const auto& L : levels_)
-    n += L->u_store->bytes() + L->b_store->bytes() + (L->w_store ? L->w_store->bytes() : 0) +
-         (L->d_store ? L->d_store->bytes() : 0);
+    for (const schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
+      n += store ? store->bytes() : 0;
   return n;
 }
 
 template <class T>
 std::size_t BandVCycle<T>::window_bytes() const {
   std::size_t n = (initial_.size() + r_.size()) * sizeof(T);
-  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size()) * sizeof(T);
+  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size() + L->d.size()) * sizeof(T);
   for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
-  return n + tail_w_.data.size() * sizeof(T);
+  return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }
 
 template class BandVCycle<float>;

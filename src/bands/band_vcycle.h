@@ -50,7 +50,6 @@ class BandVCycle {
   double final_norm(int c) const { return std::sqrt(final_rr_[c]); }
   std::size_t store_bytes() const;
   std::size_t window_bytes() const;
-  int row_length() const { return layout_.row_length(0, band_); }
 
  private:
   struct Level;

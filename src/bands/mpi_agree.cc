@@ -10,7 +10,6 @@
 
 namespace gdp::bands {
 
-void mark_failed_together();  // mpi_run.cc
 
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint) {
   int rank = 0, ranks = 1;

@@ -12,4 +12,7 @@ namespace gdp::bands {
 // the lowest failing rank ("rank R: ...") or that the ranks disagree on the problem.
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint);
 
+// Notes that every rank saw the same error (gdp::MpiRun::failed_together(); defined in mpi_run.cc).
+void mark_failed_together();
+
 }  // namespace gdp::bands

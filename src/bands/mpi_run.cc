@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdlib>
 
+#include "bands/mpi_agree.h"
 #include "bands/mpi_transport.h"
 
 namespace gdp {

@@ -25,11 +25,6 @@ ThreadHub::~ThreadHub() = default;
 
 Transport& ThreadHub::endpoint(int worker) { return *endpoints_.at(worker); }
 
-std::optional<std::string> ThreadHub::stopped() const {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  return stopped_;
-}
-
 void ThreadHub::post(int from, int to, int tag, Bytes data) {
   {
     const std::lock_guard<std::mutex> lock(mutex_);

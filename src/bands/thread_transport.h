@@ -20,8 +20,6 @@ class ThreadHub {
   ~ThreadHub();
   Transport& endpoint(int worker);
   int size() const { return size_; }
-  // The reason given by the first abort(), if any.
-  std::optional<std::string> stopped() const;
 
  private:
   class Endpoint;

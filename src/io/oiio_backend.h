@@ -31,7 +31,5 @@ inline constexpr const char* kOiioModuleVariable = "GDP_OIIO_MODULE";
 // CodecError ("needs OpenImageIO's module (libgdp_oiio.so): not found at ...") when none loads.
 Backend& oiio_backend();
 
-// True once the module has been loaded into this process (for tests and --stats).
-bool oiio_backend_loaded();
 
 }  // namespace gdp::io

@@ -1,7 +1,6 @@
 // Finding and dlopen()ing OpenImageIO's module on first use.
 #include <dlfcn.h>
 
-#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -17,8 +16,6 @@ namespace gdp::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::atomic<bool> loaded{false};
 
 // Where the module may be, in order.
 std::vector<std::string> candidates() {
@@ -63,7 +60,6 @@ Loaded load() {
       continue;  // the handle stays open: harmless, and never unloaded while code may use it
     }
     result.backend = entry();
-    loaded.store(true, std::memory_order_release);
     return result;
   }
   result.error = fmt::format("needs OpenImageIO's module ({}): not found at {}{} (set {} to its path)", kOiioModuleName,
@@ -79,6 +75,5 @@ Backend& oiio_backend() {
   return *module.backend;
 }
 
-bool oiio_backend_loaded() { return loaded.load(std::memory_order_acquire); }
 
 }  // namespace gdp::io
