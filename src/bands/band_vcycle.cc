@@ -402,31 +402,40 @@ void BandVCycle<T>::complete_coarse_row(int l) {
   advance(l + 1);
 }
 
+// The pieces of the gathered level that `band` contributes: its columns of every row of b (each
+// channel), of w and of d, as (row pointer, count), in one order for sender and receiver.
+template <class T>
+template <class F>
+void BandVCycle<T>::tail_parts(int band, F&& f) {
+  const int tl = layout_.levels, th = ops_.levels[tl].height;
+  const int a = layout_.begin(tl, band);
+  const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
+  for (int c = 0; c < set_.channels; ++c)
+    for (int row = 0; row < th; ++row) f(tail_b_[c].row(row) + a, n);
+  if (set_.weights)
+    for (int row = 0; row < th; ++row) f(tail_w_.row(row) + a, n);
+  if (set_.diagonal)
+    for (int row = 0; row < th; ++row) f(tail_d_.row(row) + a, n);
+}
+
 // The level below the bands: every worker's columns of b (and w) and its partial sums go to
 // worker 0, which solves in-core and sends the whole correction and the cycle's sums back.
 template <class T>
 void BandVCycle<T>::run_tail() {
   const int tl = layout_.levels, channels = set_.channels, banded = layout_.levels;
-  const int th = ops_.levels[tl].height;
-  const auto pack_part = [&](Packer& p) {
-    const int a = layout_.begin(tl, band_), b = layout_.end(tl, band_);
-    for (int c = 0; c < channels; ++c)
-      for (int row = 0; row < th; ++row) p.put(tail_b_[c].row(row) + a, static_cast<std::size_t>(b - a));
-    if (set_.weights)
-      for (int row = 0; row < th; ++row) p.put(tail_w_.row(row) + a, static_cast<std::size_t>(b - a));
-    if (set_.diagonal)
-      for (int row = 0; row < th; ++row) p.put(tail_d_.row(row) + a, static_cast<std::size_t>(b - a));
-    for (int c = 0; c < channels; ++c) {
-      p.put(initial_rr_[c]);
-      for (int l = 0; l < banded; ++l) {
-        p.put(levels_[l]->rr[c]);
-        p.put(levels_[l]->dots[c]);
-      }
+  // This band's partial sums, per channel: the initial residual, then per level rr and dots.
+  std::vector<double> sums;
+  for (int c = 0; c < channels; ++c) {
+    sums.push_back(initial_rr_[c]);
+    for (int l = 0; l < banded; ++l) {
+      sums.push_back(levels_[l]->rr[c]);
+      sums.push_back(levels_[l]->dots[c]);
     }
-  };
+  }
   if (band_ != 0) {
     Packer p;
-    pack_part(p);
+    tail_parts(band_, [&](const T* row, std::size_t n) { p.put(row, n); });
+    p.put(sums.data(), sums.size());
     net_.send(0, kGather, std::move(p.bytes));
     const Bytes reply = net_.receive(0, kScatter);
     Unpacker u(reply);
@@ -442,35 +451,20 @@ void BandVCycle<T>::run_tail() {
     u.finish();
     return;
   }
-  // Worker 0: sums in band order (the same bits run to run).
-  std::vector<double> initial(channels, 0.0), rr(static_cast<std::size_t>(channels) * banded, 0.0),
-      dots(static_cast<std::size_t>(channels) * banded, 0.0);
-  for (int b = 0; b < layout_.bands; ++b) {
-    Bytes bytes;
-    if (b == 0) {
-      Packer p;
-      pack_part(p);
-      bytes = std::move(p.bytes);
-    } else {
-      bytes = net_.receive(b, kGather);
-    }
+  // Worker 0: its own part is in place already; the others' added in band order (the same bits
+  // run to run).
+  std::vector<double> total = sums, part(sums.size());
+  for (int b = 1; b < layout_.bands; ++b) {
+    const Bytes bytes = net_.receive(b, kGather);
     Unpacker u(bytes);
-    const int a = layout_.begin(tl, b), e = layout_.end(tl, b);
-    for (int c = 0; c < channels; ++c)
-      for (int row = 0; row < th; ++row) u.get(tail_b_[c].row(row) + a, static_cast<std::size_t>(e - a));
-    if (set_.weights)
-      for (int row = 0; row < th; ++row) u.get(tail_w_.row(row) + a, static_cast<std::size_t>(e - a));
-    if (set_.diagonal)
-      for (int row = 0; row < th; ++row) u.get(tail_d_.row(row) + a, static_cast<std::size_t>(e - a));
-    for (int c = 0; c < channels; ++c) {
-      initial[c] += u.get();
-      for (int l = 0; l < banded; ++l) {
-        rr[c * banded + l] += u.get();
-        dots[c * banded + l] += u.get();
-      }
-    }
+    tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
+    u.get(part.data(), part.size());
     u.finish();
+    for (std::size_t i = 0; i < total.size(); ++i) total[i] += part[i];
   }
+  const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
+  const auto rr = [&](int c, int l) { return total[c * per_channel + 1 + 2 * l]; };
+  const auto dots = [&](int c, int l) { return total[c * per_channel + 2 + 2 * l]; };
   std::vector<Plane<T>> weights;
   if (set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
   if (set_.diagonal) {
@@ -484,12 +478,12 @@ void BandVCycle<T>::run_tail() {
     tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
     multigrid::CycleProbe& p = probes_[c];
     for (int l = 0; l < banded; ++l) {
-      if (set_.weights) p.dots.push_back(dots[c * banded + l]);
-      p.level_norms.push_back(std::sqrt(rr[c * banded + l]));
+      if (set_.weights) p.dots.push_back(dots(c, l));
+      p.level_norms.push_back(std::sqrt(rr(c, l)));
     }
     p.dots.insert(p.dots.end(), tail.dots.begin(), tail.dots.end());
     p.level_norms.insert(p.level_norms.end(), tail.level_norms.begin(), tail.level_norms.end());
-    initial_rr_[c] = initial[c];
+    initial_rr_[c] = total[c * per_channel];
     reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
     reply.put(static_cast<double>(p.dots.size()));
     reply.put(p.dots.data(), p.dots.size());

@@ -64,6 +64,9 @@ class BandVCycle {
   void finish_row(int l, int j);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);
+  // The pieces of the gathered level band `band` contributes, as (row pointer, count).
+  template <class F>
+  void tail_parts(int band, F&& f);
   void run_tail();
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
