@@ -50,6 +50,8 @@ struct SolverOptions {
 
   // Throws UsageError describing the first invalid option.
   void validate() const;
+  // The most V-cycles a solve runs: max_vcycles when iterating to a tolerance, else vcycles.
+  int cycle_cap() const { return tolerance > 0.0 ? max_vcycles : vcycles; }
 };
 
 struct SolveSummary {

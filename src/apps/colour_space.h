@@ -40,6 +40,7 @@ class SpaceWriter final : public RowWriter {
   SpaceWriter(RowWriter& out, const BlendSpace& space, int width, int channels)
       : out_(out), space_(space), width_(width), channels_(channels) {}
   void write_row(int y, std::span<const float> row) override {
+    if (space_.kind == BlendSpace::Kind::Values) return out_.write_row(y, row);  // nothing to convert
     row_.assign(row.begin(), row.end());
     from_space(space_, row_, width_, channels_);
     out_.write_row(y, row_);

@@ -29,8 +29,7 @@ class Recorded final : public apps::ImageGuidance {
     if (!low_) return;
     low_->read_row(j, low_row_);
     std::copy(low_row_.begin(), low_row_.end(), out.initial.begin());
-    if (alpha() != 0.0)
-      for (std::size_t k = 0; k < low_row_.size(); ++k) out.value[k] = std::isfinite(low_row_[k]) ? low_row_[k] : 0.0;
+    for (std::size_t k = 0; k < low_row_.size(); ++k) out.value[k] = std::isfinite(low_row_[k]) ? low_row_[k] : 0.0;
   }
 
  protected:

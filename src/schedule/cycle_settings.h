@@ -28,7 +28,7 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   s.measure_initial = s.measure_final = true;
   s.weights = singular;
   s.diagonal = diagonal;
-  s.more_cycles = (opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles) > 1;
+  s.more_cycles = opt.cycle_cap() > 1;
   s.stores.dir = opt.temp_dir;
   s.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
   return s;

@@ -124,7 +124,7 @@ class CycleWorker {
   BoundedQueue<Batch<T>> in, out;
 
  private:
-  int cycles() const { return opt_.tolerance > 0.0 ? opt_.max_vcycles : opt_.vcycles; }
+  int cycles() const { return opt_.cycle_cap(); }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
     if (result.rows == 0) result.first = j;

@@ -42,7 +42,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   summary.window_bytes = 2 * n * h * sizeof(T);
 
   const auto t_solve = Clock::now();
-  const int cycles = opt.tolerance > 0.0 ? opt.max_vcycles : opt.vcycles;
+  const int cycles = opt.cycle_cap();
   ResidualLog log(channels, static_cast<bool>(opt.log));
   std::mutex progress_mutex;
   int cycles_done = 0;

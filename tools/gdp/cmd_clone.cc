@@ -26,6 +26,8 @@ class Clone final : public Command {
     add_common_options(*app, common_);
   }
 
+  bool runs_under_mpi() const override { return true; }
+
   int run() override {
     Stats stats("clone");
     // Pinned pixels slow each V-cycle's convergence: iterate to a tolerance unless told otherwise.

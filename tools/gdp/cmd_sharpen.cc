@@ -45,6 +45,8 @@ class Sharpen final : public Command {
     return px * std::sqrt(double(solved.width()) * solved.height() / (double(input.width()) * input.height()));
   }
 
+  bool runs_under_mpi() const override { return true; }
+
   int run() override {
     Stats stats(name_);
     if (smooth_ && !(beta_ < 1.0)) throw UsageError(fmt::format("smooth needs --beta below 1, got {}", beta_));

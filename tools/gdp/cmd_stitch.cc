@@ -30,6 +30,8 @@ class Stitch final : public Command {
     add_common_options(*app, common_);
   }
 
+  bool runs_under_mpi() const override { return true; }
+
   int run() override {
     Stats stats("stitch");
     const SolverOptions solver = solver_options(common_, "stitch");

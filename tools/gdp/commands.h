@@ -11,6 +11,8 @@ class Command {
  public:
   virtual ~Command() = default;
   virtual int run() = 0;
+  // True for commands whose solve runs under mpirun (band schedule, gathered output).
+  virtual bool runs_under_mpi() const { return false; }
   CLI::App* app = nullptr;
 };
 

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     for (auto& c : commands) {
       if (!c->app->parsed()) continue;
       const std::string name = c->app->get_name();
-      if (gdp::MpiRun::size() > 1 && name != "stitch" && name != "sharpen" && name != "smooth" && name != "clone")
+      if (gdp::MpiRun::size() > 1 && !c->runs_under_mpi())
         throw gdp::UsageError("under mpirun, only stitch, sharpen, smooth and clone run (with --bands), not " + name);
       return c->run();
     }
