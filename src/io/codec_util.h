@@ -55,8 +55,6 @@ inline float from_u16(std::uint16_t v) { return static_cast<float>(v) * (1.0f / 
 inline std::uint8_t to_u8(float v) { return static_cast<std::uint8_t>(clamp01(v) * 255.0f + 0.5f); }
 inline std::uint16_t to_u16(float v) { return static_cast<std::uint16_t>(clamp01(v) * 65535.0f + 0.5f); }
 
-// IEEE half <-> float (exact for half -> float; round to nearest even the other way).
-float half_to_float(std::uint16_t h);
 
 // Lower-case extension without the dot ("TIF" -> "tif").
 std::string lower_extension(const std::string& path);

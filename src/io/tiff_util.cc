@@ -66,9 +66,9 @@ void tiff_to_band(TiffSample kind, const unsigned char* src, std::size_t src_ste
     }
     case TiffSample::F16:
       for (std::size_t i = 0; i < count; ++i) {
-        std::uint16_t h;
+        _Float16 h;  // as the row stores convert halves (exact to float)
         std::memcpy(&h, src + i * src_step * 2, 2);
-        const float f = half_to_float(h);
+        const float f = h;
         std::memcpy(dst + i * dst_step * 4, &f, 4);
       }
       return;
