@@ -47,6 +47,7 @@ struct ImageFileReader::Impl {
   bool prefetch;
   ColumnRange columns;
   int x0 = 0, x1 = 0;  // the window
+  bool decoder_used = false;  // the decoder has read rows (formats like PNG only go forwards)
   bool in_place = false;  // set_columns(): the window's samples go to their columns of a full row
   std::unique_ptr<io::Decoder> decoder;
   io::ImageLayout layout;
@@ -73,8 +74,14 @@ struct ImageFileReader::Impl {
       throw fail(e.what());
     }
     layout = decoder->layout();
+    decoder_used = false;
     if (layout.width <= 0 || layout.height <= 0 || layout.channels <= 0) throw fail("image has zero size");
     if (layout.channels > 4) throw fail(fmt::format("{} channels; gdp supports 1 to 4", layout.channels));
+    set_window();
+  }
+
+  // The window from `columns`, and the band sizes that follow from it.
+  void set_window() {
     x0 = columns.begin;
     x1 = columns.end < 0 ? layout.width : columns.end;
     if (x0 < 0 || x1 > layout.width || x0 >= x1)
@@ -91,6 +98,7 @@ struct ImageFileReader::Impl {
     b.y1 = std::min(layout.height, y0 + band_rows);
     try {
       b.bytes.resize(static_cast<std::size_t>(b.y1 - y0) * row_bytes);
+      decoder_used = true;
       decoder->read(y0, b.y1, x0, x1, b.bytes.data());
     } catch (const std::bad_alloc&) {
       b.error = "out of memory for a band of rows";
@@ -192,10 +200,14 @@ void ImageFileReader::set_columns(int begin, int end) {
   if (m.next_row != 0) throw std::logic_error(m.name + ": set_columns after rows were read");
   if (m.in_place && begin == m.x0 && end == m.x1) return;
   m.stop();
-  m.decoder.reset();
   m.columns = {begin, end};
   m.in_place = true;
-  m.open();
+  if (m.decoder_used) {  // rows decoded already: decode afresh from the top
+    m.decoder.reset();
+    m.open();
+  } else {  // nothing decoded yet: the decoder reads any window
+    m.set_window();
+  }
   m.start();
 }
 
