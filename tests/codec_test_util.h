@@ -17,24 +17,6 @@
 
 namespace gdp::test {
 
-// Writes `image` with OpenImageIO, after `configure` has set the spec's attributes.
-inline void oiio_write_with(const std::filesystem::path& path, const Image& image, OIIO::TypeDesc type,
-                            const std::function<void(OIIO::ImageSpec&)>& configure) {
-  const int w = image.width, h = image.height, c = image.channels;
-  std::vector<float> pixels(image.data.size());
-  for (int ch = 0; ch < c; ++ch)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) pixels[(static_cast<std::size_t>(y) * w + x) * c + ch] = image.at(ch, x, y);
-  OIIO::ImageSpec spec(w, h, c, type);
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  configure(spec);
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out) << path;
-  ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
-  ASSERT_TRUE(out->close()) << out->geterror();
-}
-
 // The sample type OpenImageIO reports for a file.
 inline SampleType oiio_sample_type(const std::filesystem::path& path) {
   auto in = OIIO::ImageInput::open(path.string());

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -45,21 +46,28 @@ inline Image pattern(int w, int h, int c) {
   return img;
 }
 
-// Writes `image` with OpenImageIO itself (independently of gdp's writer), tiled when tile > 0.
-inline void oiio_write(const std::filesystem::path& path, const Image& image, OIIO::TypeDesc type, int tile = 0) {
+// Writes `image` with OpenImageIO (independently of gdp's writer), after `configure` has set the
+// spec's attributes (alpha is unassociated).
+inline void oiio_write_with(const std::filesystem::path& path, const Image& image, OIIO::TypeDesc type,
+                            const std::function<void(OIIO::ImageSpec&)>& configure) {
   const int w = image.width, h = image.height, c = image.channels;
   std::vector<float> pixels(image.data.size());
   for (int ch = 0; ch < c; ++ch)
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) pixels[(static_cast<std::size_t>(y) * w + x) * c + ch] = image.at(ch, x, y);
   OIIO::ImageSpec spec(w, h, c, type);
-  spec.tile_width = spec.tile_height = tile;
-  if (c == 4) spec.attribute("oiio:UnassociatedAlpha", 1);
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  configure(spec);
   auto out = OIIO::ImageOutput::create(path.string());
   ASSERT_TRUE(out) << path;
   ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
   ASSERT_TRUE(out->close()) << out->geterror();
+}
+
+// The same, tiled when tile > 0.
+inline void oiio_write(const std::filesystem::path& path, const Image& image, OIIO::TypeDesc type, int tile = 0) {
+  oiio_write_with(path, image, type, [tile](OIIO::ImageSpec& spec) { spec.tile_width = spec.tile_height = tile; });
 }
 
 // The whole image as OpenImageIO reads it in one call (alpha unassociated, first subimage).
