@@ -151,6 +151,7 @@ TEST_P(BandOps, RestrictAndProlongOverBandsEqualWholeRows) {
     prolong_row(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), prolonged.row(j), tmp.data());
   }
   // Bands [A, B) of the fine level own coarse columns [A/2, B/2).
+  BandScratch<double> scratch;
   for (auto [A, B] : {std::pair{0, 24}, std::pair{24, 40}, std::pair{40, 64}}) {
     const int ca = A / 2, cb = B / 2;
     Plane<double> r(cb - ca + 2 * kHalo, g.height());
@@ -159,7 +160,7 @@ TEST_P(BandOps, RestrictAndProlongOverBandsEqualWholeRows) {
       const std::vector<double> f = band_row(fine, j, A, B, periodic);
       if (py.mirror != fem::Mirror::None) continue;  // mirrored: needs the whole coarse row (checked below)
       restrict_columns(g.px, py, periodic, f.data(), A - kHalo, A - kHalo, B + kHalo, r.row(py.index[0]),
-                       r.row(py.index[1]), ca - kHalo, ca, cb);
+                       r.row(py.index[1]), ca - kHalo, ca, cb, scratch);
       std::vector<double> p(B - A + 2 * kHalo, 0.0), c0 = band_row(coarse, py.index[0], ca, cb, periodic),
                                                      c1 = band_row(coarse, py.index[1], ca, cb, periodic);
       prolong_columns(g.px, py, periodic, c0.data(), c1.data(), {ca - kHalo, ca - kHalo}, false, p.data(), A - kHalo,

@@ -365,18 +365,18 @@ void BandVCycle<T>::restrict_row(int l, int j) {
     L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
     const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
     multigrid::restrict_columns(g.px, py, periodic, r_.data(), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb);
+                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
     if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j) + own, u_row(l, c, j) + own, L.B - L.A);
   }
   if (set_.weights) {
     const auto coarse = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
     multigrid::restrict_columns(g.px, py, periodic, w_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb);
+                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
   }
   if (set_.diagonal) {
     const auto coarse = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
     multigrid::restrict_columns(g.px, py, periodic, d_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb);
+                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
   }
   L.u_store->append({u_row(l, 0, j), slot});
   if (!L.inputs_stored) {

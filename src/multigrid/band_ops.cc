@@ -279,13 +279,13 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
 template <class T>
 GDP_KERNEL void restrict_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
                                  const T* fine, int fine_origin, int f0, int f1, T* coarse0, T* coarse1,
-                                 int coarse_origin, int c0, int c1) {
+                                 int coarse_origin, int c0, int c1, BandScratch<T>& s) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   // Coarse J collects from fine 2J - 2 .. 2J + 2 at most: walk the fine columns that can
   // reach [c0, c1) and keep the contributions that land there.
   const int lo = std::max(f0, 2 * c0 - 3), hi = std::min(f1, 2 * c1 + 3);
-  thread_local std::vector<T> tmp;  // no allocation per call
+  std::vector<T>& tmp = s.sums;  // no allocation per call
   tmp.assign(static_cast<std::size_t>(std::max(0, c1 - c0)), T(0));
   for (int i = lo; i < hi; ++i) {
     if (!periodic && (i < 0 || i >= n)) continue;
@@ -337,7 +337,7 @@ GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::Prolonga
   template void relax_columns(const LevelOperator<T>&, int, const BandWindow<T>&, T*, const T*, int, int,  \
                               bool, BandScratch<T>&, const T*);                                            \
   template void restrict_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*, int, \
-                                 int, int, T*, T*, int, int, int);                                         \
+                                 int, int, T*, T*, int, int, int, BandScratch<T>&);                                         \
   template void prolong_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*,     \
                                 const T*, std::array<int, 2>, bool, T*, int, int, int);
 GDP_INSTANTIATE(float)

@@ -24,6 +24,7 @@ struct BandWindow {
 template <class T>
 struct BandScratch {
   std::vector<T> a, c, q, dx, t, zero;
+  std::vector<T> sums;  // restrict_columns' coarse sums
   struct Coefficients {  // per global column, for one level and one (m0, c0) pair
     const void* op = nullptr;
     T m0{}, c0{};
@@ -55,7 +56,7 @@ void relax_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, T*
 template <class T>
 void restrict_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
                       const T* fine, int fine_origin, int f0, int f1, T* coarse0, T* coarse1,
-                      int coarse_origin, int c0, int c1);
+                      int coarse_origin, int c0, int c1, BandScratch<T>& s);
 
 // Prolongation added into fine row j at columns [f0, f1) from the coarse rows py.index[0] and
 // [1], each held at coarse[J - coarse_origin[k]] for the columns the fine ones read. With
