@@ -45,6 +45,11 @@ bool is_lossy_format(const std::string& format_name);
 
 // Bytes of one sample of UInt8, UInt16 or Float (the types bands hold); 8 for Double, 2 for Half.
 std::size_t sample_bytes(SampleType type);
+// The type a band of decoded rows keeps samples of this type in: 8- and 16-bit integers as they
+// are, every floating-point type as Float.
+inline SampleType band_type(SampleType type) {
+  return type == SampleType::UInt8 || type == SampleType::UInt16 ? type : SampleType::Float;
+}
 
 // 8- and 16-bit samples are converted to and from float by gdp itself, the same bit for bit in
 // every backend: k * (1.0f / max) one way; clamp to [0, 1] (NaN -> 0), * max + 0.5f and truncate

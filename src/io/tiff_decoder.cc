@@ -47,22 +47,18 @@ class TiffDecoder final : public Decoder {
     } else if (photometric != PHOTOMETRIC_MINISBLACK && !(photometric == PHOTOMETRIC_RGB && spp >= 3)) {
       return false;
     }
-    if (format == SAMPLEFORMAT_UINT && bits == 8) kind_ = TiffSample::U8;
-    else if (format == SAMPLEFORMAT_UINT && bits == 16) kind_ = TiffSample::U16;
-    else if (format == SAMPLEFORMAT_IEEEFP && bits == 16) kind_ = TiffSample::F16;
-    else if (format == SAMPLEFORMAT_IEEEFP && bits == 32) kind_ = TiffSample::F32;
-    else if (format == SAMPLEFORMAT_IEEEFP && bits == 64) kind_ = TiffSample::F64;
+    if (format == SAMPLEFORMAT_UINT && bits == 8) kind_ = SampleType::UInt8;
+    else if (format == SAMPLEFORMAT_UINT && bits == 16) kind_ = SampleType::UInt16;
+    else if (format == SAMPLEFORMAT_IEEEFP && bits == 16) kind_ = SampleType::Half;
+    else if (format == SAMPLEFORMAT_IEEEFP && bits == 32) kind_ = SampleType::Float;
+    else if (format == SAMPLEFORMAT_IEEEFP && bits == 64) kind_ = SampleType::Double;
     else return false;
     planar_ = planar == PLANARCONFIG_SEPARATE && spp > 1;
     layout_.width = static_cast<int>(width);
     layout_.height = static_cast<int>(height);
     layout_.channels = spp;
-    static const SampleType file_types[] = {SampleType::UInt8, SampleType::UInt16, SampleType::Half, SampleType::Float,
-                                            SampleType::Double};
-    layout_.info = {file_types[static_cast<int>(kind_)], "tiff", false};
-    layout_.stored = kind_ == TiffSample::U8    ? SampleType::UInt8
-                     : kind_ == TiffSample::U16 ? SampleType::UInt16
-                                                : SampleType::Float;
+    layout_.info = {kind_, "tiff", false};
+    layout_.stored = band_type(kind_);
     if (TIFFIsTiled(tif_)) {
       std::uint32_t tw = 0, th = 0;
       TIFFGetField(tif_, TIFFTAG_TILEWIDTH, &tw);
@@ -100,7 +96,7 @@ class TiffDecoder final : public Decoder {
   // Chunky strips, a row at a time (libtiff decodes within a strip as it goes: memory O(row)).
   void read_scanlines(int y0, int y1, int x0, int x1, unsigned char* out) {
     const int ch = layout_.channels;
-    const std::size_t count = static_cast<std::size_t>(x1 - x0) * ch, in = tiff_sample_bytes(kind_);
+    const std::size_t count = static_cast<std::size_t>(x1 - x0) * ch, in = sample_bytes(kind_);
     for (int y = y0; y < y1; ++y) {
       if (TIFFReadScanline(tif_, chunk_.data(), static_cast<std::uint32_t>(y), 0) < 0) throw error(y);
       tiff_to_band(kind_, chunk_.data() + static_cast<std::size_t>(x0) * ch * in, 1,
@@ -111,7 +107,7 @@ class TiffDecoder final : public Decoder {
   // Separate planes in strips: each plane's strip decoded whole and kept while rows need it.
   void read_plane_strips(int y0, int y1, int x0, int x1, unsigned char* out) {
     const int ch = layout_.channels;
-    const std::size_t strip_bytes = chunk_.size() / ch, in = tiff_sample_bytes(kind_);
+    const std::size_t strip_bytes = chunk_.size() / ch, in = sample_bytes(kind_);
     const std::size_t row_in = static_cast<std::size_t>(layout_.width) * in;
     const std::size_t out_row = static_cast<std::size_t>(x1 - x0) * ch * band_bytes();
     for (int y = y0; y < y1; ++y) {
@@ -133,7 +129,7 @@ class TiffDecoder final : public Decoder {
   void read_tiles(int y0, int y1, int x0, int x1, unsigned char* out) {
     const int ch = layout_.channels, tw = layout_.tile_width, th = layout_.tile_height;
     const int planes = planar_ ? ch : 1, per_tile = planar_ ? 1 : ch;
-    const std::size_t in = tiff_sample_bytes(kind_), bb = band_bytes();
+    const std::size_t in = sample_bytes(kind_), bb = band_bytes();
     const std::size_t out_row = static_cast<std::size_t>(x1 - x0) * ch * bb;
     for (int ty = y0 / th * th; ty < y1; ty += th) {
       for (int tx = x0 / tw * tw; tx < x1; tx += tw) {
@@ -160,7 +156,7 @@ class TiffDecoder final : public Decoder {
   TiffMessages messages_;  // before tif_: outlives the handle that reports to it
   TIFF* tif_ = nullptr;
   ImageLayout layout_;
-  TiffSample kind_ = TiffSample::U8;
+  SampleType kind_ = SampleType::UInt8;
   bool planar_ = false;
   int rows_per_strip_ = 1;
   std::vector<unsigned char> chunk_;  // a scanline, a tile, or one strip per plane

@@ -87,20 +87,16 @@ class TiffEncoder final : public Encoder {
     height_ = spec.height;
     channels_ = spec.channels;
     tile_ = spec.tile_size;
-    switch (spec.sample_type) {
-      case SampleType::UInt8: kind_ = TiffSample::U8; break;
-      case SampleType::UInt16: kind_ = TiffSample::U16; break;
-      case SampleType::Double: kind_ = TiffSample::F64; break;
-      default: kind_ = TiffSample::F32; break;  // Half is written as Float, as OpenImageIO 2.4 did
-    }
-    stored_ = kind_ == TiffSample::U8 ? SampleType::UInt8 : kind_ == TiffSample::U16 ? SampleType::UInt16 : SampleType::Float;
+    // Half is written as Float, as OpenImageIO 2.4 did.
+    kind_ = spec.sample_type == SampleType::Half ? SampleType::Float : spec.sample_type;
+    stored_ = band_type(kind_);
     tif_ = TIFFClientOpenExt(path.c_str(), spec.bigtiff ? "w8" : "w", &io_, io_read, io_write, io_seek, io_close,
                              io_size, io_map, io_unmap, messages_.options());
     if (!tif_) throw failure();
-    const bool floating = kind_ == TiffSample::F32 || kind_ == TiffSample::F64;
-    const int bits = static_cast<int>(tiff_sample_bytes(kind_) * 8);
+    const bool floating = kind_ == SampleType::Float || kind_ == SampleType::Double;
+    const int bits = static_cast<int>(sample_bytes(kind_) * 8);
     auto [compression, level] = compression_of(spec.compression);
-    if (compression == COMPRESSION_JPEG && !(kind_ == TiffSample::U8 && channels_ == 3))
+    if (compression == COMPRESSION_JPEG && !(kind_ == SampleType::UInt8 && channels_ == 3))
       compression = COMPRESSION_ADOBE_DEFLATE;  // JPEG holds 8-bit RGB only
     int photometric = channels_ >= 3 ? PHOTOMETRIC_RGB : PHOTOMETRIC_MINISBLACK;
     TIFFSetField(tif_, TIFFTAG_IMAGEWIDTH, static_cast<std::uint32_t>(width_));
@@ -134,30 +130,30 @@ class TiffEncoder final : public Encoder {
     if (tile_ > 0) {
       TIFFSetField(tif_, TIFFTAG_TILEWIDTH, static_cast<std::uint32_t>(tile_));
       TIFFSetField(tif_, TIFFTAG_TILELENGTH, static_cast<std::uint32_t>(tile_));
-      chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * tiff_sample_bytes(kind_));
+      chunk_.resize(static_cast<std::size_t>(tile_) * tile_ * channels_ * sample_bytes(kind_));
       if (compression == COMPRESSION_ADOBE_DEFLATE)  // tiles' rows are tile_ pixels wide
         compressor_ = std::make_unique<StripCompressor>(
-            StripFormat{tile_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
+            StripFormat{tile_, channels_, sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
     } else {
       // 32 rows (as OpenImageIO wrote them), fewer where a strip would exceed kStripBytes (wide
       // float images), so that the strips in flight stay small; JPEG needs multiples of 16.
-      const std::size_t file_row = static_cast<std::size_t>(width_) * channels_ * tiff_sample_bytes(kind_);
+      const std::size_t file_row = static_cast<std::size_t>(width_) * channels_ * sample_bytes(kind_);
       rows_per_strip_ = compression == COMPRESSION_JPEG
                             ? 64
                             : static_cast<int>(std::clamp<std::size_t>(kStripBytes / file_row, 1, 32));
       TIFFSetField(tif_, TIFFTAG_ROWSPERSTRIP, static_cast<std::uint32_t>(rows_per_strip_));
-      chunk_.reserve(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * tiff_sample_bytes(kind_));
+      chunk_.reserve(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * sample_bytes(kind_));
       // Deflated strips are compressed by gdp on two threads and written raw (same bytes a
       // reader expects: predictor, then a zlib stream); libtiff would deflate them one at a time.
       if (compression == COMPRESSION_ADOBE_DEFLATE)
         compressor_ = std::make_unique<StripCompressor>(
-            StripFormat{width_, channels_, tiff_sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
+            StripFormat{width_, channels_, sample_bytes(kind_), floating, deflate_level}, kCompressThreads);
     }
     check_file();
   }
 
   SampleType stored() const override { return stored_; }
-  bool integer_file() const override { return kind_ == TiffSample::U8 || kind_ == TiffSample::U16; }
+  bool integer_file() const override { return kind_ == SampleType::UInt8 || kind_ == SampleType::UInt16; }
 
   void write(int y0, int y1, const void* rows) override {
     const auto* src = static_cast<const unsigned char*>(rows);
@@ -195,12 +191,12 @@ class TiffEncoder final : public Encoder {
   // one call: libtiff deflates whole strips with libdeflate, rows one by one with zlib (~2x slower).
   void write_strips(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
     const std::size_t count = static_cast<std::size_t>(width_) * channels_;
-    const std::size_t file_row = count * tiff_sample_bytes(kind_);
+    const std::size_t file_row = count * sample_bytes(kind_);
     for (int y = y0; y < y1; ++y) {
       const unsigned char* row = src + (y - y0) * row_bytes;
       const std::size_t at = chunk_.size();
       chunk_.resize(at + file_row);
-      if (kind_ == TiffSample::F64) to_double(row, chunk_.data() + at, count);
+      if (kind_ == SampleType::Double) to_double(row, chunk_.data() + at, count);
       else std::memcpy(chunk_.data() + at, row, file_row);
       if ((y + 1) % rows_per_strip_ == 0 || y + 1 == height_) {
         const tstrile_t strip = static_cast<tstrile_t>(y / rows_per_strip_);
@@ -219,7 +215,7 @@ class TiffEncoder final : public Encoder {
 
   // Whole tile rows: each tile gathered from the band (zeros past the image's edges), then encoded.
   void write_tiles(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
-    const std::size_t in = sample_bytes(stored_), out = tiff_sample_bytes(kind_);
+    const std::size_t in = sample_bytes(stored_), out = sample_bytes(kind_);
     for (int ty = y0; ty < y1; ty += tile_) {
       for (int tx = 0; tx < width_; tx += tile_) {
         std::fill(chunk_.begin(), chunk_.end(), 0);
@@ -228,7 +224,7 @@ class TiffEncoder final : public Encoder {
           const unsigned char* from = src + static_cast<std::size_t>(ty - y0 + r) * row_bytes + tx * channels_ * in;
           unsigned char* to = chunk_.data() + static_cast<std::size_t>(r) * tile_ * channels_ * out;
           const std::size_t count = static_cast<std::size_t>(cols) * channels_;
-          if (kind_ == TiffSample::F64) to_double(from, to, count);
+          if (kind_ == SampleType::Double) to_double(from, to, count);
           else std::memcpy(to, from, count * in);
         }
         const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
@@ -264,7 +260,7 @@ class TiffEncoder final : public Encoder {
   Io io_;
   TiffMessages messages_;
   TIFF* tif_ = nullptr;  // last: cleaned up first
-  TiffSample kind_ = TiffSample::F32;
+  SampleType kind_ = SampleType::Float;
   SampleType stored_ = SampleType::Float;
   int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
   std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled

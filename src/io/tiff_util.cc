@@ -43,28 +43,17 @@ std::string TiffMessages::take() {
   return result;
 }
 
-std::size_t tiff_sample_bytes(TiffSample kind) {
-  switch (kind) {
-    case TiffSample::U8: return 1;
-    case TiffSample::U16: return 2;
-    case TiffSample::F16: return 2;
-    case TiffSample::F32: return 4;
-    case TiffSample::F64: return 8;
-  }
-  return 1;
-}
-
-void tiff_to_band(TiffSample kind, const unsigned char* src, std::size_t src_step, unsigned char* dst,
+void tiff_to_band(SampleType kind, const unsigned char* src, std::size_t src_step, unsigned char* dst,
                   std::size_t dst_step, std::size_t count) {
   switch (kind) {
-    case TiffSample::U8:
+    case SampleType::UInt8:
       for (std::size_t i = 0; i < count; ++i) dst[i * dst_step] = src[i * src_step];
       return;
-    case TiffSample::U16: {
+    case SampleType::UInt16: {
       for (std::size_t i = 0; i < count; ++i) std::memcpy(dst + i * dst_step * 2, src + i * src_step * 2, 2);
       return;
     }
-    case TiffSample::F16:
+    case SampleType::Half:
       for (std::size_t i = 0; i < count; ++i) {
         _Float16 h;  // as the row stores convert halves (exact to float)
         std::memcpy(&h, src + i * src_step * 2, 2);
@@ -72,10 +61,10 @@ void tiff_to_band(TiffSample kind, const unsigned char* src, std::size_t src_ste
         std::memcpy(dst + i * dst_step * 4, &f, 4);
       }
       return;
-    case TiffSample::F32:
+    case SampleType::Float:
       for (std::size_t i = 0; i < count; ++i) std::memcpy(dst + i * dst_step * 4, src + i * src_step * 4, 4);
       return;
-    case TiffSample::F64:
+    case SampleType::Double:
       for (std::size_t i = 0; i < count; ++i) {
         double d;
         std::memcpy(&d, src + i * src_step * 8, 8);

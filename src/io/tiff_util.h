@@ -3,6 +3,8 @@
 
 #include <tiffio.h>
 
+#include "gdp/image_io.h"
+
 #include <cstddef>
 #include <string>
 
@@ -26,13 +28,9 @@ class TiffMessages {
   std::string text_;
 };
 
-// How a TIFF stores a sample.
-enum class TiffSample { U8, U16, F16, F32, F64 };
-std::size_t tiff_sample_bytes(TiffSample kind);
-
 // Copies `count` samples of `kind` (every `src_step`-th from src) to band samples (UInt8, UInt16 or
 // Float for the float kinds), every `dst_step`-th into dst.
-void tiff_to_band(TiffSample kind, const unsigned char* src, std::size_t src_step, unsigned char* dst,
+void tiff_to_band(SampleType kind, const unsigned char* src, std::size_t src_step, unsigned char* dst,
                   std::size_t dst_step, std::size_t count);
 
 }  // namespace gdp::io
