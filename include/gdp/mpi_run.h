@@ -1,6 +1,7 @@
 // Running under mpirun: MPI started for the life of the process, and which rank this process is.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -28,13 +29,15 @@ class MpiRun {
   // Prints "gdp: rank R: why" and ends every rank with exit status 2 (MPI_Abort, the MPI
   // transport's abort path); without MPI it returns and the caller reports the error.
   static void abort(const std::string& why);
-  // The writer every rank hands a solve's rows to: without MPI (or with one rank) `file` itself.
-  // Under mpirun with ranks that write only their columns (RowWriter::set_columns, as the band
-  // schedule does) rank 0 puts every row together from all ranks' columns and writes it to
-  // `file`; the other ranks pass a null `file` and send theirs. Rows written whole (no
-  // set_columns) go to rank 0's file as they are; other ranks drop theirs.
-  static std::unique_ptr<RowWriter> gather_writer(std::unique_ptr<RowWriter> file, int width, int height,
-                                                  int channels);
+  // The writer every rank hands a solve's rows to: without MPI (or with one rank) the file
+  // `open_file` opens, at once. Under mpirun with ranks that write only their columns
+  // (RowWriter::set_columns, as the band schedule does) rank 0 puts every row together from all
+  // ranks' columns and writes it to that file, opened only once the ranks have agreed to solve
+  // (set_columns, or the first row): a rank that fails before then, ending them all, leaves no
+  // temporary file behind. Other ranks send theirs and never call `open_file`. Rows written whole
+  // (no set_columns) go to rank 0's file as they are; other ranks drop theirs.
+  using OpenFile = std::function<std::unique_ptr<RowWriter>()>;
+  static std::unique_ptr<RowWriter> gather_writer(OpenFile open_file, int width, int height, int channels);
 };
 
 }  // namespace gdp

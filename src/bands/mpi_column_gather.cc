@@ -30,16 +30,17 @@ struct Header {
 
 class ColumnGather final : public RowWriter {
  public:
-  ColumnGather(std::unique_ptr<RowWriter> file, int width, int height, int channels)
-      : file_(std::move(file)), width_(width), height_(height), channels_(channels), rank_(MpiRun::rank()),
+  ColumnGather(MpiRun::OpenFile open_file, int width, int height, int channels)
+      : open_file_(std::move(open_file)), width_(width), height_(height), channels_(channels), rank_(MpiRun::rank()),
         from_(static_cast<std::size_t>(MpiRun::size())) {
-    if (rank_ == 0 && !file_) throw std::logic_error("ColumnGather: rank 0 needs the output");
+    if (rank_ == 0 && !open_file_) throw std::logic_error("ColumnGather: rank 0 needs the output");
   }
   ~ColumnGather() override {
     for (auto& s : sending_) MPI_Request_free(&s.request);  // a failed run: MPI_Abort ends it anyway
   }
 
   void set_columns(int begin, int end) override {
+    file();  // every rank agreed to solve: rank 0 opens the output now
     begin_ = begin;
     end_ = end;
     split_ = true;
@@ -47,17 +48,17 @@ class ColumnGather final : public RowWriter {
 
   void write_row(int y, std::span<const float> row) override {
     if (!split_) {  // every rank has the whole row
-      if (rank_ == 0) file_->write_row(y, row);
+      if (rank_ == 0) file().write_row(y, row);
       return;
     }
     if (rank_ != 0) return send(y, row);
     row_.assign(row.begin(), row.end());
     for (int r = 1; r < static_cast<int>(from_.size()); ++r) fill(r, y);
-    file_->write_row(y, row_);
+    file().write_row(y, row_);
   }
 
   void commit() override {
-    if (rank_ == 0) return file_->commit();
+    if (rank_ == 0) return file().commit();
     while (!sending_.empty()) wait_oldest();
   }
 
@@ -89,6 +90,12 @@ class ColumnGather final : public RowWriter {
     MPI_Isend(sending_.back().bytes.data(), static_cast<int>(sending_.back().bytes.size()), MPI_BYTE, 0, kTag,
               MPI_COMM_WORLD, &sending_.back().request);
     if (sending_.size() > kInFlight) wait_oldest();
+  }
+
+  // Rank 0's output, opened at the first need.
+  RowWriter& file() {
+    if (!file_ && rank_ == 0) file_ = open_file_();
+    return *file_;
   }
 
   void wait_oldest() {
@@ -124,6 +131,7 @@ class ColumnGather final : public RowWriter {
                   n * sizeof(float));
   }
 
+  MpiRun::OpenFile open_file_;
   std::unique_ptr<RowWriter> file_;
   int width_, height_, channels_, rank_;
   bool split_ = false;
@@ -135,9 +143,9 @@ class ColumnGather final : public RowWriter {
 
 }  // namespace
 
-std::unique_ptr<RowWriter> MpiRun::gather_writer(std::unique_ptr<RowWriter> file, int width, int height, int channels) {
-  if (size() <= 1) return file;
-  return std::make_unique<ColumnGather>(std::move(file), width, height, channels);
+std::unique_ptr<RowWriter> MpiRun::gather_writer(OpenFile open_file, int width, int height, int channels) {
+  if (size() <= 1) return open_file();
+  return std::make_unique<ColumnGather>(rank() == 0 ? std::move(open_file) : OpenFile{}, width, height, channels);
 }
 
 }  // namespace gdp

@@ -196,9 +196,11 @@ std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int h
   if (path.find(kRankKey) != std::string::npos)
     return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
   // Under mpirun rank 0 writes the file, from every rank's columns.
-  std::unique_ptr<RowWriter> file;
-  if (MpiRun::rank() == 0) file = std::make_unique<ImageFileWriter>(path, width, height, channels, options);
-  return MpiRun::gather_writer(std::move(file), width, height, channels);
+  return MpiRun::gather_writer(
+      [=]() -> std::unique_ptr<RowWriter> {
+        return std::make_unique<ImageFileWriter>(path, width, height, channels, options);
+      },
+      width, height, channels);
 }
 
 void note(const CommonOptions& o, const std::string& message) {
