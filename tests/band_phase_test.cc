@@ -24,6 +24,7 @@ struct Case {
   int width, height, bands, sweeps, groups;
   bool periodic;
   int level;  // 0: rows arrive with b in the halo (and the lead region starts in the neighbour's band); 1: without
+  bool folded = false;  // a spherical layout (G = 1): each band must hold its own columns' latest sweep after every phase
 };
 
 BandLayout layout_for(const Case& c) {
@@ -35,6 +36,7 @@ BandLayout layout_for(const Case& c) {
   L.green_lane = 2 * L.edge();
   L.levels = 1;
   L.periodic = c.periodic;
+  L.folded = c.folded;
   L.bounds.resize(2);
   for (int b = 0; b <= c.bands; ++b) {
     const int at = c.width * b / c.bands;
@@ -100,6 +102,7 @@ class Simulation {
       for (int b = 0; b < c_.bands; ++b)
         for (int j = 0; j < c_.height; ++j)
           if (final_phase(L_, c_.height, j) == p) check_final(b, j);
+      if (c_.folded) check_own_columns_current(p);
     }
     for (int j = 0; j < c_.height; ++j)
       for (int s = 1; s <= c_.sweeps; ++s)
@@ -234,6 +237,18 @@ class Simulation {
       }
   }
 
+  // Folded layouts: what a band shows its mirror partners between phases, its own columns, holds
+  // every sweep done so far anywhere.
+  void check_own_columns_current(int p) {
+    for (int b = 0; b < c_.bands; ++b)
+      for (int j = 0; j < c_.height; ++j)
+        for (int i = L_.begin(l_, b); i < L_.end(l_, b); ++i) {
+          int latest = 0;
+          while (latest < c_.sweeps && done(j, latest + 1, i)) ++latest;
+          ASSERT_EQ(version(b, j, i), latest) << "after phase " << p << " band " << b << " row " << j << " col " << i;
+        }
+  }
+
   // The in-row orders the reads imply must be consistent (no cycle) for every (row, sweep).
   void check_acyclic() {
     for (std::size_t rs = 0; rs < after_.size(); ++rs) {
@@ -283,7 +298,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, BandPhaseTest,
                                            Case{420, 37, 4, 2, 7, false, 0}, Case{120, 25, 2, 1, 2, true, 1},
                                            Case{400, 10, 2, 3, 16, false, 0}, Case{340, 23, 2, 3, 16, true, 0},
                                            Case{340, 23, 2, 3, 16, true, 1}, Case{180, 33, 3, 3, 1, true, 0},
-                                           Case{180, 33, 3, 3, 1, true, 1}));
+                                           Case{180, 33, 3, 3, 1, true, 1}, Case{180, 33, 3, 3, 1, true, 0, true},
+                                           Case{180, 33, 3, 3, 1, true, 1, true}, Case{240, 20, 4, 2, 1, true, 1, true},
+                                           Case{200, 30, 1, 3, 1, true, 1, true}));
 
 }  // namespace
 }  // namespace gdp::bands

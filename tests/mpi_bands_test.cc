@@ -176,6 +176,27 @@ TEST_F(MpiBands, CloneOnRanksGivesTheThreadResult) {
   EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
 }
 
+// A spherical (PQ) image: the rows by the poles read rows across the fold, at columns of other
+// ranks' bands; ranks give the thread result and agree with one band.
+TEST_F(MpiBands, SphereOnRanksGivesTheThreadResult) {
+  Image pq = test::cosine_image(320, 80, 2, 4);
+  const Image noise = test::random_image(320, 80, 2, 6);
+  for (std::size_t i = 0; i < pq.data.size(); ++i) pq.data[i] = 0.5f + 0.3f * pq.data[i] + 0.05f * noise.data[i];
+  write_image(path("pq.tif"), pq, {});
+  const std::string sharpen = std::string(GDP_CLI_PATH) + " sharpen " + path("pq.tif") +
+                              " --domain spherical --beta 2 --depth float -q ";
+  ASSERT_EQ(gdp_raw(sharpen + "--bands 1 -o " + path("one.tif")).code, 0);
+  const Image one = result("one.tif");
+  for (int ranks : {2, 3}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    const test::CliRun r = mpi("-np " + std::to_string(ranks) + " " + sharpen + "--bands 1 -o " + path("mpi.tif"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(gdp_raw(sharpen + "--bands " + std::to_string(ranks) + " -o " + path("threads.tif")).code, 0);
+    EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+    EXPECT_LE(test::max_difference(result("mpi.tif"), one), 1e-4 * range(one));
+  }
+}
+
 TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   const std::string good = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif");
   const std::string bad = std::string(GDP_CLI_PATH) + " sharpen " + path("missing.tif");

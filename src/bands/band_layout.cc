@@ -20,8 +20,8 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   const int finest = h.levels[0].width() / std::max(bands, 1);
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
-  const bool mirrored = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
-  L.phase_groups = mirrored ? 1 : std::max(phase_groups, 1);
+  L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
+  L.phase_groups = L.folded ? 1 : std::max(phase_groups, 1);
   while (L.phase_groups > 1 && finest < 16 * L.min_band_width()) L.phase_groups /= 2;
   L.halo = band_halo(sweeps, L.phase_groups);
   L.green_lane = std::max(green_lane, 2 * L.edge());

@@ -16,6 +16,11 @@ struct BandLayout {
   int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
   int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is gathered to worker 0
   bool periodic = false;
+  // Spherical (PQ) levels: rows 0, 1, h-2 and h-1 read rows mirrored across the fold, at columns
+  // other bands own (band_fold.h). G is 1 and every level's lead region reaches into the
+  // neighbour's band, so that at the end of every phase each band holds the latest values of its
+  // own columns, which it then shows its mirror partners.
+  bool folded = false;
   // bounds[l][b] .. bounds[l][b + 1]: the columns band b owns on level l (l = 0 .. levels).
   std::vector<std::vector<int>> bounds;
 
@@ -31,8 +36,9 @@ struct BandLayout {
   int steps() const { return phase_groups + sweeps - 1; }
   // How far a band's lead region reaches into the neighbour's band at a phase's first step (it
   // moves back 2 columns a step): 2(G + k - 2) on level 0, whose rows arrive with the
-  // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts).
-  int lead_offset(int l) const { return l == 0 ? 2 * (steps() - 1) : 0; }
+  // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts),
+  // except on folded layouts: with G = 1 a phase relaxes only rows whose b came in earlier strips.
+  int lead_offset(int l) const { return l == 0 || folded ? 2 * (steps() - 1) : 0; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   // The narrowest band a level may have.

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "bands/band_fold.h"
 #include "bands/band_phase.h"
 #include "multigrid/band_ops.h"
 
@@ -18,8 +19,14 @@ using multigrid::Plane;
 
 namespace {
 
-// Message tags: level l's strips use tag l; the collectives use these.
-constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003;
+// Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
+// restriction's sums across the fold kFoldSums + l; the collectives use the others.
+constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003, kFoldRows = 1100,
+              kFoldSums = 1200;
+
+// Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
+constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
+int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
 
 class Packer {
  public:
@@ -76,6 +83,13 @@ struct BandVCycle<T>::Level {
   std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
   bool inputs_stored = false;
   std::vector<double> rr, dots;
+  // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the
+  // two rows there as the last exchange showed them (channels x 2 rows x width, whole rows).
+  struct Fold {
+    FoldPlan reads, sums;  // sums: this level's restriction into the next one
+    std::vector<T> rows;
+  };
+  std::array<Fold, 2> fold;
 };
 
 template <class T>
@@ -108,6 +122,14 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     L->b.assign(L->ring * slot, T(0));
     if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
     if (set_.diagonal) L->d.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
+    if (layout.folded) {
+      if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
+      for (int side = 0; side < 2; ++side) {
+        L->fold[side].reads = fold_reads(layout, l, op.width, kSides[side], band_);
+        L->fold[side].sums = fold_sums(layout, l + 1, geo[l + 1].width(), kSides[side], band_);
+        L->fold[side].rows.assign(2 * static_cast<std::size_t>(channels) * op.width, T(0));
+      }
+    }
     L->last_touch.assign(geo[l + 1].height(), -1);
     for (int j = 0; j < op.height; ++j)
       for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
@@ -133,6 +155,8 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(channels);
   if (set_.measure_initial) initial_.assign(8 * static_cast<std::size_t>(channels) * levels_[0]->len, T(0));
+  if (set_.measure_initial && layout.folded)
+    for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(channels) * levels_[0]->width, T(0));
 }
 
 template <class T>
@@ -161,27 +185,105 @@ T* BandVCycle<T>::d_row(int l, int j) {
 }
 
 template <class T>
-BandWindow<T> BandVCycle<T>::window(int l, int c, int j) {
+T* BandVCycle<T>::fold_row(int l, int c, int row, bool initial) {
+  Level& L = *levels_[l];
+  const int side = row < 2 ? 0 : 1, r = side == 0 ? row : row - (L.height - 2);
+  T* rows = initial ? initial_fold_[side].data() : L.fold[side].rows.data();
+  return rows + (static_cast<std::size_t>(c) * 2 + r) * L.width;
+}
+
+template <class T>
+BandWindow<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
   const Level& L = *levels_[l];
   BandWindow<T> w;
   for (int d = 0; d < 5; ++d) {
     const int r = L.op->row_of(j, d);
-    w.rows[d] = r < 0 ? nullptr : u_row(l, c, r);
+    if (r < 0) continue;
+    if (L.op->mirror_of(j, d) != fem::Mirror::None) {  // across the fold: the whole row as last exchanged
+      w.rows[d] = fold_row(l, c, r, initial);
+      continue;
+    }
+    w.rows[d] = initial ? initial_.data() + (static_cast<std::size_t>(r % 8) * set_.channels + c) * L.len
+                        : u_row(l, c, r);
     w.origin[d] = L.origin;
   }
   return w;
 }
 
+// Rows 0, 1 (side 0) or h - 2, h - 1 (side 1) of level l as they are now, at the columns across
+// the fold this band reads, into `into` (whole rows): its own copied, the others' from their owners.
 template <class T>
-BandWindow<T> BandVCycle<T>::initial_window(int j) {
-  const Level& L = *levels_[0];
-  BandWindow<T> w;
-  for (int d = 0; d < 5; ++d) {
-    const int r = L.op->row_of(j, d);
-    w.rows[d] = r < 0 ? nullptr : initial_.data() + static_cast<std::size_t>(r % 8) * set_.channels * L.len;
-    w.origin[d] = L.origin;
+void BandVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
+  Level& L = *levels_[l];
+  const FoldPlan& plan = L.fold[side].reads;
+  const int first = side == 0 ? 0 : L.height - 2;
+  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
+    for (int c = 0; c < set_.channels; ++c)
+      for (int r = 0; r < 2; ++r)
+        for (auto [x0, x1] : runs) f(c, r, x0, static_cast<std::size_t>(x1 - x0));
+  };
+  const auto own = [&](int c, int r, int x) { return u_row(l, c, first + r) + (x - L.origin); };
+  const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
+  for (int b = 0; b < layout_.bands; ++b) {
+    if (b == band_ || !plan.sends(b)) continue;
+    Packer pk;
+    pieces(plan.to[b], [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
+    net_.send(b, kFoldRows + l, std::move(pk.bytes));
   }
-  return w;
+  pieces(plan.from[band_], [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
+  for (int b = 0; b < layout_.bands; ++b) {
+    if (b == band_ || !plan.receives(b)) continue;
+    const Bytes bytes = net_.receive(b, kFoldRows + l);
+    Unpacker un(bytes);
+    pieces(plan.from[b], [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
+    un.finish();
+  }
+}
+
+// Level l's restriction across the fold into coarse row `row`: `sums` holds this band's
+// contributions at the mirror image of its coarse columns (whole rows: b per channel, then w and d
+// as the settings have them); each goes to the band owning the column, which adds them (its own
+// first, then the others' in band order).
+template <class T>
+void BandVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
+  const FoldPlan& plan = levels_[l]->fold[side].sums;
+  const bool tail = l + 1 == layout_.levels;
+  const int m = ops_.levels[l + 1].width, channels = set_.channels;
+  const int parts = channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0);
+  const int corigin = tail ? 0 : levels_[l + 1]->origin;
+  const auto coarse = [&](int k) -> T* {  // part k of coarse row `row`, at column corigin
+    if (k < channels) return tail ? tail_b_[k].row(row) : b_row(l + 1, k, row);
+    if (k == channels && set_.weights) return tail ? tail_w_.row(row) : w_row(l + 1, row);
+    return tail ? tail_d_.row(row) : d_row(l + 1, row);
+  };
+  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
+    for (int k = 0; k < parts; ++k)
+      for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
+  };
+  const auto add = [&](int k, int x, const T* v, std::size_t n) {
+    T* to = coarse(k) + (x - corigin);
+    for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
+  };
+  for (int b = 0; b < layout_.bands; ++b) {
+    if (b == band_ || !plan.sends(b)) continue;
+    Packer pk;
+    pieces(plan.to[b], [&](int k, int x, std::size_t n) { pk.put(sums.data() + static_cast<std::size_t>(k) * m + x, n); });
+    net_.send(b, kFoldSums + l, std::move(pk.bytes));
+  }
+  pieces(plan.from[band_],
+         [&](int k, int x, std::size_t n) { add(k, x, sums.data() + static_cast<std::size_t>(k) * m + x, n); });
+  std::vector<T> got;
+  for (int b = 0; b < layout_.bands; ++b) {
+    if (b == band_ || !plan.receives(b)) continue;
+    const Bytes bytes = net_.receive(b, kFoldSums + l);
+    Unpacker un(bytes);
+    pieces(plan.from[b], [&](int k, int x, std::size_t n) {
+      got.resize(n);
+      un.get(got.data(), n);
+      add(k, x, got.data(), n);
+    });
+    un.finish();
+  }
 }
 
 template <class T>
@@ -243,13 +345,13 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
   }
   if (set_.measure_initial && cycle_ == 1) {
     std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
+    // The rows across the fold as they start, before the residuals that read them.
+    if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
+    if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);
     const auto measure_row = [&](int j) {
       for (int c = 0; c < set_.channels; ++c) {
-        BandWindow<T> win = initial_window(j);
-        for (int d = 0; d < 5; ++d)
-          if (win.rows[d]) win.rows[d] += static_cast<std::size_t>(c) * L.len;
-        multigrid::residual_columns(*L.op, j, win, b_row(0, c, j), r_.data(), L.origin, L.A, L.B, L.scratch,
-                                    d_row(0, j));
+        multigrid::residual_columns(*L.op, j, window(0, c, j, true), b_row(0, c, j), r_.data(), L.origin, L.A, L.B,
+                                    L.scratch, d_row(0, j));
         initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
       }
     };
@@ -275,6 +377,13 @@ void BandVCycle<T>::advance(int l) {
 template <class T>
 void BandVCycle<T>::run_phase(int l, int p) {
   Level& L = *levels_[l];
+  // Rows across the fold (G = 1): this phase's sweeps of rows 0, 1, h-2 and h-1 read them as all
+  // earlier phases left them, as a whole-row Gauss-Seidel sweep reads its mirror image; the last
+  // exchange on each side shows the final rows to the restriction (or the last residual).
+  if (layout_.folded) {
+    if (p >= 2 && p <= 2 * k_ + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
+    if (p >= L.height && p <= L.height + 2 * k_) exchange_fold_rows(l, 1, L.fold[1].rows);
+  }
   plan_phase(
       layout_, l, band_, L.height, p,
       [&](const Tile& t) {
@@ -359,25 +468,36 @@ void BandVCycle<T>::restrict_row(int l, int j) {
   int lo = L.A - 2, hi = L.B + 2;
   if (!periodic) lo = std::max(lo, 0), hi = std::min(hi, L.width);
   const int own = L.A - L.origin;
+  // Across the fold (the first and last rows of a spherical level) the second coarse row is read
+  // mirrored: its contributions land in other bands' columns, so they collect in whole rows
+  // (part k at k * m) and go to their owners below.
+  const bool across = layout_.folded && py.mirror != fem::Mirror::None;
+  const int m = g.width();
+  std::vector<T> fold;
+  if (across) fold.assign(static_cast<std::size_t>(set_.channels + 2) * m, T(0));
+  const auto restrict_part = [&](int k, const T* fine, T* coarse0, T* coarse1) {
+    if (across) coarse1 = fold.data() + static_cast<std::size_t>(k) * m;
+    multigrid::restrict_columns(g.px, py, periodic, fine, L.origin, lo, hi, coarse0, coarse1,
+                                {corigin, across ? 0 : corigin}, ca, cb, L.scratch);
+  };
   for (int c = 0; c < set_.channels; ++c) {
     multigrid::residual_columns(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, lo, hi, L.scratch,
                                 d_row(l, j));
     L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
     const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
-    multigrid::restrict_columns(g.px, py, periodic, r_.data(), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
+    restrict_part(c, r_.data(), coarse(py.index[0]), coarse(py.index[1]));
     if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j) + own, u_row(l, c, j) + own, L.B - L.A);
   }
+  int part = set_.channels;
   if (set_.weights) {
     const auto coarse = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
-    multigrid::restrict_columns(g.px, py, periodic, w_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
+    restrict_part(part++, w_row(l, j), coarse(py.index[0]), coarse(py.index[1]));
   }
   if (set_.diagonal) {
     const auto coarse = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
-    multigrid::restrict_columns(g.px, py, periodic, d_row(l, j), L.origin, lo, hi, coarse(py.index[0]),
-                                coarse(py.index[1]), corigin, ca, cb, L.scratch);
+    restrict_part(part, d_row(l, j), coarse(py.index[0]), coarse(py.index[1]));
   }
+  if (across) add_fold_sums(l, side_of(py.mirror), fold, py.index[1]);
   L.u_store->append({u_row(l, 0, j), slot});
   if (!L.inputs_stored) {
     L.b_store->append({b_row(l, 0, j), slot});
@@ -538,10 +658,15 @@ void BandVCycle<T>::ensure_final(int l, int row) {
         ensure_final(l + 1, std::max(py.index[0], py.index[1]));
         corigin = C.origin;
       }
+      // Across the fold the second coarse row is read mirrored, from the coarse level's last
+      // exchange of its rows there (the gathered level is whole anyway).
+      const bool across = layout_.folded && py.mirror != fem::Mirror::None && !tail;
       for (int c = 0; c < set_.channels; ++c) {
         const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
-        multigrid::prolong_columns(g.px, py, layout_.periodic, coarse(py.index[0]), coarse(py.index[1]),
-                                   {corigin, corigin}, tail, u_row(l, c, r), L.origin, L.origin, L.origin + L.len);
+        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : coarse(py.index[1]);
+        multigrid::prolong_columns(g.px, py, layout_.periodic, coarse(py.index[0]), coarse1,
+                                   {corigin, across ? 0 : corigin}, tail, u_row(l, c, r), L.origin, L.origin,
+                                   L.origin + L.len);
       }
       ++L.arrived;
     }
@@ -592,8 +717,10 @@ std::size_t BandVCycle<T>::store_bytes() const {
 
 template <class T>
 std::size_t BandVCycle<T>::window_bytes() const {
-  std::size_t n = (initial_.size() + r_.size()) * sizeof(T);
-  for (const auto& L : levels_) n += (L->u.size() + L->b.size() + L->w.size() + L->d.size()) * sizeof(T);
+  std::size_t n = (initial_.size() + r_.size() + initial_fold_[0].size() + initial_fold_[1].size()) * sizeof(T);
+  for (const auto& L : levels_)
+    n += (L->u.size() + L->b.size() + L->w.size() + L->d.size() + L->fold[0].rows.size() + L->fold[1].rows.size()) *
+         sizeof(T);
   for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
   return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }

@@ -1,6 +1,7 @@
 // One worker's part of a band-parallel streaming V-cycle (paper section 6).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <span>
@@ -71,8 +72,13 @@ class BandVCycle {
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
   void reduce_final();
-  multigrid::BandWindow<T> window(int l, int c, int j);
-  multigrid::BandWindow<T> initial_window(int j);
+  // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
+  multigrid::BandWindow<T> window(int l, int c, int j, bool initial = false);
+  // Spherical levels (docs/how-bands-work.md, "Across the fold"): row `row` (0, 1, h-2 or h-1),
+  // whole, as the last exchange across the fold showed it.
+  T* fold_row(int l, int c, int row, bool initial = false);
+  void exchange_fold_rows(int l, int side, std::vector<T>& into);
+  void add_fold_sums(int l, int side, const std::vector<T>& sums, int row);
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
@@ -89,6 +95,7 @@ class BandVCycle {
   std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
+  std::array<std::vector<T>, 2> initial_fold_;  // first cycle: level 0's rows across the fold as pushed
   std::vector<multigrid::CycleProbe> probes_;
   std::vector<double> initial_rr_, final_rr_;
   std::vector<T> r_;

@@ -163,8 +163,6 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   try {
     problem_ptr = std::make_unique<schedule::Problem<T>>(source, opt, summary);
     if (problem_ptr->ops.count() > 1) {
-      if (opt.domain == Domain::Spherical && total_bands > 1)
-        throw UsageError("the band schedule does not split spherical images yet: use --bands 1");
       periodic = problem_ptr->hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
       layout_or = make_band_layout(problem_ptr->hierarchy, periodic, total_bands, opt.sweeps,
                                    schedule::first_whole_level(problem_ptr->ops, source.channels(), opt.incore_bytes));
@@ -204,7 +202,10 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   if (distributed) {
     const int from = layout.origin(0, team.first) - kInputMargin;
     const int to = layout.origin(0, last_local) + layout.row_length(0, last_local) + kInputMargin;
-    if (from >= 0 && to <= w) source.set_columns(from, to);  // a window wrapping around: whole rows
+    // Whole rows where the window would wrap around, and on the sphere, where the right-hand side
+    // of the first and last rows reads the guidance across the fold, at the mirror image's columns.
+    const bool folded = layout.folded;
+    if (from >= 0 && to <= w && !folded) source.set_columns(from, to);
     out.set_columns(own_begin, own_end);
   }
   std::promise<InputTotals> totals_promise;

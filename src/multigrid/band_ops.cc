@@ -279,7 +279,7 @@ GDP_KERNEL void relax_columns(const LevelOperator<T>& op, int j, const BandWindo
 template <class T>
 GDP_KERNEL void restrict_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
                                  const T* fine, int fine_origin, int f0, int f1, T* coarse0, T* coarse1,
-                                 int coarse_origin, int c0, int c1, BandScratch<T>& s) {
+                                 std::array<int, 2> coarse_origin, int c0, int c1, BandScratch<T>& s) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   // Coarse J collects from fine 2J - 2 .. 2J + 2 at most: walk the fine columns that can
@@ -296,12 +296,12 @@ GDP_KERNEL void restrict_columns(const fem::Prolongation& px, const fem::Prolong
       if (J >= c0 && J < c1) tmp[J - c0] += static_cast<T>(p.weight[a]) * fine[i - fine_origin];
     }
   }
-  for (int J = c0; J < c1; ++J) coarse0[J - coarse_origin] += w0 * tmp[J - c0];
+  for (int J = c0; J < c1; ++J) coarse0[J - coarse_origin[0]] += w0 * tmp[J - c0];
   if (w1 == T(0)) return;
   for (int J = c0; J < c1; ++J) {
     const int to = py.mirror == fem::Mirror::None ? J
                                                   : fem::mirror_column(py.mirror, periodic ? fem::wrap_index(J, m) : J, m);
-    coarse1[to - coarse_origin] += w1 * tmp[J - c0];
+    coarse1[to - coarse_origin[1]] += w1 * tmp[J - c0];
   }
 }
 
@@ -337,7 +337,7 @@ GDP_KERNEL void prolong_columns(const fem::Prolongation& px, const fem::Prolonga
   template void relax_columns(const LevelOperator<T>&, int, const BandWindow<T>&, T*, const T*, int, int,  \
                               bool, BandScratch<T>&, const T*);                                            \
   template void restrict_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*, int, \
-                                 int, int, T*, T*, int, int, int, BandScratch<T>&);                                         \
+                                 int, int, T*, T*, std::array<int, 2>, int, int, BandScratch<T>&);                                         \
   template void prolong_columns(const fem::Prolongation&, const fem::ProlongationRow&, bool, const T*,     \
                                 const T*, std::array<int, 2>, bool, T*, int, int, int);
 GDP_INSTANTIATE(float)

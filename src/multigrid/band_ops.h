@@ -50,13 +50,13 @@ void relax_columns(const LevelOperator<T>& op, int j, const BandWindow<T>& w, T*
                    int i1, bool forward, BandScratch<T>& s, const T* diag = nullptr);
 
 // Restriction of fine row j, known at fine columns [f0, f1) (fine[i - fine_origin]), into
-// coarse columns [c0, c1) of the coarse rows py.index[0] and [1] (coarse[i - coarse_origin];
+// coarse columns [c0, c1) of the coarse rows py.index[0] and [1] (coarse_k[i - coarse_origin[k]];
 // the second mirrored where py.mirror says so, in which case coarse1 must hold the mirrored
-// columns). Only contributions from the given fine columns are added.
+// columns, e.g. a whole row with origin 0). Only contributions from the given fine columns are added.
 template <class T>
 void restrict_columns(const fem::Prolongation& px, const fem::ProlongationRow& py, bool periodic,
                       const T* fine, int fine_origin, int f0, int f1, T* coarse0, T* coarse1,
-                      int coarse_origin, int c0, int c1, BandScratch<T>& s);
+                      std::array<int, 2> coarse_origin, int c0, int c1, BandScratch<T>& s);
 
 // Prolongation added into fine row j at columns [f0, f1) from the coarse rows py.index[0] and
 // [1], each held at coarse[J - coarse_origin[k]] for the columns the fine ones read. With

@@ -1,0 +1,36 @@
+// Which columns cross the fold between bands: a spherical level's first and last two rows read rows
+// mirrored left to right (docs/sphere-solver.md), at columns that other bands own.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "bands/band_layout.h"
+#include "fem/axis.h"
+
+namespace gdp::bands {
+
+// Runs [begin, end) of columns of a row of n samples, in increasing order.
+using ColumnRuns = std::vector<std::pair<int, int>>;
+
+// The columns x in wrap([held)) whose mirror image (fem::mirror_column(side, x, n)) lies in
+// wrap([mirrored)); ranges are in unwrapped global columns.
+ColumnRuns fold_columns(int n, fem::Mirror side, std::pair<int, int> held, std::pair<int, int> mirrored);
+
+// One exchange across the fold, seen by one band: the columns it sends to band b (to[b]) and
+// receives from band b (from[b]); from[band] is what it takes from itself.
+struct FoldPlan {
+  std::vector<ColumnRuns> to, from;
+  bool sends(int b) const { return !to[b].empty(); }
+  bool receives(int b) const { return !from[b].empty(); }
+};
+
+// Rows across the fold on banded level l (n columns): a band shows the columns it owns to every
+// band that stores (halo included) their mirror image.
+FoldPlan fold_reads(const BandLayout& L, int l, int n, fem::Mirror side, int band);
+
+// Restriction into level l (banded or the gathered one, n columns) across the fold: a band's
+// contributions to the mirror image of its own columns go to the bands that own them.
+FoldPlan fold_sums(const BandLayout& L, int l, int n, fem::Mirror side, int band);
+
+}  // namespace gdp::bands
