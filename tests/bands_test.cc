@@ -56,12 +56,12 @@ Image with_seams(const Image& img) {
 }
 
 Image solve_with(const Case& k, const Image& img, Schedule schedule, int bands, int vcycles, SolveSummary* s = nullptr,
-                 Precision precision = Precision::Float32) {
+                 Precision precision = Precision::Float32, std::size_t incore_bytes = 4096) {
   SolverOptions o;
   o.domain = k.domain;
   o.vcycles = vcycles;
   o.coarsest_size = 8;
-  o.incore_bytes = 4096;  // several banded levels even on small images
+  o.incore_bytes = incore_bytes;  // several banded levels even on small images
   o.schedule = schedule;
   o.bands = bands;
   o.precision = precision;
@@ -142,6 +142,30 @@ INSTANTIATE_TEST_SUITE_P(Domains, Bands,
                                            Case{Domain::Cylindrical, 301, 97, 1, 0.02, 5e-4},
                                            Case{Domain::Spherical, 512, 128, 1, 0.0}, Case{Domain::Spherical, 640, 160, 2, 0.01},
                                            Case{Domain::Planar, 2560, 64, 1, 0.0, 2e-4}, Case{Domain::Cylindrical, 2560, 64, 1, 0.0, 2e-4}));
+
+// Many bands on a small image: bands too narrow for the coarser levels merge in pairs stage by stage
+// (8 -> 4 -> 2 -> 1; 7 -> 3 -> 1) down to a level of 256 bytes, instead of gathering early.
+TEST(BandsMerging, MergedStagesAgreeConvergeAndRepeat) {
+  for (const auto& [k, bands] : {std::pair{Case{Domain::Planar, 1024, 256, 2, 0.0}, 8},
+                                 std::pair{Case{Domain::Cylindrical, 1400, 256, 1, 0.01}, 7}}) {
+    SCOPED_TRACE(std::to_string(bands) + " bands");
+    const Image img = test_image(k, 7);
+    const std::size_t incore = 256;
+    SolveSummary s, streaming_summary;
+    const Image streaming = solve_with(k, img, Schedule::Streaming, 1, 1, nullptr, Precision::Float32, incore);
+    const Image out = solve_with(k, img, Schedule::Bands, bands, 1, &s, Precision::Float32, incore);
+    EXPECT_EQ(s.streamed_levels, 6);  // 3 levels of 8 (7) bands, then merged ones
+    EXPECT_LE(test::max_difference(out, streaming), 1e-4 * range_of(streaming));
+    const Image again = solve_with(k, img, Schedule::Bands, bands, 1, nullptr, Precision::Float32, incore);
+    EXPECT_EQ(std::memcmp(out.data.data(), again.data.data(), out.data.size() * sizeof(float)), 0);
+    const Image ref = solve_with(k, img, Schedule::Streaming, 1, 6, &streaming_summary, Precision::Float64, incore);
+    const Image conv = solve_with(k, img, Schedule::Bands, bands, 6, &s, Precision::Float64, incore);
+    EXPECT_LE(test::max_difference(conv, ref), 1e-7 * range_of(ref));
+    EXPECT_NEAR(s.relative_residuals[0], streaming_summary.relative_residuals[0],
+                1e-9 * streaming_summary.relative_residuals[0]);
+    EXPECT_LT(s.relative_residuals.back(), 1e-6 * s.relative_residuals.front());
+  }
+}
 
 TEST(BandsOptions, TooManyBandsForTheWidthIsAUsageError) {
   const Case k{Domain::Planar, 64, 32, 1, 0.0};

@@ -197,6 +197,24 @@ TEST_F(MpiBands, SphereOnRanksGivesTheThreadResult) {
   }
 }
 
+// 4 ranks whose bands grow too narrow for the coarser levels: they merge in pairs across ranks
+// (4 -> 2 -> 1 bands on levels 0-1, 2, 3) down to a small in-core level, with the bits of the
+// same bands on threads.
+TEST_F(MpiBands, MergedStagesOnRanksGiveTheThreadResult) {
+  const std::string small = "--incore-bytes 512 --coarsest 8";
+  const std::string extra = small + " --stats " + path("stats.json");
+  const test::CliRun r = sharpen("mpi.tif", 1, 4, extra);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream f(path("stats.json"));
+  const std::string stats((std::istreambuf_iterator<char>(f)), {});
+  // 4 bands of 80 columns are 20 wide on level 2 (28 at least): without merging 2 levels streamed.
+  EXPECT_NE(stats.find("\"streamed_levels\": 4"), std::string::npos) << stats;
+  ASSERT_EQ(sharpen("threads.tif", 4, 0, small).code, 0);
+  EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+  ASSERT_EQ(sharpen("one.tif", 1, 0, small).code, 0);
+  EXPECT_LE(test::max_difference(result("mpi.tif"), result("one.tif")), 1e-4 * range(result("one.tif")));
+}
+
 TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   const std::string good = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif");
   const std::string bad = std::string(GDP_CLI_PATH) + " sharpen " + path("missing.tif");

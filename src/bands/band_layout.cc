@@ -25,33 +25,62 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   while (L.phase_groups > 1 && finest < 16 * L.min_band_width()) L.phase_groups /= 2;
   L.halo = band_halo(sweeps, L.phase_groups);
   L.green_lane = std::max(green_lane, 2 * L.edge());
-  const int count = static_cast<int>(h.levels.size());
-  const auto fits = [&](int levels) {
-    // Boundaries on multiples of 2^(levels - 1), halved level by level.
-    const int unit = 1 << std::max(levels - 1, 0);
-    const int n = h.levels[0].width();
-    std::vector<std::vector<int>> bounds(levels + 1);
+  const int count = static_cast<int>(h.levels.size()), n = h.levels[0].width();
+  // The stages for `total` banded levels: each stage's band boundaries on level 0 (multiples of
+  // 2^(total - 1), so they halve exactly through every banded level) and its first level; empty
+  // where some banded level cannot have bands wide enough.
+  struct Stage {
+    int start;
+    std::vector<int> cuts;
+  };
+  const auto bound = [&](const std::vector<int>& cuts, int i, int l) {
+    return i + 1 == static_cast<int>(cuts.size()) ? h.levels[l].width() : cuts[i] >> l;
+  };
+  const auto narrow = [&](const std::vector<int>& cuts, int l) {
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
+      if (bound(cuts, static_cast<int>(i) + 1, l) - bound(cuts, static_cast<int>(i), l) < L.min_band_width()) return true;
+    return false;
+  };
+  const auto stages = [&](int total) {
+    const int unit = 1 << std::max(total - 1, 0);
+    std::vector<int> cuts;
     for (int b = 0; b <= bands; ++b) {
       const long long at = static_cast<long long>(n) * b / bands;
-      bounds[0].push_back(b == bands ? n : static_cast<int>((at + unit / 2) / unit * unit));
+      cuts.push_back(b == bands ? n : static_cast<int>((at + unit / 2) / unit * unit));
     }
-    for (int l = 1; l <= levels; ++l) {
-      for (int b = 0; b < bands; ++b) bounds[l].push_back(bounds[l - 1][b] / 2);
-      bounds[l].push_back(h.levels[l].width());
+    std::vector<Stage> chain{{0, cuts}};
+    for (int l = 0; l < total; ++l) {
+      if (l > 0 && h.levels[l].width() == h.levels[l - 1].width()) return std::vector<Stage>{};
+      const std::vector<int>& now = chain.back().cuts;
+      if (!narrow(now, l)) continue;
+      const int have = static_cast<int>(now.size()) - 1;
+      if (l == chain.back().start || L.folded || have == 1) return std::vector<Stage>{};
+      std::vector<int> merged;  // pairs; the last group takes three bands when the count is odd
+      for (int g = 0; g < have / 2; ++g) merged.push_back(now[2 * g]);
+      merged.push_back(n);
+      if (narrow(merged, l)) return std::vector<Stage>{};
+      chain.push_back({l, std::move(merged)});
     }
-    for (int l = 0; l < levels; ++l) {
-      if (l > 0 && h.levels[l].width() == h.levels[l - 1].width()) return std::vector<std::vector<int>>{};
-      for (int b = 0; b < bands; ++b)
-        if (bounds[l][b + 1] - bounds[l][b] < L.min_band_width()) return std::vector<std::vector<int>>{};
-    }
-    return bounds;
+    return chain;
   };
-  for (int levels = std::min(max_levels, count - 1); levels >= 1; --levels) {
-    auto bounds = fits(levels);
-    if (bounds.empty()) continue;
-    L.levels = levels;
-    L.bounds = std::move(bounds);
-    return L;
+  for (int total = std::min(max_levels, count - 1); total >= 1; --total) {
+    const std::vector<Stage> chain = stages(total);
+    if (chain.empty()) continue;
+    std::shared_ptr<const BandLayout> below;
+    for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
+      auto S = std::make_shared<BandLayout>(L);
+      const int start = chain[i].start, end = i + 1 < static_cast<int>(chain.size()) ? chain[i + 1].start : total;
+      S->bands = static_cast<int>(chain[i].cuts.size()) - 1;
+      S->first_level = start;
+      S->levels = end - start;
+      S->pushed_halo_b = i == 0;
+      S->merged = below;
+      S->bounds.assign(S->levels + 1, {});
+      for (int r = 0; r <= S->levels; ++r)
+        for (int b = 0; b <= S->bands; ++b) S->bounds[r].push_back(bound(chain[i].cuts, b, start + r));
+      below = S;
+    }
+    return *below;
   }
   throw UsageError(fmt::format("{} bands need an image at least {} pixels wide ({} per band with {} sweeps), got {}",
                                bands, bands * L.min_band_width(), L.min_band_width(), sweeps, h.levels[0].width()));

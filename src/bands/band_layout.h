@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "multigrid/hierarchy.h"
@@ -14,7 +15,11 @@ struct BandLayout {
   int phase_groups = 1;  // G: row groups per phase (one strip each way per phase)
   int halo = 4;          // columns kept of each neighbour: band_halo(k, G)
   int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
-  int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is gathered to worker 0
+  int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is merged or gathered
+  int first_level = 0;   // the hierarchy level of this layout's level 0 (a merged stage's is deeper)
+  // Whether level 0's rows arrive with the neighbours' b in their halo: the finest level's do; a
+  // merged stage's are restricted by the stage above, each band only its own columns.
+  bool pushed_halo_b = true;
   bool periodic = false;
   // Spherical (PQ) levels: rows 0, 1, h-2 and h-1 read rows mirrored across the fold, at columns
   // other bands own (band_fold.h). G is 1 and every level's lead region reaches into the
@@ -23,6 +28,10 @@ struct BandLayout {
   bool folded = false;
   // bounds[l][b] .. bounds[l][b + 1]: the columns band b owns on level l (l = 0 .. levels).
   std::vector<std::vector<int>> bounds;
+  // Where bands grow too narrow before a level is small enough to gather, they merge: level
+  // `levels` is level 0 of this stage, with bands / 2 bands (pairs; the last one three bands when
+  // the count is odd), merged band g run by this stage's worker 2g. Null: gathered to worker 0.
+  std::shared_ptr<const BandLayout> merged;
 
   int begin(int l, int b) const { return bounds[l][b]; }
   int end(int l, int b) const { return bounds[l][b + 1]; }
@@ -38,11 +47,18 @@ struct BandLayout {
   // moves back 2 columns a step): 2(G + k - 2) on level 0, whose rows arrive with the
   // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts),
   // except on folded layouts: with G = 1 a phase relaxes only rows whose b came in earlier strips.
-  int lead_offset(int l) const { return l == 0 || folded ? 2 * (steps() - 1) : 0; }
+  int lead_offset(int l) const { return (l == 0 && pushed_halo_b) || folded ? 2 * (steps() - 1) : 0; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   // The narrowest band a level may have.
   int min_band_width() const { return 2 * edge() + 4; }
+  // The merged stage's band that band b's columns join (merged: non-null).
+  int group_of(int b) const { return std::min(b / 2, merged->bands - 1); }
+  // The worker of this stage that runs merged band g, and the first band after its group.
+  int group_owner(int g) const { return 2 * g; }
+  int group_end(int g) const { return g + 1 == merged->bands ? bands : 2 * g + 2; }
+  // Banded levels in this stage and the merged ones below it.
+  int banded_levels() const { return levels + (merged ? merged->banded_levels() : 0); }
 };
 
 // The halo a band keeps of each neighbour for k sweeps and G groups per phase: max(2(G + k - 1), 4).
@@ -53,11 +69,12 @@ inline int band_halo(int sweeps, int phase_groups) { return std::max(2 * (phase_
 constexpr int kDefaultPhaseGroups = 16;
 
 // Bands of (nearly) equal width, boundaries on multiples of 2^(levels - 1) so that each level's
-// bands halve into the next one's. Levels are banded while every band stays at least
-// min_band_width() wide, and at most up to `max_levels` (the first level small enough to hold
-// whole); the rest run on worker 0. `phase_groups` (G) is lowered, down to 1, while the finest
-// level's bands are narrower than 16 min_band_width(). Throws UsageError when even the finest level
-// is too narrow for G = 1.
+// bands halve into the next one's. Levels are banded up to `max_levels` (the first level small
+// enough to hold whole), which then runs on worker 0; where bands would grow narrower than
+// min_band_width() before that, they merge in pairs (`merged`, not on spherical images) or, where
+// they cannot, the level is gathered. `phase_groups` (G, one for all stages) is lowered, down to 1,
+// while the finest level's bands are narrower than 16 min_band_width(). Throws UsageError when even
+// the finest level is too narrow for G = 1.
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
                             int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
 

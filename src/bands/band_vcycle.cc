@@ -22,7 +22,24 @@ namespace {
 // Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
 // restriction's sums across the fold kFoldSums + l; the collectives use the others.
 constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003, kFoldRows = 1100,
-              kFoldSums = 1200;
+              kFoldSums = 1200, kHandOff = 1300, kHandBack = 1301;
+// Every stage's tags (and solve_bands' 2000) are below this; a merged stage's are moved past it.
+constexpr int kStageTags = 4000;
+
+// The merged stage's workers: merged band g is this stage's worker 2g.
+class MergedTransport : public Transport {
+ public:
+  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
+  int rank() const override { return outer_.rank() / 2; }
+  int size() const override { return bands_; }
+  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
+  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
+  void abort(const std::string& why) override { outer_.abort(why); }
+
+ private:
+  Transport& outer_;
+  int bands_;
+};
 
 // Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
 constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
@@ -95,14 +112,20 @@ struct BandVCycle<T>::Level {
 template <class T>
 BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
                           const Settings& settings)
-    : ops_(ops), layout_(layout), net_(transport), set_(settings), band_(transport.rank()), k_(layout.sweeps) {
+    : ops_(ops),
+      layout_(layout),
+      net_(transport),
+      set_(settings),
+      band_(transport.rank()),
+      k_(layout.sweeps),
+      base_(layout.first_level) {
   if (transport.size() != layout.bands)
     throw std::logic_error(fmt::format("{} workers for {} bands", transport.size(), layout.bands));
   const int channels = set_.channels;
-  const auto& geo = ops.hierarchy->levels;
+  const multigrid::LevelGeometry* geo = ops.hierarchy->levels.data() + base_;
   for (int l = 0; l < layout.levels; ++l) {
     auto L = std::make_unique<Level>();
-    const LevelOperator<T>& op = ops.levels[l];
+    const LevelOperator<T>& op = ops.levels[base_ + l];
     L->op = &op;
     L->width = op.width;
     L->height = op.height;
@@ -133,10 +156,10 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     L->last_touch.assign(geo[l + 1].height(), -1);
     for (int j = 0; j < op.height; ++j)
       for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
-    const std::string name = fmt::format("band{}-level{}", band_, l);
+    const std::string name = fmt::format("band{}-level{}", band_, base_ + l);
     L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
     L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
-    if (l == 0 && set_.weights && set_.more_cycles)
+    if (l == 0 && set_.weights && set_.more_cycles && !set_.inputs_change)
       L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
     if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
       schedule::StorePolicy exact = set_.stores;
@@ -145,13 +168,40 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     }
     levels_.push_back(std::move(L));
   }
-  const LevelOperator<T>& tail = ops.levels[layout.levels];
-  tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
-  tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
-  if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
-  if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
-  if (band_ == 0)
-    tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, layout.levels);
+  const LevelOperator<T>& tail = ops.levels[base_ + layout.levels];
+  if (layout.merged) {
+    // The level below, handed to the merged stage row by row: this band's columns (b, w, d as
+    // restricted; u as handed back), a few rows deep.
+    auto H = std::make_unique<Level>();
+    H->op = &tail;
+    H->width = tail.width;
+    H->height = tail.height;
+    H->A = layout.begin(layout.levels, band_);
+    H->B = layout.end(layout.levels, band_);
+    H->origin = H->A - layout.halo;
+    H->len = H->B - H->A + 2 * layout.halo;
+    H->ring = 8;
+    const std::size_t slot = static_cast<std::size_t>(channels) * H->len;
+    H->u.assign(H->ring * slot, T(0));
+    H->b.assign(H->ring * slot, T(0));
+    if (set_.weights) H->w.assign(static_cast<std::size_t>(H->ring) * H->len, T(0));
+    if (set_.diagonal) H->d.assign(static_cast<std::size_t>(H->ring) * H->len, T(0));
+    levels_.push_back(std::move(H));
+    if (band_ == layout.group_owner(layout.group_of(band_))) {
+      merged_net_ = std::make_unique<MergedTransport>(transport, layout.merged->bands);
+      Settings inner = set_;
+      inner.measure_initial = inner.measure_final = false;
+      inner.inputs_change = true;  // its finest level is this stage's restriction, new every cycle
+      merged_ = std::make_unique<BandVCycle<T>>(ops, *layout.merged, *merged_net_, inner);
+    }
+  } else {
+    tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
+    tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
+    if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
+    if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
+    if (band_ == 0)
+      tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, base_ + layout.levels);
+  }
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(channels);
   if (set_.measure_initial) initial_.assign(8 * static_cast<std::size_t>(channels) * levels_[0]->len, T(0));
@@ -247,8 +297,8 @@ void BandVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
 template <class T>
 void BandVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
   const FoldPlan& plan = levels_[l]->fold[side].sums;
-  const bool tail = l + 1 == layout_.levels;
-  const int m = ops_.levels[l + 1].width, channels = set_.channels;
+  const bool tail = gathered(l);
+  const int m = ops_.levels[base_ + l + 1].width, channels = set_.channels;
   const int parts = channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0);
   const int corigin = tail ? 0 : levels_[l + 1]->origin;
   const auto coarse = [&](int k) -> T* {  // part k of coarse row `row`, at column corigin
@@ -292,13 +342,14 @@ void BandVCycle<T>::begin_cycle() {
   prolongation_ = false;
   pulled_ = 0;
   const int channels = set_.channels;
-  for (int l = 0; l < static_cast<int>(levels_.size()); ++l) {
-    Level& L = *levels_[l];
+  for (auto& level : levels_) {
+    Level& L = *level;
     L.arrived = L.next_phase = L.finished = L.zeroed = L.next_complete = L.needed_from = 0;
     L.rr.assign(channels, 0.0);
     L.dots.assign(channels, 0.0);
+    if (!L.u_store) continue;  // the level handed to the merged stage
     L.u_store->clear();
-    if (l == 0 && L.inputs_stored) {
+    if (L.inputs_stored) {  // level 0 only
       L.b_store->rewind();
       if (L.w_store) L.w_store->rewind();
       if (L.d_store) L.d_store->rewind();
@@ -308,6 +359,7 @@ void BandVCycle<T>::begin_cycle() {
       if (L.d_store) L.d_store->clear();
     }
   }
+  if (merged_) merged_->begin_cycle();
   for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
   std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
   std::fill(tail_d_.data.begin(), tail_d_.data.end(), T(0));
@@ -450,9 +502,9 @@ template <class T>
 void BandVCycle<T>::restrict_row(int l, int j) {
   Level& L = *levels_[l];
   const LevelOperator<T>& op = *L.op;
-  const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+  const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
   const fem::ProlongationRow& py = g.py.rows[j];
-  const bool tail = l + 1 == layout_.levels, periodic = layout_.periodic;
+  const bool tail = gathered(l), periodic = layout_.periodic;
   const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
   if (!tail) {  // clear the coarse rows this row is the first to reach
     Level& C = *levels_[l + 1];
@@ -512,7 +564,8 @@ void BandVCycle<T>::complete_coarse_row(int l) {
   Level& L = *levels_[l];
   const int row = L.next_complete++;
   if (l + 1 == layout_.levels) {
-    if (L.next_complete == ops_.levels[l + 1].height) run_tail();
+    if (layout_.merged) hand_off(row);
+    if (L.next_complete == ops_.levels[base_ + l + 1].height) run_tail();
     return;
   }
   Level& C = *levels_[l + 1];
@@ -527,7 +580,7 @@ void BandVCycle<T>::complete_coarse_row(int l) {
 template <class T>
 template <class F>
 void BandVCycle<T>::tail_parts(int band, F&& f) {
-  const int tl = layout_.levels, th = ops_.levels[tl].height;
+  const int tl = layout_.levels, th = ops_.levels[base_ + tl].height;
   const int a = layout_.begin(tl, band);
   const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
   for (int c = 0; c < set_.channels; ++c)
@@ -542,7 +595,8 @@ void BandVCycle<T>::tail_parts(int band, F&& f) {
 // worker 0, which solves in-core and sends the whole correction and the cycle's sums back.
 template <class T>
 void BandVCycle<T>::run_tail() {
-  const int tl = layout_.levels, channels = set_.channels, banded = layout_.levels;
+  const int tl = base_ + layout_.levels, channels = set_.channels, banded = layout_.levels;
+  const bool whole = !layout_.merged;  // else the merged stage has solved the level below
   // This band's partial sums, per channel: the initial residual, then per level rr and dots.
   std::vector<double> sums;
   for (int c = 0; c < channels; ++c) {
@@ -554,13 +608,13 @@ void BandVCycle<T>::run_tail() {
   }
   if (band_ != 0) {
     Packer p;
-    tail_parts(band_, [&](const T* row, std::size_t n) { p.put(row, n); });
+    if (whole) tail_parts(band_, [&](const T* row, std::size_t n) { p.put(row, n); });
     p.put(sums.data(), sums.size());
     net_.send(0, kGather, std::move(p.bytes));
     const Bytes reply = net_.receive(0, kScatter);
     Unpacker u(reply);
     for (int c = 0; c < channels; ++c) {
-      u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
+      if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
       auto& probe = probes_[c];
       probe.dots.resize(static_cast<std::size_t>(u.get()));
       u.get(probe.dots.data(), probe.dots.size());
@@ -577,7 +631,7 @@ void BandVCycle<T>::run_tail() {
   for (int b = 1; b < layout_.bands; ++b) {
     const Bytes bytes = net_.receive(b, kGather);
     Unpacker u(bytes);
-    tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
+    if (whole) tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
     u.get(part.data(), part.size());
     u.finish();
     for (std::size_t i = 0; i < total.size(); ++i) total[i] += part[i];
@@ -586,17 +640,22 @@ void BandVCycle<T>::run_tail() {
   const auto rr = [&](int c, int l) { return total[c * per_channel + 1 + 2 * l]; };
   const auto dots = [&](int c, int l) { return total[c * per_channel + 2 + 2 * l]; };
   std::vector<Plane<T>> weights;
-  if (set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
-  if (set_.diagonal) {
+  if (whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
+  if (whole && set_.diagonal) {
     tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
     tail_->set_diagonal(&tail_diag_);
   }
   Packer reply;
   for (int c = 0; c < channels; ++c) {
-    std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
     multigrid::CycleProbe tail;
-    tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
+    if (whole) {
+      std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
+      tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
+    } else {
+      tail = merged_->probe(c);  // its levels' sums, added over its bands
+    }
     multigrid::CycleProbe& p = probes_[c];
+    p = {};
     for (int l = 0; l < banded; ++l) {
       if (set_.weights) p.dots.push_back(dots(c, l));
       p.level_norms.push_back(std::sqrt(rr(c, l)));
@@ -604,7 +663,7 @@ void BandVCycle<T>::run_tail() {
     p.dots.insert(p.dots.end(), tail.dots.begin(), tail.dots.end());
     p.level_norms.insert(p.level_norms.end(), tail.level_norms.begin(), tail.level_norms.end());
     initial_rr_[c] = total[c * per_channel];
-    reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
+    if (whole) reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
     reply.put(static_cast<double>(p.dots.size()));
     reply.put(p.dots.data(), p.dots.size());
     reply.put(static_cast<double>(p.level_norms.size()));
@@ -619,9 +678,10 @@ void BandVCycle<T>::pull(std::span<T> u) {
   if (!prolongation_) {
     if (levels_[0]->arrived != levels_[0]->height) throw std::logic_error("BandVCycle::pull before the last push");
     prolongation_ = true;
-    levels_[0]->inputs_stored = true;
+    levels_[0]->inputs_stored = !set_.inputs_change;
     for (auto& L : levels_) {
       L->arrived = L->next_phase = L->finished = L->needed_from = 0;
+      if (!L->u_store) continue;  // the level handed to the merged stage: u comes back row by row
       L->u_store->rewind();
       L->b_store->rewind();
       if (L->d_store) L->d_store->rewind();
@@ -648,14 +708,15 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       L.u_store->read({u_row(l, 0, r), slot});
       L.b_store->read({b_row(l, 0, r), slot});
       if (L.d_store) L.d_store->read({d_row(l, r), static_cast<std::size_t>(L.len)});
-      const multigrid::LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+      const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
-      const bool tail = l + 1 == layout_.levels;
+      const bool tail = gathered(l);
       int corigin = 0;
       if (!tail) {
         Level& C = *levels_[l + 1];
         C.needed_from = std::min(py.index[0], py.index[1]);
-        ensure_final(l + 1, std::max(py.index[0], py.index[1]));
+        if (l + 1 == layout_.levels) take_back(std::max(py.index[0], py.index[1]));
+        else ensure_final(l + 1, std::max(py.index[0], py.index[1]));
         corigin = C.origin;
       }
       // Across the fold the second coarse row is read mirrored, from the coarse level's last
@@ -673,6 +734,83 @@ void BandVCycle<T>::ensure_final(int l, int row) {
     advance(l);
     if (L.next_phase == before && L.arrived == L.height)
       throw std::logic_error(fmt::format("band level {} stalled at phase {}", l, before));
+  }
+}
+
+// Restriction pass: coarse row `row` of the level below is complete in every band of a group; the
+// group's owner puts its columns together and pushes the row into the merged stage.
+template <class T>
+void BandVCycle<T>::hand_off(int row) {
+  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  Level& H = *levels_[tl];
+  // Band m's columns of the row, piece by piece: f(kind, channel, first column, count) for b of
+  // every channel (kind 0), then w (1) and d (2) where the settings have them.
+  const auto pieces = [&](int m, auto&& f) {
+    const int a = layout_.begin(tl, m);
+    const auto n = static_cast<std::size_t>(layout_.end(tl, m) - a);
+    for (int c = 0; c < set_.channels; ++c) f(0, c, a, n);
+    if (set_.weights) f(1, 0, a, n);
+    if (set_.diagonal) f(2, 0, a, n);
+  };
+  const auto mine = [&](int kind, int c, int a) {
+    T* r = kind == 0 ? b_row(tl, c, row) : kind == 1 ? w_row(tl, row) : d_row(tl, row);
+    return r + (a - H.origin);
+  };
+  ++H.finished;
+  if (band_ != owner) {
+    Packer pk;
+    pieces(band_, [&](int kind, int c, int a, std::size_t n) { pk.put(mine(kind, c, a), n); });
+    net_.send(owner, kHandOff, std::move(pk.bytes));
+    return;
+  }
+  const BandLayout& M = *layout_.merged;
+  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
+  const int origin = M.origin(0, g);
+  // The merged band's row: u zero (a correction), b, w, d of the group's columns; the halo's b
+  // comes in the merged stage's strips.
+  std::vector<T> u(set_.channels * len, T(0)), b(set_.channels * len, T(0)), w(set_.weights ? len : 0, T(0)),
+      d(set_.diagonal ? len : 0, T(0));
+  const auto merged = [&](int kind, int c, int a) {
+    T* r = kind == 0 ? b.data() + c * len : kind == 1 ? w.data() : d.data();
+    return r + (a - origin);
+  };
+  pieces(band_, [&](int kind, int c, int a, std::size_t n) { std::copy_n(mine(kind, c, a), n, merged(kind, c, a)); });
+  for (int m = owner + 1; m < layout_.group_end(g); ++m) {
+    const Bytes bytes = net_.receive(m, kHandOff);
+    Unpacker un(bytes);
+    pieces(m, [&](int kind, int c, int a, std::size_t n) { un.get(merged(kind, c, a), n); });
+    un.finish();
+  }
+  merged_->push(u, b, w, d);
+}
+
+// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
+// band's row, halo included, from the group's owner to the others), into this band's ring.
+template <class T>
+void BandVCycle<T>::take_back(int row) {
+  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  Level& H = *levels_[tl];
+  const BandLayout& M = *layout_.merged;
+  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
+  const int origin = M.origin(0, g);
+  std::vector<T> got(set_.channels * len);
+  for (; H.arrived <= row; ++H.arrived) {
+    const int J = H.arrived;
+    if (J - H.ring >= H.needed_from)
+      throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
+    if (band_ == owner) {
+      merged_->pull(got);
+      Bytes bytes(got.size() * sizeof(T));
+      std::memcpy(bytes.data(), got.data(), bytes.size());
+      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, bytes);
+    } else {
+      const Bytes bytes = net_.receive(owner, kHandBack);
+      Unpacker un(bytes);
+      un.get(got.data(), got.size());
+      un.finish();
+    }
+    for (int c = 0; c < set_.channels; ++c)
+      std::copy_n(got.data() + c * len + (H.origin - origin), H.len, u_row(tl, c, J));
   }
 }
 
@@ -708,7 +846,7 @@ void BandVCycle<T>::reduce_final() {
 
 template <class T>
 std::size_t BandVCycle<T>::store_bytes() const {
-  std::size_t n = 0;
+  std::size_t n = merged_ ? merged_->store_bytes() : 0;
   for (const auto& L : levels_)
     for (const schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
       n += store ? store->bytes() : 0;
@@ -717,7 +855,8 @@ std::size_t BandVCycle<T>::store_bytes() const {
 
 template <class T>
 std::size_t BandVCycle<T>::window_bytes() const {
-  std::size_t n = (initial_.size() + r_.size() + initial_fold_[0].size() + initial_fold_[1].size()) * sizeof(T);
+  std::size_t n = (initial_.size() + r_.size() + initial_fold_[0].size() + initial_fold_[1].size()) * sizeof(T) +
+                  (merged_ ? merged_->window_bytes() : 0);
   for (const auto& L : levels_)
     n += (L->u.size() + L->b.size() + L->w.size() + L->d.size() + L->fold[0].rows.size() + L->fold[1].rows.size()) *
          sizeof(T);

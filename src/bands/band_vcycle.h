@@ -69,6 +69,11 @@ class BandVCycle {
   template <class F>
   void tail_parts(int band, F&& f);
   void run_tail();
+  // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
+  // level 0, handed to it row by row (restriction) and back (prolongation).
+  bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
+  void hand_off(int row);
+  void take_back(int row);
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
   void reduce_final();
@@ -89,11 +94,15 @@ class BandVCycle {
   Transport& net_;
   Settings set_;
   int band_, k_;
+  int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
   std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)
   multigrid::Plane<T> tail_w_, tail_d_;
   std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
+  // A merged stage below this one (layout.merged; on the worker owning this band's group).
+  std::unique_ptr<Transport> merged_net_;
+  std::unique_ptr<BandVCycle<T>> merged_;
   std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
   std::array<std::vector<T>, 2> initial_fold_;  // first cycle: level 0's rows across the fold as pushed
   std::vector<multigrid::CycleProbe> probes_;

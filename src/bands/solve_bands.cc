@@ -183,7 +183,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   const BandLayout& layout = *layout_or;
   const auto t_start = Clock::now();
   summary.schedule = "bands";
-  summary.streamed_levels = layout.levels;
+  summary.streamed_levels = layout.banded_levels();
   const auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
 
   Team team;

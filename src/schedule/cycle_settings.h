@@ -15,6 +15,7 @@ struct CycleSettings {
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
   bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  bool inputs_change = false;    // b, w and d are pushed again every cycle (a merged band stage's)
   StorePolicy stores;
 };
 

@@ -38,6 +38,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_flag("--double", o.double_precision, "solve in double precision (default float)");
     cmd.add_flag("--verbose,-v", o.verbose, "print the residual per level and V-cycle");
     cmd.add_flag("--in-core", o.in_core, "hold every level in memory instead of streaming (same result)");
+    cmd.add_option("--incore-bytes", o.solver.incore_bytes,
+                   "streaming and bands: coarse levels of at most this many bytes are solved in memory (on one "
+                   "worker with bands; narrower bands merge in pairs above it)")
+        ->capture_default_str();
     cmd.add_option("--bands", o.bands, "split the columns into this many bands solved in parallel, one thread each "
                                        "(paper section 6; docs/how-bands-work.md)");
     cmd.add_option("--temp", o.solver.temp_dir,
