@@ -134,6 +134,48 @@ TEST_P(RhsIdentity, ExactGradientsGiveOperatorTimesImage) {
   }
 }
 
+// A window of columns (a rank of a distributed solve): with the guidance known two columns beyond
+// it, the assembled rows equal the whole rows' there, bit for bit, and are 0 elsewhere (the
+// guidance beyond is poisoned: reading it shows).
+TEST(RhsWindow, WindowedRowsEqualWholeRowsInTheWindow) {
+  for (const Domain domain : {Domain::Planar, Domain::Cylindrical}) {
+    const int w = 40, h = 9;
+    const auto hier = multigrid::build_hierarchy(*topology::make_topology(domain), w, h, 0.3, 1 << 20);
+    const Image img = test::random_image(w, h, 1, 3);
+    test::ExactGradients src(img, domain, 0.3);
+    const fem::Axis& x = hier.levels[0].x;
+    // Planar windows may touch the image's edges; periodic ones do not wrap (solve_bands reads
+    // whole rows then).
+    std::vector<std::pair<int, int>> windows{{11, 29}};
+    if (domain == Domain::Planar) windows.insert(windows.end(), {{0, 13}, {27, 40}});
+    for (const auto [begin, end] : windows) {
+      fem::RhsAssembler whole(x, hier.levels[0].y, 0.3, 1), part(x, hier.levels[0].y, 0.3, 1);
+      part.set_columns(begin, end);
+      Plane<double> a(w, h), b(w, h);
+      GuidanceRow row, cut;
+      row.x_edges = x.edges();
+      row.gx.resize(x.edges());
+      row.gy.resize(w);
+      row.value.resize(w);
+      for (int j = 0; j < h; ++j) {
+        src.read_row(j, row);
+        cut = row;  // the guidance as a windowed source leaves it: unknown beyond two columns
+        for (int i = 0; i < w; ++i)
+          if (i < begin - 2 || i >= end + 2) cut.gy[i] = cut.value[i] = 1e30;
+        for (int i = 0; i < x.edges(); ++i)
+          if (i < begin - 2 || i >= end + 1) cut.gx[i] = 1e30;
+        whole.push(j, row, [&](int r, int, std::span<const double> v) { std::copy(v.begin(), v.end(), a.row(r)); });
+        part.push(j, cut, [&](int r, int, std::span<const double> v) { std::copy(v.begin(), v.end(), b.row(r)); });
+      }
+      whole.finish([&](int r, int, std::span<const double> v) { std::copy(v.begin(), v.end(), a.row(r)); });
+      part.finish([&](int r, int, std::span<const double> v) { std::copy(v.begin(), v.end(), b.row(r)); });
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+          ASSERT_EQ(b.at(i, j), i >= begin && i < end ? a.at(i, j) : 0.0) << begin << " " << i << "," << j;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Sizes, RhsIdentity,
                          ::testing::Combine(::testing::Values(Domain::Planar, Domain::Cylindrical),
                                             ::testing::Values(3, 4, 17), ::testing::Values(1, 2, 5, 12),

@@ -77,7 +77,9 @@ TEST_P(AgainstCg, ManyVCyclesReachTheDirectSolution) {
   Image ref = cg_reference(img, domain, alpha);
   const Image a = alpha == 0.0 ? test::zero_mean(mg) : mg;
   const Image b = alpha == 0.0 ? test::zero_mean(ref) : ref;
-  EXPECT_LT(test::max_difference(a, b), 1e-10);
+  // Both are stored as float: they may round to neighbouring floats (measured: up to 1.2e-10,
+  // the spacing of floats near 0.001-0.002; 0 on most cases).
+  EXPECT_LT(test::max_difference(a, b), 1e-9);
   // The exact gradients of img are integrable: the solution is img itself (up to a constant).
   EXPECT_LT(test::max_difference(a, alpha == 0.0 ? test::zero_mean(img) : img), 1e-6);
 }

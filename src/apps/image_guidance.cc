@@ -11,7 +11,11 @@ ImageGuidance::ImageGuidance(RowReader& source, double alpha, double beta, bool 
   for (auto& r : rows_) r.assign(static_cast<std::size_t>(source.channels()) * source.width(), 0.0f);
 }
 
-void ImageGuidance::set_columns(int begin, int end) { src_.set_columns(begin, std::min(end + 1, width())); }
+void ImageGuidance::set_columns(int begin, int end) {
+  src_.set_columns(begin, std::min(end + 1, width()));
+  begin_ = begin;
+  end_ = end;
+}
 
 void ImageGuidance::read_source(int y) {
   src_.read_row(y, rows_[y % 2]);
@@ -29,23 +33,26 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   keep_edges(j, right_, down_, above_);
   const bool offsets = has_offsets();
   const std::span<const float> here = source_row(j);
+  // The columns computed: [x0, x1) of values and vertical edges, [x0, ex) of horizontal ones.
+  const bool whole = end_ < 0;
+  const int x0 = whole ? 0 : begin_, x1 = whole ? w : end_, ex = whole ? e : std::min(e, end_ - 1);
   for (int c = 0; c < channels(); ++c) {
     const float* row = here.data() + static_cast<std::size_t>(c) * w;
     double* gx = out.gx.data() + static_cast<std::size_t>(c) * e;
     // d - d == 0 exactly when d is finite: a test the compiler vectorises (std::isfinite is not).
     const auto kept = [&](double d, unsigned char keep) { return d - d == 0.0 && keep ? beta_ * d : 0.0; };
-    const int inner = std::min(e, w - 1);  // edges to the next column; a periodic row's last wraps
-    for (int i = 0; i < inner; ++i) gx[i] = kept(double(row[i + 1]) - row[i], right_[i]);
-    for (int i = inner; i < e; ++i) gx[i] = kept(double(row[0]) - row[i], right_[i]);
+    const int inner = std::min(ex, w - 1);  // edges to the next column; a periodic row's last wraps
+    for (int i = x0; i < inner; ++i) gx[i] = kept(double(row[i + 1]) - row[i], right_[i]);
+    for (int i = std::max(x0, inner); i < ex; ++i) gx[i] = kept(double(row[0]) - row[i], right_[i]);
     if (offsets)
-      for (int i = 0; i < e; ++i)
+      for (int i = x0; i < ex; ++i)
         if (right_[i] && std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i])) gx[i] -= offset(c, i, j, true);
     if (j + 1 < h) {
       const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
       double* gy = out.gy.data() + static_cast<std::size_t>(c) * w;
-      for (int i = 0; i < w; ++i) gy[i] = kept(double(next[i]) - row[i], down_[i]);
+      for (int i = x0; i < x1; ++i) gy[i] = kept(double(next[i]) - row[i], down_[i]);
       if (offsets)
-        for (int i = 0; i < w; ++i)
+        for (int i = x0; i < x1; ++i)
           if (down_[i] && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }
     // Across the folded edges of a spherical domain (no offsets: a per-label ramp has no
@@ -59,7 +66,7 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
     if (fold_bottom) fold(out.gy.data() + static_cast<std::size_t>(c) * w, down_, [&](int i) { return below(i, j); }, false);
     if (fold_top) fold(out.gy_above.data() + static_cast<std::size_t>(c) * w, above_, [&](int i) { return above(i); }, true);
     if (alpha_ != 0.0)
-      for (int i = 0; i < w; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;
+      for (int i = x0; i < x1; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;
   }
   std::copy(here.begin(), here.end(), out.initial.begin());
 }

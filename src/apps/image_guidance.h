@@ -24,7 +24,8 @@ class ImageGuidance : public GuidanceSource {
   bool has_initial() const override { return true; }
   bool start_from_initial() const override { return start_; }
   void read_row(int j, GuidanceRow& out) override;
-  // Passes the columns on to the source image (with the one column beyond that gx needs).
+  // Passes the columns on to the source image (with the one column beyond that gx needs) and
+  // computes only those columns' fields from then on.
   void set_columns(int begin, int end) override;
 
  protected:
@@ -57,6 +58,7 @@ class ImageGuidance : public GuidanceSource {
   bool start_;
   std::vector<float> rows_[2];
   std::vector<unsigned char> right_, down_, above_;
+  int begin_ = 0, end_ = -1;  // the columns computed (end_ < 0: whole rows)
 };
 
 }  // namespace gdp::apps

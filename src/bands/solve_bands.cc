@@ -199,13 +199,18 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   // whose own columns [own_begin, own_end) it writes and whose rows it reads (plus margins).
   const int last_local = team.first + team.local - 1;
   const int own_begin = layout.begin(0, team.first), own_end = layout.end(0, last_local);
+  std::pair<int, int> input_columns{0, w};  // the columns of the input rows this process computes
   if (distributed) {
-    const int from = layout.origin(0, team.first) - kInputMargin;
-    const int to = layout.origin(0, last_local) + layout.row_length(0, last_local) + kInputMargin;
-    // Whole rows where the window would wrap around, and on the sphere, where the right-hand side
-    // of the first and last rows reads the guidance across the fold, at the mirror image's columns.
-    const bool folded = layout.folded;
-    if (from >= 0 && to <= w && !folded) source.set_columns(from, to);
+    const int rows_from = layout.origin(0, team.first);
+    const int rows_to = layout.origin(0, last_local) + layout.row_length(0, last_local);
+    // Whole rows where the window would wrap around a periodic image's edge, and on the sphere,
+    // where the right-hand side of the first and last rows reads the guidance across the fold, at
+    // the mirror image's columns; a planar image's edges clip it.
+    const bool wraps = periodic && (rows_from - kInputMargin < 0 || rows_to + kInputMargin > w);
+    if (!wraps && !layout.folded) {
+      source.set_columns(std::max(0, rows_from - kInputMargin), std::min(w, rows_to + kInputMargin));
+      input_columns = {std::max(0, rows_from), std::min(w, rows_to)};
+    }
     out.set_columns(own_begin, own_end);
   }
   std::promise<InputTotals> totals_promise;
@@ -263,7 +268,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
   try {
     std::vector<std::pair<int, int>> own_columns;
     for (int band = team.first; band <= last_local; ++band) own_columns.emplace_back(layout.begin(0, band), layout.end(0, band));
-    schedule::InputRows<T> input(source, problem.hierarchy, own_columns);
+    schedule::InputRows<T> input(source, problem.hierarchy, own_columns, input_columns);
     const std::size_t n = static_cast<std::size_t>(channels) * w;
     std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
     std::vector<Batch<T>> batches(workers.size());

@@ -2,6 +2,8 @@
 #include "fem/rhs.h"
 
 #include <algorithm>
+#include <array>
+#include <stdexcept>
 
 #include "fem/stencils.h"
 
@@ -10,11 +12,22 @@ namespace gdp::fem {
 RhsAssembler::RhsAssembler(const Axis& x, const Axis& y, double alpha, int channels)
     : x_(x), y_(y), alpha_(alpha), channels_(channels),
       h_(kRing * channels, std::vector<double>(x.n)), m_(kRing * channels, std::vector<double>(x.n)),
-      top_(y.boundary == AxisBoundary::Mirrored ? channels : 0, std::vector<double>(x.n)), out_(x.n), tmp_(x.n) {}
+      top_(y.boundary == AxisBoundary::Mirrored ? channels : 0, std::vector<double>(x.n)), out_(x.n), tmp_(x.n),
+      zero_(x.n) {
+  end_ = x.n;
+}
 
-// out = M v along x: folded or wrapped coefficients near the ends, the plain stencil inside.
+void RhsAssembler::set_columns(int begin, int end) {
+  if (pushed_ > 0 || y_.boundary == AxisBoundary::Mirrored || begin < 0 || begin > end || end > x_.n)
+    throw std::logic_error("RhsAssembler::set_columns: not before the first row, on a folded axis or outside the row");
+  begin_ = begin;
+  end_ = end;
+}
+
+// out = M v along x at columns [begin_, end_): folded or wrapped coefficients near the ends, the
+// plain stencil inside.
 void RhsAssembler::mass_filter(const double* v, double* out) const {
-  const int n = x_.n, lo = std::min(2, n), hi = std::max(lo, n - 2);
+  const int n = x_.n, lo = std::clamp(2, begin_, end_), hi = std::clamp(n - 2, lo, end_);
   const auto general = [&](int i) {
     double acc = 0.0;
     for (int d = -2; d <= 2; ++d) {
@@ -23,15 +36,15 @@ void RhsAssembler::mass_filter(const double* v, double* out) const {
     }
     out[i] = acc;
   };
-  for (int i = 0; i < lo; ++i) general(i);
+  for (int i = begin_; i < lo; ++i) general(i);
   for (int i = lo; i < hi; ++i)
     out[i] = kMass[0] * (v[i - 2] + v[i + 2]) + kMass[1] * (v[i - 1] + v[i + 1]) + kMass[2] * v[i];
-  for (int i = hi; i < n; ++i) general(i);
+  for (int i = hi; i < end_; ++i) general(i);
 }
 
-// out = D gx along x (the coupling of each B_i' with the edge hats).
+// out = D gx along x at columns [begin_, end_) (the coupling of each B_i' with the edge hats).
 void RhsAssembler::derivative_filter(const double* gx, double* out) const {
-  const int n = x_.n, edges = x_.edges(), lo = std::min(2, n), hi = std::max(lo, n - 2);
+  const int n = x_.n, edges = x_.edges(), lo = std::clamp(2, begin_, end_), hi = std::clamp(n - 2, lo, end_);
   const bool periodic = x_.boundary == AxisBoundary::Periodic;
   const auto general = [&](int i) {
     double acc = 0.0;
@@ -43,10 +56,10 @@ void RhsAssembler::derivative_filter(const double* gx, double* out) const {
     }
     out[i] = acc;
   };
-  for (int i = 0; i < lo; ++i) general(i);
+  for (int i = begin_; i < lo; ++i) general(i);
   for (int i = lo; i < hi; ++i)
     out[i] = kDerivative[0] * gx[i - 2] + kDerivative[1] * gx[i - 1] + kDerivative[2] * gx[i] + kDerivative[3] * gx[i + 1];
-  for (int i = hi; i < n; ++i) general(i);
+  for (int i = hi; i < end_; ++i) general(i);
 }
 
 void RhsAssembler::push(int j, const GuidanceRow& row, const Sink& sink) {
@@ -61,7 +74,7 @@ void RhsAssembler::push(int j, const GuidanceRow& row, const Sink& sink) {
     derivative_filter(gx, h.data());
     if (v && alpha_ != 0.0) {
       mass_filter(v, tmp_.data());
-      for (int i = 0; i < n; ++i) h[i] += alpha_ * tmp_[i];
+      for (int i = begin_; i < end_; ++i) h[i] += alpha_ * tmp_[i];
     }
     // A Mirrored axis's last row has an edge below it too: across the bottom edge.
     if (gy && (j + 1 < y_.n || mirrored)) mass_filter(gy, m.data());
@@ -79,21 +92,37 @@ void RhsAssembler::finish(const Sink& sink) {
   while (next_emit_ < pushed_) emit(next_emit_++, sink);
 }
 
-// out += w * row, the row read mirrored where `mirror` says so.
-void RhsAssembler::add(const std::vector<double>& row, double w, Mirror mirror) {
+// out += w * row read mirrored (whole rows: Mirrored axes are never windowed).
+void RhsAssembler::add_mirrored(const std::vector<double>& row, double w, Mirror mirror) {
   const int n = x_.n;
-  if (mirror == Mirror::None) {
-    for (int i = 0; i < n; ++i) out_[i] += w * row[i];
-  } else {
-    for (int i = 0; i < n; ++i) out_[i] += w * row[mirror_column(mirror, i, n)];
-  }
+  for (int i = 0; i < n; ++i) out_[i] += w * row[mirror_column(mirror, i, n)];
 }
 
 void RhsAssembler::emit(int r, const Sink& sink) {
   const int n = y_.n;
   const bool mirrored = y_.boundary == AxisBoundary::Mirrored;
   for (int c = 0; c < channels_; ++c) {
-    std::fill(out_.begin(), out_.end(), 0.0);
+    // At most 5 rows and 4 edge rows: one pass over all of them (zero rows fill the rest), then
+    // the rows read mirrored, if any.
+    std::array<const double*, 9> p;
+    std::array<double, 9> wt{};
+    p.fill(zero_.data());
+    int terms = 0;
+    struct Folded {
+      const std::vector<double>* row;
+      double w;
+      Mirror mirror;
+    };
+    std::array<Folded, 9> folded{};
+    int folds = 0;
+    const auto add = [&](const std::vector<double>& row, double w, Mirror mirror) {
+      if (mirror != Mirror::None) {
+        folded[folds++] = {&row, w, mirror};
+        return;
+      }
+      p[terms] = row.data();
+      wt[terms++] = w;
+    };
     // Rows: a ghost row of a Mirrored axis is the row it reflects to, mirrored (the x-filtered
     // gradients and values of a 180-degree-rotated row are the filtered row, mirrored).
     for (int d = -2; d <= 2; ++d) {
@@ -119,6 +148,11 @@ void RhsAssembler::emit(int r, const Sink& sink) {
         add(edge_row(e, c), w, Mirror::None);  // e == n - 1: across the bottom edge
       }
     }
+#pragma GCC ivdep
+    for (int i = begin_; i < end_; ++i)
+      out_[i] = wt[0] * p[0][i] + wt[1] * p[1][i] + wt[2] * p[2][i] + wt[3] * p[3][i] + wt[4] * p[4][i] +
+                wt[5] * p[5][i] + wt[6] * p[6][i] + wt[7] * p[7][i] + wt[8] * p[8][i];
+    for (int k = 0; k < folds; ++k) add_mirrored(*folded[k].row, folded[k].w, folded[k].mirror);
     sink(r, c, out_);
   }
 }

@@ -20,6 +20,10 @@ class RhsAssembler {
   using Sink = std::function<void(int row, int channel, std::span<const double> b)>;
 
   RhsAssembler(const Axis& x, const Axis& y, double alpha, int channels);
+  // Before the first push: only columns [begin, end) of b are needed, from guidance known at
+  // columns [begin - 2, end + 2) (edges [begin - 2, end + 1)); b is 0 elsewhere. Not on a
+  // Mirrored y axis, whose first and last rows read mirrored columns.
+  void set_columns(int begin, int end);
   void push(int j, const GuidanceRow& row, const Sink& sink);
   // Emits the rows still pending after the last push().
   void finish(const Sink& sink);
@@ -29,7 +33,7 @@ class RhsAssembler {
   void emit(int r, const Sink& sink);
   void mass_filter(const double* v, double* out) const;
   void derivative_filter(const double* gx, double* out) const;
-  void add(const std::vector<double>& row, double w, Mirror mirror);
+  void add_mirrored(const std::vector<double>& row, double w, Mirror mirror);
   std::vector<double>& filtered(int j, int c) { return h_[(j % kRing) * channels_ + c]; }
   std::vector<double>& edge_row(int e, int c) { return m_[(e % kRing) * channels_ + c]; }
 
@@ -39,10 +43,11 @@ class RhsAssembler {
   int channels_;
   int next_emit_ = 0;
   int pushed_ = 0;
+  int begin_ = 0, end_ = 0;  // the columns computed
   std::vector<std::vector<double>> h_;  // D gx + alpha M value, per buffered row and channel
   std::vector<std::vector<double>> m_;  // M gy, per buffered edge row and channel
   std::vector<std::vector<double>> top_;  // Mirrored axes: M gy_above of row 0, per channel
-  std::vector<double> out_, tmp_;
+  std::vector<double> out_, tmp_, zero_;
 };
 
 }  // namespace gdp::fem

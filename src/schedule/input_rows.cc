@@ -25,13 +25,17 @@ InputTotals InputRows<T>::totals() const {
 }
 
 template <class T>
-InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges)
+InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges,
+                        Range columns)
     : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
-      initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing), ranges_(std::move(sum_ranges)) {
-  if (ranges_.empty()) ranges_.emplace_back(0, width_);
+      initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing), begin_(columns.first),
+      end_(columns.second < 0 ? width_ : columns.second), ranges_(std::move(sum_ranges)) {
+  if (ranges_.empty()) ranges_.emplace_back(begin_, end_);
+  if (begin_ < 0 || begin_ > end_ || end_ > width_) throw std::logic_error("InputRows: bad column window");
   for (const Range& r : ranges_)
-    if (r.first < 0 || r.first > r.second || r.second > width_) throw std::logic_error("InputRows: bad sum range");
+    if (r.first < begin_ || r.first > r.second || r.second > end_) throw std::logic_error("InputRows: bad sum range");
+  if (begin_ != 0 || end_ != width_) assembler_.set_columns(begin_, end_);
   totals_.assign(ranges_.size(), InputTotals{std::vector<double>(channels_, 0.0), std::vector<double>(channels_, 0.0), 0.0});
   const std::size_t n = static_cast<std::size_t>(channels_) * width_;
   row_.x_edges = hierarchy.levels[0].x.edges();
@@ -63,7 +67,7 @@ void InputRows<T>::read_guidance() {
   counted_[j % kRing] = row_.counted;
   if (source_.has_weights()) {
     std::vector<double>&d = d_[j % kRing], &dv = dv_[j % kRing];
-    for (int i = 0; i < width_; ++i) {
+    for (int i = begin_; i < end_; ++i) {
       const double wt = row_.weight[i];
       bool finite = true;
       for (int c = 0; c < channels_; ++c) finite = finite && std::isfinite(row_.value[static_cast<std::size_t>(c) * width_ + i]);
@@ -92,12 +96,14 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
   constexpr double scale = multigrid::LevelOperator<T>::kScale;
-  if (source_.has_weights()) {
-    for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i] + dv_[k][i]);
-    std::transform(d_[k].begin(), d_[k].end(), d.begin(), [](double v) { return static_cast<T>(v); });
-  } else {
-    for (std::size_t i = 0; i < b_[k].size(); ++i) b[i] = static_cast<T>(scale * b_[k][i]);
+  const bool weights = source_.has_weights();
+  for (int c = 0; c < channels_; ++c) {
+    const std::size_t at = static_cast<std::size_t>(c) * width_;
+    for (std::size_t i = at + begin_; i < at + end_; ++i)
+      b[i] = static_cast<T>(scale * b_[k][i] + (weights ? dv_[k][i] : 0.0));
   }
+  if (weights)
+    for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
   for (std::size_t r = 0; r < ranges_.size(); ++r) {
     const auto [a, e] = ranges_[r];
     for (int c = 0; c < channels_; ++c) {
@@ -114,7 +120,7 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     }
   }
   const std::vector<float>& init = initial_[k];
-  for (int i = 0; i < width_; ++i) {
+  for (int i = begin_; i < end_; ++i) {
     bool finite = true;
     for (int c = 0; c < channels_; ++c) {
       const float v = init[static_cast<std::size_t>(c) * width_ + i];

@@ -25,14 +25,18 @@ struct InputTotals {
 // per-pixel weights also give the diagonal term d (row_ops.h: kScale * weight, or
 // kPinnedDiagonal) and add d * value to b; d is empty otherwise. Keeps a few rows.
 //
-// The sums a solve needs (InputTotals) are kept per column range: the whole row by default, or each band's own columns, so that the band schedule
-// adds them up in band order however its bands are spread over processes.
+// The sums a solve needs (InputTotals) are kept per column range: the whole row by default, or
+// each band's own columns, so that the band schedule adds them up in band order however its bands
+// are spread over processes. With `columns`, only those columns of the rows handed out are
+// computed (the others are 0): a process of a distributed solve, whose source knows the guidance
+// two columns beyond them (GuidanceSource::set_columns); not on spherical domains.
 template <class T>
 class InputRows {
  public:
   using Range = std::pair<int, int>;  // columns [first, second)
 
-  InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges = {});
+  InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges = {},
+            Range columns = {0, -1});
   void next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d = {});
 
   // After the last row: the sums over each range, and over all of them (added in range order).
@@ -52,6 +56,7 @@ class InputRows {
   std::vector<std::vector<double>> b_;                // ring of assembled rows, channels * width
   std::vector<std::vector<double>> d_, dv_;           // ring of diagonal rows and d * value
   int read_ = 0, emitted_ = 0, next_ = 0;
+  int begin_ = 0, end_ = 0;  // the columns computed
   std::vector<Range> ranges_;
   std::vector<InputTotals> totals_;
 };
