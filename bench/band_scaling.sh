@@ -4,7 +4,8 @@
 # Makes a SIZE x SIZE RGB image from a real photo (uncompressed float TIFF, so decoding is
 # cheap), then runs `gdp sharpen` with 1 band, 2 thread bands, 1 rank x 1 band and 2 ranks x
 # 1 band, and prints per run the solve phase ("vcycles": V-cycle passes with right-hand side
-# assembly and reading excluded), the end-to-end time, and the ratios against one worker.
+# assembly and reading excluded), the input phase (reading, guidance, right-hand side), the
+# end-to-end time, and the ratios against one worker.
 # One run of each, back to back: compare within a run.
 set -euo pipefail
 size=${1:-8192}
@@ -27,7 +28,8 @@ work, size = sys.argv[1], int(sys.argv[2])
 mpix = size * size / 1e6
 s = {n: json.load(open(f"{work}/{n}.json"))["seconds"] for n in ("threads1", "threads2", "ranks1", "ranks2")}
 for n, v in s.items():
-    print(f"{n}: solve {v['vcycles']:.2f} s ({mpix / v['vcycles']:.1f} Mpix/s), end to end {v['total']:.2f} s")
+    print(f"{n}: solve {v['vcycles']:.2f} s ({mpix / v['vcycles']:.1f} Mpix/s), input {v['rhs']:.2f} s, "
+          f"end to end {v['total']:.2f} s")
 for one, two in (("threads1", "threads2"), ("ranks1", "ranks2")):
     print(f"{two} / {one}: solve {s[one]['vcycles'] / s[two]['vcycles']:.2f}x, end to end {s[one]['total'] / s[two]['total']:.2f}x")
 PY
