@@ -1,4 +1,5 @@
-// Band V-cycle: phases of tiled sweeps per level (band_phase.h), strips exchanged once a phase, tail on worker 0.
+// Band V-cycle: phases of tiled sweeps per level (band_phase.h), strips exchanged once a phase, tail on worker 0
+// (rows across a sphere's fold: band_fold_exchange.cc; merged stages: band_merge.cc).
 #include "bands/band_vcycle.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 
 #include "bands/band_fold.h"
 #include "bands/band_phase.h"
+#include "bands/band_vcycle_parts.h"
 #include "multigrid/band_ops.h"
 
 namespace gdp::bands {
@@ -16,98 +18,6 @@ namespace gdp::bands {
 using multigrid::BandWindow;
 using multigrid::LevelOperator;
 using multigrid::Plane;
-
-namespace {
-
-// Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
-// restriction's sums across the fold kFoldSums + l; the collectives use the others.
-constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003, kFoldRows = 1100,
-              kFoldSums = 1200, kHandOff = 1300, kHandBack = 1301;
-// Every stage's tags (and solve_bands' 2000) are below this; a merged stage's are moved past it.
-constexpr int kStageTags = 4000;
-
-// The merged stage's workers: merged band g is this stage's worker 2g.
-class MergedTransport : public Transport {
- public:
-  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
-  int rank() const override { return outer_.rank() / 2; }
-  int size() const override { return bands_; }
-  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
-  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
-  void abort(const std::string& why) override { outer_.abort(why); }
-
- private:
-  Transport& outer_;
-  int bands_;
-};
-
-// Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
-constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
-int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
-
-class Packer {
- public:
-  template <class V>
-  void put(const V* p, std::size_t n) {
-    const std::size_t at = bytes.size();
-    bytes.resize(at + n * sizeof(V));
-    if (n) std::memcpy(bytes.data() + at, p, n * sizeof(V));
-  }
-  void put(double v) { put(&v, 1); }
-  Bytes bytes;
-};
-
-class Unpacker {
- public:
-  explicit Unpacker(const Bytes& b) : b_(b) {}
-  template <class V>
-  void get(V* p, std::size_t n) {
-    if (at_ + n * sizeof(V) > b_.size()) throw std::logic_error("band message shorter than expected");
-    if (n) std::memcpy(p, b_.data() + at_, n * sizeof(V));
-    at_ += n * sizeof(V);
-  }
-  double get() {
-    double v;
-    get(&v, 1);
-    return v;
-  }
-  void finish() const {
-    if (at_ != b_.size()) throw std::logic_error("band message longer than expected");
-  }
-
- private:
-  const Bytes& b_;
-  std::size_t at_ = 0;
-};
-
-}  // namespace
-
-template <class T>
-struct BandVCycle<T>::Level {
-  const LevelOperator<T>* op = nullptr;
-  int width = 0, height = 0, ring = 0;
-  int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
-  std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
-  multigrid::BandScratch<T> scratch;
-  int phases = 0;         // phases per pass (band_phase.h)
-  int arrived = 0;        // rows that entered this pass
-  int next_phase = 0;     // the next phase to run
-  int finished = 0;       // rows restricted (or measured) in this pass
-  int zeroed = 0;         // restriction pass: coarser rows cleared for accumulation
-  int next_complete = 0;  // restriction pass: coarser rows completed by this level
-  int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
-  std::vector<int> last_touch;
-  std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
-  bool inputs_stored = false;
-  std::vector<double> rr, dots;
-  // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the
-  // two rows there as the last exchange showed them (channels x 2 rows x width, whole rows).
-  struct Fold {
-    FoldPlan reads, sums;  // sums: this level's restriction into the next one
-    std::vector<T> rows;
-  };
-  std::array<Fold, 2> fold;
-};
 
 template <class T>
 BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
@@ -188,7 +98,7 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
     if (set_.diagonal) H->d.assign(static_cast<std::size_t>(H->ring) * H->len, T(0));
     levels_.push_back(std::move(H));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
-      merged_net_ = std::make_unique<MergedTransport>(transport, layout.merged->bands);
+      merged_net_ = merged_transport(transport, layout.merged->bands);
       Settings inner = set_;
       inner.measure_initial = inner.measure_final = false;
       inner.inputs_change = true;  // its finest level is this stage's restriction, new every cycle
@@ -233,15 +143,6 @@ T* BandVCycle<T>::d_row(int l, int j) {
   Level& L = *levels_[l];
   return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.len;
 }
-
-template <class T>
-T* BandVCycle<T>::fold_row(int l, int c, int row, bool initial) {
-  Level& L = *levels_[l];
-  const int side = row < 2 ? 0 : 1, r = side == 0 ? row : row - (L.height - 2);
-  T* rows = initial ? initial_fold_[side].data() : L.fold[side].rows.data();
-  return rows + (static_cast<std::size_t>(c) * 2 + r) * L.width;
-}
-
 template <class T>
 BandWindow<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
   const Level& L = *levels_[l];
@@ -259,83 +160,6 @@ BandWindow<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
   }
   return w;
 }
-
-// Rows 0, 1 (side 0) or h - 2, h - 1 (side 1) of level l as they are now, at the columns across
-// the fold this band reads, into `into` (whole rows): its own copied, the others' from their owners.
-template <class T>
-void BandVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
-  Level& L = *levels_[l];
-  const FoldPlan& plan = L.fold[side].reads;
-  const int first = side == 0 ? 0 : L.height - 2;
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int c = 0; c < set_.channels; ++c)
-      for (int r = 0; r < 2; ++r)
-        for (auto [x0, x1] : runs) f(c, r, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto own = [&](int c, int r, int x) { return u_row(l, c, first + r) + (x - L.origin); };
-  const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
-  for (int b = 0; b < layout_.bands; ++b) {
-    if (b == band_ || !plan.sends(b)) continue;
-    Packer pk;
-    pieces(plan.to[b], [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
-    net_.send(b, kFoldRows + l, std::move(pk.bytes));
-  }
-  pieces(plan.from[band_], [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
-  for (int b = 0; b < layout_.bands; ++b) {
-    if (b == band_ || !plan.receives(b)) continue;
-    const Bytes bytes = net_.receive(b, kFoldRows + l);
-    Unpacker un(bytes);
-    pieces(plan.from[b], [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
-    un.finish();
-  }
-}
-
-// Level l's restriction across the fold into coarse row `row`: `sums` holds this band's
-// contributions at the mirror image of its coarse columns (whole rows: b per channel, then w and d
-// as the settings have them); each goes to the band owning the column, which adds them (its own
-// first, then the others' in band order).
-template <class T>
-void BandVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const FoldPlan& plan = levels_[l]->fold[side].sums;
-  const bool tail = gathered(l);
-  const int m = ops_.levels[base_ + l + 1].width, channels = set_.channels;
-  const int parts = channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0);
-  const int corigin = tail ? 0 : levels_[l + 1]->origin;
-  const auto coarse = [&](int k) -> T* {  // part k of coarse row `row`, at column corigin
-    if (k < channels) return tail ? tail_b_[k].row(row) : b_row(l + 1, k, row);
-    if (k == channels && set_.weights) return tail ? tail_w_.row(row) : w_row(l + 1, row);
-    return tail ? tail_d_.row(row) : d_row(l + 1, row);
-  };
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int k = 0; k < parts; ++k)
-      for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto add = [&](int k, int x, const T* v, std::size_t n) {
-    T* to = coarse(k) + (x - corigin);
-    for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
-  };
-  for (int b = 0; b < layout_.bands; ++b) {
-    if (b == band_ || !plan.sends(b)) continue;
-    Packer pk;
-    pieces(plan.to[b], [&](int k, int x, std::size_t n) { pk.put(sums.data() + static_cast<std::size_t>(k) * m + x, n); });
-    net_.send(b, kFoldSums + l, std::move(pk.bytes));
-  }
-  pieces(plan.from[band_],
-         [&](int k, int x, std::size_t n) { add(k, x, sums.data() + static_cast<std::size_t>(k) * m + x, n); });
-  std::vector<T> got;
-  for (int b = 0; b < layout_.bands; ++b) {
-    if (b == band_ || !plan.receives(b)) continue;
-    const Bytes bytes = net_.receive(b, kFoldSums + l);
-    Unpacker un(bytes);
-    pieces(plan.from[b], [&](int k, int x, std::size_t n) {
-      got.resize(n);
-      un.get(got.data(), n);
-      add(k, x, got.data(), n);
-    });
-    un.finish();
-  }
-}
-
 template <class T>
 void BandVCycle<T>::begin_cycle() {
   ++cycle_;
@@ -736,84 +560,6 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       throw std::logic_error(fmt::format("band level {} stalled at phase {}", l, before));
   }
 }
-
-// Restriction pass: coarse row `row` of the level below is complete in every band of a group; the
-// group's owner puts its columns together and pushes the row into the merged stage.
-template <class T>
-void BandVCycle<T>::hand_off(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
-  Level& H = *levels_[tl];
-  // Band m's columns of the row, piece by piece: f(kind, channel, first column, count) for b of
-  // every channel (kind 0), then w (1) and d (2) where the settings have them.
-  const auto pieces = [&](int m, auto&& f) {
-    const int a = layout_.begin(tl, m);
-    const auto n = static_cast<std::size_t>(layout_.end(tl, m) - a);
-    for (int c = 0; c < set_.channels; ++c) f(0, c, a, n);
-    if (set_.weights) f(1, 0, a, n);
-    if (set_.diagonal) f(2, 0, a, n);
-  };
-  const auto mine = [&](int kind, int c, int a) {
-    T* r = kind == 0 ? b_row(tl, c, row) : kind == 1 ? w_row(tl, row) : d_row(tl, row);
-    return r + (a - H.origin);
-  };
-  ++H.finished;
-  if (band_ != owner) {
-    Packer pk;
-    pieces(band_, [&](int kind, int c, int a, std::size_t n) { pk.put(mine(kind, c, a), n); });
-    net_.send(owner, kHandOff, std::move(pk.bytes));
-    return;
-  }
-  const BandLayout& M = *layout_.merged;
-  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
-  const int origin = M.origin(0, g);
-  // The merged band's row: u zero (a correction), b, w, d of the group's columns; the halo's b
-  // comes in the merged stage's strips.
-  std::vector<T> u(set_.channels * len, T(0)), b(set_.channels * len, T(0)), w(set_.weights ? len : 0, T(0)),
-      d(set_.diagonal ? len : 0, T(0));
-  const auto merged = [&](int kind, int c, int a) {
-    T* r = kind == 0 ? b.data() + c * len : kind == 1 ? w.data() : d.data();
-    return r + (a - origin);
-  };
-  pieces(band_, [&](int kind, int c, int a, std::size_t n) { std::copy_n(mine(kind, c, a), n, merged(kind, c, a)); });
-  for (int m = owner + 1; m < layout_.group_end(g); ++m) {
-    const Bytes bytes = net_.receive(m, kHandOff);
-    Unpacker un(bytes);
-    pieces(m, [&](int kind, int c, int a, std::size_t n) { un.get(merged(kind, c, a), n); });
-    un.finish();
-  }
-  merged_->push(u, b, w, d);
-}
-
-// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
-// band's row, halo included, from the group's owner to the others), into this band's ring.
-template <class T>
-void BandVCycle<T>::take_back(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
-  Level& H = *levels_[tl];
-  const BandLayout& M = *layout_.merged;
-  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
-  const int origin = M.origin(0, g);
-  std::vector<T> got(set_.channels * len);
-  for (; H.arrived <= row; ++H.arrived) {
-    const int J = H.arrived;
-    if (J - H.ring >= H.needed_from)
-      throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
-    if (band_ == owner) {
-      merged_->pull(got);
-      Bytes bytes(got.size() * sizeof(T));
-      std::memcpy(bytes.data(), got.data(), bytes.size());
-      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, bytes);
-    } else {
-      const Bytes bytes = net_.receive(owner, kHandBack);
-      Unpacker un(bytes);
-      un.get(got.data(), got.size());
-      un.finish();
-    }
-    for (int c = 0; c < set_.channels; ++c)
-      std::copy_n(got.data() + c * len + (H.origin - origin), H.len, u_row(tl, c, J));
-  }
-}
-
 template <class T>
 void BandVCycle<T>::reduce_final() {
   const int channels = set_.channels;
