@@ -1,5 +1,4 @@
-// Band V-cycle: phases of tiled sweeps per level (band_phase.h), strips exchanged once a phase, tail on worker 0
-// (rows across a sphere's fold: band_fold_exchange.cc; merged stages: band_merge.cc).
+// Band V-cycle: phases of tiled sweeps per level, strips once a phase, tail on worker 0 (fold, merging: band_fold_exchange.cc, band_merge.cc).
 #include "bands/band_vcycle.h"
 
 #include <algorithm>
