@@ -6,7 +6,9 @@
 # 1 band, and prints per run the solve phase ("vcycles": V-cycle passes with right-hand side
 # assembly and reading excluded), the input phase (reading, guidance, right-hand side), the
 # end-to-end time, and the ratios against one worker.
-# One run of each, back to back: compare within a run.
+# One run of each, back to back: compare within a run. GDP_MPIRUN_ARGS goes to mpirun: Open MPI
+# binds every rank to one core by default with up to 2 ranks, which confines one rank's worker and
+# its reading and writing threads to one core; GDP_MPIRUN_ARGS="--bind-to none" lets them spread.
 set -euo pipefail
 size=${1:-8192}
 build=${2:-build}
@@ -19,7 +21,7 @@ oiiotool "$here/../shared/data/equirect/three-globe-npm/earth-blue-marble.jpg" -
 args=(sharpen "$work/in.tif" -o "$work/out.tif" --compression none -q --beta 1.5)
 "$gdp" "${args[@]}" --bands 1 --stats "$work/threads1.json"
 "$gdp" "${args[@]}" --bands 2 --stats "$work/threads2.json"
-mpi=(mpirun --oversubscribe --allow-run-as-root)
+mpi=(mpirun --oversubscribe --allow-run-as-root ${GDP_MPIRUN_ARGS:-})
 "${mpi[@]}" -np 1 "$gdp" "${args[@]}" --bands 1 --stats "$work/ranks1.json"
 "${mpi[@]}" -np 2 "$gdp" "${args[@]}" --bands 1 --stats "$work/ranks2.json"
 python3 - "$work" "$size" <<'PY'

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <thread>
 #include <tuple>
 
 #include "cli_fixture.h"
@@ -213,6 +214,20 @@ TEST_F(MpiBands, MergedStagesOnRanksGiveTheThreadResult) {
   EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
   ASSERT_EQ(sharpen("one.tif", 1, 0, small).code, 0);
   EXPECT_LE(test::max_difference(result("mpi.tif"), result("one.tif")), 1e-4 * range(result("one.tif")));
+}
+
+// A rank bound to one core (Open MPI's default with up to 2 ranks) runs its band and its reading
+// and writing threads on that core: rank 0 says so, and how to unbind.
+TEST_F(MpiBands, RankBoundToOneCoreIsNoted) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core: nothing to unbind";
+  const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("o.tif") +
+                          " --bands 1";
+  const test::CliRun bound = mpi("--bind-to core -np 2 " + run);
+  ASSERT_EQ(bound.code, 0) << bound.err;
+  EXPECT_NE(bound.err.find("--bind-to none"), std::string::npos) << bound.err;
+  const test::CliRun free = mpi("--bind-to none -np 2 " + run);
+  ASSERT_EQ(free.code, 0) << free.err;
+  EXPECT_EQ(free.err.find("core(s) only"), std::string::npos) << free.err;
 }
 
 TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {

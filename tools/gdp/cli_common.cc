@@ -4,6 +4,7 @@
 #include "gdp/mpi_run.h"
 
 #include <sys/resource.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -102,6 +103,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
     if (o.in_core) throw UsageError("--bands streams: it does not combine with --in-core");
     s.schedule = Schedule::Bands;
     s.bands = o.bands;
+    warn_if_bound(o, o.bands);
   }
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
@@ -205,6 +207,18 @@ std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int h
         return std::make_unique<ImageFileWriter>(path, width, height, channels, options);
       },
       width, height, channels);
+}
+
+void warn_if_bound(const CommonOptions& o, int bands) {
+  if (!MpiRun::launched()) return;
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return;
+  const int cores = CPU_COUNT(&set);
+  if (cores <= bands)
+    note(o, fmt::format("gdp: note: rank {} may run on {} core(s) only, for {} band(s) and its reading and writing "
+                        "threads (mpirun binds every rank to one core by default with up to 2 ranks): mpirun "
+                        "--bind-to none, or --map-by slot:PE={}",
+                        MpiRun::rank(), cores, bands, bands + 1));
 }
 
 void note(const CommonOptions& o, const std::string& message) {

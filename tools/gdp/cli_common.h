@@ -106,5 +106,8 @@ class Stats {
 
 // A line on stderr unless --quiet.
 void note(const CommonOptions& o, const std::string& message);
+// Under mpirun: a note (rank 0) when this rank may use no more cores than it runs bands (Open MPI
+// binds ranks to one core by default), which leaves its reading and writing threads none of their own.
+void warn_if_bound(const CommonOptions& o, int bands);
 
 }  // namespace gdp::cli
