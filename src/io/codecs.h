@@ -5,6 +5,7 @@
 #include <string>
 
 #include "io/codec.h"
+#include "io/output_file.h"
 
 namespace gdp::io {
 
@@ -25,6 +26,16 @@ std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path);
 std::unique_ptr<Encoder> create_png_encoder();
 std::unique_ptr<Encoder> create_tiff_encoder();
 std::unique_ptr<Encoder> create_jpeg_encoder();
+
+// The write errors of gdp's own encoders: the file's recorded failure (no space, ...), which a
+// codec library's own message would only follow from, else the library's message.
+inline void check_written(const OutputFile& file) {
+  if (file.failed()) throw CodecError("cannot write: " + file.problem());
+}
+inline CodecError write_error(const OutputFile* file, const std::string& library_message) {
+  if (file && file->failed()) return CodecError("cannot write: " + file->problem());
+  return CodecError("cannot write: " + library_message);
+}
 
 // Tiles decoded by gdp's TIFF decoder in this process so far (tests check column windows with it).
 long tiff_tiles_decoded();

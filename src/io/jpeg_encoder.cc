@@ -160,13 +160,8 @@ class JpegEncoder final : public Encoder {
   }
 
  private:
-  void check_file() const {
-    if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
-  }
-  CodecError error() const {
-    if (file_ && file_->failed()) return CodecError("cannot write: " + file_->problem());
-    return CodecError(fmt::format("cannot write: {}", s_.message));
-  }
+  void check_file() const { check_written(*file_); }
+  CodecError error() const { return write_error(file_.get(), s_.message); }
 
   std::unique_ptr<OutputFile> file_;
   std::vector<unsigned char> chunk_, packed_;

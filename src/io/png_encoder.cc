@@ -103,13 +103,8 @@ class PngEncoder final : public Encoder {
   }
 
  private:
-  void check_file() const {
-    if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
-  }
-  CodecError error() const {
-    if (file_ && file_->failed()) return CodecError("cannot write: " + file_->problem());
-    return CodecError(fmt::format("cannot write: {}", s_.message));
-  }
+  void check_file() const { check_written(*file_); }
+  CodecError error() const { return write_error(file_.get(), s_.message); }
 
   std::unique_ptr<OutputFile> file_;  // before s_: destroyed after libpng's state
   PngWriteState s_;

@@ -248,13 +248,8 @@ class TiffEncoder final : public Encoder {
     };
   }
 
-  void check_file() const {
-    if (file_->failed()) throw CodecError("cannot write: " + file_->problem());
-  }
-  CodecError failure() {
-    if (file_->failed()) return CodecError("cannot write: " + file_->problem());
-    return CodecError("cannot write: " + messages_.take());
-  }
+  void check_file() const { check_written(*file_); }
+  CodecError failure() { return write_error(file_.get(), messages_.take()); }
 
   std::unique_ptr<OutputFile> file_;
   Io io_;
