@@ -3,9 +3,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gdp/image_io.h"
 
@@ -28,6 +30,22 @@ inline constexpr double kJpegBufferBytes = 512.0 * 1024.0 * 1024.0;
 // Rows per band: about kBandSamples samples, at least one row, at most the image, and a whole
 // number of `unit` rows (tile rows of a tiled file; 1 otherwise) unless that exceeds the image.
 int band_rows(int width, int height, int channels, int unit = 1);
+
+// Rows decoded by a scanline library into a column window: `decode(row pointers, count)` fills
+// `count` rows of `row_bytes`; `out` receives bytes [skip, skip + out_row) of each, straight when
+// the window is whole rows, else through `scratch`. Returns what decode returns (false: failed).
+template <class Decode>
+bool decode_rows(int count, std::size_t row_bytes, std::size_t skip, std::size_t out_row, unsigned char* out,
+                 std::vector<unsigned char>& scratch, Decode&& decode) {
+  const bool direct = skip == 0 && out_row == row_bytes;
+  std::vector<unsigned char*> rows(static_cast<std::size_t>(count));
+  if (!direct) scratch.resize(row_bytes * rows.size());
+  for (int y = 0; y < count; ++y) rows[y] = (direct ? out : scratch.data()) + y * row_bytes;
+  if (!decode(rows.data(), count)) return false;
+  if (!direct)
+    for (int y = 0; y < count; ++y) std::memcpy(out + y * out_row, rows[y] + skip, out_row);
+  return true;
+}
 
 // Codec messages may span several lines; join the non-empty ones with "; ".
 std::string one_line(std::string_view message);

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "io/codec_util.h"
 #include "io/codecs.h"
 
 namespace gdp::io {
@@ -115,16 +116,9 @@ class JpegDecoder final : public Decoder {
 
   void read(int y0, int y1, int x0, int x1, void* out) override {
     const std::size_t pixel = static_cast<std::size_t>(layout_.channels);
-    const std::size_t row_bytes = pixel * layout_.width, out_row = pixel * (x1 - x0);
-    auto* dst = static_cast<unsigned char*>(out);
-    const bool direct = x0 == 0 && x1 == layout_.width;
-    std::vector<unsigned char*> rows(static_cast<std::size_t>(y1 - y0));
-    if (!direct) scratch_.resize(row_bytes * rows.size());
-    for (int y = y0; y < y1; ++y)
-      rows[y - y0] = direct ? dst + (y - y0) * row_bytes : scratch_.data() + (y - y0) * row_bytes;
-    if (!guarded_rows(&s_, rows.data(), y1 - y0)) throw error();
-    if (direct) return;
-    for (int y = y0; y < y1; ++y) std::memcpy(dst + (y - y0) * out_row, rows[y - y0] + x0 * pixel, out_row);
+    if (!decode_rows(y1 - y0, pixel * layout_.width, pixel * x0, pixel * (x1 - x0), static_cast<unsigned char*>(out),
+                     scratch_, [&](unsigned char** rows, int count) { return guarded_rows(&s_, rows, count); }))
+      throw error();
   }
 
  private:

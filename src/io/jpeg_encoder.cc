@@ -9,8 +9,6 @@
 #include <memory>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "io/codecs.h"
 #include "io/output_file.h"
 

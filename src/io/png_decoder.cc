@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "io/codec_util.h"
 #include "io/codecs.h"
 
 namespace gdp::io {
@@ -105,14 +106,9 @@ class PngDecoder final : public Decoder {
         std::memcpy(dst + (y - y0) * out_row, whole_.data() + y * row_bytes_ + x0 * pixel, out_row);
       return;
     }
-    const bool direct = x0 == 0 && x1 == layout_.width;
-    std::vector<unsigned char*> rows(static_cast<std::size_t>(y1 - y0));
-    if (!direct) scratch_.resize(row_bytes_ * rows.size());
-    for (int y = y0; y < y1; ++y)
-      rows[y - y0] = direct ? dst + (y - y0) * row_bytes_ : scratch_.data() + (y - y0) * row_bytes_;
-    if (!guarded_rows(&s_, rows.data(), y1 - y0)) throw error();
-    if (direct) return;
-    for (int y = y0; y < y1; ++y) std::memcpy(dst + (y - y0) * out_row, rows[y - y0] + x0 * pixel, out_row);
+    if (!decode_rows(y1 - y0, row_bytes_, pixel * x0, out_row, dst, scratch_,
+                     [&](unsigned char** rows, int count) { return guarded_rows(&s_, rows, count); }))
+      throw error();
   }
 
  private:
