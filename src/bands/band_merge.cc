@@ -92,9 +92,9 @@ void BandVCycle<T>::take_back(int row) {
       throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
     if (band_ == owner) {
       merged_->pull(got);
-      Bytes bytes(got.size() * sizeof(T));
-      std::memcpy(bytes.data(), got.data(), bytes.size());
-      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, bytes);
+      Packer pk;
+      pk.put(got.data(), got.size());
+      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, pk.bytes);
     } else {
       const Bytes bytes = net_.receive(owner, kHandBack);
       Unpacker un(bytes);
