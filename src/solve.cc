@@ -53,6 +53,23 @@ void SolverOptions::validate() const {
     throw UsageError(fmt::format("--temp: '{}' is not a directory", temp_dir.string()));
 }
 
+void ScheduleFlags::apply(SolverOptions& options) const {
+  options.domain = parse_domain(domain);
+  if (sphere) {
+    if (options.domain != Domain::Planar && options.domain != Domain::Spherical)
+      throw UsageError(fmt::format("--sphere solves on the spherical domain, not --domain {}", domain));
+    options.domain = Domain::Spherical;
+  }
+  if (pq_height < 0 || pq_height % 2 != 0)
+    throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", pq_height));
+  options.schedule = in_core ? Schedule::InCore : Schedule::Streaming;
+  if (bands != 0) {
+    if (in_core) throw UsageError("--bands streams: it does not combine with --in-core");
+    options.schedule = Schedule::Bands;
+    options.bands = bands;
+  }
+}
+
 void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary* summary) {
   options.validate();
   if (source.width() < 1 || source.height() < 1 || source.channels() < 1)

@@ -1,7 +1,9 @@
 // Gradient-domain applications: each builds guidance for the one solver.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "gdp/image.h"
 #include "gdp/rows.h"
@@ -15,6 +17,9 @@ enum class UnknownMode {
   Harmonic,  // no gradients into or inside them: a smooth (harmonic) fill
   Label,     // white is an ordinary label
 };
+
+// "black" | "harmonic" | "label"; anything else throws UsageError.
+UnknownMode parse_unknown_mode(std::string_view name);
 
 // Per-pixel fidelity (docs/weights.md): images of the input's size read row by row beside it
 // (first channel used). The values held are the application's own: the composite, the image
@@ -34,6 +39,9 @@ struct BlendSpace {
   double log_offset = 1e-3;   // Log: log(max(v, 0) + offset), so zeros stay finite
   bool srgb_encoded = false;  // Lab: values are sRGB-encoded (8/16-bit files) rather than linear
 };
+
+// "values" | "log" | "lab"; anything else throws UsageError.
+BlendSpace::Kind parse_blend_space(std::string_view name);
 
 struct StitchOptions {
   UnknownMode unknown = UnknownMode::Harmonic;
@@ -61,6 +69,19 @@ void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& s
              SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,
               SolveSummary* summary = nullptr);
+// alpha from a scale in pixels or degrees (gdp sharpen/smooth --scale, --scale-at, --scale-deg).
+struct SharpenScale {
+  double pixels = 16.0;             // detail finer than about this many pixels is scaled
+  std::optional<int> at;            // `pixels` is in pixels of an image whose long side is this many pixels
+  std::optional<double> degrees;    // instead: the scale in degrees of arc (spherical domains only)
+  // Throws UsageError naming the first invalid value (by the CLI's flag).
+  void validate(Domain domain) const;
+  // alpha = 1 / s^2 for an input of in_width x in_height solved on a solved_width x solved_height
+  // grid (the PQ resampling of an equirectangular input, else the input's own): s in pixels of
+  // the solved grid. Validates first.
+  double alpha(Domain domain, int in_width, int in_height, int solved_width, int solved_height) const;
+};
+
 // High/low compositing (sharpen/smooth --low): gradients beta * grad(high), values (and the
 // starting guess) from `low` with weight alpha, e.g. the detail of one exposure on the tones of
 // another. Same size and channels (InputError otherwise).
@@ -74,6 +95,7 @@ void sharpen(RowReader& high, RowReader& low, double alpha, double beta, const S
 // source's (transparent objects, text on texture). Output: the target's size and channels (the
 // source's first channels; it needs at least as many). The problem has pinned pixels, so each
 // V-cycle converges more slowly than plain stitching: gdp clone defaults to a tolerance.
+inline constexpr double kCloneTolerance = 1e-5;  // gdp clone's tolerance unless V-cycles or one are given
 struct CloneOptions {
   int offset_x = 0, offset_y = 0;
   bool mixed = false;

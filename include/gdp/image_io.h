@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "gdp/image.h"
 
@@ -40,6 +41,10 @@ struct WriteOptions {
 // so no partial file is ever visible under the final name. Integer outputs are clamped to
 // [0, 1]; float outputs are written as they are. Throws OutputError (nothing left behind).
 void write_image(const std::filesystem::path& path, const Image& image, const WriteOptions& options);
+
+// The sample type named by the CLI's --depth: "8", "16", "half", "float"; empty: none (nullopt).
+// Anything else throws UsageError.
+std::optional<SampleType> parse_depth(std::string_view depth);
 
 // True when the file name's extension names a lossy format (JPEG, WebP, ...).
 bool is_lossy_extension(const std::filesystem::path& path);

@@ -54,6 +54,18 @@ struct SolverOptions {
   int cycle_cap() const { return tolerance > 0.0 ? max_vcycles : vcycles; }
 };
 
+// How the CLI's flags --domain NAME, --sphere, --pq-height H, --in-core and --bands N choose the
+// domain and schedule (shared with the Python module, so both report conflicts alike).
+struct ScheduleFlags {
+  std::string domain = "planar";
+  bool sphere = false;  // solve on the spherical domain (an equirectangular input is resampled to PQ)
+  int pq_height = 0;    // with sphere: the PQ height (0: chosen from the input's size)
+  bool in_core = false;
+  int bands = 0;        // > 0: the band schedule with this many bands
+  // Sets options.domain, schedule and bands; throws UsageError naming the flags that conflict.
+  void apply(SolverOptions& options) const;
+};
+
 struct SolveSummary {
   int width = 0, height = 0, channels = 0, levels = 0, vcycles = 0;
   std::vector<int> level_widths, level_heights;

@@ -120,6 +120,15 @@ struct ResampleOptions {
 // Size of an output image of a layout for a given size parameter: Equirect: width (height =
 // width / 2); Pq: height (width = 4 * height); Cube: face size (F x 6F).
 std::array<int, 2> layout_size(Layout layout, int size);
+// The size parameter (as layout_size takes it) of a resampling to `layout` that keeps about the
+// source's pixel count: Pq, default_pq_height; Equirect, an even width; Cube, the face size.
+int default_size(Layout layout, long long source_pixels);
+// gdp sphere to-pq / from-pq: the output's width and height for a `width` x `height` source named
+// `name` in errors; `size` as layout_size takes it (0: default_size). to-pq sets `other` to the
+// source's layout (from its shape); from-pq resamples to `other`. InputError when the source is
+// PQ already (to-pq) or is not PQ (from-pq).
+std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height,
+                                   const std::string& name);
 // The layout of a source image from its shape: 2:1 equirect, 1:4 PQ... throws InputError if none.
 Layout guess_layout(int width, int height);
 

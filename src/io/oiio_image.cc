@@ -35,6 +35,15 @@ void write_image(const std::filesystem::path& path, const Image& image, const Wr
   writer.commit();
 }
 
+std::optional<SampleType> parse_depth(std::string_view depth) {
+  if (depth.empty()) return std::nullopt;
+  if (depth == "8") return SampleType::UInt8;
+  if (depth == "16") return SampleType::UInt16;
+  if (depth == "half") return SampleType::Half;
+  if (depth == "float") return SampleType::Float;
+  throw UsageError(fmt::format("--depth must be 8, 16, half or float, got '{}'", depth));
+}
+
 bool is_lossy_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

@@ -31,6 +31,7 @@ std::vector<std::string> candidates() {
     fs::path binary = fs::canonical(fs::path(self.dli_fname), ec);
     if (ec) binary = fs::path(self.dli_fname);
     paths.push_back((binary.parent_path().parent_path() / "lib" / "gdp" / kOiioModuleName).string());
+    paths.push_back((binary.parent_path() / kOiioModuleName).string());  // beside it (the Python package)
   }
   return paths;
 }

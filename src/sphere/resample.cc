@@ -79,6 +79,28 @@ std::array<int, 2> layout_size(Layout layout, int size) {
   return {size, 6 * size};
 }
 
+int default_size(Layout layout, long long source_pixels) {
+  switch (layout) {
+    case Layout::Pq: return default_pq_height(source_pixels);
+    case Layout::Equirect: return 2 * static_cast<int>(std::lround(std::sqrt(source_pixels / 2.0)));
+    case Layout::Cube: break;
+  }
+  return std::max(1, static_cast<int>(std::lround(std::sqrt(source_pixels / 6.0))));
+}
+
+std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height,
+                                   const std::string& name) {
+  if (to_pq) {
+    other = guess_layout(width, height);
+    if (other == Layout::Pq) throw InputError(name + ": is already a PQ image (4:1)");
+  } else if (width != 4 * height) {
+    throw InputError(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                     " is not a PQ image (width must be 4 x height)");
+  }
+  const Layout out = to_pq ? Layout::Pq : other;
+  return layout_size(out, size > 0 ? size : default_size(out, static_cast<long long>(width) * height));
+}
+
 Layout guess_layout(int width, int height) {
   if (width == 4 * height) return Layout::Pq;
   if (height == 6 * width) return Layout::Cube;

@@ -86,25 +86,12 @@ class Progress {
 
 SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   SolverOptions s = o.solver;
-  s.domain = parse_domain(o.domain);
-  if (o.sphere) {
-    if (s.domain != Domain::Planar && s.domain != Domain::Spherical)
-      throw UsageError(fmt::format("--sphere solves on the spherical domain, not --domain {}", o.domain));
-    s.domain = Domain::Spherical;
-  }
-  if (o.pq_height < 0 || o.pq_height % 2 != 0)
-    throw UsageError(fmt::format("--pq-height must be a positive even number, got {}", o.pq_height));
-  s.temp_dir = for_this_rank(o.solver.temp_dir.string());
-  s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
-  s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
   if (MpiRun::size() > 1 && o.bands == 0)
     throw UsageError("under mpirun, --bands N is needed (N bands on every rank; docs/how-bands-work.md)");
-  if (o.bands != 0) {
-    if (o.in_core) throw UsageError("--bands streams: it does not combine with --in-core");
-    s.schedule = Schedule::Bands;
-    s.bands = o.bands;
-    warn_if_bound(o, o.bands);
-  }
+  ScheduleFlags{o.domain, o.sphere, o.pq_height, o.in_core, o.bands}.apply(s);
+  if (o.bands != 0) warn_if_bound(o, o.bands);
+  s.temp_dir = for_this_rank(o.solver.temp_dir.string());
+  s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
   s.validate();
@@ -146,11 +133,7 @@ WriteOptions write_options(const CommonOptions& o, const ImageFileInfo& input) {
   w.jpeg_quality = o.quality;
   w.tiled = o.tiled;
   w.compression = o.compression;
-  if (o.depth == "8") w.sample_type = SampleType::UInt8;
-  else if (o.depth == "16") w.sample_type = SampleType::UInt16;
-  else if (o.depth == "half") w.sample_type = SampleType::Half;
-  else if (o.depth == "float") w.sample_type = SampleType::Float;
-  else w.sample_type = input.sample_type;
+  w.sample_type = parse_depth(o.depth).value_or(input.sample_type);
   return w;
 }
 

@@ -31,7 +31,7 @@ class Clone final : public Command {
   int run() override {
     Stats stats("clone");
     // Pinned pixels slow each V-cycle's convergence: iterate to a tolerance unless told otherwise.
-    if (app->count("--vcycles") == 0 && app->count("--tolerance") == 0) common_.solver.tolerance = kDefaultTolerance;
+    if (app->count("--vcycles") == 0 && app->count("--tolerance") == 0) common_.solver.tolerance = kCloneTolerance;
     const SolverOptions solver = solver_options(common_, "clone");
     if (!offset_.empty()) {
       options_.offset_x = offset_[0];
@@ -60,7 +60,6 @@ class Clone final : public Command {
   }
 
  private:
-  static constexpr double kDefaultTolerance = 1e-5;
   std::string source_, target_, mask_, output_;
   std::vector<int> offset_;
   CloneOptions options_;

@@ -22,7 +22,7 @@ class Sharpen final : public Command {
     app->add_option("-o,--output", output_, "output image")->required();
     app->add_option("--beta,-b", beta_, "gradient scale")->capture_default_str();
     auto* a = app->add_option("--alpha,-a", alpha_, "value weight; detail finer than 1/sqrt(alpha) pixels is scaled");
-    auto* s = app->add_option("--scale", scale_, "scale in pixels (alpha = 1 / scale^2); default 16");
+    auto* s = app->add_option("--scale", scale_.pixels, "scale in pixels (alpha = 1 / scale^2); default 16");
     a->excludes(s);
     auto* at = app->add_option("--scale-at", scale_at_,
                                "--scale is in pixels of an image whose long side is this many pixels (so a "
@@ -36,28 +36,16 @@ class Sharpen final : public Command {
     add_common_options(*app, common_);
   }
 
-  // The scale in pixels of the grid solved on: `input`'s, or with --sphere its PQ resampling
-  // `solved` (input pixels converted by the ratio of pixel sizes).
-  double scale_pixels(const RowReader& input, const RowReader& solved) const {
-    // A PQ image W = 4H pixels covers 4 pi steradians: a pixel spans sqrt(pi) / H radians.
-    if (scale_deg_ > 0.0) return scale_deg_ * M_PI / 180.0 * solved.height() / std::sqrt(M_PI);
-    const double px = scale_at_ > 0 ? scale_ * std::max(input.width(), input.height()) / scale_at_ : scale_;
-    return px * std::sqrt(double(solved.width()) * solved.height() / (double(input.width()) * input.height()));
-  }
-
   bool runs_under_mpi() const override { return true; }
 
   int run() override {
     Stats stats(name_);
     if (smooth_ && !(beta_ < 1.0)) throw UsageError(fmt::format("smooth needs --beta below 1, got {}", beta_));
     if (!smooth_ && !(beta_ > 1.0)) throw UsageError(fmt::format("sharpen needs --beta above 1, got {}", beta_));
-    if (!(scale_ > 0.0)) throw UsageError(fmt::format("--scale must be positive, got {}", scale_));
-    if (app->count("--scale-at") && !(scale_at_ > 0)) throw UsageError(fmt::format("--scale-at must be positive, got {}", scale_at_));
-    if (app->count("--scale-deg") && !(scale_deg_ > 0.0 && scale_deg_ < 180.0))
-      throw UsageError(fmt::format("--scale-deg must be in (0, 180), got {}", scale_deg_));
+    if (app->count("--scale-at")) scale_.at = scale_at_;
+    if (app->count("--scale-deg")) scale_.degrees = scale_deg_;
     const SolverOptions solver = solver_options(common_, name_);
-    if (scale_deg_ > 0.0 && solver.domain != Domain::Spherical)
-      throw UsageError("--scale-deg needs a spherical image (--sphere or --domain spherical)");
+    scale_.validate(solver.domain);
     StripFilesReader in(input_);
     const auto out = open_output(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()),
                                  common_.quiet);
@@ -66,7 +54,7 @@ class Sharpen final : public Command {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
       RowWriter& w = sphere ? sphere->output(*out, in.channels()) : *out;
-      if (alpha_ == 0.0) alpha_ = 1.0 / std::pow(scale_pixels(in, r), 2);
+      if (alpha_ == 0.0) alpha_ = scale_.alpha(solver.domain, in.width(), in.height(), r.width(), r.height());
       const auto fidelity = open_fidelity(fidelity_, in, input_, sphere.get());
       if (low_.empty()) {
         sharpen(r, alpha_, beta_, solver, w, &summary, fidelity->fidelity);
@@ -94,8 +82,9 @@ class Sharpen final : public Command {
  private:
   bool smooth_;
   std::string name_, input_, output_, low_;
-  double beta_, alpha_ = 0.0, scale_ = 16.0, scale_deg_ = 0.0;
+  double beta_, alpha_ = 0.0, scale_deg_ = 0.0;
   int scale_at_ = 0;
+  SharpenScale scale_;
   FidelityFiles fidelity_;
   CommonOptions common_;
 };

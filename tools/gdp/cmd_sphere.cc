@@ -1,7 +1,5 @@
 // `gdp sphere to-pq | from-pq | toast`: resample spherical images to and from the PQ layout, and
 // cut a PQ image into a WorldWideTelescope TOAST tile pyramid.
-#include <cmath>
-
 #include <fmt/format.h>
 
 #include "cli_common.h"
@@ -68,24 +66,9 @@ class Sphere final : public Command {
   int run_resample(bool to_pq) {
     Stats stats(to_pq ? "sphere to-pq" : "sphere from-pq");
     ImageFileReader in(input_);
-    const long long pixels = static_cast<long long>(in.width()) * in.height();
     Projection pq{Layout::Pq, sphere::parse_square_map(map_), false}, other{Layout::Equirect, {}, sky_};
-    if (to_pq) {
-      other.layout = sphere::guess_layout(in.width(), in.height());
-      if (other.layout == Layout::Pq) throw InputError(input_ + ": is already a PQ image (4:1)");
-    } else {
-      if (in.width() != 4 * in.height())
-        throw InputError(fmt::format("{}: {}x{} is not a PQ image (width must be 4 x height)", input_, in.width(),
-                                     in.height()));
-      other.layout = format_ == "cube" ? Layout::Cube : Layout::Equirect;
-    }
-    int size = size_;
-    if (size <= 0) {
-      if (to_pq) size = sphere::default_pq_height(pixels);
-      else if (other.layout == Layout::Equirect) size = 2 * static_cast<int>(std::lround(std::sqrt(pixels / 2.0)));
-      else size = std::max(1, static_cast<int>(std::lround(std::sqrt(pixels / 6.0))));
-    }
-    const auto [w, h] = sphere::layout_size(to_pq ? Layout::Pq : other.layout, size);
+    if (!to_pq) other.layout = format_ == "cube" ? Layout::Cube : Layout::Equirect;
+    const auto [w, h] = sphere::plan_resampling(to_pq, other.layout, size_, in.width(), in.height(), input_);
     sphere::ResampleOptions options;
     options.nearest = nearest_;
     options.threads = threads_;

@@ -35,13 +35,9 @@ class Stitch final : public Command {
   int run() override {
     Stats stats("stitch");
     const SolverOptions solver = solver_options(common_, "stitch");
-    options_.unknown = unknown_ == "black" ? UnknownMode::Black
-                       : unknown_ == "label" ? UnknownMode::Label
-                                             : UnknownMode::Harmonic;
+    options_.unknown = parse_unknown_mode(unknown_);
     StripFilesReader composite(composite_), labels(labels_);
-    options_.space.kind = space_ == "log" ? BlendSpace::Kind::Log
-                          : space_ == "lab" ? BlendSpace::Kind::Lab
-                                            : BlendSpace::Kind::Values;
+    options_.space.kind = parse_blend_space(space_);
     const SampleType stored = composite.info().sample_type;
     options_.space.srgb_encoded = stored == SampleType::UInt8 || stored == SampleType::UInt16;
     if (labels.info().lossy || is_lossy_extension(labels_))
