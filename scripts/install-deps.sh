@@ -11,6 +11,8 @@ packages=(
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
   python3
+  python3-dev pybind11-dev python3-numpy # the Python module (python/)
+  python3-pytest python3-venv python3-pip # its tests, and `pip install .` into a virtual environment
 )
 
 missing=()

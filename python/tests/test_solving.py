@@ -1,0 +1,67 @@
+"""The GIL is released while gdp solves, progress is reported, and callbacks can stop a solve."""
+import threading
+
+import numpy as np
+import pytest
+
+import gdp
+from conftest import scene
+
+
+def test_python_thread_runs_while_gdp_solves():
+    image = scene(768, 768, 3).astype(np.float32)
+    labels = np.zeros((768, 768), np.uint8)
+    labels[:, 384:] = 1
+    count = [0]
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            count[0] += 1
+
+    worker = threading.Thread(target=spin)
+    worker.start()
+    try:
+        stats = {}
+        before = count[0]
+        gdp.stitch(image, labels, vcycles=3, stats=stats)
+        during = count[0] - before
+    finally:
+        stop.set()
+        worker.join()
+    # Holding the GIL for the whole solve would leave the loop at most one switch interval (5 ms).
+    assert during > 100000, (during, stats["seconds_solve"])
+
+
+def test_progress_fractions_increase_to_one():
+    image = scene(300, 200, 2)
+    for keywords in ({}, {"in_core": True}, {"bands": 2}, {"vcycles": 3}):
+        fractions = []
+        gdp.smooth(image, progress=fractions.append, **keywords)
+        assert fractions, keywords
+        assert all(b >= a for a, b in zip(fractions, fractions[1:])), (keywords, fractions)
+        assert 0.0 <= fractions[0] and fractions[-1] == 1.0, (keywords, fractions)
+
+
+def test_exception_in_progress_stops_the_solve(tmp_path):
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        raise Stop(fraction)
+
+    image = scene(300, 200, 1)
+    with pytest.raises(Stop):
+        gdp.sharpen(image, progress=stop)
+    gdp.write_image(tmp_path / "in.png", (image * 255).astype(np.uint8))
+    with pytest.raises(Stop):
+        gdp.sharpen_file(tmp_path / "in.png", tmp_path / "out.png", progress=stop)
+    assert not (tmp_path / "out.png").exists()  # no partial output
+
+
+def test_log_and_stats():
+    lines, stats = [], {}
+    gdp.reconstruct(scene(64, 64, 1), log=lines.append, stats=stats, vcycles=2)
+    assert lines and all(isinstance(line, str) for line in lines)
+    assert stats["vcycles"] == 2 and len(stats["relative_residuals"]) == 3
+    assert stats["relative_residuals"][-1] < stats["relative_residuals"][0]
