@@ -1,5 +1,8 @@
 """The GIL is released while gdp solves, progress is reported, and callbacks can stop a solve."""
+import os
+import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -65,3 +68,20 @@ def test_log_and_stats():
     assert lines and all(isinstance(line, str) for line in lines)
     assert stats["vcycles"] == 2 and len(stats["relative_residuals"]) == 3
     assert stats["relative_residuals"][-1] < stats["relative_residuals"][0]
+
+
+def test_ctrl_c_stops_a_solve():
+    image = scene(256, 256, 1).astype(np.float32)
+    stats = {}
+    gdp.sharpen(image, in_core=True, vcycles=4, stats=stats)
+    one_cycle = stats["seconds_solve"] / 4
+    cycles = max(40, int(4.0 / max(one_cycle, 1e-3)))  # a solve of several seconds
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            gdp.sharpen(image, in_core=True, vcycles=cycles, threads=1)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 0.5 * cycles * one_cycle
