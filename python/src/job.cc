@@ -34,6 +34,10 @@ RowReader& Job::input(const py::handle& value, const std::string& name, bool nea
     }
   } else {
     shown = path_of(value, name);
+  }
+  // Opening files and resampling to PQ need no Python.
+  const py::gil_scoped_release release;
+  if (kind_ == Kind::Files) {
     auto file = std::make_unique<StripFilesReader>(shown);
     if (main) {
       main_info_ = file->info();

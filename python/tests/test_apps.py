@@ -87,3 +87,18 @@ def test_sphere_solve_on_equirect_arrays():
     out = gdp.smooth(image, beta=1.0, sphere=True, tolerance=1e-6)
     assert out.shape == image.shape
     assert np.abs(out - image).max() < 0.02  # resampled to PQ and back
+
+
+def test_sphere_arrays_equal_cli(tmp_path, cli):
+    image = (scene(64, 128, 3) * 255).astype(np.uint8)  # equirectangular 2:1
+    gdp.write_image(tmp_path / "in.png", image)
+    code, err = cli("smooth", tmp_path / "in.png", "-o", tmp_path / "cli.tif", "--sphere", "--depth", "float", "-q")
+    assert code == 0, err
+    assert np.array_equal(gdp.smooth(image, sphere=True), gdp.read_image(tmp_path / "cli.tif"))
+    code, err = cli("sphere", "to-pq", tmp_path / "in.png", "-o", tmp_path / "pq.tif", "--depth", "float",
+                    "--height", "40", "--map", "octahedral")
+    assert code == 0, err
+    expected = gdp.read_image(tmp_path / "pq.tif")
+    assert np.array_equal(gdp.to_pq(image, height=40, map="octahedral"), expected)
+    gdp.to_pq_file(tmp_path / "in.png", tmp_path / "py.tif", height=40, map="octahedral", depth="float")
+    assert np.array_equal(gdp.read_image(tmp_path / "py.tif"), expected)
