@@ -17,6 +17,11 @@ py::object Keywords::take_object(const char* key) {
   return rest_.attr("pop")(key);
 }
 
+void Keywords::wrong_type(const char* key, const py::object& value) {
+  throw py::type_error(std::string(key) + "=" + py::repr(value).cast<std::string>() + ": wrong type (" +
+                       py::str(py::type::of(value).attr("__name__")).cast<std::string>() + ")");
+}
+
 void Keywords::finish(const std::string& function) const {
   for (const auto& item : rest_)
     throw py::type_error(function + "() got an unexpected keyword argument '" + py::str(item.first).cast<std::string>() +

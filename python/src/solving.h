@@ -21,10 +21,15 @@ class Keywords {
   template <class T>
   void take(const char* key, T& into) {
     if (!rest_.contains(key)) return;
-    into = rest_[key].template cast<T>();
-    rest_.attr("pop")(key);
+    const pybind11::object value = rest_.attr("pop")(key);
+    try {
+      into = value.template cast<T>();
+    } catch (const pybind11::cast_error&) {
+      wrong_type(key, value);
+    }
   }
   pybind11::object take_object(const char* key);
+  [[noreturn]] static void wrong_type(const char* key, const pybind11::object& value);
   // Throws TypeError naming the first keyword nobody took, as Python does for `function`.
   void finish(const std::string& function) const;
 

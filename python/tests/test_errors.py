@@ -79,5 +79,7 @@ def test_wrong_argument_types():
         gdp.smooth(np.zeros((4, 4), np.complex64))
     with pytest.raises(gdp.UsageError, match="dimension"):
         gdp.smooth(np.zeros(4))
+    with pytest.raises(TypeError, match="iters='3': wrong type"):
+        gdp.smooth(np.zeros((4, 4)), iters="3")
     with pytest.raises(TypeError, match="unexpected keyword argument 'itres'"):
         gdp.smooth(np.zeros((4, 4)), itres=2)
