@@ -77,8 +77,10 @@ def _cmake(build, jobs):
     """Configures (unless `build` holds a gdp build tree already) and builds the module's targets."""
     if not (build / "CMakeCache.txt").exists():
         generator = ["-G", "Ninja"] if shutil.which("ninja") else []
+        # A static libgdp: the extension holds the library, nothing to find at run time.
         subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), *generator, "-DCMAKE_BUILD_TYPE=Release",
                         "-DGDP_BUILD_TESTS=OFF", "-DGDP_BUILD_BENCH=OFF", "-DGDP_BUILD_PYTHON=ON",
+                        "-DBUILD_SHARED_LIBS=OFF",
                         f"-DPython_EXECUTABLE={sys.executable}"], check=True, stdout=sys.stderr)
     subprocess.run(["cmake", "--build", str(build), "--target", "gdp_python", "gdp_oiio", "--parallel", str(jobs)],
                    check=True, stdout=sys.stderr)
@@ -97,12 +99,11 @@ def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     build = pathlib.Path(keep).resolve() if keep else pathlib.Path(tempfile.mkdtemp(prefix="gdp-wheel-"))
     try:
         _cmake(build, jobs)
-        suffix = sysconfig.get_config_var("EXT_SUFFIX")
-        files = {
-            "gdp/__init__.py": ROOT / "python" / "gdp" / "__init__.py",
-            f"gdp/_gdp{suffix}": build / "python" / "gdp" / f"_gdp{suffix}",
-            "gdp/libgdp_oiio.so": build / "lib" / "gdp" / "libgdp_oiio.so",  # found beside _gdp (oiio_backend.h)
-        }
+        # The compiled files, listed by CMake (python/CMakeLists.txt), all beside gdp/__init__.py:
+        # the OpenImageIO module is looked for beside the code, libgdp.so through RPATH $ORIGIN.
+        files = {"gdp/__init__.py": ROOT / "python" / "gdp" / "__init__.py"}
+        for line in (build / "python" / "wheel_files.txt").read_text().split():
+            files[f"gdp/{pathlib.Path(line).name}"] = pathlib.Path(line)
         info = _dist_info(project)
         generated = {
             f"{info}/METADATA": _metadata(project),
@@ -113,7 +114,7 @@ def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
         record = []
         with zipfile.ZipFile(pathlib.Path(wheel_directory) / name, "w", zipfile.ZIP_DEFLATED) as wheel:
             for arcname, path in files.items():
-                data = path.read_bytes()
+                data = path.read_bytes()  # through symbolic links (libgdp.so.SONAME)
                 info_entry = zipfile.ZipInfo(arcname)
                 info_entry.external_attr = (0o755 if arcname.endswith(".so") else 0o644) << 16
                 info_entry.compress_type = zipfile.ZIP_DEFLATED

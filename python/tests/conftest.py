@@ -1,9 +1,13 @@
 """Fixtures for the gdp module's tests: the gdp CLI to compare with, and test images made here."""
 import os
+import pathlib
 import subprocess
 
 import numpy as np
 import pytest
+
+
+DATA = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data"  # real images (tests/data/README.md)
 
 
 @pytest.fixture(scope="session")

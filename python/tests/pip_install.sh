@@ -25,5 +25,8 @@ assert np.abs(out - out.mean()).max() < 1e-3, "the seam should be gone"
 pixels = (np.arange(32 * 48 * 3) % 256).astype(np.uint8).reshape(32, 48, 3)
 gdp.write_image("t.bmp", pixels)  # BMP goes through the OpenImageIO module, packaged beside the extension
 assert np.array_equal(gdp.read_image("t.bmp"), pixels.astype(np.float32) * np.float32(1 / 255))
-print("pip install: gdp", gdp.__file__)
+# gdp's own shared objects (libgdp.so when the build tree's is shared, libgdp_oiio.so) are the installed ones.
+mapped = {line.split()[-1] for line in open("/proc/self/maps") if "libgdp" in line}
+assert mapped and all(p.startswith(sys.argv[1]) for p in mapped), mapped
+print("pip install: gdp", gdp.__file__, sorted(mapped))
 PY
