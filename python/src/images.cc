@@ -25,7 +25,7 @@ py::array_t<float> read(py::handle path) {
   const std::string name = fspath(path);
   ReadResult r;
   {
-    py::gil_scoped_release release;
+    const py::gil_scoped_release release;
     r = read_image(name);
   }
   return to_array(r.image, false);
@@ -51,7 +51,11 @@ py::object reconstruct(Kind kind, py::handle image, py::handle output, const py:
   const WriteKeywords write = write_keywords(kind, kw);
   kw.finish(function);
   ReadResult in;
-  if (kind == Kind::Files) in = read_image(fspath(image));
+  if (kind == Kind::Files) {
+    const std::string name = fspath(image);
+    const py::gil_scoped_release release;
+    in = read_image(name);
+  }
   else in.image = to_image(array_arg(image, function, "image"), "image");
   if (args.flags.sphere && in.image.width != 4 * in.image.height)
     throw UsageError(fmt::format("{}(): sphere=True needs a PQ image (width 4 x height), this one is {}x{}: "
@@ -114,26 +118,28 @@ py::object resample(Kind kind, bool to_pq, py::handle image, py::handle output, 
     const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width, in.height, "image");
     Image out;
     {
-      py::gil_scoped_release release;
+      const py::gil_scoped_release release;
       out = sphere::resample(in, from, to, w, h, r.options);
     }
     return to_array(out, array.ndim() == 2);
   }
   const std::string input = fspath(image), name = fspath(output);
-  ImageFileReader in(input);
-  const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width(), in.height(), input);
-  WriteOptions options = write.options;
-  if (!options.sample_type) options.sample_type = in.info().sample_type;
-  ImageFileWriter out(name, w, h, in.channels(), options);
+  std::array<int, 3> shape{};
   {
-    py::gil_scoped_release release;
+    const py::gil_scoped_release release;
+    ImageFileReader in(input);
+    const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width(), in.height(), input);
+    WriteOptions options = write.options;
+    if (!options.sample_type) options.sample_type = in.info().sample_type;
+    ImageFileWriter out(name, w, h, in.channels(), options);
     sphere::resample(in, from, out, to, w, h, r.options);
     out.commit();
+    shape = {w, h, in.channels()};
   }
   py::dict d;
-  d["width"] = w;
-  d["height"] = h;
-  d["channels"] = in.channels();
+  d["width"] = shape[0];
+  d["height"] = shape[1];
+  d["channels"] = shape[2];
   return d;
 }
 
