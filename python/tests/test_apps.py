@@ -102,3 +102,12 @@ def test_sphere_arrays_equal_cli(tmp_path, cli):
     assert np.array_equal(gdp.to_pq(image, height=40, map="octahedral"), expected)
     gdp.to_pq_file(tmp_path / "in.png", tmp_path / "py.tif", height=40, map="octahedral", depth="float")
     assert np.array_equal(gdp.read_image(tmp_path / "py.tif"), expected)
+
+
+def test_everything_public_has_a_docstring():
+    assert len(gdp.__doc__) > 200
+    for name in gdp.__all__:
+        doc = getattr(gdp, name).__doc__
+        assert doc and len(doc) > 50, name
+        if callable(getattr(gdp, name)) and not isinstance(getattr(gdp, name), type):
+            assert doc.startswith(name + "("), name  # its own signature line
