@@ -1,0 +1,23 @@
+// What gdp's OpenEXR decoder and encoder share: OpenImageIO's channel order, channel names, OpenEXR's threads.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace gdp::io {
+
+// The order in which OpenImageIO 2.4 presents an OpenEXR file's channels (and gdp did while it
+// read OpenEXR through it): by layer ("diffuse." of "diffuse.R"; no layer first), then R, G, B,
+// Y, A, Z and their aliases (X, Y, Z in a layer that has X and Y or Z), then by name. Returns
+// indices into `names`.
+std::vector<int> exr_channel_order(const std::vector<std::string>& names);
+
+// Channel names gdp writes for `channels` channels: Y, YA, RGB, RGBA; beyond four R, G, B, A,
+// channel4, channel5, ... (OpenImageIO's names).
+std::vector<std::string> exr_channel_names(int channels);
+
+// OpenEXR compresses and decompresses blocks on a thread pool of this many threads (set once,
+// process-wide, on first use); also the number of threads a file is opened with.
+int exr_threads();
+
+}  // namespace gdp::io
