@@ -69,7 +69,7 @@ class ExrDecoder final : public Decoder {
     } catch (const CodecError&) {
       throw;
     } catch (const std::exception& e) {
-      throw CodecError(fmt::format("cannot read pixels at row {}: {}", y0, one_line(e.what())));
+      throw CodecError(fmt::format("cannot read pixels of rows {} to {}: {}", y0, y1 - 1, one_line(e.what())));
     }
   }
 
