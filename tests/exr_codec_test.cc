@@ -1,4 +1,5 @@
 // gdp's own OpenEXR codec: OpenImageIO's pixels and channel order, exact round trips per compression and layout, column windows, a real file.
+#include <OpenEXR/ImfRgbaFile.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -8,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "cli_fixture.h"
 #include "codec_test_util.h"
+#include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "gdp/image_stream.h"
 #include "image_stream_util.h"
@@ -254,6 +257,38 @@ TEST_F(ExrCodec, TiledFilesDecodeOnlyTheTilesTheWindowOverlaps) {
   EXPECT_EQ(count({64, 128}), 4);   // one tile column
   EXPECT_EQ(count({100, 180}), 8);  // two tile columns, neither whole
   EXPECT_EQ(count({511, 512}), 4);
+}
+
+TEST_F(ExrCodec, SubsampledChannelsAreInputErrors) {
+  // Luminance and chroma (Y, RY and BY, the chroma sampled 2 x 2), as OpenEXR's RgbaOutputFile
+  // writes them; OpenImageIO 2.4 refuses them too.
+  const fs::path p = dir_ / "yc.exr";
+  {
+    std::vector<Imf::Rgba> pixels(16 * 8, Imf::Rgba(0.5f, 0.25f, 0.125f, 1.0f));
+    Imf::RgbaOutputFile file(p.c_str(), 16, 8, Imf::WRITE_YC);
+    file.setFrameBuffer(pixels.data(), 1, 16);
+    file.writePixels(8);
+  }
+  try {
+    read_image(p);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": subsampled channels", 0), 0u) << e.what();
+  }
+}
+
+class ExrCli : public test::CliFixture {};
+
+TEST_F(ExrCli, DamagedFilesFailWithOneLineAndNoOutput) {
+  Image image = pattern(200, 300, 3);
+  write_image(path("in.exr"), image, WriteOptions{SampleType::Half, 95, false, "piz", 256});
+  fs::copy_file(path("in.exr"), path("cut.exr"));
+  fs::resize_file(path("cut.exr"), fs::file_size(path("in.exr")) / 2);
+  expect_failure("convert " + path("cut.exr") + " -o " + path("out.exr"), "cut.exr: cannot read pixels");
+  expect_failure("sharpen " + path("cut.exr") + " --scale 4 -o " + path("out.exr") + " --tiled -q", "cut.exr");
+  const test::CliRun ok = gdp("sharpen " + path("in.exr") + " --scale 4 -o " + path("out.exr") + " --tiled -q");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(read_image(path("out.exr")).info.sample_type, SampleType::Half);
 }
 
 }  // namespace
