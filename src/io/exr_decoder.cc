@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfTestFile.h>
 #include <OpenEXR/ImfTiledInputPart.h>
 
 #include <algorithm>
@@ -77,7 +78,7 @@ class ExrDecoder final : public Decoder {
   std::size_t pixel_bytes() const { return static_cast<std::size_t>(layout_.channels) * 4; }
 
   void open(const std::string& path) {
-    file_ = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), exr_threads());
+    file_ = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), exr_threads(Imf::isTiledOpenExrFile(path.c_str())));
     const Imf::Header& header = file_->header(0);  // the first part, as OpenImageIO reads it
     const std::string type = header.hasType() ? header.type()
                              : header.hasTileDescription() ? Imf::TILEDIMAGE

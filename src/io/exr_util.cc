@@ -74,13 +74,13 @@ std::vector<std::string> exr_channel_names(int channels) {
   return names;
 }
 
-int exr_threads() {
+int exr_threads(bool tiled) {
   constexpr int kThreads = 2;
   static std::once_flag once;
   std::call_once(once, [] {
     if (Imf::globalThreadCount() < kThreads) Imf::setGlobalThreadCount(kThreads);
   });
-  return kThreads;
+  return tiled ? kThreads : 0;
 }
 
 }  // namespace gdp::io

@@ -16,8 +16,11 @@ std::vector<int> exr_channel_order(const std::vector<std::string>& names);
 // channel4, channel5, ... (OpenImageIO's names).
 std::vector<std::string> exr_channel_names(int channels);
 
-// OpenEXR compresses and decompresses blocks on a thread pool of this many threads (set once,
-// process-wide, on first use); also the number of threads a file is opened with.
-int exr_threads();
+// The thread count to open a file with: OpenEXR keeps two block buffers per thread. Tiled files
+// get two threads, which (de)compress the tiles of a tile row in parallel (the process-wide pool
+// is set to two threads on first use); scanline files none: a band of rows is smaller than a
+// block row, so OpenEXR (de)compresses one block at a time anyway, and one buffer is enough
+// (8192-wide RGB DWAB blocks are 256 rows: 13 MB each).
+int exr_threads(bool tiled);
 
 }  // namespace gdp::io
