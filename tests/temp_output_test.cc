@@ -35,6 +35,13 @@ class TempOutput : public test::CliFixture {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 
+  // The PID of a process that has ended.
+  static pid_t dead_pid() {
+    const pid_t child = ::fork();
+    if (child == 0) ::_exit(0);
+    ::waitpid(child, nullptr, 0);
+    return child;
+  }
 };
 
 TEST_F(TempOutput, CaughtSignalsLeaveNothing) {
@@ -53,6 +60,40 @@ TEST_F(TempOutput, FileSizeLimitIsAnOutputErrorLeavingNothing) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(path("out.tif") + ": cannot write: File too large"), std::string::npos) << r.err;
   EXPECT_EQ(files(), before);
+}
+
+TEST_F(TempOutput, StaleTemporariesOfEndedRunsAreRemoved) {
+  write_image(path("small.png"), test::random_image(8, 8, 1, 2), {});
+  const std::string stale = ".out.tmp-" + std::to_string(dead_pid()) + "-0badf00d.png";
+  const std::string live = ".out.tmp-" + std::to_string(::getpid()) + "-0badf00d.png";
+  const std::string other = ".other.tmp-" + std::to_string(dead_pid()) + "-0badf00d.png";
+  for (const std::string& f : {stale, live, other}) std::ofstream(path(f)) << "partial";
+  const test::CliRun r = gdp("convert " + path("small.png") + " -o " + path("out.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(path(stale))) << "left by a process that has ended";
+  EXPECT_TRUE(fs::exists(path(live))) << "a running process's";
+  EXPECT_TRUE(fs::exists(path(other))) << "another output's";
+}
+
+TEST_F(TempOutput, KilledRunsTemporaryGoesWithTheNextRun) {
+  const std::set<std::string> before = files();
+  EXPECT_EQ(interrupted(SIGKILL), 128 + SIGKILL);
+  EXPECT_NE(files(), before) << "SIGKILL cannot be caught: the temporary stays, until...";
+  const test::CliRun r = gdp("convert " + path("big.tif") + " -o " + path("out.tif"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::set<std::string> after = before;
+  after.insert("out.tif");
+  EXPECT_EQ(files(), after);
+}
+
+// 248 bytes (plus the directory) is a legal name: the temporary beside it must fit NAME_MAX too.
+TEST_F(TempOutput, LongestOutputNamesWork) {
+  write_image(path("small.png"), test::random_image(8, 8, 1, 2), {});
+  for (const std::string& name : {std::string(251, 'a') + ".png", std::string(248, 'b') + ".png"}) {
+    const test::CliRun r = gdp("convert " + path("small.png") + " -o " + path(name));
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path(name)));
+  }
 }
 
 }  // namespace
