@@ -57,6 +57,7 @@ Image stitch(const Image& composite, const Image& labels, const StitchOptions& o
 
 // Gradient-domain sharpening (beta > 1) or smoothing (beta < 1): fit gradients beta * grad(I)
 // and values I with weight alpha. alpha = 1 / s^2 changes detail finer than about s pixels.
+// UsageError unless 0 < alpha <= 1e6 and 0 <= beta <= 1e6 (beyond, floats overflow).
 void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
              SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,

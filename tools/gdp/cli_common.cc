@@ -42,9 +42,13 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--incore-bytes", o.solver.incore_bytes,
                    "streaming and bands: coarse levels of at most this many bytes are solved in memory (on one "
                    "worker with bands; narrower bands merge in pairs above it)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](const std::string& v) { return v.find('-') == std::string::npos ? "" : "a negative size, got " + v; },
+            "BYTES"));
     cmd.add_option("--bands", o.bands, "split the columns into this many bands solved in parallel, one thread each "
-                                       "(paper section 6; docs/how-bands-work.md)");
+                                       "(paper section 6; docs/how-bands-work.md)")
+        ->check(CLI::Range(1, 1 << 16));
     cmd.add_option("--temp", o.solver.temp_dir,
                    "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
                    "rank's number (a directory per rank, e.g. on each node's own disk)");
@@ -197,8 +201,30 @@ class RankFileWriter final : public RowWriter {
 
 }  // namespace
 
+void check_compression(const std::string& path, const std::string& compression) {
+  if (compression.empty()) return;
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string name = compression.substr(0, compression.find(':'));
+  const auto one_of = [&](std::initializer_list<const char*> names) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  std::string known;
+  if (ext == ".tif" || ext == ".tiff") {
+    if (one_of({"none", "lzw", "zip", "deflate", "packbits", "jpeg", "zstd", "lzma"})) return;
+    known = "none, lzw, zip, packbits, jpeg, zstd, lzma (':LEVEL' after zip, zstd, lzma)";
+  } else if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jpe" || ext == ".jfif") {
+    if (ext != ".png" && name == "jpeg" && compression.size() > 5) return;  // jpeg:QUALITY
+    known = ext == ".png" ? "none: PNG is always deflated" : "jpeg:QUALITY only (or --quality)";
+  } else {
+    return;  // other formats' names are OpenImageIO's
+  }
+  throw UsageError(fmt::format("--compression {} does not apply to {}: {}", compression, path, known));
+}
+
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet) {
+  check_compression(path, options.compression);
   if (path.find(kRankKey) != std::string::npos)
     return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
   // Under mpirun rank 0 writes the file, from every rank's columns.

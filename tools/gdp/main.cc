@@ -21,6 +21,20 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_sphere(root));
   commands.push_back(gdp::cli::make_tonemap(root));
   commands.push_back(gdp::cli::make_clone(root));
+  // CLI11 would say only "A subcommand is required".
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (CLI::App* c : root.get_subcommands({})) {
+      known = known || c->check_name(argv[1]);
+      names += (names.empty() ? "" : ", ") + c->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "gdp: unknown command '%s' (one of: %s)\nRun 'gdp --help' for usage.\n", argv[1],
+                   names.c_str());
+      return 2;
+    }
+  }
   try {
     root.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
