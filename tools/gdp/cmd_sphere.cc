@@ -71,7 +71,11 @@ class Sphere final : public Command {
     const long long pixels = static_cast<long long>(in.width()) * in.height();
     Projection pq{Layout::Pq, sphere::parse_square_map(map_), false}, other{Layout::Equirect, {}, sky_};
     if (to_pq) {
-      other.layout = sphere::guess_layout(in.width(), in.height());
+      try {
+        other.layout = sphere::guess_layout(in.width(), in.height());
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", input_, e.what()));
+      }
       if (other.layout == Layout::Pq) throw InputError(input_ + ": is already a PQ image (4:1)");
     } else {
       if (in.width() != 4 * in.height())
