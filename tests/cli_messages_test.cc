@@ -49,5 +49,16 @@ TEST_F(CliMessages, FullScratchDiskIsNamed) {
   EXPECT_FALSE(fs::exists(path("out.png")));
 }
 
+// A --stats file that cannot be written is found before the run, not after the output exists.
+TEST_F(CliMessages, StatsIntoAMissingDirectoryFailsUpFront) {
+  expect_failure(stitch("labels.png", "--stats " + path("nowhere/s.json")), "nowhere");
+}
+
+TEST_F(CliMessages, StatsOnAFullDiskIsAnError) {
+  const test::CliRun r = gdp(stitch("labels.png", "--stats /dev/full -q"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("/dev/full"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace gdp

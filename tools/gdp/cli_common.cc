@@ -10,13 +10,27 @@
 #include <algorithm>
 #include <cstdio>
 #include <thread>
-#include <fstream>
+#include <system_error>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
 
 namespace gdp::cli {
+
+namespace {
+
+// Checked when the flags are parsed: a --stats file that cannot be written fails before the run.
+std::string stats_path_problem(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return fmt::format("no such directory '{}'", dir.string());
+  if (std::filesystem::is_directory(p, ec)) return fmt::format("'{}' is a directory", path);
+  return "";
+}
+
+}  // namespace
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
   if (solver_flags) {
@@ -55,7 +69,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
-  cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file");
+  cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file")
+      ->check(CLI::Validator(stats_path_problem, "FILE"));
   cmd.add_option("--depth", o.depth, "output sample type: 8, 16, half, float (default: the input's)")
       ->check(CLI::IsMember({"8", "16", "half", "float"}));
   cmd.add_option("--quality", o.quality, "JPEG quality 1-100")->check(CLI::Range(1, 100))->capture_default_str();
@@ -289,8 +304,18 @@ void Stats::write(const std::string& path) const {
   }
   json += fmt::format("}},\n  \"seconds_total\": {:.4f},\n  \"peak_rss_mb\": {:.1f}\n}}\n",
                       std::chrono::duration<double>(Clock::now() - start_).count(), ru.ru_maxrss / 1024.0);
-  std::ofstream f(path);
-  if (!(f << json)) throw OutputError(fmt::format("{}: cannot write statistics", path));
+  // Every step checked (a full disk shows only when the buffer is written, at fclose).
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  bool ok = f && std::fwrite(json.data(), 1, json.size(), f) == json.size();
+  int error = errno;
+  if (f && std::fclose(f) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (ok) return;
+  std::error_code ec;
+  if (f && std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);  // no partial JSON
+  throw OutputError(fmt::format("{}: cannot write statistics: {}", path, std::generic_category().message(error)));
 }
 
 }  // namespace gdp::cli
