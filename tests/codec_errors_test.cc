@@ -75,6 +75,36 @@ TEST_F(CodecErrors, AJpegMissingOnlyItsEndMarkerStillReads) {
   EXPECT_EQ(read_image(p).image.data, whole.data);
 }
 
+// libjpeg only warns about damaged data (and fills in gray): every such warning is an error, at
+// any cut (but where only the end marker is missing) and for flipped bytes, as written by gdp's
+// own encoder and by OpenImageIO's.
+TEST_F(CodecErrors, DamagedJpegDataIsAnInputError) {
+  const Image image = noise(300, 400, 3);
+  write_image(dir_ / "gdp.jpg", image, {});
+  oiio_write(dir_ / "oiio.jpg", image, OIIO::TypeDesc::UINT8);
+  for (const char* name : {"gdp.jpg", "oiio.jpg"}) {
+    std::ifstream in(dir_ / name, std::ios::binary);
+    const std::string whole(std::istreambuf_iterator<char>(in), {});
+    const fs::path p = dir_ / "damaged.jpg";
+    const auto write = [&](const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; };
+    for (double keep : {0.1, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99}) {
+      SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(keep));
+      write(whole.substr(0, static_cast<std::size_t>(whole.size() * keep)));
+      expect_input_error(p);
+    }
+    write(whole.substr(0, whole.size() - 10));
+    expect_input_error(p);
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      SCOPED_TRACE(std::string(name) + " flipped, seed " + std::to_string(seed));
+      std::string bytes = whole;
+      std::mt19937 random(seed);
+      for (int i = 0; i < 20; ++i) bytes[1000 + random() % (bytes.size() - 1002)] ^= '\xff';
+      write(bytes);
+      expect_input_error(p);
+    }
+  }
+}
+
 TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
   // A deflate-compressed TIFF whose directory is intact but whose middle strips are garbage.
   const fs::path p = dir_ / "garbage.tif";
