@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 
@@ -121,6 +122,7 @@ class JpegDecoder final : public Decoder {
       out = JCS_RGB;
     else
       return false;
+    check_image_size(s_.cinfo.image_width, s_.cinfo.image_height, out == JCS_GRAYSCALE ? 1 : 3);
     if (!guarded_start(&s_, out)) throw error();
     layout_.width = static_cast<int>(s_.cinfo.output_width);
     layout_.height = static_cast<int>(s_.cinfo.output_height);

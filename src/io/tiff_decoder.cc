@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/tiff_util.h"
@@ -53,6 +54,7 @@ class TiffDecoder final : public Decoder {
     else if (format == SAMPLEFORMAT_IEEEFP && bits == 32) kind_ = SampleType::Float;
     else if (format == SAMPLEFORMAT_IEEEFP && bits == 64) kind_ = SampleType::Double;
     else return false;
+    check_image_size(width, height, spp);
     planar_ = planar == PLANARCONFIG_SEPARATE && spp > 1;
     layout_.width = static_cast<int>(width);
     layout_.height = static_cast<int>(height);

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "size_guard.h"
 
 namespace gdp::cli {
 
@@ -69,6 +70,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
+  cmd.add_option("--max-pixels", o.max_pixels,
+                 "refuse images of more pixels (default: what the free scratch disk and memory allow, estimated "
+                 "from the header before anything is allocated)")
+      ->check(CLI::PositiveNumber);
   cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file")
       ->check(CLI::Validator(stats_path_problem, "FILE"));
   cmd.add_option("--depth", o.depth, "output sample type: 8, 16, half, float (default: the input's)")
@@ -127,6 +132,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
   s.validate();
+  guard_sizes(o, &s);
   return s;
 }
 

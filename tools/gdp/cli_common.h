@@ -35,6 +35,7 @@ struct CommonOptions {
   int bands = 0;  // > 0: the band schedule with this many bands (threads)
   bool sphere = false;  // --sphere: equirectangular or PQ input, solved on the PQ domain
   int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
+  long long max_pixels = 0;  // --max-pixels (0: what the free scratch disk and memory allow; size_guard.h)
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);

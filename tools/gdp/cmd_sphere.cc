@@ -6,6 +6,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "size_guard.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
 #include "gdp/sphere.h"
@@ -47,6 +48,7 @@ class Sphere final : public Command {
   }
 
   int run() override {
+    guard_sizes(common_, nullptr, true);  // resampled in memory
     try {
       if (toast_->parsed()) return run_toast();
       return run_resample(to_pq_->parsed());
