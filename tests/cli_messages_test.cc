@@ -34,6 +34,15 @@ TEST_F(CliMessages, NonSphericalImageIsNamed) {
   expect_failure("sphere to-pq " + path("comp.png") + " -o " + path("pq.png"), path("comp.png") + ": ");
 }
 
+// An all-white label map gives no pixel a source: an error (it used to write a flat gray image),
+// unless white is taken for a label.
+TEST_F(CliMessages, AllUnknownLabelMapIsAnError) {
+  write_image(path("white.png"), Image(40, 30, 1, 1.0f), {});
+  expect_failure(stitch("white.png"), "white.png");
+  expect_failure(stitch("white.png", "--in-core"), "white.png");
+  EXPECT_EQ(gdp(stitch("white.png", "--unknown label -q")).code, 0);
+}
+
 // A scratch disk that fills up (a file-size limit here) is named, so that --temp can move it.
 TEST_F(CliMessages, FullScratchDiskIsNamed) {
   // Scratch stores above 8 MiB go to files, written (1 MiB at a time) before the first output row.

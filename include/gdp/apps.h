@@ -40,6 +40,7 @@ struct StitchOptions {
   bool deramp = false;            // subtract each label's mean gradient (removes linear ramps)
   bool start_from_composite = true;  // initial guess: the composite (else zero)
   BlendSpace space;
+  std::string labels_name = "the label map";  // in messages
 };
 
 // Every application comes in two forms: rows in and rows out (RowReader / RowWriter: files
@@ -49,7 +50,10 @@ struct StitchOptions {
 
 // Seamless stitching: gradients of the composite, zero across label changes; the output's mean
 // over known pixels is the composite's (up to what the last sweeps move it, ~1e-5). Labels are
-// compared exactly, any channel count. The composite is read twice with `deramp`.
+// compared exactly, any channel count. The composite is read twice with `deramp`. A label map
+// that is all white (unknown) gives no pixel a source: an InputError naming `labels_name` after
+// the solve (nothing is committed), unless white is a label (UnknownMode::Label). (Under mpirun a
+// rank sees only its columns: there the check is left out.)
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
             RowWriter& out, SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options,

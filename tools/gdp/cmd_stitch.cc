@@ -39,6 +39,7 @@ class Stitch final : public Command {
     options_.unknown = unknown_ == "black" ? UnknownMode::Black
                        : unknown_ == "label" ? UnknownMode::Label
                                              : UnknownMode::Harmonic;
+    options_.labels_name = labels_;
     StripFilesReader composite(composite_), labels(labels_);
     if (labels.width() != composite.width() || labels.height() != composite.height())
       throw InputError(fmt::format("{}: label map of {}x{}, but the composite {} is {}x{}", labels_, labels.width(),
