@@ -268,9 +268,13 @@ TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.code, 124);
   EXPECT_NE(r.err.find("only stitch"), std::string::npos) << r.err;
-  const test::CliRun s = sharpen("out.tif", 0, 2);
-  EXPECT_NE(s.code, 0);
-  EXPECT_NE(s.err.find("--bands"), std::string::npos) << s.err;
+  const test::CliRun s = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " +
+                             path("out.tif"));
+  EXPECT_EQ(s.code, 2) << s.err;
+  EXPECT_NE(s.err.find("--bands N is needed"), std::string::npos) << s.err;
+  // Every rank sees it: said once, by rank 0, without MPI_Abort's banner.
+  EXPECT_EQ(s.err.find("--bands N is needed"), s.err.rfind("--bands N is needed")) << s.err;
+  EXPECT_EQ(s.err.find("MPI_ABORT"), std::string::npos) << s.err;
 }
 
 }  // namespace
