@@ -118,6 +118,35 @@ TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
   expect_input_error(p);
 }
 
+// libtiff only warns when compressed data would overrun a row ("Discarding N bytes"): an error
+// once pixels are being decoded.
+TEST_F(CodecErrors, TiffWarningsWhileDecodingAreInputErrors) {
+  const fs::path p = dir_ / "packbits.tif";
+  write_image(p, noise(16, 16, 3), WriteOptions{SampleType::UInt8, 95, false, "packbits", 256});
+  std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+  const auto le = [&](std::streamoff at, int bytes) {
+    unsigned char b[4] = {};
+    f.seekg(at);
+    f.read(reinterpret_cast<char*>(b), bytes);
+    std::uint32_t v = 0;
+    for (int i = bytes - 1; i >= 0; --i) v = v << 8 | b[i];
+    return v;
+  };
+  const std::uint32_t ifd = le(4, 4), entries = le(ifd, 2);
+  std::uint32_t strip = 0;
+  for (std::uint32_t i = 0; i < entries; ++i) {
+    const std::streamoff e = ifd + 2 + 12 * i;
+    if (le(e, 2) != 273) continue;  // StripOffsets: one strip, its offset in the entry
+    ASSERT_EQ(le(e + 4, 4), 1u);
+    strip = le(e + 2, 2) == 3 ? le(e + 8, 2) : le(e + 8, 4);
+  }
+  ASSERT_GT(strip, 0u);
+  f.seekp(strip);
+  f.put('\x81');  // a run of 128 bytes, beyond the row's 48
+  f.close();
+  expect_input_error(p);
+}
+
 TEST_F(CodecErrors, SignaturesFollowedByJunkAreInputErrors) {
   const std::pair<const char*, std::string> files[] = {
       {"junk.png", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(500, 'x')},
