@@ -93,6 +93,14 @@ TEST_F(HostileSizes, SidesBeyondAnIntAreSaidSo) {
   expect_failure("convert " + file + " -o " + path("out.tif"), "beyond gdp's largest side");
 }
 
+// Sizes from options: a PQ grid 4H x H (whose width overflowed an int) is checked like a header's.
+TEST_F(HostileSizes, SizesFromOptionsAreCheckedToo) {
+  write_image(path("eq.png"), test::random_image(64, 32, 3, 1), {});
+  expect_failure("sphere to-pq " + path("eq.png") + " -o " + path("pq.png") + " --height 1000000000", "--height");
+  expect_failure("sharpen --sphere " + path("eq.png") + " -o " + path("out.png") + " --pq-height 1000000000",
+                 "--pq-height");
+}
+
 TEST_F(HostileSizes, SmallImagesStillWork) {
   const test::CliRun r = gdp("sharpen " + tiff(16, 16) + " -o " + path("out.tif") + " --max-pixels 256");
   EXPECT_EQ(r.code, 0) << r.err;

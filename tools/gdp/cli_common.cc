@@ -138,6 +138,8 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
 
 std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader& reader, const std::string& name) {
   if (!o.sphere) return nullptr;
+  if (o.pq_height > 0) check_derived_size(fmt::format("--pq-height {}", o.pq_height), 4LL * o.pq_height, o.pq_height,
+                                          reader.channels());
   return std::make_unique<SphereRows>(reader.width(), reader.height(), name, o.pq_height);
 }
 

@@ -91,7 +91,13 @@ class Sphere final : public Command {
       else if (other.layout == Layout::Equirect) size = 2 * static_cast<int>(std::lround(std::sqrt(pixels / 2.0)));
       else size = std::max(1, static_cast<int>(std::lround(std::sqrt(pixels / 6.0))));
     }
-    const auto [w, h] = sphere::layout_size(to_pq ? Layout::Pq : other.layout, size);
+    const Layout layout = to_pq ? Layout::Pq : other.layout;
+    const long long side = size;
+    check_derived_size(fmt::format("{} {}", to_pq ? "--height" : "--width", size),
+                       layout == Layout::Pq ? 4 * side : side,
+                       layout == Layout::Pq ? side : layout == Layout::Cube ? 6 * side : std::max(1LL, side / 2),
+                       in.channels());
+    const auto [w, h] = sphere::layout_size(layout, size);
     sphere::ResampleOptions options;
     options.nearest = nearest_;
     options.threads = threads_;
