@@ -123,11 +123,12 @@ std::array<int, 2> layout_size(Layout layout, int size);
 // The size parameter (as layout_size takes it) of a resampling to `layout` that keeps about the
 // source's pixel count: Pq, default_pq_height; Equirect, an even width; Cube, the face size.
 int default_size(Layout layout, long long source_pixels);
-// gdp sphere to-pq / from-pq: the output's width and height for a `width` x `height` source named
-// `name` in errors; `size` as layout_size takes it (0: default_size). to-pq sets `other` to the
-// source's layout (from its shape); from-pq resamples to `other`. InputError when the source is
-// PQ already (to-pq) or is not PQ (from-pq).
-std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height,
+// gdp sphere to-pq / from-pq: the output's width and height for a `width` x `height` source of
+// `channels` named `name` in errors; `size` as layout_size takes it (0: default_size). to-pq sets
+// `other` to the source's layout (from its shape); from-pq resamples to `other`. InputError when
+// the source is PQ already (to-pq), is not PQ (from-pq) or has no layout's shape; UsageError
+// naming the flag (--height or --width) when the output's size fails check_image_size.
+std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height, int channels,
                                    const std::string& name);
 // The layout of a source image from its shape: 2:1 equirect, 1:4 PQ... throws InputError if none.
 Layout guess_layout(int width, int height);

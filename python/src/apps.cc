@@ -48,7 +48,9 @@ py::object stitch(Kind kind, py::handle composite, py::handle labels, py::handle
 
   Job job(kind, named("stitch", kind), args.flags);
   RowReader& c = job.input(composite, "composite");
+  if (kind == Kind::Files) o.composite_name = job.last_name();  // as the CLI names them in messages
   RowReader& l = job.input(labels, "labels", true);
+  o.labels_name = job.last_name();
   const Fidelity f = fidelity(job, weights, pins);
   o.space.srgb_encoded = job.integer_input();
   RowWriter& w = job.output(output, write, c.channels());
@@ -64,10 +66,11 @@ py::object sharpen(Kind kind, bool smooth, py::handle image, py::handle output, 
   const char* function = smooth ? "smooth" : "sharpen";
   Keywords kw(kwargs);
   double beta = smooth ? 0.5 : 2.0, alpha = 0.0, scale_deg = 0.0;
+  const bool alpha_given = kw.has("alpha");
   int scale_at = 0;
   SharpenScale scale;
   const bool by_scale = kw.has("scale") || kw.has("scale_at") || kw.has("scale_deg");
-  if (kw.has("alpha") && by_scale) throw UsageError("alpha excludes scale, scale_at and scale_deg");
+  if (alpha_given && by_scale) throw UsageError("alpha excludes scale, scale_at and scale_deg");
   if (kw.has("scale_at") && kw.has("scale_deg")) throw UsageError("scale_at excludes scale_deg");
   kw.take("beta", beta);
   kw.take("alpha", alpha);
@@ -92,7 +95,7 @@ py::object sharpen(Kind kind, bool smooth, py::handle image, py::handle output, 
   const Fidelity f = fidelity(job, weights, pins);
   RowWriter& w = job.output(output, write, in.channels());
   const RowReader& given = job.main_input();
-  if (alpha == 0.0) alpha = scale.alpha(args.solver.domain, given.width(), given.height(), in.width(), in.height());
+  if (!alpha_given) alpha = scale.alpha(args.solver.domain, given.width(), given.height(), in.width(), in.height());
   SolveSummary summary;
   Released(args).run([&](const SolverOptions& s) {
     if (low_rows) gdp::sharpen(in, *low_rows, alpha, beta, s, w, &summary, f);

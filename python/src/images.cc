@@ -115,7 +115,7 @@ py::object resample(Kind kind, bool to_pq, py::handle image, py::handle output, 
   if (kind == Kind::Arrays) {
     const py::array array = array_arg(image, function, "image");
     const Image in = to_image(array, "image");
-    const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width, in.height, "image");
+    const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width, in.height, in.channels, "image");
     Image out;
     {
       const py::gil_scoped_release release;
@@ -128,7 +128,8 @@ py::object resample(Kind kind, bool to_pq, py::handle image, py::handle output, 
   {
     const py::gil_scoped_release release;
     ImageFileReader in(input);
-    const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width(), in.height(), input);
+    const auto [w, h] = sphere::plan_resampling(to_pq, r.other.layout, r.size, in.width(), in.height(),
+                                                  in.channels(), input);
     WriteOptions options = write.options;
     if (!options.sample_type) options.sample_type = in.info().sample_type;
     ImageFileWriter out(name, w, h, in.channels(), options);

@@ -37,9 +37,8 @@ def test_size_mismatch_has_the_cli_message(tmp_path, cli):
     with pytest.raises(gdp.InputError) as e:
         gdp.stitch_file(tmp_path / "c.png", tmp_path / "l.png", tmp_path / "o.png")
     assert str(e.value) == expected
-    with pytest.raises(gdp.InputError) as e:
+    with pytest.raises(gdp.InputError, match="^labels: label map of 10x8, but the composite is 12x8$"):
         gdp.stitch(np.zeros((8, 12, 3), np.uint8), np.zeros((8, 10), np.uint8))
-    assert str(e.value) == expected
     assert not (tmp_path / "o.png").exists()
 
 

@@ -24,7 +24,9 @@ BlendSpace::Kind parse_blend_space(std::string_view name) {
 }
 
 void SharpenScale::validate(Domain domain) const {
-  if (!(pixels > 0.0)) throw UsageError(fmt::format("--scale must be positive, got {}", pixels));
+  // Below 1/1000 pixel alpha = 1 / scale^2 is beyond what the solve takes (the input itself).
+  if (!(pixels >= 1e-3 && std::isfinite(pixels)))
+    throw UsageError(fmt::format("--scale must be a finite number of pixels, at least 0.001, got {}", pixels));
   if (at && !(*at > 0)) throw UsageError(fmt::format("--scale-at must be positive, got {}", *at));
   if (degrees && !(*degrees > 0.0 && *degrees < 180.0))
     throw UsageError(fmt::format("--scale-deg must be in (0, 180), got {}", *degrees));

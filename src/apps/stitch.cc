@@ -61,6 +61,8 @@ class StitchGuidance final : public apps::ImageGuidance {
         label_row_(static_cast<std::size_t>(labels.channels()) * labels.width()), zero_(composite.width()) {
     if (options.deramp) compute_ramps(composite);
   }
+  // Known labels met so far (columns outside a window this process does not read count as one).
+  int labels_seen() const { return ids_.count(); }
   void set_columns(int begin, int end) override {
     ImageGuidance::set_columns(begin, end);
     labels_.set_columns(begin, std::min(end + 1, width()));
@@ -148,11 +150,17 @@ class StitchGuidance final : public apps::ImageGuidance {
 
 }  // namespace
 
+void check_stitch_inputs(const RowReader& composite, const RowReader& labels, const StitchOptions& options) {
+  if (labels.width() != composite.width() || labels.height() != composite.height())
+    throw InputError(fmt::format("{}: label map of {}x{}, but the composite{} is {}x{}", options.labels_name,
+                                 labels.width(), labels.height(),
+                                 options.composite_name.empty() ? "" : " " + options.composite_name,
+                                 composite.width(), composite.height()));
+}
+
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
             RowWriter& out, SolveSummary* summary, const Fidelity& fidelity) {
-  if (composite.width() != labels.width() || composite.height() != labels.height())
-    throw InputError(fmt::format("label map is {}x{} but the composite is {}x{}", labels.width(), labels.height(),
-                                 composite.width(), composite.height()));
+  check_stitch_inputs(composite, labels, options);
   if (options.space.kind == BlendSpace::Kind::Lab && composite.channels() < 3)
     throw UsageError(fmt::format("--space lab needs an RGB composite, this one has {} channel(s)", composite.channels()));
   apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
@@ -160,6 +168,10 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
   StitchGuidance guidance(in_space, labels, options, fixups);
   apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);
+  if (guidance.labels_seen() == 0)
+    throw InputError(fmt::format("{}: every pixel is white (unknown), so no pixel has a source and there is nothing "
+                                 "to stitch (--unknown label takes white for a label)",
+                                 options.labels_name));
 }
 
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options, const SolverOptions& solver,

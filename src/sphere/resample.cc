@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "gdp/errors.h"
+#include "gdp/size_check.h"
 #include "schedule/parallel.h"
 #include "sphere/source.h"
 #include "sphere/target.h"
@@ -88,17 +89,30 @@ int default_size(Layout layout, long long source_pixels) {
   return std::max(1, static_cast<int>(std::lround(std::sqrt(source_pixels / 6.0))));
 }
 
-std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height,
+std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int width, int height, int channels,
                                    const std::string& name) {
   if (to_pq) {
-    other = guess_layout(width, height);
+    try {
+      other = guess_layout(width, height);
+    } catch (const InputError& e) {
+      throw InputError(name + ": " + e.what());
+    }
     if (other == Layout::Pq) throw InputError(name + ": is already a PQ image (4:1)");
   } else if (width != 4 * height) {
     throw InputError(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
                      " is not a PQ image (width must be 4 x height)");
   }
   const Layout out = to_pq ? Layout::Pq : other;
-  return layout_size(out, size > 0 ? size : default_size(out, static_cast<long long>(width) * height));
+  const long long side = size > 0 ? size : default_size(out, static_cast<long long>(width) * height);
+  // Sides in long long, so that an option's product cannot have overflowed before the check.
+  const long long w = out == Layout::Pq ? 4 * side : side;
+  const long long h = out == Layout::Pq ? side : out == Layout::Cube ? 6 * side : std::max(1LL, side / 2);
+  try {
+    check_image_size(w, h, channels);
+  } catch (const std::exception& e) {
+    throw UsageError(std::string(to_pq ? "--height " : "--width ") + std::to_string(side) + ": " + e.what());
+  }
+  return layout_size(out, static_cast<int>(side));
 }
 
 Layout guess_layout(int width, int height) {

@@ -54,7 +54,7 @@ class Sharpen final : public Command {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
       RowWriter& w = sphere ? sphere->output(*out, in.channels()) : *out;
-      if (alpha_ == 0.0) alpha_ = scale_.alpha(solver.domain, in.width(), in.height(), r.width(), r.height());
+      if (!app->count("--alpha")) alpha_ = scale_.alpha(solver.domain, in.width(), in.height(), r.width(), r.height());
       const auto fidelity = open_fidelity(fidelity_, in, input_, sphere.get());
       if (low_.empty()) {
         sharpen(r, alpha_, beta_, solver, w, &summary, fidelity->fidelity);

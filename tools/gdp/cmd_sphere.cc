@@ -4,6 +4,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "size_guard.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
 #include "gdp/sphere.h"
@@ -45,6 +46,7 @@ class Sphere final : public Command {
   }
 
   int run() override {
+    guard_sizes(common_, nullptr, true);  // resampled in memory
     try {
       if (toast_->parsed()) return run_toast();
       return run_resample(to_pq_->parsed());
@@ -68,7 +70,8 @@ class Sphere final : public Command {
     ImageFileReader in(input_);
     Projection pq{Layout::Pq, sphere::parse_square_map(map_), false}, other{Layout::Equirect, {}, sky_};
     if (!to_pq) other.layout = format_ == "cube" ? Layout::Cube : Layout::Equirect;
-    const auto [w, h] = sphere::plan_resampling(to_pq, other.layout, size_, in.width(), in.height(), input_);
+    const auto [w, h] =
+        sphere::plan_resampling(to_pq, other.layout, size_, in.width(), in.height(), in.channels(), input_);
     sphere::ResampleOptions options;
     options.nearest = nearest_;
     options.threads = threads_;

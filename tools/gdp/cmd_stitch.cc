@@ -4,6 +4,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/apps.h"
+#include "gdp/errors.h"
 #include "gdp/strip_files.h"
 
 namespace gdp::cli {
@@ -36,7 +37,10 @@ class Stitch final : public Command {
     Stats stats("stitch");
     const SolverOptions solver = solver_options(common_, "stitch");
     options_.unknown = parse_unknown_mode(unknown_);
+    options_.labels_name = labels_;
+    options_.composite_name = composite_;
     StripFilesReader composite(composite_), labels(labels_);
+    check_stitch_inputs(composite, labels, options_);
     options_.space.kind = parse_blend_space(space_);
     const SampleType stored = composite.info().sample_type;
     options_.space.srgb_encoded = stored == SampleType::UInt8 || stored == SampleType::UInt16;
