@@ -26,7 +26,7 @@ using test::oiio_read;
 using test::oiio_write_with;
 using test::pattern;
 
-const char* const kSample = GDP_SOURCE_DIR "/tests/data/exr/park.exr";  // 512 x 256 half RGB, DWAB
+const char* const kSample = GDP_TEST_DATA "/polyhaven/park.exr";  // 512 x 256 half RGB, DWAB
 const char* const kCompressions[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
 
 // The whole image as gdp's OpenEXR decoder gives it (not OpenImageIO's module).
