@@ -67,8 +67,6 @@ class ExrDecoder final : public Decoder {
                       scratch_.data() + (y - p0) * region_row + static_cast<std::size_t>(x0 - rx0) * pixel_bytes(),
                       out_row);
       }
-    } catch (const CodecError&) {
-      throw;
     } catch (const std::exception& e) {
       throw CodecError(fmt::format("cannot read pixels of rows {} to {}: {}", y0, y1 - 1, one_line(e.what())));
     }
