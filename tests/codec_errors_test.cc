@@ -94,6 +94,36 @@ TEST_F(CodecErrors, AJpegMissingOnlyItsEndMarkerStillReads) {
   EXPECT_EQ(read_image(p).image.data, whole.data);
 }
 
+// libjpeg only warns about damaged data (and fills in gray): every such warning is an error, at
+// any cut (but where only the end marker is missing) and for flipped bytes, as written by gdp's
+// own encoder and by OpenImageIO's.
+TEST_F(CodecErrors, DamagedJpegDataIsAnInputError) {
+  const Image image = noise(300, 400, 3);
+  write_image(dir_ / "gdp.jpg", image, {});
+  oiio_write(dir_ / "oiio.jpg", image, OIIO::TypeDesc::UINT8);
+  for (const char* name : {"gdp.jpg", "oiio.jpg"}) {
+    std::ifstream in(dir_ / name, std::ios::binary);
+    const std::string whole(std::istreambuf_iterator<char>(in), {});
+    const fs::path p = dir_ / "damaged.jpg";
+    const auto write = [&](const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; };
+    for (double keep : {0.1, 0.3, 0.5, 0.7, 0.9, 0.97, 0.99}) {
+      SCOPED_TRACE(std::string(name) + " cut at " + std::to_string(keep));
+      write(whole.substr(0, static_cast<std::size_t>(whole.size() * keep)));
+      expect_input_error(p);
+    }
+    write(whole.substr(0, whole.size() - 10));
+    expect_input_error(p);
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      SCOPED_TRACE(std::string(name) + " flipped, seed " + std::to_string(seed));
+      std::string bytes = whole;
+      std::mt19937 random(seed);
+      for (int i = 0; i < 20; ++i) bytes[1000 + random() % (bytes.size() - 1002)] ^= '\xff';
+      write(bytes);
+      expect_input_error(p);
+    }
+  }
+}
+
 TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
   // Deflate-compressed files whose directory or header is intact but whose middle blocks are garbage.
   for (const char* name : {"garbage.tif", "garbage.exr"}) {
@@ -107,6 +137,35 @@ TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
     }
     expect_input_error(p);
   }
+}
+
+// libtiff only warns when compressed data would overrun a row ("Discarding N bytes"): an error
+// once pixels are being decoded.
+TEST_F(CodecErrors, TiffWarningsWhileDecodingAreInputErrors) {
+  const fs::path p = dir_ / "packbits.tif";
+  write_image(p, noise(16, 16, 3), WriteOptions{SampleType::UInt8, 95, false, "packbits", 256});
+  std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+  const auto le = [&](std::streamoff at, int bytes) {
+    unsigned char b[4] = {};
+    f.seekg(at);
+    f.read(reinterpret_cast<char*>(b), bytes);
+    std::uint32_t v = 0;
+    for (int i = bytes - 1; i >= 0; --i) v = v << 8 | b[i];
+    return v;
+  };
+  const std::uint32_t ifd = le(4, 4), entries = le(ifd, 2);
+  std::uint32_t strip = 0;
+  for (std::uint32_t i = 0; i < entries; ++i) {
+    const std::streamoff e = ifd + 2 + 12 * i;
+    if (le(e, 2) != 273) continue;  // StripOffsets: one strip, its offset in the entry
+    ASSERT_EQ(le(e + 4, 4), 1u);
+    strip = le(e + 2, 2) == 3 ? le(e + 8, 2) : le(e + 8, 4);
+  }
+  ASSERT_GT(strip, 0u);
+  f.seekp(strip);
+  f.put('\x81');  // a run of 128 bytes, beyond the row's 48
+  f.close();
+  expect_input_error(p);
 }
 
 TEST_F(CodecErrors, SignaturesFollowedByJunkAreInputErrors) {
