@@ -69,7 +69,7 @@ TEST_F(CodecErrors, TruncatedFilesAreInputErrors) {
 TEST_F(CodecErrors, OpenExrFilesCutAnywhereAreInputErrors) {
   // Inside the magic number, the header, the table of block offsets and the blocks; scanline
   // blocks of 16 rows (zip) and 256 rows (the sample's DWAB), tiles.
-  const fs::path sample = GDP_SOURCE_DIR "/tests/data/exr/park.exr";
+  const fs::path sample = GDP_TEST_DATA "/polyhaven/park.exr";
   for (const char* name : {"zip.exr", "tiles.exr", "dwab.exr"}) {
     const fs::path whole = dir_ / (std::string("whole_") + name);
     if (std::string(name) == "dwab.exr") fs::copy_file(sample, whole);

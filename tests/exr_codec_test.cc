@@ -26,7 +26,7 @@ using test::oiio_read;
 using test::oiio_write_with;
 using test::pattern;
 
-const char* const kSample = GDP_SOURCE_DIR "/tests/data/exr/park.exr";  // 512 x 256 half RGB, DWAB
+const char* const kSample = GDP_TEST_DATA "/polyhaven/park.exr";  // 512 x 256 half RGB, DWAB
 const char* const kCompressions[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
 
 // The whole image as gdp's OpenEXR decoder gives it (not OpenImageIO's module).
@@ -154,6 +154,30 @@ TEST_F(ExrCodec, TheDataWindowIsTheImage) {
   });
   expect_like_oiio(p);
   EXPECT_EQ(decode(p).width, 40);
+}
+
+TEST_F(ExrCodec, MultiPartFilesGiveTheirFirstPart) {
+  const fs::path p = dir_ / "parts.exr";
+  const Image first = floats(30, 20, 3), second = spread(50, 10, 1);
+  OIIO::ImageSpec specs[2] = {OIIO::ImageSpec(30, 20, 3, OIIO::TypeDesc::FLOAT), OIIO::ImageSpec(50, 10, 1, OIIO::TypeDesc::HALF)};
+  specs[1].full_width = 30, specs[1].full_height = 20;  // the parts of a file share one display window
+  auto out = OIIO::ImageOutput::create(p.string());
+  ASSERT_TRUE(out->open(p.string(), 2, specs)) << out->geterror() << OIIO::geterror();
+  for (int part = 0; part < 2; ++part) {
+    const Image& image = part == 0 ? first : second;
+    if (part == 1) {
+      ASSERT_TRUE(out->open(p.string(), specs[1], OIIO::ImageOutput::AppendSubimage)) << out->geterror();
+    }
+    std::vector<float> pixels;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < image.channels; ++c) pixels.push_back(image.at(c, x, y));
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+  ASSERT_EQ(OIIO::ImageInput::open(p.string())->spec().get_int_attribute("oiio:subimages"), 2);
+  expect_like_oiio(p);
+  expect_same(first, decode(p), "first part");
 }
 
 // Written by gdp, read back by gdp and by OpenImageIO: exactly the values written, in the layout,

@@ -123,7 +123,9 @@ TEST_F(FaultCampaign, TruncatedFilesOfEveryCodec) {
   write_image(path("strips.tif"), image, WriteOptions{SampleType::UInt8, 95, false, "zip", 256});
   write_image(path("tiles.tif"), image, WriteOptions{SampleType::UInt16, 95, true, "lzw", 16});
   write_image(path("float.tif"), image, WriteOptions{SampleType::Float, 95, false, "none", 256});
-  for (const char* name : {"a.png", "a.jpg", "strips.tif", "tiles.tif", "float.tif"}) {
+  write_image(path("a.exr"), image, {});
+  write_image(path("tiles.exr"), image, WriteOptions{SampleType::Half, 95, true, "zip", 16});
+  for (const char* name : {"a.png", "a.jpg", "strips.tif", "tiles.tif", "float.tif", "a.exr", "tiles.exr"}) {
     std::ifstream f(path(name), std::ios::binary);
     const std::string whole(std::istreambuf_iterator<char>(f), {});
     // PNG: the last 12 bytes are IEND, which gdp never needs; JPEG: the last 2, its end marker.
@@ -194,7 +196,10 @@ TEST_F(FaultCampaign, DecoderFuzz) {
       {"f.jpg", {}},
       {"f.tif", WriteOptions{SampleType::UInt8, 95, false, "zip", 256}},
       {"t.tif", WriteOptions{SampleType::UInt16, 95, true, "lzw", 16}},
-      {"p.tif", WriteOptions{SampleType::Float, 95, false, "packbits", 256}}};
+      {"p.tif", WriteOptions{SampleType::Float, 95, false, "packbits", 256}},
+      {"f.exr", {}},
+      {"z.exr", WriteOptions{SampleType::Half, 95, false, "zip", 256}},
+      {"t.exr", WriteOptions{SampleType::Half, 95, true, "dwaa", 16}}};
   set_size_check([](long long w, long long h, int) {  // what the gdp tool does, smaller
     if (w * h > 1 << 20) throw std::length_error("too many pixels");
   });

@@ -65,6 +65,15 @@ class HostileSizes : public test::CliFixture {
     }
     return write("huge.tif", s);
   }
+  std::string exr(std::uint32_t width, std::uint32_t height) const {
+    write_image(path("small.exr"), test::random_image(16, 16, 3, 1), {});
+    std::string s = slurp(path("small.exr"));
+    const std::string attribute("dataWindow\0box2i\0", 17);
+    const std::size_t box = s.find(attribute) + attribute.size() + 4;  // after the size: xmin ymin xmax ymax
+    put_le(s, box + 8, width - 1, 4);
+    put_le(s, box + 12, height - 1, 4);
+    return write("huge.exr", s);
+  }
   std::string write(const std::string& name, const std::string& bytes) const {
     std::ofstream(path(name), std::ios::binary) << bytes;
     return path(name);
@@ -74,6 +83,11 @@ class HostileSizes : public test::CliFixture {
 TEST_F(HostileSizes, GigapixelHeadersAreRefusedByMaxPixels) {
   for (const std::string& file : {png(2000000000, 2000000000), tiff(2000000000, 2000000000), jpeg(65500, 65500)})
     expect_failure("sharpen " + file + " -o " + path("out.tif") + " --max-pixels 100000000", file + ": ");
+  // OpenEXR refuses data windows of 2^30 rows or more itself; 100000 x 100000 gets to gdp's check.
+  const std::string file = exr(100000, 100000);
+  expect_failure("sharpen " + file + " -o " + path("out.tif") + " --max-pixels 100000000", file + ": ");
+  EXPECT_NE(gdp("sharpen " + file + " -o " + path("out.tif") + " --max-pixels 100000000").err.find("--max-pixels"),
+            std::string::npos);
 }
 
 // By default: what the scratch directory holds (/dev/shm: at most the machine's memory).

@@ -5,7 +5,8 @@
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
-#include <OpenEXR/ImfTestFile.h>
+#include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfVersion.h>
 #include <OpenEXR/ImfTiledInputPart.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/exr_util.h"
@@ -28,14 +30,13 @@ std::atomic<long> tiles_decoded{0};
 
 class ExrDecoder final : public Decoder {
  public:
+  // The header, gdp's size check (io/size_check.h), then the first part's reader, which
+  // allocates block buffers.
   explicit ExrDecoder(const std::string& path) {
-    try {
-      open(path);
-    } catch (const CodecError&) {
-      throw;
-    } catch (const std::exception& e) {
-      throw CodecError(fmt::format("not an OpenEXR file OpenEXR can read ({})", one_line(e.what())));
-    }
+    const std::string problem = "not an OpenEXR file OpenEXR can read";
+    library(problem, [&] { read_header(path); });
+    check_image_size(width_, height_, static_cast<int>(channels_.size()));
+    library(problem, [&] { open_part(path); });
   }
 
   const ImageLayout& layout() const override { return layout_; }
@@ -48,7 +49,7 @@ class ExrDecoder final : public Decoder {
     const int rx1 = tiled_ ? std::min(layout_.width, (x1 + tw - 1) / tw * tw) : layout_.width;
     const bool whole_tile_rows = !tiled_ || (y0 % th == 0 && (y1 % th == 0 || y1 == layout_.height));
     auto* dst = static_cast<unsigned char*>(out);
-    try {
+    library(fmt::format("cannot read pixels of rows {} to {}", y0, y1 - 1), [&] {
       if (rx0 == x0 && rx1 == x1 && whole_tile_rows) {
         decode(y0, y1, rx0, rx1, dst);
         return;
@@ -67,30 +68,47 @@ class ExrDecoder final : public Decoder {
                       scratch_.data() + (y - p0) * region_row + static_cast<std::size_t>(x0 - rx0) * pixel_bytes(),
                       out_row);
       }
-    } catch (const CodecError&) {
-      throw;
-    } catch (const std::exception& e) {
-      throw CodecError(fmt::format("cannot read pixels of rows {} to {}: {}", y0, y1 - 1, one_line(e.what())));
-    }
+    });
   }
 
  private:
   std::size_t pixel_bytes() const { return static_cast<std::size_t>(layout_.channels) * 4; }
 
-  void open(const std::string& path) {
-    file_ = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), exr_threads(Imf::isTiledOpenExrFile(path.c_str())));
-    const Imf::Header& header = file_->header(0);  // the first part, as OpenImageIO reads it
-    const std::string type = header.hasType() ? header.type()
-                             : header.hasTileDescription() ? Imf::TILEDIMAGE
-                                                           : Imf::SCANLINEIMAGE;
+  // Runs OpenEXR calls: the library's exceptions become CodecErrors "problem: message"; gdp's own
+  // errors and std::bad_alloc pass as they are.
+  template <class F>
+  static void library(const std::string& problem, F&& call) {
+    try {
+      call();
+    } catch (const CodecError&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw CodecError(fmt::format("{}: {}", problem, one_line(e.what())));
+    }
+  }
+
+  // The first part's header (as OpenImageIO reads it): size, channels, layout. Read on its own,
+  // before OpenEXR's file reader reads the table of blocks.
+  void read_header(const std::string& path) {
+    Imf::StdIFStream stream(path.c_str());
+    char start[8];  // magic number, version and flags
+    stream.read(start, 8);
+    int version = static_cast<unsigned char>(start[4]) | static_cast<unsigned char>(start[5]) << 8 |
+                        static_cast<unsigned char>(start[6]) << 16 | static_cast<unsigned char>(start[7]) << 24;
+    Imf::Header header;
+    header.readFrom(stream, version);
+    const std::string type = header.hasType()      ? header.type()
+                             : Imf::isTiled(version) ? Imf::TILEDIMAGE
+                                                     : Imf::SCANLINEIMAGE;
     if (Imf::isDeepData(type)) throw CodecError("deep OpenEXR images are not supported");
+    tiled_ = Imf::isTiled(type);
     const Imath::Box2i window = header.dataWindow();
     origin_x_ = window.min.x;
     origin_y_ = window.min.y;
-    const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1;
-    const std::int64_t height = std::int64_t{window.max.y} - window.min.y + 1;
-    if (width <= 0 || height <= 0 || width > std::numeric_limits<int>::max() || height > std::numeric_limits<int>::max())
-      throw CodecError(fmt::format("data window of {} x {} pixels", width, height));
+    width_ = std::int64_t{window.max.x} - window.min.x + 1;
+    height_ = std::int64_t{window.max.y} - window.min.y + 1;
     std::vector<std::string> names;
     std::vector<Imf::PixelType> types;
     for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
@@ -106,19 +124,22 @@ class ExrDecoder final : public Decoder {
       channels_.push_back({names[i], types[i]});
       all_half = all_half && types[i] == Imf::HALF;
     }
-    tiled_ = Imf::isTiled(type);
-    layout_.width = static_cast<int>(width);
-    layout_.height = static_cast<int>(height);
+    layout_.info = {all_half ? SampleType::Half : SampleType::Float, "openexr", false};
+  }
+
+  void open_part(const std::string& path) {
+    file_ = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), exr_threads(tiled_));
+    layout_.width = static_cast<int>(width_);
+    layout_.height = static_cast<int>(height_);
     layout_.channels = static_cast<int>(channels_.size());
     layout_.stored = SampleType::Float;
-    layout_.info = {all_half ? SampleType::Half : SampleType::Float, "openexr", false};
     if (tiled_) {
       tiles_ = std::make_unique<Imf::TiledInputPart>(*file_, 0);
       layout_.tile_width = static_cast<int>(tiles_->tileXSize());  // level 0 of MIP/RIP maps
       layout_.tile_height = static_cast<int>(tiles_->tileYSize());
     } else {
       lines_ = std::make_unique<Imf::InputPart>(*file_, 0);
-      lines_per_block_ = lines_per_block(header.compression());
+      lines_per_block_ = lines_per_block(file_->header(0).compression());
     }
   }
 
@@ -133,7 +154,7 @@ class ExrDecoder final : public Decoder {
   }
 
   // Rows [y0, y1), columns [x0, x1) (whole tiles, or whole rows of a scanline file) into `to`:
-  // interleaved floats; unsigned integer channels as OpenImageIO converts them (v / (2^32 - 1)).
+  // interleaved floats; unsigned integer channels as OpenImageIO converts them (v / 2^32).
   void decode(int y0, int y1, int x0, int x1, unsigned char* to) {
     const std::size_t xs = pixel_bytes(), ys = static_cast<std::size_t>(x1 - x0) * xs;
     const Imath::V2i origin(origin_x_ + x0, origin_y_ + y0);
@@ -180,6 +201,7 @@ class ExrDecoder final : public Decoder {
   ImageLayout layout_;
   bool tiled_ = false;
   int origin_x_ = 0, origin_y_ = 0;  // of the data window
+  long long width_ = 0, height_ = 0;  // of the data window, before gdp's size check
   int lines_per_block_ = 1;
   std::vector<unsigned char> scratch_;
 };
