@@ -1,4 +1,4 @@
-// Damaged PNG, TIFF and JPEG files are InputErrors naming the file (never crashes); unwritable outputs are OutputErrors.
+// Damaged PNG, TIFF, JPEG and OpenEXR files are InputErrors naming the file (never crashes); unwritable outputs are OutputErrors.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -58,11 +58,30 @@ class CodecErrors : public test::TempDirTest {
 };
 
 TEST_F(CodecErrors, TruncatedFilesAreInputErrors) {
-  for (const char* name : {"a.png", "a.jpg", "a.tif", "tiles.tif"}) {
+  for (const char* name : {"a.png", "a.jpg", "a.tif", "tiles.tif", "a.exr", "tiles.exr"}) {
     const fs::path p = dir_ / name;
-    oiio_write(p, noise(300, 400, 3), OIIO::TypeDesc::UINT8, std::string(name) == "tiles.tif" ? 64 : 0);
+    oiio_write(p, noise(300, 400, 3), OIIO::TypeDesc::UINT8, std::string(name).starts_with("tiles") ? 64 : 0);
     cut(p, 0.6);
     expect_input_error(p);
+  }
+}
+
+TEST_F(CodecErrors, OpenExrFilesCutAnywhereAreInputErrors) {
+  // Inside the magic number, the header, the table of block offsets and the blocks; scanline
+  // blocks of 16 rows (zip) and 256 rows (the sample's DWAB), tiles.
+  const fs::path sample = GDP_SOURCE_DIR "/tests/data/exr/park.exr";
+  for (const char* name : {"zip.exr", "tiles.exr", "dwab.exr"}) {
+    const fs::path whole = dir_ / (std::string("whole_") + name);
+    if (std::string(name) == "dwab.exr") fs::copy_file(sample, whole);
+    else write_image(whole, noise(300, 400, 3), WriteOptions{SampleType::Half, 95, name[0] == 't', "", 64});
+    const auto size = static_cast<std::uintmax_t>(fs::file_size(whole));
+    for (std::uintmax_t keep : {std::uintmax_t{2}, std::uintmax_t{40}, std::uintmax_t{330}, std::uintmax_t{420},
+                                size * 3 / 10, size * 6 / 10, size * 95 / 100, size - 1}) {
+      const fs::path p = dir_ / (std::to_string(keep) + "_" + name);
+      fs::copy_file(whole, p);
+      fs::resize_file(p, keep);
+      expect_input_error(p);
+    }
   }
 }
 
@@ -106,16 +125,18 @@ TEST_F(CodecErrors, DamagedJpegDataIsAnInputError) {
 }
 
 TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
-  // A deflate-compressed TIFF whose directory is intact but whose middle strips are garbage.
-  const fs::path p = dir_ / "garbage.tif";
-  write_image(p, noise(300, 400, 3), WriteOptions{SampleType::UInt8, 95, false, "zip", 256});
-  {
-    std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(static_cast<std::streamoff>(fs::file_size(p) / 2));
-    const std::string junk(20000, '\x5a');
-    f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  // Deflate-compressed files whose directory or header is intact but whose middle blocks are garbage.
+  for (const char* name : {"garbage.tif", "garbage.exr"}) {
+    const fs::path p = dir_ / name;
+    write_image(p, noise(300, 400, 3), WriteOptions{SampleType::UInt8, 95, false, "zip", 256});
+    {
+      std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+      f.seekp(static_cast<std::streamoff>(fs::file_size(p) / 2));
+      const std::string junk(20000, '\x5a');
+      f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+    }
+    expect_input_error(p);
   }
-  expect_input_error(p);
 }
 
 // libtiff only warns when compressed data would overrun a row ("Discarding N bytes"): an error
@@ -152,6 +173,7 @@ TEST_F(CodecErrors, SignaturesFollowedByJunkAreInputErrors) {
       {"junk.png", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(500, 'x')},
       {"junk.tif", std::string("II*\0", 4) + std::string(500, '\x7f')},
       {"junk.jpg", std::string("\xff\xd8\xff\xe0", 4) + std::string(500, '\x01')},
+      {"junk.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0", 8) + std::string(500, '\x01')},
       {"empty.png", std::string("\x89PNG", 4)}};
   for (const auto& [name, bytes] : files) {
     std::ofstream(dir_ / name, std::ios::binary) << bytes;
