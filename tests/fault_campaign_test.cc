@@ -229,7 +229,8 @@ TEST_F(FaultCampaign, DecoderFuzz) {
       {"f.jpg", {}},
       {"f.tif", WriteOptions{SampleType::UInt8, 95, false, "zip", 256}},
       {"t.tif", WriteOptions{SampleType::UInt16, 95, true, "lzw", 16}},
-      {"p.tif", WriteOptions{SampleType::Float, 95, false, "packbits", 256}}};
+      {"p.tif", WriteOptions{SampleType::Float, 95, false, "packbits", 256}},
+      {"f.exr", WriteOptions{SampleType::Half, 95, false, "zip", 256}}};
   set_size_check([](long long w, long long h, int) {  // what the gdp tool does, smaller
     if (w * h > 1 << 20) throw std::length_error("too many pixels");
   });

@@ -17,6 +17,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/exr_util.h"
@@ -106,6 +107,7 @@ class ExrDecoder final : public Decoder {
       channels_.push_back({names[i], types[i]});
       all_half = all_half && types[i] == Imf::HALF;
     }
+    check_image_size(width, height, static_cast<int>(channels_.size()));  // before any buffer
     tiled_ = Imf::isTiled(type);
     layout_.width = static_cast<int>(width);
     layout_.height = static_cast<int>(height);
