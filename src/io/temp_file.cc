@@ -63,19 +63,23 @@ std::string temp_prefix(const fs::path& path, std::size_t max_name) {
   return "." + stem + ".tmp-";
 }
 
+namespace {
+
 // The names in `dir` that look like any output's temporary, listed once per directory and
 // process: a run writing thousands of files into one directory (TOAST tiles) reads it once.
 std::vector<std::string>& temporaries_in(const fs::path& dir) {
   static std::map<std::string, std::vector<std::string>> listed;
-  auto [at, added] = listed.try_emplace(fs::absolute(dir).lexically_normal().string());
-  if (!added) return at->second;
   std::error_code ec;
+  auto [at, added] = listed.try_emplace(fs::absolute(dir, ec).lexically_normal().string());
+  if (!added) return at->second;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos) at->second.push_back(name);
   }
   return at->second;
 }
+
+}  // namespace
 
 int remove_stale_temp_files(const fs::path& path) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
