@@ -143,6 +143,41 @@ TEST_F(FaultCampaign, TruncatedFilesOfEveryCodec) {
   }
 }
 
+// Every byte of each codec's signature set to other values: read (when the
+// format still is what it was) or one line naming the file, nothing left. (OpenImageIO's libpng
+// printed "libpng error: ..." on stderr besides gdp's line for a PNG signature damaged in byte 7.)
+TEST_F(FaultCampaign, DamagedSignatures) {
+  const Image image = test::random_image(16, 8, 3, 9);
+  for (const char* name : {"s.png", "s.jpg", "s.tif"}) {
+    write_image(path(name), image, {});
+    std::ifstream f(path(name), std::ios::binary);
+    const std::string whole(std::istreambuf_iterator<char>(f), {});
+    fs::remove(path(name));
+    const std::string bad = path(std::string("bad_") + name);
+    for (std::size_t at = 0; at < 8; ++at) {  // (other formats go to OpenImageIO: 0.3 s a run)
+      for (int v : {0, 13}) {
+        if (static_cast<unsigned char>(whole[at]) == v) continue;
+        std::string m = whole;
+        m[at] = static_cast<char>(v);
+        std::ofstream(bad, std::ios::binary) << m;
+        const std::string args = "convert " + bad + " -o " + path("out.tif");
+        ++cases_;
+        const test::CliRun r = gdp(args);
+        if (r.code == 0) {
+          fs::remove(path("out.tif"));
+          continue;
+        }
+        SCOPED_TRACE(args + " (byte " + std::to_string(at) + " = " + std::to_string(v) + ")");
+        EXPECT_EQ(r.code, 2) << r.err;
+        EXPECT_EQ(r.err.rfind("gdp: " + bad + ": ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(path("out.tif")));
+      }
+    }
+    fs::remove(bad);
+  }
+}
+
 // SIGINT, SIGTERM, SIGHUP and SIGQUIT at random moments of a run: it dies of the signal (or
 // finished), and leaves no output, temporary or scratch file.
 TEST_F(FaultCampaign, SignalsAtRandomMoments) {

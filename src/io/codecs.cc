@@ -19,7 +19,9 @@ Kind sniff(const std::string& path) {
   const std::size_t n = std::fread(head, 1, sizeof head, f);
   std::fclose(f);
   static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (n >= 8 && std::memcmp(head, png, 8) == 0) return Kind::Png;
+  // The first 4 bytes: damage in the other 4 ("corrupted by ASCII conversion") is for libpng to
+  // say through gdp's handlers (OpenImageIO's libpng would print it on stderr too).
+  if (n >= 4 && std::memcmp(head, png, 4) == 0) return Kind::Png;
   // Classic TIFF (42) and BigTIFF (43), little- and big-endian.
   if (n >= 4 && head[0] == 'I' && head[1] == 'I' && (head[2] == 42 || head[2] == 43) && head[3] == 0) return Kind::Tiff;
   if (n >= 4 && head[0] == 'M' && head[1] == 'M' && head[2] == 0 && (head[3] == 42 || head[3] == 43)) return Kind::Tiff;

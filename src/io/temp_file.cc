@@ -9,7 +9,10 @@
 
 #include <cerrno>
 #include <cstdint>
+#include <map>
+#include <mutex>
 #include <random>
+#include <vector>
 #include <system_error>
 
 namespace gdp::io {
@@ -60,15 +63,37 @@ std::string temp_prefix(const fs::path& path, std::size_t max_name) {
   return "." + stem + ".tmp-";
 }
 
+namespace {
+
+// The names in `dir` that look like any output's temporary, listed once per directory and
+// process: a run writing thousands of files into one directory (TOAST tiles) reads it once.
+std::vector<std::string>& temporaries_in(const fs::path& dir) {
+  static std::map<std::string, std::vector<std::string>> listed;
+  std::error_code ec;
+  auto [at, added] = listed.try_emplace(fs::absolute(dir, ec).lexically_normal().string());
+  if (!added) return at->second;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos) at->second.push_back(name);
+  }
+  return at->second;
+}
+
+}  // namespace
+
 int remove_stale_temp_files(const fs::path& path) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   const std::string prefix = temp_prefix(path, name_max(dir)), ext = path.extension().string();
+  static std::mutex mutex;
+  std::lock_guard lock(mutex);
+  std::vector<std::string>& names = temporaries_in(dir);
   int removed = 0;
   std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (stale(name, prefix, ext) && fs::remove(it->path(), ec)) ++removed;
-  }
+  std::erase_if(names, [&](const std::string& name) {
+    if (!stale(name, prefix, ext)) return false;
+    if (fs::remove(dir / name, ec)) ++removed;
+    return true;
+  });
   return removed;
 }
 

@@ -18,8 +18,9 @@ std::string temp_prefix(const std::filesystem::path& path, std::size_t max_name)
 
 // Removes `path`'s temporaries left by processes that no longer run (a SIGKILL, a crash, a lost
 // power): named with its prefix and extension and a PID that kill(PID, 0) says does not exist.
-// PIDs are this host's: a directory shared by several hosts where two runs write the same
-// output at once is not supported anyway. Returns how many were removed.
+// Each directory is read once per process (a run writing thousands of tiles into one reads it
+// once). PIDs are this host's: two hosts writing the same output in a shared directory at once
+// is not supported anyway. Returns how many were removed.
 int remove_stale_temp_files(const std::filesystem::path& path);
 
 }  // namespace gdp::io

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 #include "gdp/size_check.h"
 
 namespace gdp::cli {
@@ -66,7 +67,8 @@ void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_me
       throw UsageError(fmt::format("{} would need about {} of memory, and {} is available ({})", size, gb(memory),
                                    gb(have_memory), allow));
     if (!scratch) return;
-    const double disk = samples * disk_per_sample, have_disk = free_disk(dir);
+    // Under mpirun every rank keeps the scratch of its own columns.
+    const double disk = samples * disk_per_sample / MpiRun::size(), have_disk = free_disk(dir);
     if (disk > have_disk)
       throw UsageError(fmt::format("{} would need about {} of scratch space in {}, which has {} free (--temp DIR "
                                    "elsewhere, or {})",
