@@ -6,11 +6,13 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libpng-dev libtiff-dev libjpeg-dev     # gdp's own PNG, TIFF and JPEG codecs (zlib comes with them)
   libdeflate-dev                         # TIFF strips deflated on two threads
-  libopenimageio-dev openimageio-tools   # other formats (EXR, HDR, FITS, ...) in the loadable module; oiiotool
+  libcfitsio-dev wcslib-dev              # FITS and its world coordinates (gdp sky)
+  libopenimageio-dev openimageio-tools   # other formats (EXR, HDR, WebP, ...) in the loadable module; oiiotool
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
   python3
+  python3-astropy                        # tests: sky positions checked against astropy
 )
 
 missing=()

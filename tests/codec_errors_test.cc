@@ -78,7 +78,7 @@ TEST_F(CodecErrors, AJpegMissingOnlyItsEndMarkerStillReads) {
 TEST_F(CodecErrors, CorruptCompressedDataIsAnInputError) {
   // A deflate-compressed TIFF whose directory is intact but whose middle strips are garbage.
   const fs::path p = dir_ / "garbage.tif";
-  write_image(p, noise(300, 400, 3), WriteOptions{SampleType::UInt8, 95, false, "zip", 256});
+  write_image(p, noise(300, 400, 3), WriteOptions{SampleType::UInt8, 95, false, "zip", 256, {}});
   {
     std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(static_cast<std::streamoff>(fs::file_size(p) / 2));
