@@ -1,0 +1,33 @@
+// FITS header cards as text: Montage-style templates read, keyword values looked up, target headers made.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace gdp::sky {
+
+// A header template as Montage's mMakeHdr writes it (and people by hand): one card per line,
+// "KEY = value / comment", up to END. Returns 80-character cards (keywords padded to 8
+// characters, "= " in columns 9-10). Throws InputError naming the file and line.
+std::string read_header_template(const std::filesystem::path& path);
+std::string cards_from_text(const std::string& text, const std::string& name);
+
+// The value of `key` in 80-character cards as a number (nullopt when absent or not a number).
+std::optional<double> header_number(const std::string& cards, const std::string& key);
+
+// A header for a target image: centre (lon, lat) in degrees, size in pixels, pixel scale in
+// degrees, projection code ("TAN", "CAR", "SIN", "ZEA", ... any wcslib knows), equatorial axes
+// (RA---xxx / DEC--xxx), longitude increasing to the left as on the sky.
+struct TargetSpec {
+  double lon = 0.0, lat = 0.0;
+  int width = 0, height = 0;
+  double scale = 0.0;
+  std::string projection = "TAN";
+};
+std::string target_header(const TargetSpec& spec);
+
+// One 80-character card "KEY     = value" (value formatted by the caller).
+std::string card(const std::string& key, const std::string& value);
+
+}  // namespace gdp::sky
