@@ -127,7 +127,7 @@ TEST(SkyHeader, MontageTemplatesBecomeCardsAndTargetsParse) {
   EXPECT_EQ(header_number(c, "NAXIS2").value_or(0), 200);
   EXPECT_DOUBLE_EQ(header_number(c, "CRVAL1").value_or(0), 83.6);
   const Wcs from_template(c, 300, 200, "t.hdr");
-  const Wcs made(target_header({83.6, 22.0, 300, 200, 0.001, "TAN"}), 300, 200, "made");
+  const Wcs made(target_header({{}, 83.6, 22.0, 300, 200, 0.001, "TAN"}), 300, 200, "made");
   double a = 0, b = 0, c1 = 0, d = 0;
   ASSERT_TRUE(from_template.pixel_to_sky(17.25, 33.5, a, b));
   ASSERT_TRUE(made.pixel_to_sky(17.25, 33.5, c1, d));

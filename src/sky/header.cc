@@ -65,7 +65,7 @@ std::optional<double> header_number(const std::string& cards, const std::string&
   return std::nullopt;
 }
 
-std::string target_header(const TargetSpec& s) {
+std::string target_header(const SkyTarget& s) {
   const auto number = [](double v) { return fmt::format("{:.15g}", v); };
   std::string h;
   h += card("NAXIS1", std::to_string(s.width));

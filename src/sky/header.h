@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "gdp/sky.h"
+
 namespace gdp::sky {
 
 // A header template as Montage's mMakeHdr writes it (and people by hand): one card per line,
@@ -16,16 +18,9 @@ std::string cards_from_text(const std::string& text, const std::string& name);
 // The value of `key` in 80-character cards as a number (nullopt when absent or not a number).
 std::optional<double> header_number(const std::string& cards, const std::string& key);
 
-// A header for a target image: centre (lon, lat) in degrees, size in pixels, pixel scale in
-// degrees, projection code ("TAN", "CAR", "SIN", "ZEA", ... any wcslib knows), equatorial axes
-// (RA---xxx / DEC--xxx), longitude increasing to the left as on the sky.
-struct TargetSpec {
-  double lon = 0.0, lat = 0.0;
-  int width = 0, height = 0;
-  double scale = 0.0;
-  std::string projection = "TAN";
-};
-std::string target_header(const TargetSpec& spec);
+// Cards for a target grid given by centre, size, scale and projection (SkyTarget without a
+// template): CRPIX at the image's centre, CDELT1 = -scale (RA to the left), CDELT2 = scale.
+std::string target_header(const SkyTarget& spec);
 
 // One 80-character card "KEY     = value" (value formatted by the caller).
 std::string card(const std::string& key, const std::string& value);

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_sphere(root));
   commands.push_back(gdp::cli::make_tonemap(root));
   commands.push_back(gdp::cli::make_clone(root));
+  commands.push_back(gdp::cli::make_sky(root));
   try {
     root.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
