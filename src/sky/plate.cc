@@ -50,7 +50,7 @@ float Plate::extended(double x, double y, double margin) const {
   if (outside <= 0.0 || !std::isfinite(edge)) return edge;
   const double t = std::min(1.0, outside / (0.8 * margin));
   const double s = t * t * (3.0 - 2.0 * t);
-  return static_cast<float>(edge * (1.0 - s) + mean * s);
+  return static_cast<float>(edge * (1.0 - s) + fade_to * s);
 }
 
 Plate load_plate(const std::string& path, long plane) {
@@ -83,6 +83,7 @@ Plate load_plate(const std::string& path, long plane) {
     }
   if (finite == 0) throw InputError(fmt::format("{}: every pixel is blank", path));
   p.mean = sum / static_cast<double>(finite);
+  p.fade_to = p.mean;
   // The footprint: the centre and the widest angle to points around the border.
   double lon = 0, lat = 0;
   if (!p.wcs->pixel_to_sky(p.width / 2.0, p.height / 2.0, lon, lat))

@@ -21,10 +21,11 @@ struct Plate {
   double cos_reach = 1.0;     // ... and its extension (half its size beyond every edge) within this
   double scale = 0.0;         // degrees per pixel at the centre (the finer axis)
   double mean = 0.0;          // of the finite pixels
+  double fade_to = 0.0;       // where its extension ends (load_plate: the mean; set_fade_levels)
 
   // The plate's value at (x, y), also beyond its edges: inside, sample(); within `margin`
-  // pixels outside, the nearest edge value fading smoothly to the plate's mean (reached at
-  // 0.8 margin): an extension whose far boundary is one constant (docs/sky.md).
+  // pixels outside, the nearest edge value fading smoothly to `fade_to` (reached at 0.8
+  // margin): an extension whose far boundary is one constant (docs/sky.md).
   float extended(double x, double y, double margin) const;
 
   // Value at gdp pixel coordinates (x, y): bilinear between the finite pixel centres around it

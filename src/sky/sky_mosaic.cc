@@ -11,6 +11,7 @@
 #include "sky/header.h"
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
+#include "sky/plate_offsets.h"
 #include "sky/reproject.h"
 #include "sphere/vec3.h"
 
@@ -89,6 +90,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
       throw InputError(fmt::format("{}: longitude axis {} but the target's is {}; gdp sky does not convert frames",
                                    path, p.wcs->frame(), target.frame()));
   }
+  sky::set_fade_levels(plates);
   if (!target_reached(target, plates)) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
   const int H = options.pq_height > 0 ? options.pq_height : pq_height_for(plates);
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
