@@ -124,7 +124,7 @@ for cmd in (["mImgtbl", raw, m("images.tbl")],
             ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
             ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
             ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
-            ["mAdd", "-p", m("corr"), m("pimages.tbl"), hdr, m("montage.fits")]):
+            ["mAdd", "-e", "-p", m("corr"), m("pimages.tbl"), hdr, m("montage.fits")]):
     run(cmd, montage_log)
 
 
