@@ -8,6 +8,7 @@
 
 #include "gdp/errors.h"
 #include "io/fits_image.h"
+#include "sky/bilinear.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -28,20 +29,9 @@ void lon_lat(const sphere::Vec3& d, double& lon, double& lat) {
 }
 
 float Plate::sample(double x, double y) const {
-  const double fx = x - 0.5, fy = y - 0.5;
-  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
-  const double ax = fx - x0, ay = fy - y0;
-  double sum = 0.0, weight = 0.0;
-  for (int dy = 0; dy < 2; ++dy)
-    for (int dx = 0; dx < 2; ++dx) {
-      const int i = std::clamp(x0 + dx, 0, width - 1), j = std::clamp(y0 + dy, 0, height - 1);
-      const float v = pixels[static_cast<std::size_t>(j) * width + i];
-      const double w = (dx ? ax : 1.0 - ax) * (dy ? ay : 1.0 - ay);
-      if (!std::isfinite(v) || w == 0.0) continue;
-      sum += w * v;
-      weight += w;
-    }
-  return weight > 0.0 ? static_cast<float>(sum / weight) : std::numeric_limits<float>::quiet_NaN();
+  return bilinear_finite(x, y, [&](int i, int j) {
+    return pixels[static_cast<std::size_t>(std::clamp(j, 0, height - 1)) * width + std::clamp(i, 0, width - 1)];
+  });
 }
 
 float Plate::extended(double x, double y, double margin) const {

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "sky/bilinear.h"
 #include "sky/plate.h"
 #include "sphere/source.h"
 
@@ -33,18 +34,8 @@ long long reproject_pq(const Image& pq, const Wcs& target, RowWriter& out) {
       const int hx = std::clamp(static_cast<int>(std::floor(p.x)), 0, pq.width - 1);
       const int hy = std::clamp(static_cast<int>(std::floor(p.y)), 0, H - 1);
       if (!std::isfinite(pq.data[static_cast<std::size_t>(hy) * pq.width + hx])) continue;
-      const double fx = p.x - 0.5, fy = p.y - 0.5;
-      const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
-      double sum = 0.0, weight = 0.0;
-      for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) {
-          const float v = pq.data[grid->offset(x0 + dx, y0 + dy, hx, hy)];
-          const double wt = (dx ? fx - x0 : 1.0 - (fx - x0)) * (dy ? fy - y0 : 1.0 - (fy - y0));
-          if (!std::isfinite(v) || wt == 0.0) continue;
-          sum += wt * v;
-          weight += wt;
-        }
-      row[x] = static_cast<float>(sum / weight);  // weight > 0: the nearest pixel is finite
+      // Finite: the nearest pixel is.
+      row[x] = bilinear_finite(p.x, p.y, [&](int i, int j) { return pq.data[grid->offset(i, j, hx, hy)]; });
       ++covered;
     }
     out.write_row(y, row);

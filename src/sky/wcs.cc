@@ -124,24 +124,19 @@ void Wcs::sky_to_pixel(std::span<const double> sky, std::span<double> xy, std::s
   }
 }
 
-bool Wcs::pixel_to_sky(double x, double y, double& lon, double& lat) const {
-  const double xy[2] = {x, y};
-  double sky[2];
+bool Wcs::one_point(bool to_sky, double a, double b, double& u, double& v) const {
+  const double in[2] = {a, b};
+  double out[2];
   unsigned char ok = 0;
-  pixel_to_sky(xy, sky, {&ok, 1});
-  lon = sky[0];
-  lat = sky[1];
+  if (to_sky) pixel_to_sky(in, out, {&ok, 1});
+  else sky_to_pixel(in, out, {&ok, 1});
+  u = out[0];
+  v = out[1];
   return ok;
 }
 
-bool Wcs::sky_to_pixel(double lon, double lat, double& x, double& y) const {
-  const double sky[2] = {lon, lat};
-  double xy[2];
-  unsigned char ok = 0;
-  sky_to_pixel(sky, xy, {&ok, 1});
-  x = xy[0];
-  y = xy[1];
-  return ok;
-}
+bool Wcs::pixel_to_sky(double x, double y, double& lon, double& lat) const { return one_point(true, x, y, lon, lat); }
+
+bool Wcs::sky_to_pixel(double lon, double lat, double& x, double& y) const { return one_point(false, lon, lat, x, y); }
 
 }  // namespace gdp::sky

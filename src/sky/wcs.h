@@ -38,6 +38,7 @@ class Wcs {
   bool sky_to_pixel(double lon, double lat, double& x, double& y) const;
 
  private:
+  bool one_point(bool to_sky, double a, double b, double& u, double& v) const;
   struct Prm;
   std::unique_ptr<Prm> prm_;
   int width_, height_;
