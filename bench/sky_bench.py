@@ -33,6 +33,7 @@ ap.add_argument("--size", type=int, default=100)
 ap.add_argument("--scale", type=float, default=0.15)
 ap.add_argument("--overlap", type=float, default=2.0)
 ap.add_argument("--seed", type=int, default=18)
+ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
 args = ap.parse_args()
 out = args.out
 raw = os.path.join(out, "raw")
@@ -78,6 +79,23 @@ n, s = args.size, args.scale
 step = n * s - args.overlap
 centres = [((i - (args.nx - 1) / 2) * step, (j - (args.ny - 1) / 2) * step)
            for j in range(args.ny) for i in range(args.nx)]
+# Stars: Gaussian profiles (sigma 1.5 plate pixels) at random places inside the mosaic, fluxes
+# (integrals over the sphere, in value x square degrees) 5..20 plate pixel areas (peaks 0.35..1.4).
+extent_x, extent_y = args.nx * step / 2 - 3 * s, args.ny * step / 2 - 3 * s
+star_ra = rng.uniform(-extent_x, extent_x, args.stars)
+star_dec = rng.uniform(-extent_y, extent_y, args.stars)
+star_flux = rng.uniform(5.0, 20.0, args.stars) * s * s
+sigma = 1.5 * s
+
+
+def stars(ra, dec):
+    out = np.zeros_like(np.asarray(ra, dtype=np.float64))
+    for a, d, f in zip(star_ra, star_dec, star_flux):
+        da = ((ra - a + 180.0) % 360.0 - 180.0) * np.cos(np.radians(d))
+        out += f / (2 * np.pi * sigma * sigma) * np.exp(-((da ** 2 + (dec - d) ** 2) / (2 * sigma * sigma)))
+    return out
+
+
 for k, (ra, dec) in enumerate(centres):
     h = fits.Header()
     for key, v in [("CTYPE1", "RA---TAN"), ("CTYPE2", "DEC--TAN"), ("CRVAL1", ra % 360.0), ("CRVAL2", dec),
@@ -89,7 +107,7 @@ for k, (ra, dec) in enumerate(centres):
     ra_p, dec_p = w.all_pix2world(xx + 1.0, yy + 1.0, 1)
     u, v = (xx - n / 2) / n, (yy - n / 2) / n
     a, b, c, d = rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1)
-    data = sky(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
+    data = sky(ra_p, dec_p) + stars(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
     fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(raw, f"plate{k:02d}.fits"), overwrite=True)
 
 # The template: CAR over the plates' extent.
@@ -105,7 +123,7 @@ with open(hdr, "w") as f:
 target = WCS(fits.Header.fromtextfile(hdr))
 yy, xx = np.mgrid[0:mh, 0:mw]
 ra_t, dec_t = target.all_pix2world(xx + 1.0, yy + 1.0, 1)
-truth_t = sky(ra_t % 360.0, dec_t)
+truth_t = sky(ra_t % 360.0, dec_t) + stars(ra_t, dec_t)
 
 plates = sorted(os.path.join(raw, p) for p in os.listdir(raw))
 gdp_log, seamed_log, montage_log = [], [], []
@@ -157,6 +175,31 @@ for name, r in results.items():
     steps = np.concatenate([np.abs(np.diff(e, axis=1)).ravel(), np.abs(np.diff(e, axis=0)).ravel()])
     steps = steps[np.isfinite(steps)]
     print(f"{name:10s} {np.sqrt(np.nanmean(e * e)):9.4f} {np.percentile(steps, 99.9):11.4f}")
+# Star fluxes: sums over a 13 x 13 pixel box around each star minus the box's border median, in
+# the result and in the truth on the same grid (the star's own flux there, as sampled).
+sx, sy = target.all_world2pix(star_ra % 360.0, star_dec, 0)
+sx, sy = np.round(sx).astype(int), np.round(sy).astype(int)
+
+
+def fluxes(img):  # img in FITS order (row 0 at the bottom), as the world2pix positions
+    f = []
+    for x, y in zip(sx, sy):
+        box = img[y - 6:y + 7, x - 6:x + 7]
+        if box.shape != (13, 13) or not np.all(np.isfinite(box)):
+            f.append(np.nan)
+            continue
+        border = np.concatenate([box[0], box[-1], box[1:-1, 0], box[1:-1, -1]])
+        f.append(np.sum(box - np.median(border)))
+    return np.array(f)
+
+
+truth_flux = fluxes(truth_t) if args.stars else []
+if args.stars:
+    print(f"star fluxes (box sums against the truth's, {args.stars} stars): median |relative error|, worst")
+for name in results if args.stars else []:
+    rel = np.abs(fluxes(results[name][::-1]) / truth_flux - 1.0)
+    rel = rel[np.isfinite(rel)]
+    print(f"{name:10s} {np.median(rel):.2e} {np.max(rel):.2e} ({len(rel)} stars)")
 for name, log in (("gdp sky", gdp_log), ("gdp --no-blend", seamed_log), ("Montage", montage_log)):
     wall, cpu, rss = sum(x[1] for x in log), sum(x[2] for x in log), max(x[3] for x in log)
     print(f"{name:15s} wall {wall:6.2f} s  cpu {cpu:6.2f} s  peak {rss:6.1f} MiB  ({len(log)} command(s))")
