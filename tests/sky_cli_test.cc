@@ -1,13 +1,18 @@
 // gdp sky on the command line: the output's header carries the target WCS; bad input exits 2 with one line.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+
+#include <fmt/format.h>
 #include <string>
 
 #include "cli_fixture.h"
 #include "gdp/image_io.h"
+#include "gdp/sphere.h"
 #include "io/fits_image.h"
 #include "sky/header.h"
+#include "sky/plate.h"
 #include "sky/wcs.h"
 
 namespace gdp {
@@ -43,6 +48,28 @@ TEST_F(SkyCli, WritesTheTargetWcsIntoTheFitsHeader) {
   ASSERT_TRUE(asked.pixel_to_sky(3.5, 7.25, c, d));
   EXPECT_DOUBLE_EQ(a, c);
   EXPECT_DOUBLE_EQ(b, d);
+}
+
+TEST_F(SkyCli, ToastTilesShowThePlateWhereItIsAndNothingElsewhere) {
+  plate("a.fits", 120.0, -30.0);
+  const test::CliRun r = gdp("sky " + path("a.fits") + " --center 120,-30 --size 20,20 --scale 0.5 -o " +
+                             path("out.fits") + " --toast " + path("toast") + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // 0.5 degree plates: PQ height 208, rounded up to 256, so level 1 (a 512 x 512 square).
+  const int n = 512;
+  const auto alpha_at = [&](double lon, double lat) {
+    const sphere::Point2 st = sphere::square_from_sphere(sphere::SquareMap::Toast, sky::direction(lon, lat));
+    const int u = static_cast<int>((st.x + 1.0) / 2.0 * n), v = static_cast<int>((1.0 - st.y) / 2.0 * n);
+    const Image tile =
+        read_image(path(fmt::format("toast/1/{}/{}_{}.png", v / 256, v / 256, u / 256))).image;
+    EXPECT_EQ(tile.channels, 2);
+    return tile.at(1, u % 256, v % 256);
+  };
+  EXPECT_EQ(alpha_at(120.0, -30.0), 1.0f) << "the plate's centre";
+  EXPECT_EQ(alpha_at(121.0, -29.0), 1.0f);
+  EXPECT_EQ(alpha_at(300.0, 30.0), 0.0f) << "the antipode";
+  EXPECT_EQ(alpha_at(120.0, 10.0), 0.0f) << "40 degrees north of the plate";
+  EXPECT_TRUE(std::filesystem::exists(path("toast/toast.wtml")));
 }
 
 TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {

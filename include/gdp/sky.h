@@ -26,6 +26,9 @@ struct SkyOptions {
   long plane = 0;      // 0-based plane of cube plates
   int pq_height = 0;   // 0: from the finest plate scale
   bool blend = true;   // false: the seamed mosaic only (each point from the plate it lies deepest inside)
+  // Non-empty: also a WorldWideTelescope TOAST pyramid there (new or empty directory; PNG grey +
+  // alpha, 0.5-99.5 percentile stretch); the PQ height is then rounded up to 128 * 2^n.
+  std::filesystem::path toast;
   std::function<void(const std::string&)> note;  // notes for the user (cubes, plates not used)
 };
 

@@ -13,6 +13,7 @@
 #include "sky/plate.h"
 #include "sky/plate_offsets.h"
 #include "sky/reproject.h"
+#include "sky/toast_output.h"
 #include "sphere/vec3.h"
 
 namespace gdp {
@@ -92,7 +93,15 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   }
   sky::set_fade_levels(plates);
   if (!target_reached(target, plates)) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
-  const int H = options.pq_height > 0 ? options.pq_height : pq_height_for(plates);
+  int H = options.pq_height > 0 ? options.pq_height : pq_height_for(plates);
+  if (!options.toast.empty()) {
+    if (options.pq_height > 0 && sky::toast_height(H) != H)
+      throw UsageError(fmt::format("--toast needs --pq-height 128 * 2^n, not {}", H));
+    std::error_code ec;
+    if (std::filesystem::exists(options.toast, ec) && !std::filesystem::is_empty(options.toast, ec))
+      throw UsageError(options.toast.string() + ": exists and is not an empty directory");
+    H = sky::toast_height(H);
+  }
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
   // The PQ image is held in memory for the output's resampling (docs/sky.md): 4H^2 floats.
   if (4.0 * H * H > kMaxPqPixels)
@@ -120,6 +129,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     if (!rows.coverage()[k]) pq.data[k] = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t k = 0; k < plates.size(); ++k)
     if (rows.chosen()[k] == 0) note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
+  if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   write.fits_header = grid.cards;
   ImageFileWriter writer(out, grid.width, grid.height, 1, write);
   s.covered = sky::reproject_pq(pq, target, writer);

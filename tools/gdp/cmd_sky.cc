@@ -37,6 +37,8 @@ class Sky final : public Command {
     app->add_option("--scale", options_.target.scale, "target pixel scale in degrees");
     app->add_option("--projection", options_.target.projection, "target projection: TAN, CAR, SIN, ZEA, ... (wcslib's codes)")
         ->capture_default_str();
+    app->add_option("--toast", options_.toast, "also write a WorldWideTelescope TOAST tile pyramid into this new or empty "
+                                               "directory (PQ height rounded up to 128 * 2^n)");
     app->add_option("--plane", plane_, "plane of cube plates (1-based)")->capture_default_str();
     app->add_flag("!--no-blend", options_.blend,
                   "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
