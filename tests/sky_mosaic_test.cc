@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -47,10 +48,14 @@ std::string write_plate(const fs::path& dir, const std::string& name, double lon
 
 class SkyMosaic : public test::TempDirTest {
  protected:
-  Image run(const std::vector<std::string>& plates, const SkyTarget& target, bool blend) {
+  // `whole`: the whole PQ sphere (what --toast needs), else the plates' PQ window.
+  Image run(const std::vector<std::string>& plates, const SkyTarget& target, bool blend, bool whole = false) {
     SkyOptions options;
     options.target = target;
     options.blend = blend;
+    options.pq_height = pq_height_;
+    if (whole) options.toast = dir_ / "toast";
+    fs::remove_all(dir_ / "toast");
     SolverOptions solver;
     solver.tolerance = 1e-7;
     solver.precision = Precision::Float64;
@@ -59,6 +64,7 @@ class SkyMosaic : public test::TempDirTest {
     return read_image(out).image;
   }
   SkySummary summary_;
+  int pq_height_ = 0;
 };
 
 TEST_F(SkyMosaic, OnePlateIsThatPlateReprojected) {
@@ -136,6 +142,25 @@ TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
     }
   std::printf("smooth sky: blend - sky varies by %.4f\n", hi - lo);
   EXPECT_LE(hi - lo, 0.03) << "of a 0.5 step";
+}
+
+TEST_F(SkyMosaic, ThePlatesWindowAndTheWholeSphereAgree) {
+  const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, smooth_sky, 0.0),
+                                           write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, smooth_sky, 0.5)};
+  const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
+  pq_height_ = 256;  // a TOAST height, for both
+  const Image window = run(plates, target, true);
+  const std::array<int, 4> solved = summary_.pq_window;
+  const Image sphere = run(plates, target, true, true);
+  EXPECT_LT(solved[2], 4 * summary_.pq_height / 4) << "a window, not the whole PQ image";
+  EXPECT_EQ(summary_.pq_window[2], 4 * summary_.pq_height) << "the whole sphere";
+  double worst = 0.0;
+  for (std::size_t k = 0; k < window.data.size(); ++k) {
+    ASSERT_EQ(std::isnan(window.data[k]), std::isnan(sphere.data[k])) << k;
+    if (!std::isnan(window.data[k])) worst = std::max(worst, std::abs(double(window.data[k]) - sphere.data[k]));
+  }
+  std::printf("window vs whole sphere: %.2e\n", worst);
+  EXPECT_LE(worst, 1e-3);
 }
 
 TEST_F(SkyMosaic, BadInputIsAnInputErrorNamingTheFile) {

@@ -1,6 +1,7 @@
 // Sky mosaics (gdp sky): FITS plates with WCS reprojected onto the PQ sphere, blended there, written for a target WCS.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -34,6 +35,7 @@ struct SkyOptions {
 
 struct SkySummary {
   int pq_height = 0;
+  std::array<int, 4> pq_window{};       // the PQ columns and rows solved: i0, j0, width, rows
   std::vector<long long> plate_pixels;  // PQ pixels taken from each plate
   long long covered = 0, target_pixels = 0;  // target pixels with a value, of all
   SolveSummary solve;

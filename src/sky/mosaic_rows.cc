@@ -12,15 +12,13 @@ namespace gdp::sky {
 namespace {
 
 constexpr std::size_t kCachedRows = 4;
-// Plates are extended beyond their edges by this fraction of their size (docs/sky.md).
-constexpr double kExtension = 0.5;
 
 // One of the two views of the shared rows.
 class View final : public RowReader {
  public:
   View(MosaicRows& rows, bool labels) : rows_(rows), labels_(labels) {}
-  int width() const override { return 4 * rows_.pq_height(); }
-  int height() const override { return rows_.pq_height(); }
+  int width() const override { return rows_.window().width; }
+  int height() const override { return rows_.window().rows; }
   int channels() const override { return 1; }
   void read_row(int y, std::span<float> out) override {
     const MosaicRows::Row& r = rows_.row(y);
@@ -36,9 +34,9 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(const std::vector<Plate>& plates, int pq_height)
-    : plates_(plates), height_(pq_height), width_(4 * pq_height), chosen_(plates.size(), 0), counted_(pq_height, 0),
-      coverage_(static_cast<std::size_t>(4) * pq_height * pq_height, 0) {
+MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window)
+    : plates_(plates), window_(window), chosen_(plates.size(), 0), counted_(window.rows, 0),
+      coverage_(static_cast<std::size_t>(window.width) * window.rows, 0) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
@@ -59,9 +57,14 @@ const MosaicRows::Row& MosaicRows::row(int j) {
 }
 
 void MosaicRows::compute(int j, Row& out) {
-  const int w = width_;
+  const int w = window_.width;
   std::vector<sphere::Vec3> dirs(w);
-  sphere::pq_row(sphere::SquareMap::Toast, height_, j, dirs);
+  if (window_.whole()) {
+    sphere::pq_row(sphere::SquareMap::Toast, window_.height, j, dirs);
+  } else {
+    for (int i = 0; i < w; ++i)
+      dirs[i] = sphere::pq_pixel_direction(sphere::SquareMap::Toast, window_.height, window_.i0 + i, window_.j0 + j);
+  }
   // Every plate whose footprint reaches a pixel: that pixel's coordinates in the plate.
   std::vector<std::vector<PlateHit>> hits(w);
   std::vector<int> pixels;

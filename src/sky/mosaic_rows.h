@@ -8,6 +8,7 @@
 #include "gdp/rows.h"
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/pq_window.h"
 
 namespace gdp::sky {
 
@@ -23,14 +24,15 @@ inline constexpr float kNoPlate = 1.0f;
 // kept, older ones are computed again if asked for.
 class MosaicRows {
  public:
-  MosaicRows(const std::vector<Plate>& plates, int pq_height);
+  // Rows of `window` (its columns only); the views are window.width x window.rows.
+  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
-  int pq_height() const { return height_; }
+  const PqWindow& window() const { return window_; }
   // Pixels (over all rows computed so far) each plate was chosen for.
   const std::vector<long long>& chosen() const { return chosen_; }
-  // Per PQ pixel (row-major), of the rows computed so far: 1 inside a plate with a value.
+  // Per window pixel (row-major), of the rows computed so far: 1 inside a plate with a value.
   const std::vector<unsigned char>& coverage() const { return coverage_; }
 
   struct Row {
@@ -43,7 +45,7 @@ class MosaicRows {
   void compute(int j, Row& out);
 
   const std::vector<Plate>& plates_;
-  int height_, width_;
+  PqWindow window_;
   std::vector<int> sizes_;
   std::vector<long long> chosen_;
   std::vector<unsigned char> counted_;  // rows already counted in chosen_

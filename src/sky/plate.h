@@ -10,6 +10,9 @@
 
 namespace gdp::sky {
 
+// Plates are extended beyond their edges by this fraction of their size (docs/sky.md).
+inline constexpr double kExtension = 0.5;
+
 struct Plate {
   std::string name;
   std::unique_ptr<Wcs> wcs;

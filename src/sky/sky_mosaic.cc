@@ -12,6 +12,7 @@
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_offsets.h"
+#include "sky/pq_window.h"
 #include "sky/reproject.h"
 #include "sky/toast_output.h"
 #include "sphere/vec3.h"
@@ -103,23 +104,28 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     H = sky::toast_height(H);
   }
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
-  // The PQ image is held in memory for the output's resampling (docs/sky.md): 4H^2 floats.
-  if (4.0 * H * H > kMaxPqPixels)
-    throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs a PQ sphere of {} x {} pixels; gdp "
-                                 "sky holds it in memory and takes at most {:.0f} Mpixels: give a smaller --pq-height",
-                                 finest_scale(plates) * 3600.0, 4.0 * H, H, kMaxPqPixels / 1e6));
-  sky::MosaicRows rows(plates, H);
-  Image pq(4 * H, H, 1);
+  // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
+  // fold); TOAST output needs the whole sphere.
+  const auto window = options.toast.empty() ? sky::plate_window(plates, H, sky::kExtension) : std::nullopt;
+  const sky::PqWindow win = window ? *window : sky::whole_pq(H);
+  // The PQ image (or window) is held in memory for the output's resampling (docs/sky.md).
+  if (double(win.width) * win.rows > kMaxPqPixels)
+    throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs {} x {} pixels of a PQ sphere of height "
+                                 "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
+                                 "--pq-height",
+                                 finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  sky::MosaicRows rows(plates, win);
+  Image pq(win.width, win.rows, 1);
   ImageRowWriter pq_rows(pq);
   SkySummary s;
   if (options.blend) {
-    solver.domain = Domain::Spherical;
+    solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
     stitch_options.unknown = UnknownMode::Harmonic;
     stitch(rows.composite(), rows.labels(), stitch_options, solver, pq_rows, &s.solve);
   } else {
     std::vector<float> row(pq.width);
-    for (int j = 0; j < H; ++j) {
+    for (int j = 0; j < win.rows; ++j) {
       rows.composite().read_row(j, row);
       pq_rows.write_row(j, row);
     }
@@ -132,10 +138,11 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   write.fits_header = grid.cards;
   ImageFileWriter writer(out, grid.width, grid.height, 1, write);
-  s.covered = sky::reproject_pq(pq, target, writer);
+  s.covered = sky::reproject_pq(pq, win, target, writer);
   if (s.covered == 0) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
   writer.commit();
   s.pq_height = H;
+  s.pq_window = {win.i0, win.j0, win.width, win.rows};
   s.plate_pixels = rows.chosen();
   s.target_pixels = static_cast<long long>(grid.width) * grid.height;
   if (summary) *summary = std::move(s);
