@@ -6,7 +6,7 @@ Usage: bench/sky_bench.py --gdp build/tools/gdp/gdp --truth ../shared/data/equir
 The truth: a real all-sky map (equirectangular, column 0 at RA 180, RA growing to the left),
 turned into one grey channel by `gdp convert`. Plates: nx x ny TAN plates of size x size pixels
 of `scale` degrees, neighbours overlapping by `overlap` degrees, each the truth (bilinear) plus
-its own smooth background (offset + plane + radial term, seeded). Both pipelines make a CAR
+its own smooth background (offset + plane + radial term, seeded). Both pipelines make a TAN
 mosaic on the same template header; both and the uncorrected seamed mosaic (gdp --no-blend) are
 compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
 removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step).
@@ -33,6 +33,8 @@ ap.add_argument("--size", type=int, default=100)
 ap.add_argument("--scale", type=float, default=0.15)
 ap.add_argument("--overlap", type=float, default=2.0)
 ap.add_argument("--seed", type=int, default=18)
+ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA 0, Dec 0 crosses a PQ fold)")
+ap.add_argument("--dec0", type=float, default=0.0)
 ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
 args = ap.parse_args()
 out = args.out
@@ -77,13 +79,13 @@ def sky(ra, dec):
 rng = np.random.default_rng(args.seed)
 n, s = args.size, args.scale
 step = n * s - args.overlap
-centres = [((i - (args.nx - 1) / 2) * step, (j - (args.ny - 1) / 2) * step)
+centres = [(args.ra0 + (i - (args.nx - 1) / 2) * step / np.cos(np.radians(args.dec0)), args.dec0 + (j - (args.ny - 1) / 2) * step)
            for j in range(args.ny) for i in range(args.nx)]
 # Stars: Gaussian profiles (sigma 1.5 plate pixels) at random places inside the mosaic, fluxes
 # (integrals over the sphere, in value x square degrees) 5..20 plate pixel areas (peaks 0.35..1.4).
 extent_x, extent_y = args.nx * step / 2 - 3 * s, args.ny * step / 2 - 3 * s
-star_ra = rng.uniform(-extent_x, extent_x, args.stars)
-star_dec = rng.uniform(-extent_y, extent_y, args.stars)
+star_ra = args.ra0 + rng.uniform(-extent_x, extent_x, args.stars) / np.cos(np.radians(args.dec0))
+star_dec = args.dec0 + rng.uniform(-extent_y, extent_y, args.stars)
 star_flux = rng.uniform(5.0, 20.0, args.stars) * s * s
 sigma = 1.5 * s
 
@@ -110,14 +112,14 @@ for k, (ra, dec) in enumerate(centres):
     data = sky(ra_p, dec_p) + stars(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
     fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(raw, f"plate{k:02d}.fits"), overwrite=True)
 
-# The template: CAR over the plates' extent.
+# The template: TAN over the plates' extent.
 mw = int(round((args.nx * step + args.overlap) / s))
 mh = int(round((args.ny * step + args.overlap) / s))
 hdr = os.path.join(out, "region.hdr")
 with open(hdr, "w") as f:
     f.write("\n".join([
         "SIMPLE  = T", "BITPIX  = -64", "NAXIS   = 2", f"NAXIS1  = {mw}", f"NAXIS2  = {mh}",
-        "CTYPE1  = 'RA---CAR'", "CTYPE2  = 'DEC--CAR'", "CRVAL1  = 0.0", "CRVAL2  = 0.0",
+        "CTYPE1  = 'RA---TAN'", "CTYPE2  = 'DEC--TAN'", f"CRVAL1  = {args.ra0}", f"CRVAL2  = {args.dec0}",
         f"CRPIX1  = {(mw + 1) / 2}", f"CRPIX2  = {(mh + 1) / 2}", f"CDELT1  = {-s}", f"CDELT2  = {s}",
         "CUNIT1  = 'deg'", "CUNIT2  = 'deg'", "END"]) + "\n")
 target = WCS(fits.Header.fromtextfile(hdr))
@@ -165,7 +167,7 @@ valid = np.isfinite(truth_t[::-1])
 for r in results.values():
     valid &= np.isfinite(r)
 truth_m = median3(truth_t[::-1])
-print(f"{len(plates)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} CAR; "
+print(f"{len(plates)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} TAN; "
       f"{valid.mean():.1%} of it compared")
 print(f"{'':10s} {'bg rms':>9s} {'seam p99.9':>11s}")
 for name, r in results.items():
