@@ -7,13 +7,15 @@ packages=(
   libpng-dev libtiff-dev libjpeg-dev     # gdp's own PNG, TIFF and JPEG codecs (zlib comes with them)
   libopenexr-dev                         # gdp's own OpenEXR codec
   libdeflate-dev                         # TIFF strips deflated on two threads
-  libopenimageio-dev openimageio-tools   # other formats (HDR, FITS, WebP, ...) in the loadable module; oiiotool
+  libcfitsio-dev wcslib-dev              # FITS and its world coordinates (gdp sky)
+  libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
   python3
   python3-dev pybind11-dev python3-numpy # the Python module (python/)
   python3-pytest python3-venv python3-pip # its tests, and `pip install .` into a virtual environment
+  python3-astropy                        # tests: sky positions checked against astropy
 )
 
 missing=()

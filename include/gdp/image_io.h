@@ -35,6 +35,7 @@ struct WriteOptions {
   std::string compression;                // TIFF: "none", "zip" (deflate; "zip:1".."zip:9"), "lzw", "packbits", "jpeg", "zstd",
                                           // "lzma", others -> zip; other formats: OpenImageIO "Compression"; empty: the format's default
   int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
+  std::string fits_header = {};           // FITS: header cards (80 characters each) to add, e.g. a WCS
 };
 
 // Writes an image to a temporary file in the output's directory and renames it into place,

@@ -44,6 +44,7 @@ struct EncodeSpec {
   std::string compression;  // WriteOptions::compression: empty for the format's default
   int tile_size = 0;        // > 0: tiled, tiles of this size (TIFF and OpenEXR only)
   bool bigtiff = false;
+  std::string fits_header;  // WriteOptions::fits_header
 };
 
 // Encodes one image file: chosen by the final name's extension, then opened on the temporary

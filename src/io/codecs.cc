@@ -10,7 +10,7 @@
 namespace gdp::io {
 namespace {
 
-enum class Kind { Png, Tiff, Jpeg, Exr, Other };
+enum class Kind { Png, Tiff, Jpeg, Exr, Fits, Other };
 
 Kind sniff(const std::string& path) {
   unsigned char head[8] = {};
@@ -27,6 +27,7 @@ Kind sniff(const std::string& path) {
   if (n >= 4 && head[0] == 'M' && head[1] == 'M' && head[2] == 0 && (head[3] == 42 || head[3] == 43)) return Kind::Tiff;
   if (n >= 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff) return Kind::Jpeg;
   if (n >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01) return Kind::Exr;
+  if (is_fits(path, head, n)) return Kind::Fits;
   return Kind::Other;
 }
 
@@ -39,6 +40,7 @@ std::unique_ptr<Decoder> open_decoder(const std::string& path) {
     case Kind::Tiff: decoder = open_tiff_decoder(path); break;
     case Kind::Jpeg: decoder = open_jpeg_decoder(path); break;
     case Kind::Exr: decoder = open_exr_decoder(path); break;
+    case Kind::Fits: decoder = open_fits_decoder(path); break;
     case Kind::Other: break;
   }
   if (decoder) return decoder;
@@ -52,6 +54,7 @@ std::unique_ptr<Encoder> create_encoder(const std::string& path) {
   if (ext == "jpg" || ext == "jpeg" || ext == "jpe" || ext == "jfif" || ext == "jif" || ext == "jfi")
     return create_jpeg_encoder();
   if (ext == "exr") return create_exr_encoder();
+  if (ext == "fits" || ext == "fit" || ext == "fts") return create_fits_encoder();
   return oiio_backend().create_encoder(path);
 }
 

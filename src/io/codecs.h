@@ -9,13 +9,13 @@
 
 namespace gdp::io {
 
-// PNG, TIFF, JPEG and OpenEXR files are decoded by gdp's own codecs (libpng, libtiff, libjpeg,
-// OpenEXR), chosen by their first bytes; variants those do not handle (CMYK JPEG, palette TIFF,
+// PNG, TIFF, JPEG, OpenEXR and FITS files are decoded by gdp's own codecs (libpng, libtiff,
+// libjpeg, OpenEXR, cfitsio), chosen by their first bytes; variants those do not handle (CMYK JPEG, palette TIFF,
 // ...) and every other format go to OpenImageIO's module (io/oiio_backend.h). Throws
 // std::exception's with the problem.
 std::unique_ptr<Decoder> open_decoder(const std::string& path);
 
-// .png, .tif/.tiff, .jpg/.jpeg/.jpe/.jfif/.jif/.jfi and .exr are written by gdp's own encoders,
+// .png, .tif/.tiff, .jpg/.jpeg/.jpe/.jfif/.jif/.jfi, .exr and .fits/.fit/.fts are written by gdp's own encoders,
 // the rest through OpenImageIO's module.
 std::unique_ptr<Encoder> create_encoder(const std::string& path);
 
@@ -25,10 +25,14 @@ std::unique_ptr<Decoder> open_png_decoder(const std::string& path);
 std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path);
 std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path);
 std::unique_ptr<Decoder> open_exr_decoder(const std::string& path);  // never nullptr: throws instead
+std::unique_ptr<Decoder> open_fits_decoder(const std::string& path);
+// FITS by the first bytes of the file (`head`, n of them), or a .fits.gz/.fit.gz/.fts.gz name.
+bool is_fits(const std::string& path, const unsigned char* head, std::size_t n);
 std::unique_ptr<Encoder> create_png_encoder();
 std::unique_ptr<Encoder> create_tiff_encoder();
 std::unique_ptr<Encoder> create_jpeg_encoder();
 std::unique_ptr<Encoder> create_exr_encoder();
+std::unique_ptr<Encoder> create_fits_encoder();
 
 // The write errors of gdp's own encoders: the file's recorded failure (no space, ...), which a
 // codec library's own message would only follow from, else the library's message.

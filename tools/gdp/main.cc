@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_sphere(root));
   commands.push_back(gdp::cli::make_tonemap(root));
   commands.push_back(gdp::cli::make_clone(root));
+  commands.push_back(gdp::cli::make_sky(root));
   try {
     // Every rank checks its own command line, then they agree: one message, from rank 0, and
     // every rank ends normally (no abort banner).

@@ -1,0 +1,207 @@
+#!/usr/bin/python3
+"""gdp sky against Montage on realistic plates with known truth (issue 18's acceptance; docs/sky.md).
+
+Usage: bench/sky_bench.py --gdp build/tools/gdp/gdp --truth ../shared/data/equirect/stellarium/milkyway.png
+                          [--out /tmp/sky-bench] [--nx 4 --ny 3 --size 100 --scale 0.15 --overlap 2]
+The truth: a real all-sky map (equirectangular, column 0 at RA 180, RA growing to the left),
+turned into one grey channel by `gdp convert`. Plates: nx x ny TAN plates of size x size pixels
+of `scale` degrees, neighbours overlapping by `overlap` degrees, each the truth (bilinear) plus
+its own smooth background (offset + plane + radial term, seeded). Both pipelines make a TAN
+mosaic on the same template header; both and the uncorrected seamed mosaic (gdp --no-blend) are
+compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
+removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step).
+Needs Debian python3-astropy, python3-numpy and montage.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+from astropy.io import fits
+from astropy.wcs import WCS
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--gdp", required=True)
+ap.add_argument("--truth", required=True)
+ap.add_argument("--out", default="/tmp/sky-bench")
+ap.add_argument("--nx", type=int, default=4)
+ap.add_argument("--ny", type=int, default=3)
+ap.add_argument("--size", type=int, default=100)
+ap.add_argument("--scale", type=float, default=0.15)
+ap.add_argument("--overlap", type=float, default=2.0)
+ap.add_argument("--seed", type=int, default=18)
+ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA 0, Dec 0 crosses a PQ fold)")
+ap.add_argument("--dec0", type=float, default=0.0)
+ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
+args = ap.parse_args()
+out = args.out
+raw = os.path.join(out, "raw")
+os.makedirs(raw, exist_ok=True)
+
+
+def run(cmd, log):
+    """Runs cmd under /usr/bin/time -v; returns (wall, user + sys, peak RSS MiB)."""
+    t = time.time()
+    r = subprocess.run(["/usr/bin/time", "-v"] + cmd, capture_output=True, text=True)
+    wall = time.time() - t
+    if r.returncode != 0:
+        sys.exit(f"{' '.join(cmd)} failed:\n{r.stdout}\n{r.stderr}")
+    cpu = sum(float(m) for m in re.findall(r"(?:User|System) time \(seconds\): ([\d.]+)", r.stderr))
+    rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr).group(1)) / 1024
+    log.append((os.path.basename(cmd[0]), wall, cpu, rss))
+    return r
+
+
+# The truth map as one grey channel.
+truth_fits = os.path.join(out, "truth.fits")
+if not os.path.exists(truth_fits):
+    run([args.gdp, "convert", args.truth, "-o", truth_fits, "--depth", "float", "--quiet"], [])
+t = fits.getdata(truth_fits).astype(np.float64)
+truth = t.mean(axis=0) if t.ndim == 3 else t
+truth = truth[::-1]  # FITS rows bottom first -> image rows top down
+H, W = truth.shape
+
+
+def sky(ra, dec):
+    """Bilinear truth at (RA, Dec) in degrees."""
+    x = ((180.0 - ra) / 360.0 * W - 0.5) % W
+    y = np.clip((90.0 - dec) / 180.0 * H - 0.5, 0, H - 1.001)
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    fx, fy = x - x0, y - y0
+    x1 = (x0 + 1) % W
+    return ((1 - fy) * ((1 - fx) * truth[y0, x0] + fx * truth[y0, x1]) +
+            fy * ((1 - fx) * truth[y0 + 1, x0] + fx * truth[y0 + 1, x1]))
+
+
+rng = np.random.default_rng(args.seed)
+n, s = args.size, args.scale
+step = n * s - args.overlap
+centres = [(args.ra0 + (i - (args.nx - 1) / 2) * step / np.cos(np.radians(args.dec0)), args.dec0 + (j - (args.ny - 1) / 2) * step)
+           for j in range(args.ny) for i in range(args.nx)]
+# Stars: Gaussian profiles (sigma 1.5 plate pixels) at random places inside the mosaic, fluxes
+# (integrals over the sphere, in value x square degrees) 5..20 plate pixel areas (peaks 0.35..1.4).
+extent_x, extent_y = args.nx * step / 2 - 3 * s, args.ny * step / 2 - 3 * s
+star_ra = args.ra0 + rng.uniform(-extent_x, extent_x, args.stars) / np.cos(np.radians(args.dec0))
+star_dec = args.dec0 + rng.uniform(-extent_y, extent_y, args.stars)
+star_flux = rng.uniform(5.0, 20.0, args.stars) * s * s
+sigma = 1.5 * s
+
+
+def stars(ra, dec):
+    out = np.zeros_like(np.asarray(ra, dtype=np.float64))
+    for a, d, f in zip(star_ra, star_dec, star_flux):
+        da = ((ra - a + 180.0) % 360.0 - 180.0) * np.cos(np.radians(d))
+        out += f / (2 * np.pi * sigma * sigma) * np.exp(-((da ** 2 + (dec - d) ** 2) / (2 * sigma * sigma)))
+    return out
+
+
+for k, (ra, dec) in enumerate(centres):
+    h = fits.Header()
+    for key, v in [("CTYPE1", "RA---TAN"), ("CTYPE2", "DEC--TAN"), ("CRVAL1", ra % 360.0), ("CRVAL2", dec),
+                   ("CRPIX1", (n + 1) / 2), ("CRPIX2", (n + 1) / 2), ("CDELT1", -s), ("CDELT2", s),
+                   ("CUNIT1", "deg"), ("CUNIT2", "deg")]:
+        h[key] = v
+    w = WCS(h)
+    yy, xx = np.mgrid[0:n, 0:n]  # FITS order: row 0 is the bottom
+    ra_p, dec_p = w.all_pix2world(xx + 1.0, yy + 1.0, 1)
+    u, v = (xx - n / 2) / n, (yy - n / 2) / n
+    a, b, c, d = rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1)
+    data = sky(ra_p, dec_p) + stars(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
+    fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(raw, f"plate{k:02d}.fits"), overwrite=True)
+
+# The template: TAN over the plates' extent.
+mw = int(round((args.nx * step + args.overlap) / s))
+mh = int(round((args.ny * step + args.overlap) / s))
+hdr = os.path.join(out, "region.hdr")
+with open(hdr, "w") as f:
+    f.write("\n".join([
+        "SIMPLE  = T", "BITPIX  = -64", "NAXIS   = 2", f"NAXIS1  = {mw}", f"NAXIS2  = {mh}",
+        "CTYPE1  = 'RA---TAN'", "CTYPE2  = 'DEC--TAN'", f"CRVAL1  = {args.ra0}", f"CRVAL2  = {args.dec0}",
+        f"CRPIX1  = {(mw + 1) / 2}", f"CRPIX2  = {(mh + 1) / 2}", f"CDELT1  = {-s}", f"CDELT2  = {s}",
+        "CUNIT1  = 'deg'", "CUNIT2  = 'deg'", "END"]) + "\n")
+target = WCS(fits.Header.fromtextfile(hdr))
+yy, xx = np.mgrid[0:mh, 0:mw]
+ra_t, dec_t = target.all_pix2world(xx + 1.0, yy + 1.0, 1)
+truth_t = sky(ra_t % 360.0, dec_t) + stars(ra_t, dec_t)
+
+plates = sorted(os.path.join(raw, p) for p in os.listdir(raw))
+gdp_log, seamed_log, montage_log = [], [], []
+run([args.gdp, "sky", *plates, "--header", hdr, "-o", os.path.join(out, "gdp.fits"), "--tolerance", "1e-4",
+     "--quiet"], gdp_log)
+run([args.gdp, "sky", *plates, "--header", hdr, "-o", os.path.join(out, "seamed.fits"), "--no-blend", "--quiet"],
+    seamed_log)
+m = lambda *p: os.path.join(out, *p)
+for d in ("proj", "diff", "corr"):
+    os.makedirs(m(d), exist_ok=True)
+for cmd in (["mImgtbl", raw, m("images.tbl")],
+            ["mProjExec", "-q", "-p", raw, m("images.tbl"), hdr, m("proj"), m("stats.tbl")],
+            ["mImgtbl", m("proj"), m("pimages.tbl")],
+            ["mOverlaps", m("pimages.tbl"), m("diffs.tbl")],
+            ["mDiffExec", "-p", m("proj"), m("diffs.tbl"), hdr, m("diff")],
+            ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
+            ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
+            ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
+            ["mAdd", "-e", "-p", m("corr"), m("pimages.tbl"), hdr, m("montage.fits")]):
+    run(cmd, montage_log)
+
+
+def median3(a):
+    p = np.pad(a, 1, constant_values=np.nan)
+    win = np.lib.stride_tricks.sliding_window_view(p, (3, 3))
+    with np.errstate(all="ignore"):
+        import warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return np.nanmedian(win.reshape(a.shape + (9,)), axis=-1)
+
+
+def rows_top_down(path):
+    return fits.getdata(path).astype(np.float64)[::-1]
+
+
+results = {name: rows_top_down(m(name + ".fits")) for name in ("gdp", "montage", "seamed")}
+valid = np.isfinite(truth_t[::-1])
+for r in results.values():
+    valid &= np.isfinite(r)
+truth_m = median3(truth_t[::-1])
+print(f"{len(plates)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} TAN; "
+      f"{valid.mean():.1%} of it compared")
+print(f"{'':10s} {'bg rms':>9s} {'seam p99.9':>11s}")
+for name, r in results.items():
+    e = median3(r) - truth_m
+    e[~valid] = np.nan
+    e -= np.nanmean(e)
+    steps = np.concatenate([np.abs(np.diff(e, axis=1)).ravel(), np.abs(np.diff(e, axis=0)).ravel()])
+    steps = steps[np.isfinite(steps)]
+    print(f"{name:10s} {np.sqrt(np.nanmean(e * e)):9.4f} {np.percentile(steps, 99.9):11.4f}")
+# Star fluxes: sums over a 13 x 13 pixel box around each star minus the box's border median, in
+# the result and in the truth on the same grid (the star's own flux there, as sampled).
+sx, sy = target.all_world2pix(star_ra % 360.0, star_dec, 0)
+sx, sy = np.round(sx).astype(int), np.round(sy).astype(int)
+
+
+def fluxes(img):  # img in FITS order (row 0 at the bottom), as the world2pix positions
+    f = []
+    for x, y in zip(sx, sy):
+        box = img[y - 6:y + 7, x - 6:x + 7]
+        if box.shape != (13, 13) or not np.all(np.isfinite(box)):
+            f.append(np.nan)
+            continue
+        border = np.concatenate([box[0], box[-1], box[1:-1, 0], box[1:-1, -1]])
+        f.append(np.sum(box - np.median(border)))
+    return np.array(f)
+
+
+truth_flux = fluxes(truth_t) if args.stars else []
+if args.stars:
+    print(f"star fluxes (box sums against the truth's, {args.stars} stars): median |relative error|, worst")
+for name in results if args.stars else []:
+    rel = np.abs(fluxes(results[name][::-1]) / truth_flux - 1.0)
+    rel = rel[np.isfinite(rel)]
+    print(f"{name:10s} {np.median(rel):.2e} {np.max(rel):.2e} ({len(rel)} stars)")
+for name, log in (("gdp sky", gdp_log), ("gdp --no-blend", seamed_log), ("Montage", montage_log)):
+    wall, cpu, rss = sum(x[1] for x in log), sum(x[2] for x in log), max(x[3] for x in log)
+    print(f"{name:15s} wall {wall:6.2f} s  cpu {cpu:6.2f} s  peak {rss:6.1f} MiB  ({len(log)} command(s))")

@@ -1,0 +1,53 @@
+// Sky mosaics (gdp sky): FITS plates with WCS reprojected onto the PQ sphere, blended there, written for a target WCS.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gdp/image_io.h"
+#include "gdp/solver.h"
+
+namespace gdp {
+
+// The output image's grid: a header template (Montage's form, `header`), or a centre, size,
+// pixel scale and projection (equatorial, RA increasing to the left).
+struct SkyTarget {
+  std::filesystem::path header;  // non-empty: the template (NAXIS1/2 and the WCS keywords)
+  double lon = 0.0, lat = 0.0;   // centre, degrees
+  int width = 0, height = 0;     // pixels
+  double scale = 0.0;            // degrees per pixel
+  std::string projection = "TAN";  // any wcslib projection code: TAN, CAR, SIN, ZEA, ...
+};
+
+struct SkyOptions {
+  SkyTarget target;
+  long plane = 0;      // 0-based plane of cube plates
+  int pq_height = 0;   // 0: from the finest plate scale
+  bool blend = true;   // false: the seamed mosaic only (each point from the plate it lies deepest inside)
+  // Non-empty: also a WorldWideTelescope TOAST pyramid there (new or empty directory; PNG grey +
+  // alpha, 0.5-99.5 percentile stretch); the PQ height is then rounded up to 128 * 2^n.
+  std::filesystem::path toast;
+  std::function<void(const std::string&)> note;  // notes for the user (cubes, plates not used)
+};
+
+struct SkySummary {
+  int pq_height = 0;
+  std::array<int, 4> pq_window{};       // the PQ columns and rows solved: i0, j0, width, rows
+  std::vector<long long> plate_pixels;  // PQ pixels taken from each plate
+  long long covered = 0, target_pixels = 0;  // target pixels with a value, of all
+  SolveSummary solve;
+};
+
+// Reads the plates (FITS with a celestial WCS, all in the target's frame), builds the seamed
+// mosaic on a PQ sphere, solves the gradient-domain stitch there (solver.domain is set to
+// spherical; the mean over the covered PQ pixels is the seamed mosaic's: docs/sky.md) and
+// writes `out` on the target's grid, the WCS written into FITS headers. Pixels no plate covers
+// are NaN. Throws InputError naming the file (no WCS, a WCS wcslib rejects, a plane out of
+// range, a target no plate reaches), UsageError for inconsistent options, OutputError.
+void sky_mosaic(const std::vector<std::string>& plates, const SkyOptions& options, SolverOptions solver,
+                const std::filesystem::path& out, WriteOptions write, SkySummary* summary = nullptr);
+
+}  // namespace gdp

@@ -1,0 +1,88 @@
+// Header cards as text: Montage templates to 80-character cards, numeric look-ups, target headers.
+#include "sky/header.h"
+
+#include <cctype>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
+namespace gdp::sky {
+
+std::string card(const std::string& key, const std::string& value) {
+  std::string c = fmt::format("{:<8}= {}", key, value);
+  c.resize(80, ' ');
+  return c;
+}
+
+std::string cards_from_text(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  std::string line, cards;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty()) continue;
+    const std::size_t eq = line.find('=');
+    std::string key = line.substr(0, std::min(eq, std::size_t{8}));
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    if (key == "END") break;
+    if (key == "COMMENT" || key == "HISTORY") continue;
+    if (eq == std::string::npos || eq > 8)
+      throw InputError(fmt::format("{}: line {} is not a 'KEY = value' card: {}", name, number, line));
+    std::string value = line.substr(eq + 1);
+    while (!value.empty() && value.front() == ' ') value.erase(0, 1);
+    if (key.empty() || value.empty())
+      throw InputError(fmt::format("{}: line {} is not a 'KEY = value' card: {}", name, number, line));
+    cards += card(key, value);
+  }
+  if (cards.empty()) throw InputError(fmt::format("{}: no header cards", name));
+  return cards;
+}
+
+std::string read_header_template(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open the header template", path.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  return cards_from_text(text.str(), path.string());
+}
+
+std::optional<double> header_number(const std::string& cards, const std::string& key) {
+  const std::string want = fmt::format("{:<8}=", key);
+  for (std::size_t at = 0; at + 80 <= cards.size(); at += 80) {
+    if (cards.compare(at, 9, want) != 0) continue;
+    const std::string value = cards.substr(at + 10, 70);
+    const char* begin = value.c_str();
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    if (end == begin) return std::nullopt;
+    return v;
+  }
+  return std::nullopt;
+}
+
+std::string target_header(const SkyTarget& s) {
+  const auto number = [](double v) { return fmt::format("{:.15g}", v); };
+  std::string h;
+  h += card("NAXIS1", std::to_string(s.width));
+  h += card("NAXIS2", std::to_string(s.height));
+  h += card("CTYPE1", fmt::format("'RA---{}'", s.projection));
+  h += card("CTYPE2", fmt::format("'DEC--{}'", s.projection));
+  h += card("CRVAL1", number(s.lon));
+  h += card("CRVAL2", number(s.lat));
+  // The centre of the image: FITS pixel (N + 1) / 2.
+  h += card("CRPIX1", number((s.width + 1) / 2.0));
+  h += card("CRPIX2", number((s.height + 1) / 2.0));
+  h += card("CDELT1", number(-s.scale));
+  h += card("CDELT2", number(s.scale));
+  h += card("CUNIT1", "'deg'");
+  h += card("CUNIT2", "'deg'");
+  h += card("RADESYS", "'ICRS'");
+  return h;
+}
+
+}  // namespace gdp::sky

@@ -1,0 +1,109 @@
+// Plate mosaic rows on the PQ sphere: directions of a row, each plate's pixel coordinates there, the seam rule.
+#include "sky/mosaic_rows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sky/seams.h"
+#include "sphere/vec3.h"
+
+namespace gdp::sky {
+namespace {
+
+constexpr std::size_t kCachedRows = 4;
+
+// One of the two views of the shared rows.
+class View final : public RowReader {
+ public:
+  View(MosaicRows& rows, bool labels) : rows_(rows), labels_(labels) {}
+  int width() const override { return rows_.window().width; }
+  int height() const override { return rows_.window().rows; }
+  int channels() const override { return 1; }
+  void read_row(int y, std::span<float> out) override {
+    const MosaicRows::Row& r = rows_.row(y);
+    const std::vector<float>& v = labels_ ? r.label : r.value;
+    std::copy(v.begin(), v.end(), out.begin());
+  }
+  void rewind() override {}
+
+ private:
+  MosaicRows& rows_;
+  bool labels_;
+};
+
+}  // namespace
+
+MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window)
+    : plates_(plates), window_(window), chosen_(plates.size(), 0), counted_(window.rows, 0),
+      coverage_(static_cast<std::size_t>(window.width) * window.rows, 0) {
+  for (const Plate& p : plates) {
+    sizes_.push_back(p.width);
+    sizes_.push_back(p.height);
+  }
+  composite_ = std::make_unique<View>(*this, false);
+  labels_ = std::make_unique<View>(*this, true);
+}
+
+MosaicRows::~MosaicRows() = default;
+
+const MosaicRows::Row& MosaicRows::row(int j) {
+  auto it = cache_.find(j);
+  if (it != cache_.end()) return it->second;
+  if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
+  Row& r = cache_[j];
+  compute(j, r);
+  return r;
+}
+
+void MosaicRows::compute(int j, Row& out) {
+  const int w = window_.width;
+  std::vector<sphere::Vec3> dirs(w);
+  if (window_.whole()) {
+    sphere::pq_row(sphere::SquareMap::Toast, window_.height, j, dirs);
+  } else {
+    for (int i = 0; i < w; ++i)
+      dirs[i] = sphere::pq_pixel_direction(sphere::SquareMap::Toast, window_.height, window_.i0 + i, window_.j0 + j);
+  }
+  // Every plate whose footprint reaches a pixel: that pixel's coordinates in the plate.
+  std::vector<std::vector<PlateHit>> hits(w);
+  std::vector<int> pixels;
+  std::vector<double> sky, xy;
+  std::vector<unsigned char> ok;
+  for (std::size_t k = 0; k < plates_.size(); ++k) {
+    const Plate& p = plates_[k];
+    pixels.clear();
+    for (int i = 0; i < w; ++i)
+      if (sphere::dot(dirs[i], p.centre) >= p.cos_reach) pixels.push_back(i);
+    if (pixels.empty()) continue;
+    sky.resize(2 * pixels.size());
+    xy.resize(2 * pixels.size());
+    ok.resize(pixels.size());
+    for (std::size_t n = 0; n < pixels.size(); ++n) lon_lat(dirs[pixels[n]], sky[2 * n], sky[2 * n + 1]);
+    p.wcs->sky_to_pixel(sky, xy, ok);
+    for (std::size_t n = 0; n < pixels.size(); ++n) {
+      const double x = xy[2 * n], y = xy[2 * n + 1];
+      const double margin = kExtension * std::max(p.width, p.height);
+      const bool near = ok[n] && x >= -margin && x < p.width + margin && y >= -margin && y < p.height + margin;
+      if (near) hits[pixels[n]].push_back({static_cast<int>(k), x, y, std::isfinite(p.sample(x, y))});
+    }
+  }
+  out.value.assign(w, std::numeric_limits<float>::quiet_NaN());
+  out.label.assign(w, kNoPlate);
+  out.covered.assign(w, 0);
+  const bool count = !counted_[j];
+  counted_[j] = 1;
+  for (int i = 0; i < w; ++i) {
+    const int best = choose_plate(hits[i], sizes_);
+    if (best < 0) continue;
+    const PlateHit& h = hits[i][best];
+    const Plate& p = plates_[h.plate];
+    out.value[i] = p.extended(h.x, h.y, kExtension * std::max(p.width, p.height));
+    out.label[i] = static_cast<float>(h.plate + 2);
+    out.covered[i] = depth_inside(h.x, h.y, p.width, p.height) > 0.0;
+    if (count && out.covered[i]) ++chosen_[h.plate];
+    coverage_[static_cast<std::size_t>(j) * w + i] = out.covered[i];
+  }
+}
+
+}  // namespace gdp::sky

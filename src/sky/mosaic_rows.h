@@ -1,0 +1,57 @@
+// PQ rows of a plate mosaic: each pixel's value from the plate it lies deepest inside, and that plate's label.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "gdp/rows.h"
+#include "gdp/sphere.h"
+#include "sky/plate.h"
+#include "sky/pq_window.h"
+
+namespace gdp::sky {
+
+// Label of PQ pixels no plate covers (stitch's "unknown": white); plate k has label k + 2.
+inline constexpr float kNoPlate = 1.0f;
+
+// Computes PQ rows (TOAST map, height H, width 4H) on demand: the composite (the chosen plate's
+// bilinear value) and the label map (which plate). Around the plates, up to half a plate's size
+// beyond its edges, pixels take the nearest plate's edge values (its extension, its label), so
+// that the solve's unknown region (farther out: NaN, label kNoPlate) meets the plates only
+// there (docs/sky.md); coverage() tells the plates from their extensions. Two RowReaders
+// share the rows (the stitch reads the composite and the labels in step); a few recent rows are
+// kept, older ones are computed again if asked for.
+class MosaicRows {
+ public:
+  // Rows of `window` (its columns only); the views are window.width x window.rows.
+  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window);
+  ~MosaicRows();
+  RowReader& composite() { return *composite_; }
+  RowReader& labels() { return *labels_; }
+  const PqWindow& window() const { return window_; }
+  // Pixels (over all rows computed so far) each plate was chosen for.
+  const std::vector<long long>& chosen() const { return chosen_; }
+  // Per window pixel (row-major), of the rows computed so far: 1 inside a plate with a value.
+  const std::vector<unsigned char>& coverage() const { return coverage_; }
+
+  struct Row {
+    std::vector<float> value, label;
+    std::vector<unsigned char> covered;  // inside a plate (else an extension, or no plate)
+  };
+  const Row& row(int j);
+
+ private:
+  void compute(int j, Row& out);
+
+  const std::vector<Plate>& plates_;
+  PqWindow window_;
+  std::vector<int> sizes_;
+  std::vector<long long> chosen_;
+  std::vector<unsigned char> counted_;  // rows already counted in chosen_
+  std::vector<unsigned char> coverage_;
+  std::map<int, Row> cache_;
+  std::unique_ptr<RowReader> composite_, labels_;
+};
+
+}  // namespace gdp::sky

@@ -1,0 +1,101 @@
+// Loading a sky plate (FITS pixels and WCS), its footprint on the sphere, and bilinear samples of it.
+#include "sky/plate.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+#include "io/fits_image.h"
+#include "sky/bilinear.h"
+#include "sphere/vec3.h"
+
+namespace gdp::sky {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}
+
+sphere::Vec3 direction(double lon, double lat) {
+  const double a = lon * kDeg, d = lat * kDeg;
+  return {std::cos(d) * std::cos(a), std::cos(d) * std::sin(a), std::sin(d)};
+}
+
+void lon_lat(const sphere::Vec3& d, double& lon, double& lat) {
+  lon = std::atan2(d.y, d.x) / kDeg;
+  if (lon < 0.0) lon += 360.0;
+  lat = std::atan2(d.z, std::hypot(d.x, d.y)) / kDeg;
+}
+
+float Plate::sample(double x, double y) const {
+  return bilinear_finite(x, y, [&](int i, int j) {
+    return pixels[static_cast<std::size_t>(std::clamp(j, 0, height - 1)) * width + std::clamp(i, 0, width - 1)];
+  });
+}
+
+float Plate::extended(double x, double y, double margin) const {
+  const float edge = sample(x, y);
+  const double outside = -std::min({x, width - x, y, height - y});
+  if (outside <= 0.0 || !std::isfinite(edge)) return edge;
+  const double t = std::min(1.0, outside / (0.8 * margin));
+  const double s = t * t * (3.0 - 2.0 * t);
+  return static_cast<float>(edge * (1.0 - s) + fade_to * s);
+}
+
+Plate load_plate(const std::string& path, long plane) {
+  Plate p;
+  p.name = path;
+  std::unique_ptr<io::FitsImage> image;
+  try {
+    image = std::make_unique<io::FitsImage>(path);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+  p.width = image->width();
+  p.height = image->height();
+  p.planes = image->planes();
+  if (plane < 0 || plane >= p.planes)
+    throw InputError(fmt::format("{}: --plane {} but the image has {} plane(s)", path, plane + 1, p.planes));
+  p.wcs = std::make_unique<Wcs>(image->header(), p.width, p.height, path);
+  p.pixels.resize(static_cast<std::size_t>(p.width) * p.height);
+  try {
+    image->read(plane, 0, p.height, 0, p.width, p.pixels.data());
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+  double sum = 0.0;
+  long long finite = 0;
+  for (const float v : p.pixels)
+    if (std::isfinite(v)) {
+      sum += v;
+      ++finite;
+    }
+  if (finite == 0) throw InputError(fmt::format("{}: every pixel is blank", path));
+  p.mean = sum / static_cast<double>(finite);
+  p.fade_to = p.mean;
+  // The footprint: the centre and the widest angle to points around the border.
+  double lon = 0, lat = 0;
+  if (!p.wcs->pixel_to_sky(p.width / 2.0, p.height / 2.0, lon, lat))
+    throw InputError(fmt::format("{}: the plate's centre has no sky position in its WCS", path));
+  p.centre = direction(lon, lat);
+  double widest = 0.0;
+  const int steps = 64;
+  for (int k = 0; k <= steps; ++k) {
+    const double t = double(k) / steps;
+    const double border[4][2] = {{t * p.width, 0.0}, {t * p.width, double(p.height)}, {0.0, t * p.height},
+                                 {double(p.width), t * p.height}};
+    for (const auto& b : border)
+      if (p.wcs->pixel_to_sky(b[0], b[1], lon, lat)) widest = std::max(widest, sphere::angle(p.centre, direction(lon, lat)));
+  }
+  double lon1 = 0, lat1 = 0, lon2 = 0, lat2 = 0;
+  p.wcs->pixel_to_sky(p.width / 2.0 + 1.0, p.height / 2.0, lon1, lat1);
+  p.wcs->pixel_to_sky(p.width / 2.0, p.height / 2.0 + 1.0, lon2, lat2);
+  p.scale = std::min(sphere::angle(p.centre, direction(lon1, lat1)), sphere::angle(p.centre, direction(lon2, lat2))) / kDeg;
+  // Margin: border points sampled every 1/64 of a side, and two pixels.
+  p.cos_radius = std::cos(std::min(M_PI, widest * (1.0 + 1.0 / steps) + 2.0 * p.scale * kDeg));
+  p.cos_reach = std::cos(std::min(M_PI, 2.5 * widest + 2.0 * p.scale * kDeg));
+  return p;
+}
+
+}  // namespace gdp::sky

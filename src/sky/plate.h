@@ -1,0 +1,48 @@
+// A sky plate in memory: its pixels (one plane), its WCS, and where it lies on the sphere.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gdp/sphere.h"
+#include "sky/wcs.h"
+
+namespace gdp::sky {
+
+// Plates are extended beyond their edges by this fraction of their size (docs/sky.md).
+inline constexpr double kExtension = 0.5;
+
+struct Plate {
+  std::string name;
+  std::unique_ptr<Wcs> wcs;
+  int width = 0, height = 0;
+  std::vector<float> pixels;  // rows top down; NaN: blank
+  long planes = 1;            // planes in the file (a cube: `plane` was taken)
+  sphere::Vec3 centre;        // direction of the plate's centre
+  double cos_radius = 1.0;    // every pixel of the plate lies within this cosine of the centre
+  double cos_reach = 1.0;     // ... and its extension (half its size beyond every edge) within this
+  double scale = 0.0;         // degrees per pixel at the centre (the finer axis)
+  double mean = 0.0;          // of the finite pixels
+  double fade_to = 0.0;       // where its extension ends (load_plate: the mean; set_fade_levels)
+
+  // The plate's value at (x, y), also beyond its edges: inside, sample(); within `margin`
+  // pixels outside, the nearest edge value fading smoothly to `fade_to` (reached at 0.8
+  // margin): an extension whose far boundary is one constant (docs/sky.md).
+  float extended(double x, double y, double margin) const;
+
+  // Value at gdp pixel coordinates (x, y): bilinear between the finite pixel centres around it
+  // (indices clamped to the plate); NaN where all of them are blank.
+  float sample(double x, double y) const;
+};
+
+// Reads plane `plane` (0-based) of the first image HDU of `path` and its WCS. Throws InputError
+// naming the file: not FITS, no celestial WCS, a WCS wcslib rejects, plane out of range.
+Plate load_plate(const std::string& path, long plane = 0);
+
+// A direction from longitude and latitude in degrees (z: the pole, x: longitude 0).
+sphere::Vec3 direction(double lon, double lat);
+// Longitude (in [0, 360)) and latitude of a direction, in degrees.
+void lon_lat(const sphere::Vec3& d, double& lon, double& lat);
+
+}  // namespace gdp::sky

@@ -1,0 +1,27 @@
+// The part of the PQ sphere that a set of plates covers: a rectangle solved as a planar image when it meets no fold.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "sky/plate.h"
+
+namespace gdp::sky {
+
+// Columns [i0, i0 + width) and rows [j0, j0 + rows) of a PQ image of height `height` (4H x H).
+struct PqWindow {
+  int height = 0;
+  int i0 = 0, j0 = 0, width = 0, rows = 0;
+  bool whole() const { return i0 == 0 && j0 == 0 && width == 4 * height && rows == height; }
+};
+
+inline PqWindow whole_pq(int height) { return {height, 0, 0, 4 * height, height}; }
+
+// The rectangle holding every plate with its extension (`extension` times its size beyond its
+// edges) and a margin of 4 pixels, found from points along the extended borders. nullopt when it
+// would meet the PQ's top or bottom edge (where the sphere folds), wrap across its left and
+// right edges, or cover more than a quarter of the PQ image (no gain then): the whole sphere is
+// solved instead.
+std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int height, double extension);
+
+}  // namespace gdp::sky

@@ -1,0 +1,18 @@
+// A PQ image of the sky onto a target image with its own WCS (bilinear; blanks stay blank).
+#pragma once
+
+#include "gdp/image.h"
+#include "gdp/rows.h"
+#include "sky/pq_window.h"
+#include "sky/wcs.h"
+
+namespace gdp::sky {
+
+// Writes target.height() rows of target.width() samples (one channel): at each pixel centre's
+// direction, the bilinear value of `pq` (`window` of a TOAST PQ image, one channel) between its
+// finite pixels; NaN where the nearest PQ pixel is NaN (no plate there) or outside the window,
+// or where the pixel has no sky position. Returns how many target pixels got a value.
+// commit() is left to the caller.
+long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& target, RowWriter& out);
+
+}  // namespace gdp::sky

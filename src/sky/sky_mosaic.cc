@@ -1,0 +1,151 @@
+// gdp sky: plates -> seamed PQ mosaic -> spherical gradient-domain stitch -> target grid with its WCS.
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "gdp/apps.h"
+#include "gdp/errors.h"
+#include "gdp/image_stream.h"
+#include "gdp/sky.h"
+#include "sky/header.h"
+#include "sky/mosaic_rows.h"
+#include "sky/plate.h"
+#include "sky/plate_offsets.h"
+#include "sky/pq_window.h"
+#include "sky/reproject.h"
+#include "sky/toast_output.h"
+#include "sphere/vec3.h"
+
+namespace gdp {
+namespace {
+
+constexpr double kMaxPqPixels = double(1 << 30);  // 4 GiB of floats
+constexpr double kSkySquareDegrees = 4.0 * M_PI * (180.0 / M_PI) * (180.0 / M_PI);
+
+struct TargetGrid {
+  std::string cards, name;
+  int width = 0, height = 0;
+};
+
+TargetGrid target_grid(const SkyTarget& t) {
+  TargetGrid g;
+  if (!t.header.empty()) {
+    g.name = t.header.string();
+    g.cards = sky::read_header_template(t.header);
+    const auto w = sky::header_number(g.cards, "NAXIS1"), h = sky::header_number(g.cards, "NAXIS2");
+    if (!w || !h || *w < 1 || *h < 1) throw InputError(fmt::format("{}: no positive NAXIS1 and NAXIS2", g.name));
+    g.width = static_cast<int>(*w);
+    g.height = static_cast<int>(*h);
+    return g;
+  }
+  if (t.width < 1 || t.height < 1 || !(t.scale > 0.0))
+    throw UsageError("gdp sky needs --header, or --center with --size W,H and --scale (degrees per pixel) > 0");
+  g.name = "the target (--center, --size, --scale, --projection)";
+  g.cards = sky::target_header(t);
+  g.width = t.width;
+  g.height = t.height;
+  return g;
+}
+
+// True when some of a 33 x 33 grid of the target's points lies in a plate's footprint.
+bool target_reached(const sky::Wcs& target, const std::vector<sky::Plate>& plates) {
+  for (int a = 0; a <= 32; ++a)
+    for (int b = 0; b <= 32; ++b) {
+      double lon = 0, lat = 0;
+      if (!target.pixel_to_sky(target.width() * a / 32.0, target.height() * b / 32.0, lon, lat)) continue;
+      const sphere::Vec3 d = sky::direction(lon, lat);
+      for (const sky::Plate& p : plates)
+        if (sphere::dot(d, p.centre) >= p.cos_radius) return true;
+    }
+  return false;
+}
+
+double finest_scale(const std::vector<sky::Plate>& plates) {
+  double finest = plates.front().scale;
+  for (const sky::Plate& p : plates) finest = std::min(finest, p.scale);
+  return finest;
+}
+
+// The PQ height whose mean pixel is as fine as the finest plate (H = m * 2^k, even).
+int pq_height_for(const std::vector<sky::Plate>& plates) {
+  const double finest = finest_scale(plates);
+  const double pixels = std::min(4e18, std::ceil(kSkySquareDegrees / (finest * finest)));
+  return sphere::default_pq_height(static_cast<long long>(pixels));
+}
+
+}  // namespace
+
+void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options, SolverOptions solver,
+                const std::filesystem::path& out, WriteOptions write, SkySummary* summary) {
+  if (paths.empty()) throw UsageError("gdp sky needs at least one plate");
+  const auto note = [&](const std::string& m) { if (options.note) options.note(m); };
+  const TargetGrid grid = target_grid(options.target);
+  const sky::Wcs target(grid.cards, grid.width, grid.height, grid.name);
+  std::vector<sky::Plate> plates;
+  for (const std::string& path : paths) {
+    plates.push_back(sky::load_plate(path, options.plane));
+    const sky::Plate& p = plates.back();
+    if (p.planes > 1)
+      note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, p.planes, options.plane + 1));
+    if (p.wcs->frame() != target.frame())
+      throw InputError(fmt::format("{}: longitude axis {} but the target's is {}; gdp sky does not convert frames",
+                                   path, p.wcs->frame(), target.frame()));
+  }
+  sky::set_fade_levels(plates);
+  if (!target_reached(target, plates)) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
+  int H = options.pq_height > 0 ? options.pq_height : pq_height_for(plates);
+  if (!options.toast.empty()) {
+    if (options.pq_height > 0 && sky::toast_height(H) != H)
+      throw UsageError(fmt::format("--toast needs --pq-height 128 * 2^n, not {}", H));
+    std::error_code ec;
+    if (std::filesystem::exists(options.toast, ec) && !std::filesystem::is_empty(options.toast, ec))
+      throw UsageError(options.toast.string() + ": exists and is not an empty directory");
+    H = sky::toast_height(H);
+  }
+  if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
+  // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
+  // fold); TOAST output needs the whole sphere.
+  const auto window = options.toast.empty() ? sky::plate_window(plates, H, sky::kExtension) : std::nullopt;
+  const sky::PqWindow win = window ? *window : sky::whole_pq(H);
+  // The PQ image (or window) is held in memory for the output's resampling (docs/sky.md).
+  if (double(win.width) * win.rows > kMaxPqPixels)
+    throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs {} x {} pixels of a PQ sphere of height "
+                                 "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
+                                 "--pq-height",
+                                 finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  sky::MosaicRows rows(plates, win);
+  Image pq(win.width, win.rows, 1);
+  ImageRowWriter pq_rows(pq);
+  SkySummary s;
+  if (options.blend) {
+    solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
+    StitchOptions stitch_options;
+    stitch_options.unknown = UnknownMode::Harmonic;
+    stitch(rows.composite(), rows.labels(), stitch_options, solver, pq_rows, &s.solve);
+  } else {
+    std::vector<float> row(pq.width);
+    for (int j = 0; j < win.rows; ++j) {
+      rows.composite().read_row(j, row);
+      pq_rows.write_row(j, row);
+    }
+  }
+  // Extensions and the unknown region are no sky: blank.
+  for (std::size_t k = 0; k < pq.data.size(); ++k)
+    if (!rows.coverage()[k]) pq.data[k] = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < plates.size(); ++k)
+    if (rows.chosen()[k] == 0) note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
+  if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
+  write.fits_header = grid.cards;
+  ImageFileWriter writer(out, grid.width, grid.height, 1, write);
+  s.covered = sky::reproject_pq(pq, win, target, writer);
+  if (s.covered == 0) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
+  writer.commit();
+  s.pq_height = H;
+  s.pq_window = {win.i0, win.j0, win.width, win.rows};
+  s.plate_pixels = rows.chosen();
+  s.target_pixels = static_cast<long long>(grid.width) * grid.height;
+  if (summary) *summary = std::move(s);
+}
+
+}  // namespace gdp

@@ -1,0 +1,90 @@
+// gdp sky on the command line: the output's header carries the target WCS; bad input exits 2 with one line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <string>
+
+#include "cli_fixture.h"
+#include "gdp/image_io.h"
+#include "gdp/sphere.h"
+#include "io/fits_image.h"
+#include "sky/header.h"
+#include "sky/plate.h"
+#include "sky/wcs.h"
+
+namespace gdp {
+namespace {
+
+class SkyCli : public test::CliFixture {
+ protected:
+  // A 24 x 24 TAN plate of 0.5 degree pixels at (lon, lat), values 1 + x / 24.
+  void plate(const std::string& name, double lon, double lat) {
+    Image image(24, 24, 1);
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x) image.at(0, x, y) = 1.0f + x / 24.0f;
+    WriteOptions options;
+    options.fits_header = sky::target_header({{}, lon, lat, 24, 24, 0.5, "TAN"});
+    write_image(path(name), image, options);
+  }
+};
+
+TEST_F(SkyCli, WritesTheTargetWcsIntoTheFitsHeader) {
+  plate("a.fits", 120.0, -30.0);
+  std::ofstream(path("t.hdr")) << "SIMPLE = T\nNAXIS = 2\nNAXIS1 = 30\nNAXIS2 = 20\nCTYPE1 = 'RA---CAR'\n"
+                                  "CTYPE2 = 'DEC--CAR'\nCRVAL1 = 120.0\nCRVAL2 = -30.0\nCRPIX1 = 15.5\n"
+                                  "CRPIX2 = 10.5\nCDELT1 = -0.5\nCDELT2 = 0.5\nEND\n";
+  const test::CliRun r = gdp("sky " + path("a.fits") + " --header " + path("t.hdr") + " -o " + path("out.fits") +
+                             " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  io::FitsImage out(path("out.fits"));
+  EXPECT_EQ(out.width(), 30);
+  EXPECT_EQ(out.height(), 20);
+  const sky::Wcs written(out.header(), 30, 20, "out.fits"), asked(sky::read_header_template(path("t.hdr")), 30, 20, "t");
+  double a = 0, b = 0, c = 0, d = 0;
+  ASSERT_TRUE(written.pixel_to_sky(3.5, 7.25, a, b));
+  ASSERT_TRUE(asked.pixel_to_sky(3.5, 7.25, c, d));
+  EXPECT_DOUBLE_EQ(a, c);
+  EXPECT_DOUBLE_EQ(b, d);
+}
+
+TEST_F(SkyCli, ToastTilesShowThePlateWhereItIsAndNothingElsewhere) {
+  plate("a.fits", 120.0, -30.0);
+  const test::CliRun r = gdp("sky " + path("a.fits") + " --center 120,-30 --size 20,20 --scale 0.5 -o " +
+                             path("out.fits") + " --toast " + path("toast") + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // 0.5 degree plates: PQ height 208, rounded up to 256, so level 1 (a 512 x 512 square).
+  const int n = 512;
+  const auto alpha_at = [&](double lon, double lat) {
+    const sphere::Point2 st = sphere::square_from_sphere(sphere::SquareMap::Toast, sky::direction(lon, lat));
+    const int u = static_cast<int>((st.x + 1.0) / 2.0 * n), v = static_cast<int>((1.0 - st.y) / 2.0 * n);
+    const Image tile =
+        read_image(path(fmt::format("toast/1/{}/{}_{}.png", v / 256, v / 256, u / 256))).image;
+    EXPECT_EQ(tile.channels, 2);
+    return tile.at(1, u % 256, v % 256);
+  };
+  EXPECT_EQ(alpha_at(120.0, -30.0), 1.0f) << "the plate's centre";
+  EXPECT_EQ(alpha_at(121.0, -29.0), 1.0f);
+  EXPECT_EQ(alpha_at(300.0, 30.0), 0.0f) << "the antipode";
+  EXPECT_EQ(alpha_at(120.0, 10.0), 0.0f) << "40 degrees north of the plate";
+  EXPECT_TRUE(std::filesystem::exists(path("toast/toast.wtml")));
+}
+
+TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {
+  plate("a.fits", 120.0, -30.0);
+  write_image(path("plain.fits"), Image(8, 8, 1, 0.5f), WriteOptions{});
+  const std::string target = " --center 120,-30 --size 20,20 --scale 0.5 -o " + path("out.fits");
+  expect_failure("sky " + path("plain.fits") + target, "plain.fits: no celestial WCS");
+  expect_failure("sky " + path("missing.fits") + target, "missing.fits");
+  expect_failure("sky " + path("a.fits") + " --center 300,40 --size 20,20 --scale 0.5 -o " + path("out.fits"),
+                 "no plate reaches the target");
+  expect_failure("sky " + path("a.fits") + " --center 120 --size 20,20 --scale 0.5 -o " + path("out.fits"),
+                 "--center takes two numbers");
+  expect_failure("sky " + path("a.fits") + " -o " + path("out.fits"), "--header");
+  expect_failure("sky " + path("a.fits") + target + " --plane 2", "a.fits: --plane 2 but the image has 1 plane");
+}
+
+}  // namespace
+}  // namespace gdp

@@ -1,0 +1,185 @@
+// gdp sky against mathematics: one plate is that plate reprojected, constant background differences vanish, errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gdp/errors.h"
+#include "gdp/image_io.h"
+#include "gdp/sky.h"
+#include "image_stream_util.h"
+#include "sky/header.h"
+#include "sky/plate.h"
+#include "sky/wcs.h"
+
+namespace gdp {
+namespace {
+
+namespace fs = std::filesystem;
+using SkyFunction = std::function<double(const sphere::Vec3&)>;
+
+// A smooth sky: a few low-order terms over the sphere.
+double smooth_sky(const sphere::Vec3& d) { return 1.0 + 0.3 * d.x + 0.2 * d.y * d.z + 0.1 * std::sin(3.0 * d.z); }
+
+// Writes a TAN plate of `size` x `size` pixels of `scale` degrees centred at (lon, lat): the
+// sky function at each pixel centre plus `offset`; returns its path.
+std::string write_plate(const fs::path& dir, const std::string& name, double lon, double lat, int size, double scale,
+                        const SkyFunction& sky, double offset) {
+  SkyTarget grid{{}, lon, lat, size, size, scale, "TAN"};
+  const std::string cards = sky::target_header(grid);
+  const sky::Wcs wcs(cards, size, size, name);
+  Image image(size, size, 1);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      double a = 0, b = 0;
+      EXPECT_TRUE(wcs.pixel_to_sky(x + 0.5, y + 0.5, a, b));
+      image.at(0, x, y) = static_cast<float>(sky(sky::direction(a, b)) + offset);
+    }
+  WriteOptions options;
+  options.fits_header = cards;
+  const fs::path path = dir / name;
+  write_image(path, image, options);
+  return path.string();
+}
+
+class SkyMosaic : public test::TempDirTest {
+ protected:
+  // `whole`: the whole PQ sphere (what --toast needs), else the plates' PQ window.
+  Image run(const std::vector<std::string>& plates, const SkyTarget& target, bool blend, bool whole = false) {
+    SkyOptions options;
+    options.target = target;
+    options.blend = blend;
+    options.pq_height = pq_height_;
+    if (whole) options.toast = dir_ / "toast";
+    fs::remove_all(dir_ / "toast");
+    SolverOptions solver;
+    solver.tolerance = 1e-7;
+    solver.precision = Precision::Float64;
+    const fs::path out = dir_ / (blend ? "blend.fits" : "seamed.fits");
+    sky_mosaic(plates, options, solver, out, WriteOptions{}, &summary_);
+    return read_image(out).image;
+  }
+  SkySummary summary_;
+  int pq_height_ = 0;
+};
+
+TEST_F(SkyMosaic, OnePlateIsThatPlateReprojected) {
+  const std::string plate = write_plate(dir_, "a.fits", 40.0, 20.0, 48, 0.5, smooth_sky, 0.0);
+  // The target: the plate's own grid widened by 8 pixels on every side.
+  const SkyTarget target{{}, 40.0, 20.0, 64, 64, 0.5, "TAN"};
+  const Image blended = run({plate}, target, true);
+  const Image seamed = run({plate}, target, false);
+  const Image truth = read_image(plate).image;
+  int covered = 0;
+  double worst = 0.0, truth_error = 0.0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float b = blended.at(0, x, y), s = seamed.at(0, x, y);
+      // Pixels of the plate are covered (but for a PQ pixel at its edges); pixels beyond are blank.
+      if (x >= 10 && x < 54 && y >= 10 && y < 54) {
+        ASSERT_TRUE(std::isfinite(b)) << x << " " << y;
+      }
+      if (x < 6 || x >= 58 || y < 6 || y >= 58) {
+        ASSERT_TRUE(std::isnan(b)) << x << " " << y;
+      }
+      ASSERT_EQ(std::isnan(b), std::isnan(s)) << x << " " << y;
+      if (std::isnan(b)) continue;
+      ++covered;
+      worst = std::max(worst, std::abs(double(b) - s));
+      if (x >= 10 && x < 54 && y >= 10 && y < 54)
+        truth_error = std::max(truth_error, std::abs(double(b) - truth.at(0, x - 8, y - 8)));
+    }
+  EXPECT_GE(covered, 46 * 46);
+  EXPECT_LE(worst, 1e-4) << "the solve changes a single plate's reprojection";
+  EXPECT_LE(truth_error, 2e-3) << "resampling through the PQ sphere and back (range 1)";
+}
+
+TEST_F(SkyMosaic, AConstantBackgroundDifferenceIsRemovedExactly) {
+  // A constant sky seen by two overlapping plates 0.5 apart: the blend is one constant, the mean.
+  const SkyFunction flat = [](const sphere::Vec3&) { return 2.0; };
+  const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, flat, 0.0),
+                                           write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, flat, 0.5)};
+  const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
+  const Image seamed = run(plates, target, false);
+  const Image blended = run(plates, target, true);
+  ASSERT_GT(summary_.plate_pixels[0], 0);
+  ASSERT_GT(summary_.plate_pixels[1], 0);
+  double lo = 1e9, hi = -1e9, seamed_lo = 1e9, seamed_hi = -1e9;
+  for (std::size_t k = 0; k < blended.data.size(); ++k) {
+    if (std::isnan(blended.data[k])) continue;
+    lo = std::min(lo, double(blended.data[k]));
+    hi = std::max(hi, double(blended.data[k]));
+    seamed_lo = std::min(seamed_lo, double(seamed.data[k]));
+    seamed_hi = std::max(seamed_hi, double(seamed.data[k]));
+  }
+  EXPECT_NEAR(seamed_hi - seamed_lo, 0.5, 1e-5) << "both plates are in the seamed mosaic";
+  EXPECT_LE(hi - lo, 1e-5) << "the blend is constant";
+  EXPECT_GT(lo, 2.0);
+  EXPECT_LT(hi, 2.5);
+}
+
+TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
+  // The smooth sky with plates 0.5 apart: the blend differs from the sky by nearly a constant
+  // (the seam's own gradient is lost, a small error), the seamed mosaic by the step.
+  const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, smooth_sky, 0.0),
+                                           write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, smooth_sky, 0.5)};
+  const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
+  const Image blended = run(plates, target, true);
+  const sky::Wcs wcs(sky::target_header(target), 70, 50, "target");
+  double lo = 1e9, hi = -1e9;
+  for (int y = 0; y < 50; ++y)
+    for (int x = 0; x < 70; ++x) {
+      if (std::isnan(blended.at(0, x, y))) continue;
+      double a = 0, b = 0;
+      ASSERT_TRUE(wcs.pixel_to_sky(x + 0.5, y + 0.5, a, b));
+      const double e = blended.at(0, x, y) - smooth_sky(sky::direction(a, b));
+      lo = std::min(lo, e);
+      hi = std::max(hi, e);
+    }
+  std::printf("smooth sky: blend - sky varies by %.4f\n", hi - lo);
+  EXPECT_LE(hi - lo, 0.03) << "of a 0.5 step";
+}
+
+TEST_F(SkyMosaic, ThePlatesWindowAndTheWholeSphereAgree) {
+  const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, smooth_sky, 0.0),
+                                           write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, smooth_sky, 0.5)};
+  const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
+  pq_height_ = 256;  // a TOAST height, for both
+  const Image window = run(plates, target, true);
+  const std::array<int, 4> solved = summary_.pq_window;
+  const Image sphere = run(plates, target, true, true);
+  EXPECT_LT(solved[2], 4 * summary_.pq_height / 4) << "a window, not the whole PQ image";
+  EXPECT_EQ(summary_.pq_window[2], 4 * summary_.pq_height) << "the whole sphere";
+  double worst = 0.0;
+  for (std::size_t k = 0; k < window.data.size(); ++k) {
+    ASSERT_EQ(std::isnan(window.data[k]), std::isnan(sphere.data[k])) << k;
+    if (!std::isnan(window.data[k])) worst = std::max(worst, std::abs(double(window.data[k]) - sphere.data[k]));
+  }
+  std::printf("window vs whole sphere: %.2e\n", worst);
+  EXPECT_LE(worst, 1e-3);
+}
+
+TEST_F(SkyMosaic, BadInputIsAnInputErrorNamingTheFile) {
+  const std::string plate = write_plate(dir_, "a.fits", 40.0, 20.0, 16, 0.5, smooth_sky, 0.0);
+  write_image(dir_ / "nowcs.fits", Image(8, 8, 1, 1.0f), WriteOptions{});
+  const auto message = [&](const std::vector<std::string>& plates, const SkyTarget& target) -> std::string {
+    try {
+      run(plates, target, true);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string nowcs = message({plate, (dir_ / "nowcs.fits").string()}, {{}, 40.0, 20.0, 16, 16, 0.5, "TAN"});
+  EXPECT_NE(nowcs.find("nowcs.fits: no celestial WCS"), std::string::npos) << nowcs;
+  const std::string far = message({plate}, {{}, 220.0, -20.0, 16, 16, 0.5, "TAN"});
+  EXPECT_NE(far.find("no plate reaches the target"), std::string::npos) << far;
+  EXPECT_FALSE(fs::exists(dir_ / "blend.fits"));
+}
+
+}  // namespace
+}  // namespace gdp

@@ -1,0 +1,87 @@
+// `gdp sky`: FITS plates with WCS blended on the sphere, written for a target header (docs/sky.md).
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "gdp/errors.h"
+#include "gdp/sky.h"
+
+namespace gdp::cli {
+namespace {
+
+// "A,B" -> two numbers; UsageError naming the option otherwise.
+template <class T>
+std::pair<T, T> pair_of(const std::string& text, const char* option) {
+  const std::size_t comma = text.find(',');
+  try {
+    std::size_t used_a = 0, used_b = 0;
+    if (comma == std::string::npos) throw std::invalid_argument("no comma");
+    const std::string a = text.substr(0, comma), b = text.substr(comma + 1);
+    const double x = std::stod(a, &used_a), y = std::stod(b, &used_b);
+    if (used_a != a.size() || used_b != b.size()) throw std::invalid_argument("trailing text");
+    return {static_cast<T>(x), static_cast<T>(y)};
+  } catch (const std::exception&) {
+    throw UsageError(fmt::format("{} takes two numbers A,B, not '{}'", option, text));
+  }
+}
+
+class Sky final : public Command {
+ public:
+  explicit Sky(CLI::App& root) {
+    app = root.add_subcommand("sky", "sky mosaic: FITS plates with WCS blended on the sphere, written for a target WCS");
+    app->add_option("plates", plates_, "FITS plates with a celestial WCS")->required();
+    app->add_option("-o,--output", output_, "output image (FITS gets the target's WCS in its header)")->required();
+    app->add_option("--header", options_.target.header, "target header template (Montage's form: KEY = value lines)");
+    app->add_option("--center", center_, "target centre RA,DEC in degrees (with --size and --scale)");
+    app->add_option("--size", size_, "target size W,H in pixels");
+    app->add_option("--scale", options_.target.scale, "target pixel scale in degrees");
+    app->add_option("--projection", options_.target.projection, "target projection: TAN, CAR, SIN, ZEA, ... (wcslib's codes)")
+        ->capture_default_str();
+    app->add_option("--toast", options_.toast, "also write a WorldWideTelescope TOAST tile pyramid into this new or empty "
+                                               "directory (PQ height rounded up to 128 * 2^n)");
+    app->add_option("--plane", plane_, "plane of cube plates (1-based)")->capture_default_str();
+    app->add_flag("!--no-blend", options_.blend,
+                  "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
+    add_common_options(*app, common_);
+  }
+
+  int run() override {
+    Stats stats("sky");
+    const SolverOptions solver = solver_options(common_, "sky");
+    if (!options_.target.header.empty() && !center_.empty())
+      throw UsageError("give the target either as --header or as --center/--size/--scale, not both");
+    if (options_.target.header.empty()) {
+      if (center_.empty() || size_.empty())
+        throw UsageError("gdp sky needs --header TEMPLATE.hdr, or --center RA,DEC --size W,H --scale DEG");
+      std::tie(options_.target.lon, options_.target.lat) = pair_of<double>(center_, "--center");
+      std::tie(options_.target.width, options_.target.height) = pair_of<int>(size_, "--size");
+    }
+    if (plane_ < 1) throw UsageError(fmt::format("--plane counts from 1, got {}", plane_));
+    options_.plane = plane_ - 1;
+    options_.pq_height = common_.pq_height;
+    options_.note = [this](const std::string& m) { note(common_, "gdp sky: " + m); };
+    ImageFileInfo info;  // plates are read as floats: the output defaults to float
+    SkySummary summary;
+    stats.time("total", [&] { sky_mosaic(plates_, options_, solver, output_, write_options(common_, info), &summary); });
+    if (options_.blend) stats.summary(summary.solve);
+    stats.set("pq_height", std::to_string(summary.pq_height));
+    stats.set("covered_pixels", std::to_string(summary.covered));
+    note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
+                              plates_.size(), summary.pq_height, summary.covered, summary.target_pixels, output_));
+    stats.write(common_.stats_path);
+    return 0;
+  }
+
+ private:
+  std::vector<std::string> plates_;
+  std::string output_, center_, size_;
+  long plane_ = 1;
+  SkyOptions options_;
+  CommonOptions common_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_sky(CLI::App& root) { return std::make_unique<Sky>(root); }
+
+}  // namespace gdp::cli
