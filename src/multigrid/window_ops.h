@@ -1,0 +1,106 @@
+// The multigrid kernels on a column window of one row: operator, residual, relaxation, transfers.
+//
+// Every schedule (in-core, streaming, bands) calls these, on whole rows or on a band's columns,
+// and none of them knows how rows are stored. A call works on columns [begin, end) of one row;
+// what lies beyond each end is decided once per call (Edge), and each kernel splits its range
+// itself into the few columns by an image edge (per-column coefficients) and the interior (one
+// constant stencil). docs/multigrid.md describes the design.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "fem/axis.h"
+#include "multigrid/hierarchy.h"
+
+namespace gdp::multigrid {
+
+// What lies beyond one end of the columns worked on:
+//  Image: the end of the level (Neumann): nothing; the kernels read zeros there.
+//  Wrap:  a periodic level worked on whole: its other end (relax closes the ring as a whole-row
+//         Gauss-Seidel sweep does).
+//  Halo:  more of the row: the rows hold a few more columns there (a neighbour band's; on
+//         periodic levels in unwrapped column numbers, holding the wrapped values).
+enum class Edge : unsigned char { Image, Wrap, Halo };
+
+// Columns [begin, end) of a level n columns wide (on periodic levels they may leave [0, n)).
+struct Columns {
+  int begin = 0, end = 0, n = 0;
+  bool periodic = false;
+  Edge left = Edge::Image, right = Edge::Image;
+  bool forward = true;  // relax: left to right, else right to left
+  // The whole row: Image or Wrap at both ends.
+  static Columns whole(int n, bool periodic);
+  // [begin, end), clipped to [0, n) on a non-periodic level: Image where it reaches an end of
+  // the level, Halo elsewhere.
+  static Columns range(int n, bool periodic, int begin, int end, bool forward = true);
+};
+
+// Rows j-2 .. j+2 of one channel: rows[d][i - origin[d]] is column i of row j + d - 2, null
+// where the level operator has no coupling (LevelOperator::row_of). A row read mirrored
+// (LevelOperator::mirror_of: across a spherical domain's fold) is held whole, [0, n).
+// The kernels read columns [begin - 2, end + 2) of the rows (within the level on non-periodic
+// ones); the row's own arrays (u, b, out, diag) are indexed like rows[2]: x[i - origin[2]].
+template <class T>
+struct Window {
+  std::array<const T*, 5> rows{};
+  std::array<int, 5> origin{};
+};
+
+// Temporary rows and recurrence coefficients, one per thread. They grow to the widest call and
+// are reused: after the first rows the kernels allocate nothing.
+template <class T>
+struct Scratch {
+  // The Gauss-Seidel recurrence's terms per column for one level and one row coupling (m0, c0):
+  // k[d] = K_{d-2} / K_0, and per block of four columns the terms multiplying the two
+  // corrections carried into it, forward (fb, fc) and backward (bb, bc).
+  struct Coefficients {
+    const void* op = nullptr;
+    T m0{}, c0{};
+    std::vector<T> inv, k[5], fb, fc, bb, bc;
+  };
+  std::vector<T> a, c, q, dx, line, zero;
+  std::array<std::vector<T>, 5> mirrored;
+  std::vector<Coefficients> cached;  // whole rows of a few (level, m0, c0), newest last
+  Coefficients local;                // with a per-pixel diagonal term: one call's columns
+  explicit Scratch(int width = 0);
+  const Coefficients& coefficients(const LevelOperator<T>& op, T m0, T c0);
+};
+
+// Every operator kernel takes an optional per-pixel diagonal term `diag` (row j of D, or null):
+// the operator is then A + D, D >= 0 being the lumped per-pixel fidelity weights (scaled like
+// A by kScale; docs/weights.md). Residuals are zero where D reaches kPinnedDiagonal.
+
+// out = (A u) on row j.
+template <class T>
+void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
+           const T* diag = nullptr);
+
+// r = b - (A u) on row j.
+template <class T>
+void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, const T* b, T* r,
+              Scratch<T>& s, const T* diag = nullptr);
+
+// One Gauss-Seidel sweep over the columns of row j in cols.forward's direction: u (rows[2]) is
+// updated in place from the newest values of the row itself and whatever the window holds.
+template <class T>
+void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b, Scratch<T>& s,
+           const T* diag = nullptr);
+
+// Restriction (P^T) of a fine row into coarse columns `cols` of the coarse rows py.index[0] and
+// [1] (coarse_k[J - origin[k]]; the second read mirrored where py.mirror says so, then held
+// whole). fine[i - fine_origin] holds the fine columns [2 begin - 1, 2 end + 1) (within the
+// level on non-periodic ones; the whole row where cols wrap).
+template <class T>
+void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine, int fine_origin,
+                   Columns cols, T* coarse0, T* coarse1, std::array<int, 2> origin, Scratch<T>& s);
+
+// Prolongation (P) added into fine columns `cols` (fine[i - fine_origin]) from the coarse rows
+// py.index[0] and [1]: with `coarse_whole` they hold [0, m) (origins 0; periodic columns wrap
+// into them), else the columns the fine ones read, like the fine row's halo.
+template <class T>
+void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0, const T* coarse1,
+                  std::array<int, 2> origin, bool coarse_whole, Columns cols, T* fine, int fine_origin,
+                  Scratch<T>& s);
+
+}  // namespace gdp::multigrid
