@@ -41,7 +41,7 @@ BENCHMARK(BM_VCycle)->Arg(2048)->Arg(8192)->Unit(benchmark::kMillisecond)->UseRe
 // One Gauss-Seidel sweep of the finest level (one channel).
 void BM_RelaxSweep(benchmark::State& state) {
   Fixture f(2048, 2048);
-  Scratch<float> s(2048);
+  Scratch<float> s;
   for (auto _ : state) relax(f.ops.levels[0], f.u, f.b, 1, s);
   state.counters["Mpix/s"] = benchmark::Counter(2048.0 * 2048 * state.iterations() / 1e6, benchmark::Counter::kIsRate);
 }
@@ -52,7 +52,7 @@ void BM_ResidualRestrict(benchmark::State& state) {
   Fixture f(2048, 2048);
   const LevelGeometry& g = f.hierarchy.levels[1];
   Plane<float> coarse(g.width(), g.height());
-  Scratch<float> s(2048);
+  Scratch<float> s;
   std::vector<float> r(2048);
   for (auto _ : state) {
     for (int j = 0; j < 2048; ++j) {

@@ -73,7 +73,7 @@ TEST_P(Galerkin, CoarseOperatorIsRestrictionTimesFineOperatorTimesProlongation) 
   std::uniform_real_distribution<double> d(-1.0, 1.0);
   for (std::size_t l = 0; l + 1 < hier.levels.size(); ++l) {
     const LevelOperator<double> fine(hier.levels[l], alpha), coarse(hier.levels[l + 1], alpha);
-    Scratch<double> sf(fine.width), sc(coarse.width);
+    Scratch<double> sf, sc;
     for (int k = 0; k < coarse.width * coarse.height; ++k) {
       Plane<double> e(coarse.width, coarse.height), ae(coarse.width, coarse.height);
       e.data[k] = 1.0;

@@ -68,7 +68,7 @@ int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<con
 
 std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plane<double>& diag) {
   // A applied to unit vectors, one pixel at a time (the coarsest level is small).
-  Scratch<double> s(op.width);
+  Scratch<double> s;
   Plane<double> e(op.width, op.height), ae(op.width, op.height);
   std::vector<double> inverse(e.data.size());
   for (std::size_t k = 0; k < e.data.size(); ++k) {
@@ -83,7 +83,7 @@ std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plan
 
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
              double tolerance, int max_iterations, const Plane<double>* diag, std::span<const double> inverse) {
-  Scratch<double> s(op.width);
+  Scratch<double> s;
   const auto product = [&](std::span<const double> in, std::span<double> out) {
     for (int j = 0; j < op.height; ++j)
       apply(op, j, window(op, in.data(), j), whole_row(op), out.data() + static_cast<std::size_t>(j) * op.width, s,

@@ -47,8 +47,7 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
 
 template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
-    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first),
-      scratch_(ops.levels[first].width) {
+    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
   for (int l = first + 1; l < ops.count(); ++l) {
     u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
     b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
@@ -102,7 +101,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
              coarse_inverse_);
     if (probe) {
       Plane<double> r(op.width, op.height);
-      Scratch<double> s(op.width);
+      Scratch<double> s;
       residual(op, u, b, r, s, dp);
       probe->level_norms.push_back(norm2(r));
     }

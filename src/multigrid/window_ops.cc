@@ -6,10 +6,8 @@
 namespace gdp::multigrid {
 namespace {
 
-// Each kernel is compiled twice, for x86-64-v3 (AVX2 + FMA) and for the baseline, and the
-// loader picks one for the running CPU: a portable binary that still uses FMA where present
-// (the Gauss-Seidel recurrence is latency-bound, and FMA shortens its chain). The helpers are
-// forced inline so that their loops are compiled into both.
+// Each kernel is compiled for x86-64-v3 (AVX2 + FMA) and the baseline, the loader picking one;
+// the helpers are forced inline, or their loops would be compiled for the baseline only.
 #define GDP_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
 #define GDP_INLINE __attribute__((always_inline)) inline
 
@@ -17,9 +15,7 @@ GDP_INLINE int floor_div(int a, int n) { return a >= 0 ? a / n : -((n - 1 - a) /
 
 // A run of columns [x, end) read linearly: column i reads column i - base of a table (one
 // periodic copy) or column base - i of a row mirrored across a fold.
-struct Run {
-  int end, base;
-};
+struct Run { int end, base; };
 
 GDP_INLINE Run copy_run(int n, bool periodic, int x, int hi) {
   if (!periodic) return {hi, 0};
@@ -176,16 +172,16 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
 template <int S, class T>
 GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* dx,
                       T& d1, T& d2) {
-  int n = 0;
-  for (; n < std::min(lead, count); ++n) {
+  for (int n = 0; n < count;) {
     const int x = S * n;
-    const T v = t[x] - kf[x] * d2;
-    d2 = d1;
-    d1 = v - kn[x] * d1;
-    dx[x] = d1;
-  }
-  for (; n + 4 <= count; n += 4) {
-    const int x = S * n;
+    if (n < lead || n + 4 > count) {  // one sample
+      const T v = t[x] - kf[x] * d2;
+      d2 = d1;
+      d1 = v - kn[x] * d1;
+      dx[x] = d1;
+      ++n;
+      continue;
+    }
     const T a0 = t[x];
     const T a1 = t[x + S] - kn[x + S] * a0;
     const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
@@ -198,13 +194,7 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     dx[x + 3 * S] = n1;
     d2 = n2;
     d1 = n1;
-  }
-  for (; n < count; ++n) {
-    const int x = S * n;
-    const T v = t[x] - kf[x] * d2;
-    d2 = d1;
-    d1 = v - kn[x] * d1;
-    dx[x] = d1;
+    n += 4;
   }
 }
 
@@ -220,11 +210,6 @@ Columns Columns::range(int n, bool periodic, int begin, int end, bool forward) {
   const Edge left = !periodic && begin == 0 ? Edge::Image : Edge::Halo;
   const Edge right = !periodic && end == n ? Edge::Image : Edge::Halo;
   return {begin, end, n, periodic, left, right, forward};
-}
-
-template <class T>
-Scratch<T>::Scratch(int width) {
-  for (std::vector<T>* v : {&a, &c, &q, &dx, &line}) v->reserve(width + 4);
 }
 
 template <class T>
@@ -259,24 +244,16 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
   T* q = grow(s.q, len);
   combine(op, j, w, cols, s);
   convolve(op, cols, s, q);
-  b += o, r += o;
-  if (diag) {
-    // A pinned pixel's equation is u = value: it holds after relaxation (to ~1e-6), and what
-    // b - A u - D u computes there is float round-off of D * value (b) against D * u, noise that
-    // would swamp the residual norms: it is taken as zero.
-    const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2] + o;
-    diag += o;
-    for (int x = 0; x < len; ++x) r[x] = diag[x] >= pinned ? T(0) : b[x] - q[x] - diag[x] * u[x];
-  } else {
-    for (int x = 0; x < len; ++x) r[x] = b[x] - q[x];
-  }
+  // A pinned pixel's equation u = value holds after relaxation (to ~1e-6); b - A u - D u there is
+  // round-off of D * value against D * u, noise that would swamp the residual norms: taken as zero.
+  const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
+  for (int x = 0, i = o; x < len; ++x, ++i)
+    r[i] = diag && diag[i] >= pinned ? T(0) : b[i] - q[x] - (diag ? diag[i] * u[i] : T(0));
 }
 
-// Gauss-Seidel along the row as a recurrence on the corrections: with q the operator applied to
-// the values before the sweep, dx_i = (b_i - q_i - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i)
-// (backward: K_1, K_2 and the corrections after i), K_d(i) = sx[d] my0 + mx[d] cy0 the in-row
-// couplings. All but the recurrence vectorises. Corrections beyond the columns are zero, except
-// that a whole periodic row's last two samples also see its first two, already updated.
+// Gauss-Seidel as a recurrence on the corrections: with q = A u before the sweep, dx_i = (b_i - q_i
+// - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i) (backward: K_1, K_2), K_d = sx[d] my0 + mx[d] cy0.
+// Corrections beyond the columns are zero, but a whole periodic row's ends see each other.
 template <class T>
 GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b,
                       Scratch<T>& s, const T* diag) {
@@ -293,27 +270,15 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
   T d1 = T(0), d2 = T(0);
   const T* inv = nullptr;
-  // Run by run (one per periodic copy of the columns), in the sweep's order.
-  for (int done = 0; done < len;) {
-    int x0, x1;
-    if (fwd) {
-      x0 = done, x1 = copy_run(op.width, cols.periodic, cols.begin + x0, cols.end).end - cols.begin;
-    } else {
-      x1 = len - done;
-      const int last = cols.begin + x1 - 1;
-      x0 = std::max(copy_run(op.width, cols.periodic, last, cols.end).base, cols.begin) - cols.begin;
-      if (!cols.periodic) x0 = 0;
-    }
-    const int count = x1 - x0, g0 = cols.begin + x0 - copy_run(op.width, cols.periodic, cols.begin + x0, cols.end).base;
+  for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
+    const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
+    const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
+    const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
     if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
     const int at = diag ? 0 : g0;  // K's column for x0
     inv = K->inv.data() + at;
     T* t = q + x0;
-    if (diag) {
-      for (int x = 0; x < count; ++x) t[x] = (b[o + x0 + x] - t[x] - diag[o + x0 + x] * u[o + x0 + x]) * inv[x];
-    } else {
-      for (int x = 0; x < count; ++x) t[x] = (b[o + x0 + x] - t[x]) * inv[x];
-    }
+    for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
     if (fwd) {
       recur<1>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at,
                std::min(count, swept - x0), (4 - g0 % 4) % 4, dx + x0, d1, d2);

@@ -1,10 +1,7 @@
 // The multigrid kernels on a column window of one row: operator, residual, relaxation, transfers.
-//
-// Every schedule (in-core, streaming, bands) calls these, on whole rows or on a band's columns,
-// and none of them knows how rows are stored. A call works on columns [begin, end) of one row;
-// what lies beyond each end is decided once per call (Edge), and each kernel splits its range
-// itself into the few columns by an image edge (per-column coefficients) and the interior (one
-// constant stencil). docs/multigrid.md describes the design.
+// Every schedule (in-core, streaming, bands) calls them, on whole rows or on a band's columns
+// (docs/multigrid.md): what lies beyond each end is decided once per call (Edge), and each kernel
+// splits its range into the columns by an image edge and the interior (one constant stencil).
 #pragma once
 
 #include <array>
@@ -15,12 +12,10 @@
 
 namespace gdp::multigrid {
 
-// What lies beyond one end of the columns worked on:
-//  Image: the end of the level (Neumann): nothing; the kernels read zeros there.
-//  Wrap:  a periodic level worked on whole: its other end (relax closes the ring as a whole-row
-//         Gauss-Seidel sweep does).
-//  Halo:  more of the row: the rows hold a few more columns there (a neighbour band's; on
-//         periodic levels in unwrapped column numbers, holding the wrapped values).
+// What lies beyond one end of the columns: Image, the level's (Neumann) end: nothing, read as
+// zeros; Wrap, a periodic level worked on whole: its other end (relax closes the ring as a
+// whole-row sweep does); Halo: more of the row, held by the rows (a neighbour band's columns;
+// on periodic levels in unwrapped column numbers, holding the wrapped values).
 enum class Edge : unsigned char { Image, Wrap, Halo };
 
 // Columns [begin, end) of a level n columns wide (on periodic levels they may leave [0, n)).
@@ -29,10 +24,8 @@ struct Columns {
   bool periodic = false;
   Edge left = Edge::Image, right = Edge::Image;
   bool forward = true;  // relax: left to right, else right to left
-  // The whole row: Image or Wrap at both ends.
-  static Columns whole(int n, bool periodic);
-  // [begin, end), clipped to [0, n) on a non-periodic level: Image where it reaches an end of
-  // the level, Halo elsewhere.
+  static Columns whole(int n, bool periodic);  // Image or Wrap at both ends
+  // [begin, end), clipped to [0, n) on a non-periodic level: Image at the level's ends, else Halo.
   static Columns range(int n, bool periodic, int begin, int end, bool forward = true);
 };
 
@@ -47,13 +40,11 @@ struct Window {
   std::array<int, 5> origin{};
 };
 
-// Temporary rows and recurrence coefficients, one per thread. They grow to the widest call and
-// are reused: after the first rows the kernels allocate nothing.
+// Temporary rows and recurrence coefficients, one per thread, grown to the widest call and reused.
 template <class T>
 struct Scratch {
-  // The Gauss-Seidel recurrence's terms per column for one level and one row coupling (m0, c0):
-  // k[d] = K_{d-2} / K_0, and per block of four columns the terms multiplying the two
-  // corrections carried into it, forward (fb, fc) and backward (bb, bc).
+  // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): k[d] =
+  // K_{d-2} / K_0; per block of four, the terms of the corrections carried in (forward, backward).
   struct Coefficients {
     const void* op = nullptr;
     T m0{}, c0{};
@@ -63,13 +54,11 @@ struct Scratch {
   std::array<std::vector<T>, 5> mirrored;
   std::vector<Coefficients> cached;  // whole rows of a few (level, m0, c0), newest last
   Coefficients local;                // with a per-pixel diagonal term: one call's columns
-  explicit Scratch(int width = 0);
   const Coefficients& coefficients(const LevelOperator<T>& op, T m0, T c0);
 };
 
-// Every operator kernel takes an optional per-pixel diagonal term `diag` (row j of D, or null):
-// the operator is then A + D, D >= 0 being the lumped per-pixel fidelity weights (scaled like
-// A by kScale; docs/weights.md). Residuals are zero where D reaches kPinnedDiagonal.
+// `diag`: an optional per-pixel diagonal term (row j of D): the operator is then A + D, D >= 0
+// the lumped fidelity weights scaled like A (docs/weights.md); residuals are 0 where D is pinned.
 
 // out = (A u) on row j.
 template <class T>
