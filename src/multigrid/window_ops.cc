@@ -132,6 +132,15 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
   }
 }
 
+// q = (A u) on the columns, in s.q.
+template <class T>
+GDP_INLINE T* stencil(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
+  T* q = grow(s.q, cols.end - cols.begin);
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, q);
+  return q;
+}
+
 // The recurrence's terms of table columns [g0, g0 + count) into K from K's column 0 (diag:
 // indexed likewise), for one direction; blocks of four on table multiples of 4.
 template <class T>
@@ -241,9 +250,7 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
                          Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  T* q = grow(s.q, len);
-  combine(op, j, w, cols, s);
-  convolve(op, cols, s, q);
+  T* q = stencil(op, j, w, cols, s);
   // A pinned pixel's equation u = value holds after relaxation (to ~1e-6); b - A u - D u there is
   // round-off of D * value against D * u, noise that would swamp the residual norms: taken as zero.
   const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
@@ -259,9 +266,7 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
                       Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  T* q = grow(s.q, len);
-  combine(op, j, w, cols, s);
-  convolve(op, cols, s, q);
+  T* q = stencil(op, j, w, cols, s);
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
