@@ -122,10 +122,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.schedule = o.in_core ? Schedule::InCore : Schedule::Streaming;
-  if (MpiRun::size() > 1 && o.bands == 0) {  // under mpirun: one band per rank unless told
-    if (o.in_core) throw UsageError("--in-core does not run under mpirun (ranks solve bands, which stream)");
-    o.bands = 1;
-  }
+  if (MpiRun::size() > 1 && o.bands == 0) o.bands = 1;  // under mpirun: one band per rank unless told
   if (o.bands != 0) {
     if (o.in_core) throw UsageError("--bands streams: it does not combine with --in-core");
     s.schedule = Schedule::Bands;
