@@ -18,9 +18,8 @@ GDP_INLINE int floor_div(int a, int n) { return a >= 0 ? a / n : -((n - 1 - a) /
 struct Run { int end, base; };
 
 GDP_INLINE Run copy_run(int n, bool periodic, int x, int hi) {
-  if (!periodic) return {hi, 0};
-  const int k = floor_div(x, n);
-  return {std::min(hi, (k + 1) * n), k * n};
+  const int k = periodic ? floor_div(x, n) : 0;
+  return {periodic ? std::min(hi, (k + 1) * n) : hi, k * n};
 }
 
 // fem::mirror_column of the wrapped column, run by run.
@@ -60,8 +59,7 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
     const fem::Mirror mirror = op.mirror_of(j, d);
     u[d] = row + (from - w.origin[d]);
     if (mirror == fem::Mirror::None) continue;
-    // A row across a spherical domain's fold: a mirrored copy as it is now (for the row being
-    // relaxed: its values before this sweep).
+    // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
     T* copy = grow(s.mirrored[d], count);
     for (int x = from; x < to;) {
       const Run r = mirror_run(mirror, n, x, to);
@@ -384,7 +382,8 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
   for (int i = cols.begin; i < cols.end;) {
     const Run r = copy_run(n, cols.periodic, i, cols.end);
     const int base = r.base / n * m;  // coarse copy of this fine copy
-    const int ib = std::clamp(m == n ? n : 3 + r.base, i, r.end), ie = std::clamp(n - 3 + r.base, ib, r.end);
+    int ib = std::clamp(m == n ? n : 3 + r.base, i, r.end), ie = std::clamp(n - 3 + r.base, ib, r.end);
+    ib += (ib - r.base) % 2 && ib < ie, ie -= (ie - ib) % 2;  // pairs 2J, 2J + 1 between them
     const auto general = [&](int from, int to) __attribute__((always_inline)) {
       for (int x = from; x < to; ++x) {
         const fem::ProlongationRow& p = px.rows[x - r.base];
@@ -395,21 +394,14 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
       }
     };
     general(i, ib);
-    // Fine columns ib .. ie (x from the copy's start): 3/4 of coarse x / 2, 1/4 of the one beside it.
+    // Fine 2J, 2J + 1 (from the copy's start): 3/4 of coarse J, 1/4 of the one beside it.
     T* fr = fine + r.base;
     const T* tb = t + base;
-    int x = ib - r.base;
-    const int xe = ie - r.base;
-    if (x < xe && x % 2 == 1) {
-      fr[x] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 + 1];
-      ++x;
-    }
 #pragma GCC ivdep
-    for (; x + 2 <= xe; x += 2) {
+    for (int x = ib - r.base; x < ie - r.base; x += 2) {
       fr[x] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 - 1];
       fr[x + 1] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 + 1];
     }
-    if (x < xe) fr[x] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 - 1];
     general(ie, r.end);
     i = r.end;
   }
@@ -428,8 +420,5 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
                              std::array<int, 2>, bool, Columns, T*, int, Scratch<T>&);
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)
-#undef GDP_INSTANTIATE
-#undef GDP_INLINE
-#undef GDP_KERNEL
 
 }  // namespace gdp::multigrid

@@ -60,12 +60,10 @@ struct Scratch {
 // `diag`: an optional per-pixel diagonal term (row j of D): the operator is then A + D, D >= 0
 // the lumped fidelity weights scaled like A (docs/weights.md); residuals are 0 where D is pinned.
 
-// out = (A u) on row j.
+// apply: out = (A u) on row j; residual: r = b - (A u).
 template <class T>
 void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
            const T* diag = nullptr);
-
-// r = b - (A u) on row j.
 template <class T>
 void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, const T* b, T* r,
               Scratch<T>& s, const T* diag = nullptr);
