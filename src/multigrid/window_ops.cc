@@ -48,6 +48,9 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   T* c = grow(s.c, len);
   std::array<const T*, 5> u;
   std::array<T, 5> m{}, k{};
+  const std::array<T, 5>& my = op.my[j];  // row tables: one lookup each, not one per row
+  const std::array<T, 5>& cy = op.cy[j];
+  const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
   for (int d = 0; d < 5; ++d) {
     const T* row = w.rows[d];
     if (!row) {  // unused rows have zero coefficients
@@ -55,8 +58,8 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
       u[d] = s.zero.data();
       continue;
     }
-    m[d] = op.my[j][d], k[d] = op.cy[j][d];
-    const fem::Mirror mirror = op.mirror_of(j, d);
+    m[d] = my[d], k[d] = cy[d];
+    const fem::Mirror mirror = mirrors[d];
     u[d] = row + (from - w.origin[d]);
     if (mirror == fem::Mirror::None) continue;
     // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
