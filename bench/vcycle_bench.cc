@@ -41,7 +41,7 @@ BENCHMARK(BM_VCycle)->Arg(2048)->Arg(8192)->Unit(benchmark::kMillisecond)->UseRe
 // One Gauss-Seidel sweep of the finest level (one channel).
 void BM_RelaxSweep(benchmark::State& state) {
   Fixture f(2048, 2048);
-  RowScratch<float> s(2048);
+  Scratch<float> s;
   for (auto _ : state) relax(f.ops.levels[0], f.u, f.b, 1, s);
   state.counters["Mpix/s"] = benchmark::Counter(2048.0 * 2048 * state.iterations() / 1e6, benchmark::Counter::kIsRate);
 }
@@ -52,13 +52,15 @@ void BM_ResidualRestrict(benchmark::State& state) {
   Fixture f(2048, 2048);
   const LevelGeometry& g = f.hierarchy.levels[1];
   Plane<float> coarse(g.width(), g.height());
-  RowScratch<float> s(2048);
-  std::vector<float> r(2048), tmp(2048);
+  Scratch<float> s;
+  std::vector<float> r(2048);
   for (auto _ : state) {
     for (int j = 0; j < 2048; ++j) {
-      residual_row(f.ops.levels[0], j, window(f.ops.levels[0], f.u, j), f.b.row(j), r.data(), s);
+      residual(f.ops.levels[0], j, window(f.ops.levels[0], f.u, j), whole_row(f.ops.levels[0]), f.b.row(j), r.data(),
+               s);
       const auto& py = g.py.rows[j];
-      restrict_row(g.px, py, r.data(), coarse.row(py.index[0]), coarse.row(py.index[1]), tmp.data());
+      restrict_rows(g.px, py, r.data(), 0, whole_row(f.ops.levels[1]), coarse.row(py.index[0]), coarse.row(py.index[1]),
+                    {0, 0}, s);
     }
   }
   state.counters["Mpix/s"] = benchmark::Counter(2048.0 * 2048 * state.iterations() / 1e6, benchmark::Counter::kIsRate);
@@ -70,11 +72,12 @@ void BM_Prolong(benchmark::State& state) {
   Fixture f(2048, 2048);
   const LevelGeometry& g = f.hierarchy.levels[1];
   Plane<float> coarse(g.width(), g.height());
-  std::vector<float> tmp(2048);
+  Scratch<float> s;
   for (auto _ : state)
     for (int j = 0; j < 2048; ++j) {
       const auto& py = g.py.rows[j];
-      prolong_row(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), f.u.row(j), tmp.data());
+      prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true,
+                   whole_row(f.ops.levels[0]), f.u.row(j), 0, s);
     }
   state.counters["Mpix/s"] = benchmark::Counter(2048.0 * 2048 * state.iterations() / 1e6, benchmark::Counter::kIsRate);
 }

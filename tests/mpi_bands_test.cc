@@ -78,6 +78,15 @@ TEST_F(MpiBands, RanksGiveTheThreadResultAndAgreeWithOneBand) {
   }
 }
 
+// Without --bands, mpirun runs one band per rank: the two-band result.
+TEST_F(MpiBands, RanksDefaultToOneBandEach) {
+  const std::string args = "sharpen " + path("in.tif") + " -o " + path("mpi.tif") + " --depth float -q";
+  const test::CliRun r = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " " + args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(sharpen("threads.tif", 2).code, 0);
+  EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+}
+
 // bench/mpi_delay (the latency injector) delays messages, in both of its modes, without changing
 // them or their order: the same bits as without it, and no hang.
 TEST_F(MpiBands, DelayedMessagesGiveTheSameBits) {
@@ -269,11 +278,11 @@ TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   EXPECT_NE(r.code, 124);
   EXPECT_NE(r.err.find("only stitch"), std::string::npos) << r.err;
   const test::CliRun s = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " +
-                             path("out.tif"));
+                             path("out.tif") + " --in-core");
   EXPECT_EQ(s.code, 2) << s.err;
-  EXPECT_NE(s.err.find("--bands N is needed"), std::string::npos) << s.err;
+  EXPECT_NE(s.err.find("--in-core"), std::string::npos) << s.err;
   // Every rank sees it: said once, by rank 0, without MPI_Abort's banner.
-  EXPECT_EQ(s.err.find("--bands N is needed"), s.err.rfind("--bands N is needed")) << s.err;
+  EXPECT_EQ(s.err.find("--in-core"), s.err.rfind("--in-core")) << s.err;
   EXPECT_EQ(s.err.find("MPI_ABORT"), std::string::npos) << s.err;
 }
 

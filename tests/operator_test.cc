@@ -37,7 +37,7 @@ std::map<std::pair<int, int>, double> reference_operator(const topology::Topolog
 std::vector<double> operator_column(const LevelOperator<double>& op, int k) {
   Plane<double> e(op.width, op.height), out(op.width, op.height);
   e.data[k] = 1.0;
-  multigrid::RowScratch<double> s(op.width);
+  multigrid::Scratch<double> s;
   multigrid::apply(op, e, out, s);
   for (double& v : out.data) v /= LevelOperator<double>::kScale;  // stored operator is scaled
   return out.data;
@@ -124,7 +124,7 @@ TEST_P(RhsIdentity, ExactGradientsGiveOperatorTimesImage) {
   }
   asm_.finish(sink);
   const LevelOperator<double> op(hier.levels[0], alpha);
-  multigrid::RowScratch<double> s(w);
+  multigrid::Scratch<double> s;
   for (int c = 0; c < 2; ++c) {
     Plane<double> p(w, h), ap(w, h);
     std::copy(img.plane(c).begin(), img.plane(c).end(), p.data.begin());

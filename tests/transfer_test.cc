@@ -5,7 +5,7 @@
 
 #include "fem/axis.h"
 #include "multigrid/plane_ops.h"
-#include "multigrid/row_ops.h"
+#include "multigrid/window_ops.h"
 #include "topology/topology.h"
 
 namespace gdp::multigrid {
@@ -20,12 +20,14 @@ TEST(Transfer, RestrictRowIsTheAdjointOfProlongRow) {
       const fem::Axis axis = fem::make_fine_axis(n, b);
       const fem::Prolongation p = fem::make_prolongation(axis, fem::next_size(axis));
       const int m = p.coarse_n;
-      std::vector<double> f(n), c(m), pc(n, 0.0), rf(m, 0.0), unused(m, 0.0), tmp(n);
+      const bool periodic = b == fem::AxisBoundary::Periodic;
+      std::vector<double> f(n), c(m), pc(n, 0.0), rf(m, 0.0), unused(m, 0.0);
+      Scratch<double> s;
       for (double& v : f) v = d(rng);
       for (double& v : c) v = d(rng);
       const fem::ProlongationRow one{{0, 0}, {1.0, 0.0}};
-      prolong_row(p, one, c.data(), c.data(), pc.data(), tmp.data());
-      restrict_row(p, one, f.data(), rf.data(), unused.data(), tmp.data());
+      prolong_rows(p, one, c.data(), c.data(), {0, 0}, true, Columns::whole(n, periodic), pc.data(), 0, s);
+      restrict_rows(p, one, f.data(), 0, Columns::whole(m, periodic), rf.data(), unused.data(), {0, 0}, s);
       double lhs = 0.0, rhs = 0.0;  // <P c, f> == <c, P^T f>
       for (int i = 0; i < n; ++i) lhs += pc[i] * f[i];
       for (int j = 0; j < m; ++j) rhs += c[j] * rf[j];
@@ -37,10 +39,11 @@ TEST(Transfer, RestrictRowIsTheAdjointOfProlongRow) {
 Plane<double> prolong(const Hierarchy& h, int l, const Plane<double>& coarse) {
   const LevelGeometry& g = h.levels[l + 1];
   Plane<double> fine(h.levels[l].width(), h.levels[l].height());
-  std::vector<double> tmp(fine.width);
+  Scratch<double> s;
+  const Columns cols = Columns::whole(fine.width, g.x.boundary == fem::AxisBoundary::Periodic);
   for (int j = 0; j < fine.height; ++j) {
     const fem::ProlongationRow& py = g.py.rows[j];
-    prolong_row(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), fine.row(j), tmp.data());
+    prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, cols, fine.row(j), 0, s);
   }
   return fine;
 }
@@ -48,10 +51,11 @@ Plane<double> prolong(const Hierarchy& h, int l, const Plane<double>& coarse) {
 Plane<double> restrict_plane(const Hierarchy& h, int l, const Plane<double>& fine) {
   const LevelGeometry& g = h.levels[l + 1];
   Plane<double> coarse(g.width(), g.height());
-  std::vector<double> tmp(fine.width);
+  Scratch<double> s;
+  const Columns cols = Columns::whole(coarse.width, g.x.boundary == fem::AxisBoundary::Periodic);
   for (int j = 0; j < fine.height; ++j) {
     const fem::ProlongationRow& py = g.py.rows[j];
-    restrict_row(g.px, py, fine.row(j), coarse.row(py.index[0]), coarse.row(py.index[1]), tmp.data());
+    restrict_rows(g.px, py, fine.row(j), 0, cols, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
   }
   return coarse;
 }
@@ -69,7 +73,7 @@ TEST_P(Galerkin, CoarseOperatorIsRestrictionTimesFineOperatorTimesProlongation) 
   std::uniform_real_distribution<double> d(-1.0, 1.0);
   for (std::size_t l = 0; l + 1 < hier.levels.size(); ++l) {
     const LevelOperator<double> fine(hier.levels[l], alpha), coarse(hier.levels[l + 1], alpha);
-    RowScratch<double> sf(fine.width), sc(coarse.width);
+    Scratch<double> sf, sc;
     for (int k = 0; k < coarse.width * coarse.height; ++k) {
       Plane<double> e(coarse.width, coarse.height), ae(coarse.width, coarse.height);
       e.data[k] = 1.0;

@@ -21,7 +21,7 @@ Image cg_reference(const Image& img, Domain domain, double alpha) {
   // Right-hand side = A p (the exact-gradient identity, tested separately).
   multigrid::Plane<double> p(img.width, img.height), b(img.width, img.height), u(img.width, img.height);
   std::copy(img.data.begin(), img.data.begin() + img.plane_size(), p.data.begin());
-  multigrid::RowScratch<double> s(img.width);
+  multigrid::Scratch<double> s;
   multigrid::apply(op, p, b, s);
   multigrid::solve_cg(op, alpha == 0.0, b, u, 1e-14, 100000);
   Image out(img.width, img.height, 1);

@@ -10,11 +10,11 @@
 #include "bands/band_fold.h"
 #include "bands/band_phase.h"
 #include "bands/band_vcycle_parts.h"
-#include "multigrid/band_ops.h"
 
 namespace gdp::bands {
 
-using multigrid::BandWindow;
+using multigrid::Columns;
+using multigrid::Window;
 using multigrid::LevelOperator;
 using multigrid::Plane;
 
@@ -143,9 +143,13 @@ T* BandVCycle<T>::d_row(int l, int j) {
   return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.len;
 }
 template <class T>
-BandWindow<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
+Columns BandVCycle<T>::columns(int l, int begin, int end, bool forward) const {
+  return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
+}
+template <class T>
+Window<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
   const Level& L = *levels_[l];
-  BandWindow<T> w;
+  Window<T> w;
   for (int d = 0; d < 5; ++d) {
     const int r = L.op->row_of(j, d);
     if (r < 0) continue;
@@ -225,8 +229,8 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
     if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);
     const auto measure_row = [&](int j) {
       for (int c = 0; c < set_.channels; ++c) {
-        multigrid::residual_columns(*L.op, j, window(0, c, j, true), b_row(0, c, j), r_.data(), L.origin, L.A, L.B,
-                                    L.scratch, d_row(0, j));
+        multigrid::residual(*L.op, j, window(0, c, j, true), columns(0, L.A, L.B), b_row(0, c, j), r_.data(),
+                            L.scratch, d_row(0, j));
         initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
       }
     };
@@ -263,8 +267,8 @@ void BandVCycle<T>::run_phase(int l, int p) {
       layout_, l, band_, L.height, p,
       [&](const Tile& t) {
         for (int c = 0; c < set_.channels; ++c)
-          multigrid::relax_columns(*L.op, t.row, window(l, c, t.row), u_row(l, c, t.row), b_row(l, c, t.row), t.lo,
-                                   t.hi, t.forward, L.scratch, d_row(l, t.row));
+          multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(l, t.lo, t.hi, t.forward), u_row(l, c, t.row),
+                           b_row(l, c, t.row), L.scratch, d_row(l, t.row));
       },
       [&](bool left) { send_strips(l, p, left); }, [&](bool left) { receive_strips(l, p, left); });
   while (L.finished < L.height && final_phase(layout_, L.height, L.finished) <= p) finish_row(l, L.finished++);
@@ -315,8 +319,8 @@ void BandVCycle<T>::finish_row(int l, int j) {
   Level& L = *levels_[l];
   if (l != 0 || !set_.measure_final) return;
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_columns(*L.op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, L.A, L.B, L.scratch,
-                                d_row(l, j));
+    multigrid::residual(*L.op, j, window(l, c, j), columns(l, L.A, L.B), b_row(l, c, j), r_.data(), L.scratch,
+                        d_row(l, j));
     final_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
@@ -340,8 +344,6 @@ void BandVCycle<T>::restrict_row(int l, int j) {
   }
   const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
   const int corigin = tail ? 0 : levels_[l + 1]->origin;
-  int lo = L.A - 2, hi = L.B + 2;
-  if (!periodic) lo = std::max(lo, 0), hi = std::min(hi, L.width);
   const int own = L.A - L.origin;
   // Across the fold (the first and last rows of a spherical level) the second coarse row is read
   // mirrored: its contributions land in other bands' columns, so they collect in whole rows
@@ -352,12 +354,12 @@ void BandVCycle<T>::restrict_row(int l, int j) {
   if (across) fold.assign(static_cast<std::size_t>(set_.channels + 2) * m, T(0));
   const auto restrict_part = [&](int k, const T* fine, T* coarse0, T* coarse1) {
     if (across) coarse1 = fold.data() + static_cast<std::size_t>(k) * m;
-    multigrid::restrict_columns(g.px, py, periodic, fine, L.origin, lo, hi, coarse0, coarse1,
-                                {corigin, across ? 0 : corigin}, ca, cb, L.scratch);
+    multigrid::restrict_rows(g.px, py, fine, L.origin, Columns::range(g.width(), periodic, ca, cb), coarse0, coarse1,
+                             {corigin, across ? 0 : corigin}, L.scratch);
   };
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_columns(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.origin, lo, hi, L.scratch,
-                                d_row(l, j));
+    multigrid::residual(op, j, window(l, c, j), columns(l, L.A - 2, L.B + 2), b_row(l, c, j), r_.data(), L.scratch,
+                        d_row(l, j));
     L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
     const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
     restrict_part(c, r_.data(), coarse(py.index[0]), coarse(py.index[1]));
@@ -548,9 +550,8 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       for (int c = 0; c < set_.channels; ++c) {
         const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
         const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : coarse(py.index[1]);
-        multigrid::prolong_columns(g.px, py, layout_.periodic, coarse(py.index[0]), coarse1,
-                                   {corigin, across ? 0 : corigin}, tail, u_row(l, c, r), L.origin, L.origin,
-                                   L.origin + L.len);
+        multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse1, {corigin, across ? 0 : corigin}, tail,
+                                columns(l, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
       }
       ++L.arrived;
     }

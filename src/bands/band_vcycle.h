@@ -9,7 +9,7 @@
 
 #include "bands/band_layout.h"
 #include "bands/transport.h"
-#include "multigrid/band_ops.h"
+#include "multigrid/window_ops.h"
 #include "multigrid/incore_vcycle.h"
 #include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
@@ -78,7 +78,9 @@ class BandVCycle {
   void check_slot(int l, int row) const;
   void reduce_final();
   // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
-  multigrid::BandWindow<T> window(int l, int c, int j, bool initial = false);
+  multigrid::Window<T> window(int l, int c, int j, bool initial = false);
+  // Columns [begin, end) of level l.
+  multigrid::Columns columns(int l, int begin, int end, bool forward = true) const;
   // Spherical levels (docs/how-bands-work.md, "Across the fold"): row `row` (0, 1, h-2 or h-1),
   // whole, as the last exchange across the fold showed it.
   T* fold_row(int l, int c, int row, bool initial = false);

@@ -68,7 +68,7 @@ struct BandVCycle<T>::Level {
   int width = 0, height = 0, ring = 0;
   int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
   std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
-  multigrid::BandScratch<T> scratch;
+  multigrid::Scratch<T> scratch;
   int phases = 0;         // phases per pass (band_phase.h)
   int arrived = 0;        // rows that entered this pass
   int next_phase = 0;     // the next phase to run

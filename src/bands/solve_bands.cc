@@ -290,7 +290,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         if (settings.diagonal) cut(d.data(), w, periodic, origin, length, batch.d);
         if (++batch.rows < batch_rows(length, channels) && !last) continue;
         if (!workers[i]->worker.in.push(std::move(batch))) throw TransportStopped("stopped");
-        batch = Batch<T>{};
+        batch = workers[i]->worker.spent_in.take();
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
     }
@@ -305,6 +305,7 @@ void solve_bands(GuidanceSource& source, const SolverOptions& opt, RowWriter& ou
         if (r.rows == 0 || j >= r.first + r.rows) {
           auto next = workers[i]->worker.out.pop();
           if (!next) throw TransportStopped("stopped");
+          workers[i]->worker.spent_out.give(std::move(r));
           r = std::move(*next);
         }
         const int a = layout.begin(0, band), own = layout.end(0, band) - a;

@@ -68,13 +68,13 @@ int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<con
 
 std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plane<double>& diag) {
   // A applied to unit vectors, one pixel at a time (the coarsest level is small).
-  RowScratch<double> s(op.width);
+  Scratch<double> s;
   Plane<double> e(op.width, op.height), ae(op.width, op.height);
   std::vector<double> inverse(e.data.size());
   for (std::size_t k = 0; k < e.data.size(); ++k) {
     e.data[k] = 1.0;
     const int j = static_cast<int>(k / op.width);
-    apply_row(op, j, window(op, e, j), ae.row(j), s, diag.row(j));
+    apply(op, j, window(op, e, j), whole_row(op), ae.row(j), s, diag.row(j));
     inverse[k] = 1.0 / ae.data[k];
     e.data[k] = 0.0;
   }
@@ -83,15 +83,15 @@ std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plan
 
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
              double tolerance, int max_iterations, const Plane<double>* diag, std::span<const double> inverse) {
-  RowScratch<double> s(op.width);
-  const auto apply = [&](std::span<const double> in, std::span<double> out) {
+  Scratch<double> s;
+  const auto product = [&](std::span<const double> in, std::span<double> out) {
     for (int j = 0; j < op.height; ++j)
-      apply_row(op, j, window(op, in.data(), j), out.data() + static_cast<std::size_t>(j) * op.width, s,
-                diag_row(diag, j));
+      apply(op, j, window(op, in.data(), j), whole_row(op), out.data() + static_cast<std::size_t>(j) * op.width, s,
+            diag_row(diag, j));
   };
   std::vector<double> computed;
   if (diag && inverse.empty()) inverse = computed = inverse_diagonal(op, *diag);
-  return conjugate_gradients(apply, singular, b.data, u.data, tolerance, max_iterations,
+  return conjugate_gradients(product, singular, b.data, u.data, tolerance, max_iterations,
                              diag ? inverse : std::span<const double>{});
 }
 

@@ -25,7 +25,7 @@ int conjugate_gradients(const ApplyOperator& apply, bool singular, std::span<con
 std::vector<double> inverse_diagonal(const LevelOperator<double>& op, const Plane<double>& diag);
 
 // The same on one level (singular when alpha == 0 and there is no diagonal term), with the
-// optional per-pixel diagonal term of row_ops.h, then preconditioned with `inverse` (computed
+// optional per-pixel diagonal term of window_ops.h, then preconditioned with `inverse` (computed
 // here when empty: callers solving many times pass inverse_diagonal()'s once).
 int solve_cg(const LevelOperator<double>& op, bool singular, const Plane<double>& b, Plane<double>& u,
              double tolerance, int max_iterations, const Plane<double>* diag = nullptr,

@@ -54,6 +54,7 @@ struct LevelOperator {
   // Whether that row is read mirrored left to right (the top and bottom rows of a spherical
   // domain); the kernels handle it, schedules just hand over row_of's rows.
   fem::Mirror mirror_of(int j, int d) const { return mirrors_[j][d]; }
+  const std::array<fem::Mirror, 5>& mirrors(int j) const { return mirrors_[j]; }
   // Columns [interior_begin, interior_end) share one symmetric x stencil (sx_in, mx_in), so
   // the kernels may use a constant-coefficient loop there.
   int interior_begin = 0, interior_end = 0;

@@ -30,14 +30,15 @@ template <class T>
 std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w) {
   std::vector<Plane<T>> out;
   out.push_back(std::move(w));
-  std::vector<T> tmp(ops.levels[first].width);
+  Scratch<T> s;
   for (int l = first; l + 1 < ops.count(); ++l) {
     const LevelGeometry& g = ops.hierarchy->levels[l + 1];
     Plane<T> coarse(g.width(), g.height());
     const Plane<T>& fine = out.back();
     for (int j = 0; j < fine.height; ++j) {
       const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_row(g.px, py, fine.row(j), coarse.row(py.index[0]), coarse.row(py.index[1]), tmp.data());
+      restrict_rows(g.px, py, fine.row(j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
+                    coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
     }
     out.push_back(std::move(coarse));
   }
@@ -46,13 +47,11 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
 
 template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
-    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first),
-      scratch_(ops.levels[first].width) {
+    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
   for (int l = first + 1; l < ops.count(); ++l) {
     u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
     b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
   }
-  tmp_.resize(ops.levels[first].width);
   r_row_.resize(ops.levels[first].width);
 }
 
@@ -83,11 +82,11 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     const LevelGeometry& g = geo[l + 1];
     double rr = 0.0;
     for (int j = 0; j < op.height; ++j) {
-      residual_row(op, j, window(op, U(l), j), B(l).row(j), r_row_.data(), scratch_, diag_row(D(l), j));
+      residual(op, j, window(op, U(l), j), whole_row(op), B(l).row(j), r_row_.data(), scratch_, diag_row(D(l), j));
       rr += row_dot(r_row_.data(), r_row_.data(), op.width);
       const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_row(g.px, py, r_row_.data(), coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
-                   tmp_.data());
+      restrict_rows(g.px, py, r_row_.data(), 0, whole_row(ops_.levels[l + 1]), coarse_b.row(py.index[0]),
+                    coarse_b.row(py.index[1]), {0, 0}, scratch_);
     }
     if (probe) probe->level_norms.push_back(std::sqrt(rr));
   }
@@ -102,7 +101,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
              coarse_inverse_);
     if (probe) {
       Plane<double> r(op.width, op.height);
-      RowScratch<double> s(op.width);
+      Scratch<double> s;
       residual(op, u, b, r, s, dp);
       probe->level_norms.push_back(norm2(r));
     }
@@ -117,7 +116,8 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     const Plane<T>& coarse = U(l + 1);
     for (int j = 0; j < op.height; ++j) {
       const fem::ProlongationRow& py = g.py.rows[j];
-      prolong_row(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), U(l).row(j), tmp_.data());
+      prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, whole_row(op),
+                   U(l).row(j), 0, scratch_);
     }
     relax(op, U(l), B(l), sweeps_, scratch_, D(l));
   }
@@ -140,8 +140,8 @@ double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
   const LevelOperator<T>& op = ops_.levels[first_];
   double rr = 0.0;
   for (int j = 0; j < op.height; ++j) {
-    residual_row(op, j, window(op, u, j), b.row(j), r_row_.data(), scratch_,
-                 diag_ ? (*diag_)[0].row(j) : nullptr);
+    residual(op, j, window(op, u, j), whole_row(op), b.row(j), r_row_.data(), scratch_,
+             diag_ ? (*diag_)[0].row(j) : nullptr);
     rr += row_dot(r_row_.data(), r_row_.data(), op.width);
   }
   return std::sqrt(rr);

@@ -5,7 +5,7 @@
 
 #include "multigrid/hierarchy.h"
 #include "multigrid/plane.h"
-#include "multigrid/row_ops.h"
+#include "multigrid/window_ops.h"
 
 namespace gdp::multigrid {
 
@@ -51,7 +51,7 @@ class InCoreVCycle {
            CycleProbe* probe = nullptr);
   // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
-  // A per-pixel diagonal term (row_ops.h) on every level: (*diag)[l - first] for level l
+  // A per-pixel diagonal term (window_ops.h) on every level: (*diag)[l - first] for level l
   // (restrict_weights() of the finest level's), or null for none. Not owned.
   void set_diagonal(const std::vector<Plane<T>>* diag);
 
@@ -64,8 +64,8 @@ class InCoreVCycle {
   Plane<double> coarse_diag_;           // the coarsest level's diagonal term in double ...
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
-  std::vector<T> tmp_, r_row_;
-  RowScratch<T> scratch_;
+  std::vector<T> r_row_;
+  Scratch<T> scratch_;
 };
 
 }  // namespace gdp::multigrid

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <utility>
@@ -28,6 +29,31 @@ template <class T>
 struct Batch {
   int first = 0, rows = 0;
   std::vector<T> u, b, w, d;
+};
+
+// Batches handed back for reuse: their vectors keep their capacity, so a solve allocates a few
+// batches per worker once instead of one per batch (large buffers allocated and freed in the
+// inner loop cost a page fault per page every time, docs/multigrid.md).
+template <class T>
+class BatchPool {
+ public:
+  void give(Batch<T>&& b) {
+    b.first = b.rows = 0;
+    for (std::vector<T>* v : {&b.u, &b.b, &b.w, &b.d}) v->clear();
+    const std::lock_guard lock(mutex_);
+    free_.push_back(std::move(b));
+  }
+  Batch<T> take() {
+    const std::lock_guard lock(mutex_);
+    if (free_.empty()) return {};
+    Batch<T> b = std::move(free_.back());
+    free_.pop_back();
+    return b;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<Batch<T>> free_;
 };
 
 // Runs the V-cycles of `vcycle` (a StreamingVCycle or a bands::BandVCycle: begin_cycle, push,
@@ -71,6 +97,7 @@ class CycleWorker {
         if (next_in == batch.rows) {
           auto b = in.pop();
           if (!b) return false;
+          spent_in.give(std::move(batch));
           batch = std::move(*b);
           next_in = 0;
         }
@@ -122,6 +149,7 @@ class CycleWorker {
   }
 
   BoundedQueue<Batch<T>> in, out;
+  BatchPool<T> spent_in, spent_out;  // batches of `in` and `out` the taker is done with
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
@@ -135,7 +163,7 @@ class CycleWorker {
     ++result.rows;
     if (result.rows < batch_rows(kept_, channels_) && j + 1 < height_) return true;
     const bool ok = out.push(std::move(result));
-    result = Batch<T>{};
+    result = spent_out.take();
     return ok;
   }
 

@@ -113,7 +113,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
         batch.d.insert(batch.d.end(), d.begin(), d.end());
         if (++batch.rows < batch_rows(w, channels) && !last) continue;
         if (!lanes[l]->worker.in.push(std::move(batch))) throw std::runtime_error("stopped");
-        batch = Batch<T>{};
+        batch = lanes[l]->worker.spent_in.take();
       }
       if (j % 64 == 63) report(0.5 * (j + 1) / h);
     }
@@ -125,6 +125,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
         if (r.rows == 0 || j >= r.first + r.rows) {
           auto next = lanes[l]->worker.out.pop();
           if (!next) throw std::runtime_error("stopped");
+          lanes[l]->worker.spent_out.give(std::move(r));
           r = std::move(*next);
         }
         const std::size_t count = static_cast<std::size_t>(lanes[l]->channels()) * w;

@@ -11,14 +11,15 @@ namespace gdp::schedule {
 
 using multigrid::LevelOperator;
 using multigrid::Plane;
-using multigrid::RowWindow;
+using multigrid::Columns;
+using multigrid::Window;
 
 template <class T>
 struct StreamingVCycle<T>::Level {
   const LevelOperator<T>* op = nullptr;
   int width = 0, height = 0, ring = 0;
   std::vector<T> u, b, w, d;  // ring slots: u and b hold channels * width samples, w and d width samples
-  multigrid::RowScratch<T> scratch;
+  multigrid::Scratch<T> scratch;
   std::vector<Stage> stages;
   std::vector<int> done;     // rows finished by each stage in this pass
   int arrived = 0;           // rows that entered this pass
@@ -54,7 +55,6 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
     L->b.assign(L->ring * slot, T(0));
     if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * op.width, T(0));
     if (set_.diagonal) L->d.assign(static_cast<std::size_t>(L->ring) * op.width, T(0));
-    L->scratch.resize(op.width);
     L->last_touch.assign(geo[l + 1].height(), -1);
     for (int j = 0; j < op.height; ++j)
       for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
@@ -76,7 +76,6 @@ StreamingVCycle<T>::StreamingVCycle(const multigrid::Operators<T>& ops, const Se
   if (set_.weights) tail_w_ = Plane<T>(first.width, first.height);
   if (set_.diagonal) tail_d_ = Plane<T>(first.width, first.height);
   tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, set_.sweeps, set_.coarse_tolerance, set_.incore_from);
-  tmp_.resize(ops.levels[0].width);
   r_.resize(ops.levels[0].width);
   probes_.resize(channels);
 }
@@ -107,11 +106,11 @@ T* StreamingVCycle<T>::d_row(int l, int j) {
 }
 
 template <class T>
-RowWindow<T> StreamingVCycle<T>::window(int l, int c, int j) {
+Window<T> StreamingVCycle<T>::window(int l, int c, int j) {
   const LevelOperator<T>& op = *levels_[l]->op;
-  RowWindow<T> rows{};
-  for (int d = 0; d < 5; ++d) rows[d] = op.row_of(j, d) < 0 ? nullptr : u_row(l, c, op.row_of(j, d));
-  return rows;
+  Window<T> w;
+  for (int d = 0; d < 5; ++d) w.rows[d] = op.row_of(j, d) < 0 ? nullptr : u_row(l, c, op.row_of(j, d));
+  return w;
 }
 
 template <class T>
@@ -195,12 +194,13 @@ void StreamingVCycle<T>::run_stage(int l, Stage stage, int j) {
   Level& L = *levels_[l];
   const LevelOperator<T>& op = *L.op;
   if (stage == Stage::Restrict) return restrict_into_coarser(l, j);
+  const Columns whole = Columns::whole(op.width, op.periodic_x);
   for (int c = 0; c < set_.channels; ++c) {
-    const RowWindow<T> rows = window(l, c, j);
+    const Window<T> rows = window(l, c, j);
     if (stage == Stage::Sweep) {
-      multigrid::relax_row(op, j, rows, u_row(l, c, j), b_row(l, c, j), L.scratch, d_row(l, j));
+      multigrid::relax(op, j, rows, whole, u_row(l, c, j), b_row(l, c, j), L.scratch, d_row(l, j));
     } else {
-      multigrid::residual_row(op, j, rows, b_row(l, c, j), r_.data(), L.scratch, d_row(l, j));
+      multigrid::residual(op, j, rows, whole, b_row(l, c, j), r_.data(), L.scratch, d_row(l, j));
       (stage == Stage::MeasureInitial ? initial_rr_ : final_rr_)[c] += multigrid::row_dot(r_.data(), r_.data(), L.width);
     }
   }
@@ -224,19 +224,24 @@ void StreamingVCycle<T>::restrict_into_coarser(int l, int j) {
     }
   }
   const auto coarse_b = [&](int c, int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
+  const Columns coarse = Columns::whole(g.width(), op.periodic_x);
+  const auto transfer = [&](const T* fine, T* coarse0, T* coarse1) {
+    multigrid::restrict_rows(g.px, py, fine, 0, coarse, coarse0, coarse1, {0, 0}, L.scratch);
+  };
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual_row(op, j, window(l, c, j), b_row(l, c, j), r_.data(), L.scratch, d_row(l, j));
+    multigrid::residual(op, j, window(l, c, j), Columns::whole(op.width, op.periodic_x), b_row(l, c, j), r_.data(),
+                        L.scratch, d_row(l, j));
     L.rr[c] += multigrid::row_dot(r_.data(), r_.data(), L.width);
-    multigrid::restrict_row(g.px, py, r_.data(), coarse_b(c, py.index[0]), coarse_b(c, py.index[1]), tmp_.data());
+    transfer(r_.data(), coarse_b(c, py.index[0]), coarse_b(c, py.index[1]));
     if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j), u_row(l, c, j), L.width);
   }
   if (set_.weights) {
     const auto coarse_w = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
-    multigrid::restrict_row(g.px, py, w_row(l, j), coarse_w(py.index[0]), coarse_w(py.index[1]), tmp_.data());
+    transfer(w_row(l, j), coarse_w(py.index[0]), coarse_w(py.index[1]));
   }
   if (set_.diagonal) {
     const auto coarse_d = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
-    multigrid::restrict_row(g.px, py, d_row(l, j), coarse_d(py.index[0]), coarse_d(py.index[1]), tmp_.data());
+    transfer(d_row(l, j), coarse_d(py.index[0]), coarse_d(py.index[1]));
   }
   L.u_store->append({u_row(l, 0, j), slot});
   if (!L.inputs_stored) {
@@ -328,7 +333,8 @@ void StreamingVCycle<T>::ensure_final(int l, int row) {
     }
     for (int c = 0; c < set_.channels; ++c) {
       const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
-      multigrid::prolong_row(g.px, py, coarse(py.index[0]), coarse(py.index[1]), u_row(l, c, r), tmp_.data());
+      multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse(py.index[1]), {0, 0}, true,
+                              Columns::whole(L.width, L.op->periodic_x), u_row(l, c, r), 0, L.scratch);
     }
     ++L.arrived;
     advance(l);

@@ -63,7 +63,7 @@ class StreamingVCycle {
   void run_incore();
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
-  multigrid::RowWindow<T> window(int l, int c, int j);  // rows j-2 .. j+2 of channel c
+  multigrid::Window<T> window(int l, int c, int j);  // rows j-2 .. j+2 of channel c
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
@@ -79,7 +79,7 @@ class StreamingVCycle {
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   std::vector<multigrid::CycleProbe> probes_;
   std::vector<double> initial_rr_, final_rr_;
-  std::vector<T> tmp_, r_;
+  std::vector<T> r_;
   int cycle_ = 0;
   bool prolongation_ = false;
 };

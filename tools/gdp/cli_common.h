@@ -107,6 +107,7 @@ class Stats {
   Clock::time_point start_;
   std::map<std::string, double> seconds_;
   std::map<std::string, std::string> extra_;
+  double megapixels_ = 0.0;  // of the last image() (minor page faults per Mpix)
 };
 
 // A line on stderr unless --quiet.

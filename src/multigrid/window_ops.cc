@@ -1,0 +1,427 @@
+// Window kernels: edges decided once per call, the edge/interior split inside, transfers as gathers.
+#include "multigrid/window_ops.h"
+
+#include <algorithm>
+
+namespace gdp::multigrid {
+namespace {
+
+// Each kernel is compiled for x86-64-v3 (AVX2 + FMA) and the baseline, the loader picking one;
+// the helpers are forced inline, or their loops would be compiled for the baseline only.
+#define GDP_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define GDP_INLINE __attribute__((always_inline)) inline
+
+GDP_INLINE int floor_div(int a, int n) { return a >= 0 ? a / n : -((n - 1 - a) / n); }
+
+// A run of columns [x, end) read linearly: column i reads column i - base of a table (one
+// periodic copy) or column base - i of a row mirrored across a fold.
+struct Run { int end, base; };
+
+GDP_INLINE Run copy_run(int n, bool periodic, int x, int hi) {
+  const int k = periodic ? floor_div(x, n) : 0;
+  return {periodic ? std::min(hi, (k + 1) * n) : hi, k * n};
+}
+
+// fem::mirror_column of the wrapped column, run by run.
+GDP_INLINE Run mirror_run(fem::Mirror m, int n, int x, int hi) {
+  const int k = floor_div(x, n), h = n / 2;
+  if (m == fem::Mirror::Top) return {std::min(hi, (k + 1) * n), n - 1 + k * n};
+  if (x - k * n < h) return {std::min(hi, k * n + h), h - 1 + k * n};
+  return {std::min(hi, (k + 1) * n), h - 1 + k * n + n};
+}
+
+template <class T>
+GDP_INLINE T* grow(std::vector<T>& v, int n) {
+  if (static_cast<int>(v.size()) < n) v.resize(n);
+  return v.data();
+}
+
+// a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d} at columns [begin - 2, end + 2), from s.a[0]:
+// from the rows where they hold the columns, zero beyond a non-periodic level, wrapped for Wrap.
+template <class T>
+GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
+  const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
+  const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
+  const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
+  const int count = std::max(to - from, 0);
+  T* a = grow(s.a, len);
+  T* c = grow(s.c, len);
+  std::array<const T*, 5> u;
+  std::array<T, 5> m{}, k{};
+  const std::array<T, 5>& my = op.my[j];  // row tables: one lookup each, not one per row
+  const std::array<T, 5>& cy = op.cy[j];
+  const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
+  for (int d = 0; d < 5; ++d) {
+    const T* row = w.rows[d];
+    if (!row) {  // unused rows have zero coefficients
+      if (static_cast<int>(s.zero.size()) < count) s.zero.assign(count, T(0));
+      u[d] = s.zero.data();
+      continue;
+    }
+    m[d] = my[d], k[d] = cy[d];
+    const fem::Mirror mirror = mirrors[d];
+    u[d] = row + (from - w.origin[d]);
+    if (mirror == fem::Mirror::None) continue;
+    // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
+    T* copy = grow(s.mirrored[d], count);
+    for (int x = from; x < to;) {
+      const Run r = mirror_run(mirror, n, x, to);
+      for (; x < r.end; ++x) copy[x - from] = row[r.base - x - w.origin[d]];
+    }
+    u[d] = copy;
+  }
+  T* A = a + (from - lo);
+  T* C = c + (from - lo);
+  if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
+    // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
+#pragma GCC ivdep
+    for (int i = 0; i < count; ++i) {
+      const T p1 = u[1][i] + u[3][i], p2 = u[0][i] + u[4][i];
+      A[i] = m[2] * u[2][i] + m[1] * p1 + m[0] * p2;
+      C[i] = k[2] * u[2][i] + k[1] * p1 + k[0] * p2;
+    }
+  } else {
+#pragma GCC ivdep
+    for (int i = 0; i < count; ++i) {
+      A[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
+      C[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
+    }
+  }
+  std::fill(a, A, T(0)), std::fill(c, C, T(0));
+  std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
+  if (!wrap) return;
+  for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
+    a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
+    a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
+  }
+}
+
+// q[x] = sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column g + x.
+template <class T>
+GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, int count, int g) {
+  const T *s0 = op.sx[0].data() + g, *s1 = op.sx[1].data() + g, *s2 = op.sx[2].data() + g,
+          *s3 = op.sx[3].data() + g, *s4 = op.sx[4].data() + g;
+  const T *m0 = op.mx[0].data() + g, *m1 = op.mx[1].data() + g, *m2 = op.mx[2].data() + g,
+          *m3 = op.mx[3].data() + g, *m4 = op.mx[4].data() + g;
+  // The 20 input streams never alias q; without this GCC gives up on vectorising.
+#pragma GCC ivdep
+  for (int i = 0; i < count; ++i)
+    q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
+           m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+}
+
+// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
+// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere.
+template <class T>
+GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q) {
+  const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
+  const T* c = s.c.data() + 2 - cols.begin;
+  q -= cols.begin;
+  const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
+  const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
+  for (int i = cols.begin; i < cols.end;) {
+    const Run r = copy_run(op.width, cols.periodic, i, cols.end);
+    const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
+    const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
+    general(op, q + i, a + i, c + i, ib - i, i - r.base);
+#pragma GCC ivdep
+    for (int x = ib; x < ie; ++x)
+      q[x] = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+             m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+    general(op, q + ie, a + ie, c + ie, r.end - ie, ie - r.base);
+    i = r.end;
+  }
+}
+
+// q = (A u) on the columns, in s.q.
+template <class T>
+GDP_INLINE T* stencil(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
+  T* q = grow(s.q, cols.end - cols.begin);
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, q);
+  return q;
+}
+
+// The recurrence's terms of table columns [g0, g0 + count) into K from K's column 0 (diag:
+// indexed likewise), for one direction; blocks of four on table multiples of 4.
+template <class T>
+void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int count, bool forward,
+          typename Scratch<T>::Coefficients& K) {
+  const int near = forward ? 1 : 3, far = forward ? 0 : 4;
+  T* inv = grow(K.inv, count);
+  T* k1 = grow(K.k[near], count);
+  T* k2 = grow(K.k[far], count);
+  for (int i = 0; i < count; ++i) {
+    const int g = g0 + i;
+    inv[i] = T(1) / (op.sx[2][g] * m0 + op.mx[2][g] * c0 + (diag ? diag[i] : T(0)));
+    k1[i] = (op.sx[near][g] * m0 + op.mx[near][g] * c0) * inv[i];
+    k2[i] = (op.sx[far][g] * m0 + op.mx[far][g] * c0) * inv[i];
+  }
+  // dx[b + r] = A_r + B[b + r] dx[b - 1] + C[b + r] dx[b - 2] (backward: from the block's top
+  // down, with dx[e + 1], dx[e + 2]); A is the recurrence started from zero inside the block.
+  T* B = grow(forward ? K.fb : K.bb, count);
+  T* C = grow(forward ? K.fc : K.bc, count);
+  const int s = forward ? 1 : -1;
+  for (int b = (4 - g0 % 4) % 4; b + 4 <= count; b += 4) {
+    const int e = forward ? b : b + 3;
+    B[e] = -k1[e];
+    C[e] = -k2[e];
+    B[e + s] = -k1[e + s] * B[e] - k2[e + s];
+    C[e + s] = -k1[e + s] * C[e];
+    for (int r = 2; r < 4; ++r) {
+      const int x = e + s * r;
+      B[x] = -k1[x] * B[x - s] - k2[x] * B[x - 2 * s];
+      C[x] = -k1[x] * C[x - s] - k2[x] * C[x - 2 * s];
+    }
+  }
+}
+
+// The recurrence dx[x] = t[x] - kn[x] dx[x - S] - kf[x] dx[x - 2S] for x = 0, S, .. (S - 1) *
+// count, carrying d1 = dx[x - S], d2 = dx[x - 2S]; blocks of four from step `lead` on (the only
+// chain carried from block to block is two multiply-adds).
+template <int S, class T>
+GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* dx,
+                      T& d1, T& d2) {
+  for (int n = 0; n < count;) {
+    const int x = S * n;
+    if (n < lead || n + 4 > count) {  // one sample
+      const T v = t[x] - kf[x] * d2;
+      d2 = d1;
+      d1 = v - kn[x] * d1;
+      dx[x] = d1;
+      ++n;
+      continue;
+    }
+    const T a0 = t[x];
+    const T a1 = t[x + S] - kn[x + S] * a0;
+    const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
+    const T a3 = t[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
+    dx[x] = a0 + B[x] * d1 + C[x] * d2;
+    dx[x + S] = a1 + B[x + S] * d1 + C[x + S] * d2;
+    const T n2 = a2 + B[x + 2 * S] * d1 + C[x + 2 * S] * d2;
+    const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
+    dx[x + 2 * S] = n2;
+    dx[x + 3 * S] = n1;
+    d2 = n2;
+    d1 = n1;
+    n += 4;
+  }
+}
+
+}  // namespace
+
+Columns Columns::whole(int n, bool periodic) {
+  const Edge e = periodic ? Edge::Wrap : Edge::Image;
+  return {0, n, n, periodic, e, e, true};
+}
+
+Columns Columns::range(int n, bool periodic, int begin, int end, bool forward) {
+  if (!periodic) begin = std::max(begin, 0), end = std::min(end, n);
+  const Edge left = !periodic && begin == 0 ? Edge::Image : Edge::Halo;
+  const Edge right = !periodic && end == n ? Edge::Image : Edge::Halo;
+  return {begin, end, n, periodic, left, right, forward};
+}
+
+template <class T>
+const typename Scratch<T>::Coefficients& Scratch<T>::coefficients(const LevelOperator<T>& op, T m0, T c0) {
+  for (const Coefficients& k : cached)
+    if (k.op == &op && k.m0 == m0 && k.c0 == c0) return k;
+  if (cached.size() >= 8) std::rotate(cached.begin(), cached.begin() + 1, cached.end());  // reuse the oldest
+  else cached.emplace_back();
+  Coefficients& k = cached.back();
+  k.op = &op, k.m0 = m0, k.c0 = c0;
+  fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, true, k);
+  fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, false, k);
+  return k;
+}
+
+template <class T>
+GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
+                      const T* diag) {
+  if (cols.end <= cols.begin) return;
+  const int o = cols.begin - w.origin[2];
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, out + o);
+  if (diag)
+    for (int x = o; x < o + cols.end - cols.begin; ++x) out[x] += diag[x] * w.rows[2][x];
+}
+
+template <class T>
+GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, const T* b, T* r,
+                         Scratch<T>& s, const T* diag) {
+  const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
+  if (len <= 0) return;
+  T* q = stencil(op, j, w, cols, s);
+  // A pinned pixel's equation u = value holds after relaxation (to ~1e-6); b - A u - D u there is
+  // round-off of D * value against D * u, noise that would swamp the residual norms: taken as zero.
+  const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
+  for (int x = 0, i = o; x < len; ++x, ++i)
+    r[i] = diag && diag[i] >= pinned ? T(0) : b[i] - q[x] - (diag ? diag[i] * u[i] : T(0));
+}
+
+// Gauss-Seidel as a recurrence on the corrections: with q = A u before the sweep, dx_i = (b_i - q_i
+// - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i) (backward: K_1, K_2), K_d = sx[d] my0 + mx[d] cy0.
+// Corrections beyond the columns are zero, but a whole periodic row's ends see each other.
+template <class T>
+GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b,
+                      Scratch<T>& s, const T* diag) {
+  const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
+  if (len <= 0) return;
+  T* q = stencil(op, j, w, cols, s);
+  const T m0 = op.my[j][2], c0 = op.cy[j][2];
+  T* dx = grow(s.dx, len + 4) + 2;
+  dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
+  const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
+  const int swept = wrap ? std::max(len - 2, 0) : len;
+  const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
+  T d1 = T(0), d2 = T(0);
+  const T* inv = nullptr;
+  for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
+    const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
+    const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
+    const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
+    if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
+    const int at = diag ? 0 : g0;  // K's column for x0
+    inv = K->inv.data() + at;
+    T* t = q + x0;
+    for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
+    if (fwd) {
+      recur<1>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at,
+               std::min(count, swept - x0), (4 - g0 % 4) % 4, dx + x0, d1, d2);
+    } else {
+      const int top = count - 1;
+      recur<-1>(t + top, K->k[3].data() + at + top, K->k[4].data() + at + top, K->bb.data() + at + top,
+                K->bc.data() + at + top, count, ((g0 + top) % 4 + 1) % 4, dx + x0 + top, d1, d2);
+    }
+    done += count;
+  }
+  for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)
+    T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
+    for (int d = len - i; d <= 2; ++d) {
+      const int col = fem::wrap_index(i + d, len);
+      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * inv[i] * dx[col];
+    }
+    dx[i] = v;
+  }
+  for (int x = 0; x < len; ++x) u[o + x] += dx[x];
+}
+
+// Coarse J = 1 .. m-2 take the plain two-scale weights from fine 2J-1 .. 2J+2 (a gather that
+// vectorises); only J = 0 and m-1 see reflected or wrapped fine samples, and those come only from
+// the first and last three fine samples, read at the copy nearest to J (Halo) or in the row.
+template <class T>
+GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine,
+                              int fine_origin, Columns cols, T* coarse0, T* coarse1, std::array<int, 2> origin,
+                              Scratch<T>& s) {
+  const int n = static_cast<int>(px.rows.size()), m = px.coarse_n, len = cols.end - cols.begin;
+  if (len <= 0) return;
+  T* tmp = grow(s.line, len) - cols.begin;  // tmp[J]
+  const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
+  for (int J = cols.begin; J < cols.end;) {
+    const Run r = copy_run(m, cols.periodic, J, cols.end);
+    const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
+    if (m == n) {
+      for (; J < r.end; ++J) tmp[J] = fine[J - fine_origin];
+      continue;
+    }
+    const auto edge = [&](int Jw) __attribute__((always_inline)) {
+      T v = T(0);
+      for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
+        const int at = unwrap ? i + n * floor_div(2 * Jw + n / 2 - i, n) : i;
+        for (int a = 0; a < 2; ++a)
+          if (px.rows[i].index[a] == Jw) v += static_cast<T>(px.rows[i].weight[a]) * fine[off + at];
+      }
+      return v;
+    };
+    const int j0 = std::clamp(1 + r.base, J, r.end), j1 = std::clamp(m - 1 + r.base, j0, r.end);
+    if (J < j0) tmp[J] = edge(J - r.base);
+    const T* f = fine + (off - 2 * r.base);  // f[2J + d]: fine column 2(J - base) + d of copy k
+#pragma GCC ivdep
+    for (int x = j0; x < j1; ++x) tmp[x] = T(0.25) * (f[2 * x - 1] + f[2 * x + 2]) + T(0.75) * (f[2 * x] + f[2 * x + 1]);
+    if (j1 < r.end) tmp[j1] = edge(j1 - r.base);
+    J = r.end;
+  }
+  const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
+  for (int J = cols.begin; J < cols.end; ++J) coarse0[J - origin[0]] += w0 * tmp[J];
+  if (w1 == T(0)) return;
+  if (py.mirror == fem::Mirror::None) {
+    for (int J = cols.begin; J < cols.end; ++J) coarse1[J - origin[1]] += w1 * tmp[J];
+    return;
+  }
+  for (int J = cols.begin; J < cols.end;) {
+    const Run r = mirror_run(py.mirror, m, J, cols.end);
+    for (; J < r.end; ++J) coarse1[r.base - J - origin[1]] += w1 * tmp[J];
+  }
+}
+
+// Fine 2J and 2J+1 take 3/4 of coarse J and 1/4 of J-1 and J+1, from the y-interpolated coarse
+// samples formed once; only the first and last three fine samples read reflected or wrapped ones.
+template <class T>
+GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0,
+                             const T* coarse1, std::array<int, 2> origin, bool coarse_whole, Columns cols, T* fine,
+                             int fine_origin, Scratch<T>& s) {
+  const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
+  if (cols.end <= cols.begin) return;
+  const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
+  // The coarse columns read: [lo, hi), unwrapped where the fine ones are.
+  int lo = floor_div(cols.begin, n) * m + (cols.begin - floor_div(cols.begin, n) * n) * m / n - 1;
+  int hi = floor_div(cols.end - 1, n) * m + (cols.end - 1 - floor_div(cols.end - 1, n) * n) * m / n + 2;
+  if (!unwrap) lo = std::max(lo, 0), hi = std::min(hi, m);
+  if (cols.left == Edge::Wrap) lo = 0, hi = m;
+  T* t = grow(s.line, hi - lo) - lo;  // t[J]
+  const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
+  for (int J = lo; J < hi;) {
+    const Run r = copy_run(m, unwrap && coarse_whole, J, hi);  // whole rows: periodic copies read [0, m)
+    const Run f = py.mirror == fem::Mirror::None ? Run{r.end, 0} : mirror_run(py.mirror, m, J, r.end);
+    const T* c0 = coarse0 - origin[0] - r.base;
+    if (py.mirror == fem::Mirror::None) {
+      const T* c1 = coarse1 - origin[1] - r.base;
+      for (; J < r.end; ++J) t[J] = w0 * c0[J] + w1 * c1[J];
+    } else {
+      for (; J < f.end; ++J) t[J] = w0 * c0[J] + w1 * coarse1[f.base - J - origin[1]];
+    }
+  }
+  fine -= fine_origin;
+  for (int i = cols.begin; i < cols.end;) {
+    const Run r = copy_run(n, cols.periodic, i, cols.end);
+    const int base = r.base / n * m;  // coarse copy of this fine copy
+    int ib = std::clamp(m == n ? n : 3 + r.base, i, r.end), ie = std::clamp(n - 3 + r.base, ib, r.end);
+    ib += (ib - r.base) % 2 && ib < ie, ie -= (ie - ib) % 2;  // pairs 2J, 2J + 1 between them
+    const auto general = [&](int from, int to) __attribute__((always_inline)) {
+      for (int x = from; x < to; ++x) {
+        const fem::ProlongationRow& p = px.rows[x - r.base];
+        std::array<int, 2> J = p.index;
+        if (unwrap)
+          for (int& v : J) v += m * floor_div(2 * ((x - r.base) * m / n - v) + m, 2 * m);
+        fine[x] += static_cast<T>(p.weight[0]) * t[base + J[0]] + static_cast<T>(p.weight[1]) * t[base + J[1]];
+      }
+    };
+    general(i, ib);
+    // Fine 2J, 2J + 1 (from the copy's start): 3/4 of coarse J, 1/4 of the one beside it.
+    T* fr = fine + r.base;
+    const T* tb = t + base;
+#pragma GCC ivdep
+    for (int x = ib - r.base; x < ie - r.base; x += 2) {
+      fr[x] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 - 1];
+      fr[x + 1] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 + 1];
+    }
+    general(ie, r.end);
+    i = r.end;
+  }
+}
+
+#define GDP_INSTANTIATE(T)                                                                                     \
+  template struct Scratch<T>;                                                                                  \
+  template void apply(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, Scratch<T>&, const T*);   \
+  template void residual(const LevelOperator<T>&, int, const Window<T>&, Columns, const T*, T*, Scratch<T>&, \
+                         const T*);                                                                            \
+  template void relax(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, const T*, Scratch<T>&,    \
+                      const T*);                                                                               \
+  template void restrict_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, int, Columns, T*, \
+                              T*, std::array<int, 2>, Scratch<T>&);                                            \
+  template void prolong_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, const T*,        \
+                             std::array<int, 2>, bool, Columns, T*, int, Scratch<T>&);
+GDP_INSTANTIATE(float)
+GDP_INSTANTIATE(double)
+
+}  // namespace gdp::multigrid
