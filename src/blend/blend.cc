@@ -1,0 +1,103 @@
+// gdp::blend: depth seams over the layers, then stitching of the composite they make, with alpha on the way out.
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "blend/canvas_rows.h"
+#include "blend/seams.h"
+#include "gdp/blend.h"
+#include "gdp/errors.h"
+#include "gdp/sphere_rows.h"
+
+namespace gdp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Adds the alpha channel from the label plane (0 where no layer covers a pixel, whose colour
+// becomes 0; 1 elsewhere) on the way to `out`.
+class AlphaWriter final : public RowWriter {
+ public:
+  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels)
+      : out_(out), labels_(labels), channels_(channels), labels_row_(labels.width()),
+        row_(static_cast<std::size_t>(channels + 1) * labels.width()) {}
+  void write_row(int y, std::span<const float> row) override {
+    const int w = labels_.width();
+    labels_.read_row(y, labels_row_);
+    for (int c = 0; c <= channels_; ++c)
+      for (int x = 0; x < w; ++x) {
+        const bool known = labels_row_[x] != 0;
+        const float v = c < channels_ ? row[static_cast<std::size_t>(c) * w + x] : 1.0f;
+        row_[static_cast<std::size_t>(c) * w + x] = known ? v : 0.0f;
+      }
+    out_.write_row(y, row_);
+  }
+  void commit() override { out_.commit(); }
+  void set_columns(int begin, int end) override { out_.set_columns(begin, end); }
+
+ private:
+  RowWriter& out_;
+  const blending::LabelPlane& labels_;
+  int channels_;
+  std::vector<blending::Label> labels_row_;
+  std::vector<float> row_;
+};
+
+Domain domain_of(Wrap wrap) {
+  return wrap == Wrap::None ? Domain::Planar : wrap == Wrap::Horizontal ? Domain::Cylindrical : Domain::Spherical;
+}
+
+}  // namespace
+
+void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver_options, RowWriter& out,
+           BlendReport* report) {
+  BlendReport local;
+  BlendReport& r = report ? *report : local;
+  SolverOptions solver = solver_options;
+  solver.domain = domain_of(options.wrap);
+  solver.validate();
+  const int W = plan.canvas.width, H = plan.canvas.height;
+  std::optional<SphereRows> sphere;
+  if (options.wrap == Wrap::Both) sphere.emplace(W, H, "the canvas", options.pq_height);
+
+  auto start = Clock::now();
+  blending::SeamResult seams = blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress);
+  r.seconds_seams = since(start);
+  r.scratch_bytes = seams.scratch_bytes;
+  if (plan.layers.size() > 1)
+    for (std::size_t k = 0; k < plan.layers.size(); ++k)
+      if (!seams.overlaps[k]) r.isolated.push_back(plan.layers[k].name);
+
+  // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN
+  // around them): resampled spheres take zero guidance across seams.
+  const bool across = options.seam_guidance == SeamGuidance::Mean && !(sphere && sphere->resampled());
+  blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across);
+  blending::SweepReader composite(sweep, false), across_rows(sweep, true);
+  blending::LabelReader labels(*seams.labels);
+  AlphaWriter alpha(out, *seams.labels, plan.colour_channels);
+  StitchOptions stitching;
+  stitching.unknown = UnknownMode::Extend;
+  stitching.space = options.space;
+  start = Clock::now();
+  RowReader& c = sphere ? sphere->input(composite, "composite") : composite;
+  RowReader& l = sphere ? sphere->input(labels, "labels", true) : labels;
+  if (across) stitching.across = sphere ? &sphere->input(across_rows, "across") : &across_rows;
+  RowWriter& w = sphere ? sphere->output(alpha, plan.colour_channels) : alpha;
+  stitch(c, l, stitching, solver, w, &r.solve);
+  w.commit();
+  r.seconds_solve = since(start);
+}
+
+Image blend(const std::vector<ImageLayer>& layers, const BlendOptions& options, const SolverOptions& solver,
+            BlendReport* report) {
+  const BlendPlan plan = plan_blend(layers, options);
+  Image out(plan.canvas.width, plan.canvas.height, plan.colour_channels + 1);
+  ImageRowWriter writer(out);
+  blend(plan, options, solver, writer, report);
+  return out;
+}
+
+}  // namespace gdp
