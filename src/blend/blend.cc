@@ -17,17 +17,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Adds the alpha channel from the label plane (0 where no layer covers a pixel, whose colour
-// becomes 0; 1 elsewhere) on the way to `out`.
+// Sets the colour of pixels no layer covers to 0 and, with `alpha`, adds the alpha channel from
+// the label plane (0 there, 1 elsewhere) on the way to `out`.
 class AlphaWriter final : public RowWriter {
  public:
-  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels)
-      : out_(out), labels_(labels), channels_(channels), labels_row_(labels.width()),
-        row_(static_cast<std::size_t>(channels + 1) * labels.width()) {}
+  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels, bool alpha)
+      : out_(out), labels_(labels), channels_(channels), out_channels_(channels + (alpha ? 1 : 0)),
+        labels_row_(labels.width()), row_(static_cast<std::size_t>(out_channels_) * labels.width()) {}
   void write_row(int y, std::span<const float> row) override {
     const int w = labels_.width();
     labels_.read_row(y, labels_row_);
-    for (int c = 0; c <= channels_; ++c)
+    for (int c = 0; c < out_channels_; ++c)
       for (int x = 0; x < w; ++x) {
         const bool known = labels_row_[x] != 0;
         const float v = c < channels_ ? row[static_cast<std::size_t>(c) * w + x] : 1.0f;
@@ -41,7 +41,7 @@ class AlphaWriter final : public RowWriter {
  private:
   RowWriter& out_;
   const blending::LabelPlane& labels_;
-  int channels_;
+  int channels_, out_channels_;
   std::vector<blending::Label> labels_row_;
   std::vector<float> row_;
 };
@@ -77,7 +77,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across);
   blending::SweepReader composite(sweep, false), across_rows(sweep, true);
   blending::LabelReader labels(*seams.labels);
-  AlphaWriter alpha(out, *seams.labels, plan.colour_channels);
+  AlphaWriter alpha(out, *seams.labels, plan.colour_channels, options.alpha);
   StitchOptions stitching;
   stitching.unknown = UnknownMode::Extend;
   stitching.space = options.space;
@@ -94,7 +94,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
 Image blend(const std::vector<ImageLayer>& layers, const BlendOptions& options, const SolverOptions& solver,
             BlendReport* report) {
   const BlendPlan plan = plan_blend(layers, options);
-  Image out(plan.canvas.width, plan.canvas.height, plan.colour_channels + 1);
+  Image out(plan.canvas.width, plan.canvas.height, plan.colour_channels + (options.alpha ? 1 : 0));
   ImageRowWriter writer(out);
   blend(plan, options, solver, writer, report);
   return out;

@@ -1,8 +1,10 @@
 // gdp command line entry point: parses a subcommand, runs it, maps errors to exit codes.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "blend_args.h"
 #include "commands.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
@@ -21,12 +23,19 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_sphere(root));
   commands.push_back(gdp::cli::make_tonemap(root));
   commands.push_back(gdp::cli::make_clone(root));
+  commands.push_back(gdp::cli::make_blend(root));
   try {
-    root.parse(argc, argv);
+    // gdp-blend runs `gdp blend`; blend's arguments may be enblend's (Hugin's makefiles).
+    std::vector<std::string> args = gdp::cli::command_line(argc, argv);
+    std::reverse(args.begin(), args.end());
+    root.parse(args);
   } catch (const CLI::CallForHelp& e) {
     return root.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return root.exit(e);
+  } catch (const gdp::UsageError& e) {  // an unreadable @listfile
+    std::fprintf(stderr, "gdp: %s\n", e.what());
+    return 2;
   } catch (const CLI::ParseError& e) {
     if (gdp::MpiRun::size() > 1) gdp::MpiRun::abort(e.what());
     std::fprintf(stderr, "gdp: %s\nRun 'gdp --help' or 'gdp SUBCOMMAND --help' for usage.\n", e.what());
