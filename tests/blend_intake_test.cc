@@ -1,0 +1,126 @@
+// gdp blend's intake: nona's TIFF tags, multi-page TIFFs, sample types, masks, canvas rules.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "gdp/blend.h"
+#include "gdp/errors.h"
+#include "gdp/image_io.h"
+#include "nona_tiff.h"
+
+namespace gdp {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BlendIntake : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("gdp_blend_intake_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// A w x h RGBA layer of one colour, covered where (x + y) is not divisible by 7.
+Image layer(int w, int h, float value) {
+  Image img(w, h, 4, value);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.at(3, x, y) = (x + y) % 7 == 0 ? 0.0f : 1.0f;
+  return img;
+}
+
+TEST_F(BlendIntake, NonaTagsPlaceTheLayerOnTheCanvas) {
+  const Image a = layer(30, 20, 0.4f);
+  test::write_nona_tiff(path("a.tif"), {{&a, 37, 11, 8}}, 120, 80);
+  const BlendPlan plan = plan_blend({LayerSource{path("a.tif")}}, {});
+  ASSERT_EQ(plan.layers.size(), 1u);
+  EXPECT_EQ(plan.layers[0].x, 37);
+  EXPECT_EQ(plan.layers[0].y, 11);
+  EXPECT_EQ(plan.canvas.width, 120);  // PIXAR_IMAGEFULLWIDTH/LENGTH
+  EXPECT_EQ(plan.canvas.height, 80);
+  EXPECT_EQ(plan.colour_channels, 3);
+  EXPECT_EQ(plan.sample_type, SampleType::UInt8);
+  Image out(120, 80, 4);
+  ImageRowWriter writer(out);
+  blend(plan, {}, {}, writer);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 120; ++x) {
+      const bool inside = x >= 37 && x < 67 && y >= 11 && y < 31 && (x - 37 + y - 11) % 7 != 0;
+      ASSERT_EQ(out.at(3, x, y), inside ? 1.0f : 0.0f) << x << "," << y;
+      if (inside) EXPECT_NEAR(out.at(0, x, y), 102.0f / 255.0f, 1e-5);
+    }
+}
+
+TEST_F(BlendIntake, EveryPageOfAMultiPageTiffIsALayer) {
+  const Image a = layer(40, 30, 0.25f), b = layer(40, 30, 0.25f);
+  test::write_nona_tiff(path("pages.tif"), {{&a, 0, 0, 16}, {&b, 30, 5, 16}}, 70, 35);
+  const BlendPlan plan = plan_blend({LayerSource{path("pages.tif")}}, {});
+  ASSERT_EQ(plan.layers.size(), 2u);
+  EXPECT_EQ(plan.layers[1].x, 30);
+  EXPECT_EQ(plan.layers[1].y, 5);
+  EXPECT_NE(plan.layers[1].name.find("page 2"), std::string::npos);
+  EXPECT_EQ(plan.sample_type, SampleType::UInt16);
+  Image out(70, 35, 4);
+  ImageRowWriter writer(out);
+  blend(plan, {}, {}, writer);
+  EXPECT_EQ(out.at(3, 65, 30), 1.0f);  // only page 2 covers it
+  EXPECT_NEAR(out.at(1, 65, 30), 0.25f, 1e-4);
+  EXPECT_EQ(out.at(3, 65, 2), 0.0f);  // nothing covers it
+}
+
+TEST_F(BlendIntake, FloatLayersAndExplicitPlacement) {
+  Image a = layer(20, 10, 2.5f);  // float values above 1 stay
+  test::write_nona_tiff(path("f.tif"), {{&a, 0, 0, 32}}, 0, 0);
+  LayerSource s{path("f.tif")};
+  s.placed = true;
+  s.x = -5;
+  s.y = 3;
+  const BlendPlan plan = plan_blend({s}, {});
+  EXPECT_EQ(plan.sample_type, SampleType::Float);
+  EXPECT_EQ(plan.canvas.x, -5);
+  EXPECT_EQ(plan.canvas.y, 3);
+  EXPECT_EQ(plan.canvas.width, 20);
+}
+
+TEST_F(BlendIntake, MaskFilesAndTheirSize) {
+  Image grey(30, 20, 1, 0.5f), mask(30, 20, 1, 1.0f), small(29, 20, 1, 1.0f);
+  for (int y = 0; y < 20; ++y) mask.at(0, 3, y) = 0.0f;
+  WriteOptions png;
+  png.sample_type = SampleType::UInt8;
+  write_image(path("g.png"), grey, png);
+  write_image(path("m.png"), mask, png);
+  write_image(path("s.png"), small, png);
+  const BlendPlan plan = plan_blend({LayerSource{path("g.png"), path("m.png")}}, {});
+  EXPECT_EQ(plan.colour_channels, 1);
+  Image out(30, 20, 2);
+  ImageRowWriter writer(out);
+  blend(plan, {}, {}, writer);
+  EXPECT_EQ(out.at(1, 3, 7), 0.0f);
+  EXPECT_EQ(out.at(1, 4, 7), 1.0f);
+  try {
+    plan_blend({LayerSource{path("g.png"), path("s.png")}}, {});
+    FAIL() << "a mask of another size is an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.png"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(BlendIntake, CanvasRules) {
+  const Image grey(10, 10, 1, 0.5f), rgb(10, 10, 3, 0.5f);
+  BlendOptions f;
+  f.canvas = CanvasRect{100, 100, 50, 50};
+  EXPECT_THROW(plan_blend({ImageLayer{&grey}}, f), InputError);  // wholly outside -f
+  EXPECT_THROW(plan_blend({ImageLayer{&grey}, ImageLayer{&rgb}}, {}), InputError);  // grey and RGB
+  EXPECT_THROW(plan_blend(std::vector<ImageLayer>{}, {}), UsageError);
+  f.canvas = CanvasRect{5, 0, 50, 50};
+  const BlendPlan cut = plan_blend({ImageLayer{&grey}}, f);
+  EXPECT_EQ(cut.notes.size(), 1u);  // partly outside: noted
+}
+
+}  // namespace
+}  // namespace gdp
