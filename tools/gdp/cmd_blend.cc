@@ -120,8 +120,6 @@ class Blend final : public Command {
     options.alpha = !is_lossy_extension(output_);  // JPEG and the like store no alpha
     for (const std::string& n : plan.notes) note(common_, "gdp blend: " + n);
     const int W = plan.canvas.width, H = plan.canvas.height, channels = plan.colour_channels + (options.alpha ? 1 : 0);
-    note(common_, fmt::format("blend: {} layer(s) on a {}x{} canvas at ({}, {})", plan.layers.size(), W, H,
-                              plan.canvas.x, plan.canvas.y));
     const ImageFileInfo info{plan.sample_type, "tiff", false};
     const auto out = open_output(output_, W, H, channels, write_options(common_, info), common_.quiet);
     options.progress = progress_line(common_, "blend: seams");
@@ -139,8 +137,9 @@ class Blend final : public Command {
     stats.set("seconds_seams", fmt::format("{:.3f}", report.seconds_seams));
     stats.set("seconds_solve", fmt::format("{:.3f}", report.seconds_solve));
     stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
-    note(common_, fmt::format("blend: seams {:.1f}s, solve {:.1f}s, relative residual {:.2e} -> {}",
-                              report.seconds_seams, report.seconds_solve,
+    note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
+                              "residual {:.2e} -> {}",
+                              plan.layers.size(), W, H, plan.canvas.x, plan.canvas.y, report.seconds_seams, report.seconds_solve,
                               report.solve.relative_residuals.empty() ? 0.0 : report.solve.relative_residuals.back(),
                               output_));
     stats.write(common_.stats_path);
