@@ -123,5 +123,40 @@ TEST(BlendMath, TwoBandsAgreeWithOne) {
   EXPECT_LT(test::max_difference(blend(layers, {}, bands), reference), 1e-4);
 }
 
+// A 360-degree panorama: two layers that meet only across the 0/360 edge are levelled to each
+// other there with --wrap horizontal, and keep their own levels without it.
+TEST(BlendMath, HorizontalWrapJoinsTheEdges) {
+  const int w = 120, h = 40;
+  Image img(w, h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.at(0, x, y) = static_cast<float>(0.5 + 0.2 * std::cos(2 * M_PI * x / w) + 0.002 * y);
+  const Image a = crop(img, 0, 0, 40, h), b = crop(img, 80, 0, 40, h, 0.1f);
+  const std::vector<ImageLayer> layers{{&a, nullptr, 0, 0}, {&b, nullptr, 80, 0}};
+  const auto jump = [&](const Image& out) {  // across the 0/360 edge, against the scene's own step
+    double s = 0.0;
+    for (int y = 0; y < h; ++y) s += std::abs((out.at(0, 0, y) - out.at(0, w - 1, y)) - (img.at(0, 0, y) - img.at(0, w - 1, y)));
+    return s / h;
+  };
+  BlendOptions wrap;
+  wrap.wrap = Wrap::Horizontal;
+  EXPECT_LT(jump(blend(layers, wrap, accurate())), 0.002);
+  EXPECT_NEAR(jump(blend(layers, {}, accurate())), 0.1, 0.002);
+}
+
+// A full sphere (2:1, --wrap both): solved on the PQ domain and resampled back.
+TEST(BlendMath, FullSphereBlends) {
+  const int w = 128, h = 64;
+  const Image img = scene(w, h);
+  const Image a = crop(img, 0, 0, 72, h), b = crop(img, 56, 0, 72, h, 0.1f);
+  BlendOptions sphere;
+  sphere.wrap = Wrap::Both;
+  const Image out = blend({{&a, nullptr, 0, 0}, {&b, nullptr, 56, 0}}, sphere, {});
+  ASSERT_EQ(out.width, w);
+  double step = 0.0;  // across the seam at x = 64, against the scene's own step
+  for (int y = 8; y < h - 8; ++y) step += std::abs((out.at(0, 64, y) - out.at(0, 63, y)) - (img.at(0, 64, y) - img.at(0, 63, y)));
+  EXPECT_LT(step / (h - 16), 0.02);
+  EXPECT_EQ(out.at(1, 10, 10), 1.0f);
+}
+
 }  // namespace
 }  // namespace gdp
