@@ -95,7 +95,133 @@ struct Active {
   PaddedRow near, far, cur;
   std::vector<float> colour, start;
   std::vector<unsigned char> covered;
+  std::size_t offset(int y) const { return base + static_cast<std::size_t>(y - where.y0) * where.width() * sizeof(float); }
 };
+
+// The two passes over the canvas, sharing the layers' footprints and the distance scratch.
+class SeamPasses {
+ public:
+  SeamPasses(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
+             const std::function<void(double)>& progress)
+      : plan_(plan), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
+        W_(plan.canvas.width), H_(plan.canvas.height), where_(n_), base_(n_ + 1, 0) {
+    for (int k = 0; k < n_; ++k) {
+      where_[k] = footprint(plan, k);
+      base_[k + 1] = base_[k] + static_cast<std::size_t>(where_[k].width()) * (where_[k].y1 - where_[k].y0) * sizeof(float);
+    }
+    distances_ = std::make_unique<Scratch>(temp_dir, base_[n_], "distances");
+  }
+  std::size_t scratch_bytes() const { return distances_->bytes(); }
+  void forward();
+  void backward(LabelPlane& labels, std::vector<char>& overlaps);
+
+ private:
+  // Layer k's state for a pass that starts beyond its top (forward) or bottom row.
+  std::unique_ptr<Active> start(int k, bool top) const {
+    auto a = std::make_unique<Active>();
+    a->index = k;
+    a->where = where_[k];
+    a->edges = edges_of(where_[k], W_, H_, wrap_x_);
+    a->base = base_[k];
+    a->near = a->far = a->edges.outside(top);
+    a->cur.v.assign(where_[k].width() + 2 * kPad, 0.0f);
+    a->start.resize(where_[k].width());
+    return a;
+  }
+  // Layers by the row a pass meets them first.
+  std::vector<int> order(bool top) const {
+    std::vector<int> o(n_);
+    std::iota(o.begin(), o.end(), 0);
+    std::stable_sort(o.begin(), o.end(),
+                     [&](int a, int b) { return top ? where_[a].y0 < where_[b].y0 : where_[a].y1 > where_[b].y1; });
+    return o;
+  }
+  void report(double f) const {
+    if (progress_) progress_(f);
+  }
+
+  const BlendPlan& plan_;
+  bool wrap_x_;
+  const std::function<void(double)>& progress_;
+  int n_, W_, H_;
+  std::vector<Footprint> where_;
+  std::vector<std::size_t> base_;
+  std::unique_ptr<Scratch> distances_;
+};
+
+// Top to bottom: each layer opened at its first row, its forward distances into the scratch,
+// closed after its last row.
+void SeamPasses::forward() {
+  const std::vector<int> by_top = order(true);
+  std::vector<std::unique_ptr<Active>> active;
+  std::size_t next = 0;
+  for (int y = 0; y < H_; ++y) {
+    for (; next < by_top.size() && where_[by_top[next]].y0 == y; ++next) {
+      auto a = start(by_top[next], true);
+      a->rows = std::make_unique<LayerRows>(plan_, a->index, 0, W_, active.size() < 8);
+      a->colour.resize(static_cast<std::size_t>(plan_.colour_channels) * a->where.width());
+      a->covered.resize(a->where.width());
+      active.push_back(std::move(a));
+    }
+    for (auto& a : active) {
+      const int w = a->where.width();
+      a->rows->read(y, a->colour, a->covered);
+      for (int x = 0; x < w; ++x) a->start[x] = a->covered[x] ? kInf : 0.0f;
+      chamfer_row(a->edges, 1, a->start.data(), a->near, a->far, a->cur);
+      distances_->write(a->offset(y), a->cur.at(), w * sizeof(float));
+      std::swap(a->far, a->near);
+      std::swap(a->near, a->cur);
+    }
+    std::erase_if(active, [&](const auto& a) { return a->where.y1 == y + 1; });
+    report(0.5 * (y + 1) / H_);
+  }
+}
+
+// Bottom to top: final distances, the deepest layer per pixel into `labels`; `overlaps` marks
+// layers some of whose pixels another layer covers too.
+void SeamPasses::backward(LabelPlane& labels, std::vector<char>& overlaps) {
+  const std::vector<int> by_bottom = order(false);
+  std::vector<std::unique_ptr<Active>> active;  // by layer index: ties go to the earlier layer
+  std::size_t next = 0;
+  std::vector<float> best(W_);
+  std::vector<Label> label(W_);
+  std::vector<unsigned char> count(W_);
+  for (int y = H_ - 1; y >= 0; --y) {
+    for (; next < by_bottom.size() && where_[by_bottom[next]].y1 == y + 1; ++next) {
+      auto a = start(by_bottom[next], false);
+      const auto at = std::upper_bound(active.begin(), active.end(), a->index,
+                                       [](int v, const auto& b) { return v < b->index; });
+      active.insert(at, std::move(a));
+    }
+    std::fill(best.begin(), best.end(), 0.0f);
+    std::fill(label.begin(), label.end(), Label{0});
+    std::fill(count.begin(), count.end(), 0);
+    for (auto& a : active) {
+      const int w = a->where.width(), x0 = a->where.x0;
+      distances_->read(a->offset(y), a->start.data(), w * sizeof(float));
+      chamfer_row(a->edges, -1, a->start.data(), a->near, a->far, a->cur);
+      const float* d = a->cur.at();
+      for (int x = 0; x < w; ++x) {
+        if (d[x] <= 0.0f) continue;
+        count[x0 + x] = static_cast<unsigned char>(std::min(2, count[x0 + x] + 1));
+        if (d[x] > best[x0 + x]) {
+          best[x0 + x] = d[x];
+          label[x0 + x] = static_cast<Label>(a->index + 1);
+        }
+      }
+      std::swap(a->far, a->near);
+      std::swap(a->near, a->cur);
+    }
+    for (auto& a : active) {
+      const float* d = a->near.at();  // this row's final distances
+      for (int x = 0; x < a->where.width() && !overlaps[a->index]; ++x)
+        if (d[x] > 0.0f && count[a->where.x0 + x] > 1) overlaps[a->index] = 1;
+    }
+    labels.write_row(y, label);
+    std::erase_if(active, [&](const auto& a) { return a->where.y0 == y; });
+    report(0.5 + 0.5 * (H_ - y) / H_);
+  }
+}
 
 }  // namespace
 
@@ -115,113 +241,15 @@ void LabelPlane::read_row(int y, std::span<Label> row, int begin, int end) const
 
 SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                          const std::function<void(double)>& progress) {
-  const int n = static_cast<int>(plan.layers.size()), W = plan.canvas.width, H = plan.canvas.height;
+  const int n = static_cast<int>(plan.layers.size());
   if (n > kMaxLayers) throw UsageError(fmt::format("{} layers; gdp blend takes at most {}", n, kMaxLayers));
-  std::vector<Footprint> where(n);
-  std::vector<std::size_t> base(n + 1, 0);
-  for (int k = 0; k < n; ++k) {
-    where[k] = footprint(plan, k);
-    base[k + 1] = base[k] + static_cast<std::size_t>(where[k].width()) * (where[k].y1 - where[k].y0) * sizeof(float);
-  }
-  Scratch distances(temp_dir, base[n], "distances");
+  SeamPasses passes(plan, wrap_x, temp_dir, progress);
   SeamResult result;
-  result.labels = std::make_unique<LabelPlane>(temp_dir, W, H);
+  result.labels = std::make_unique<LabelPlane>(temp_dir, plan.canvas.width, plan.canvas.height);
   result.overlaps.assign(n, 0);
-  result.scratch_bytes = distances.bytes() + result.labels->bytes();
-  const auto report = [&](double f) {
-    if (progress) progress(f);
-  };
-
-  // Forward pass, top to bottom: each layer opened at its first row, closed after its last.
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return where[a].y0 < where[b].y0; });
-  std::vector<std::unique_ptr<Active>> active;
-  std::size_t next = 0;
-  for (int y = 0; y < H; ++y) {
-    for (; next < order.size() && where[order[next]].y0 == y; ++next) {
-      const int k = order[next];
-      auto a = std::make_unique<Active>();
-      a->index = k;
-      a->where = where[k];
-      a->edges = edges_of(where[k], W, H, wrap_x);
-      a->base = base[k];
-      a->rows = std::make_unique<LayerRows>(plan, k, 0, W, active.size() < 8);
-      const int w = where[k].width();
-      a->near = a->far = a->edges.outside(true);
-      a->cur.v.assign(w + 2 * kPad, 0.0f);
-      a->colour.resize(static_cast<std::size_t>(plan.colour_channels) * w);
-      a->covered.resize(w);
-      a->start.resize(w);
-      active.push_back(std::move(a));
-    }
-    for (auto& a : active) {
-      const int w = a->where.width();
-      a->rows->read(y, a->colour, a->covered);
-      for (int x = 0; x < w; ++x) a->start[x] = a->covered[x] ? kInf : 0.0f;
-      chamfer_row(a->edges, 1, a->start.data(), a->near, a->far, a->cur);
-      distances.write(a->base + static_cast<std::size_t>(y - a->where.y0) * w * sizeof(float), a->cur.at(),
-                      w * sizeof(float));
-      std::swap(a->far, a->near);
-      std::swap(a->near, a->cur);
-    }
-    std::erase_if(active, [&](const auto& a) { return a->where.y1 == y + 1; });
-    report(0.5 * (y + 1) / H);
-  }
-
-  // Backward pass, bottom to top: final distances, the deepest layer per pixel.
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return where[a].y1 > where[b].y1; });
-  next = 0;
-  std::vector<float> best(W);
-  std::vector<Label> label(W);
-  std::vector<unsigned char> count(W);
-  for (int y = H - 1; y >= 0; --y) {
-    for (; next < order.size() && where[order[next]].y1 == y + 1; ++next) {
-      const int k = order[next];
-      auto a = std::make_unique<Active>();
-      a->index = k;
-      a->where = where[k];
-      a->edges = edges_of(where[k], W, H, wrap_x);
-      a->base = base[k];
-      a->near = a->far = a->edges.outside(false);
-      a->cur.v.assign(where[k].width() + 2 * kPad, 0.0f);
-      a->start.resize(where[k].width());
-      active.insert(std::upper_bound(active.begin(), active.end(), k, [](int v, const auto& b) { return v < b->index; }),
-                    std::move(a));
-    }
-    std::fill(best.begin(), best.end(), 0.0f);
-    std::fill(label.begin(), label.end(), Label{0});
-    std::fill(count.begin(), count.end(), 0);
-    for (auto& a : active) {
-      const int w = a->where.width(), x0 = a->where.x0;
-      distances.read(a->base + static_cast<std::size_t>(y - a->where.y0) * w * sizeof(float), a->start.data(),
-                     w * sizeof(float));
-      chamfer_row(a->edges, -1, a->start.data(), a->near, a->far, a->cur);
-      const float* d = a->cur.at();
-      for (int x = 0; x < w; ++x) {
-        if (d[x] <= 0.0f) continue;
-        count[x0 + x] = static_cast<unsigned char>(std::min(2, count[x0 + x] + 1));
-        if (d[x] > best[x0 + x]) {
-          best[x0 + x] = d[x];
-          label[x0 + x] = static_cast<Label>(a->index + 1);
-        }
-      }
-      std::swap(a->far, a->near);
-      std::swap(a->near, a->cur);
-    }
-    for (auto& a : active) {
-      if (result.overlaps[a->index]) continue;
-      const float* d = a->near.at();  // this row's final distances
-      for (int x = 0; x < a->where.width(); ++x)
-        if (d[x] > 0.0f && count[a->where.x0 + x] > 1) {
-          result.overlaps[a->index] = 1;
-          break;
-        }
-    }
-    result.labels->write_row(y, label);
-    std::erase_if(active, [&](const auto& a) { return a->where.y0 == y; });
-    report(0.5 + 0.5 * (H - y) / H);
-  }
+  result.scratch_bytes = passes.scratch_bytes() + result.labels->bytes();
+  passes.forward();
+  passes.backward(*result.labels, result.overlaps);
   return result;
 }
 
