@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
   python3
+  enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
 )
 
 missing=()

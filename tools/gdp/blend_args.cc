@@ -95,6 +95,8 @@ std::vector<std::string> from_enblend(const std::vector<std::string>& args, std:
     } else if (key == "--output" || (starts(a, "-o") && a.size() > 2)) {
       out.push_back("-o");
       out.push_back(value(key == "--output" ? "--output" : "-o"));
+    } else if (a == "-V") {
+      out.push_back("--version");
     } else if (key == "--verbose" || starts(a, "-v")) {
       out.push_back("--verbose");
     } else if (kIgnoredWithValue.count(key) || (a.size() > 2 && kIgnoredWithValue.count(a.substr(0, 2)))) {

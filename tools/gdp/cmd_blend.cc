@@ -1,4 +1,5 @@
 // `gdp blend`: seamless mosaics from N aligned layers, a drop-in for enblend (docs/blend.md).
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -94,12 +95,17 @@ class Blend final : public Command {
     app->add_option("--space", space_, "blend in: values | log | lab (as gdp stitch)")
         ->check(CLI::IsMember({"values", "log", "lab"}))
         ->capture_default_str();
+    app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
   }
 
   bool runs_under_mpi() const override { return true; }
 
   int run() override {
+    if (version_) {
+      std::printf("gdp blend (gdp-blend): gradient-domain blending, accepts enblend's options\n");
+      return 0;
+    }
     Stats stats("blend");
     SolverOptions solver = solver_options(common_, "blend");
     BlendOptions options;
@@ -149,6 +155,7 @@ class Blend final : public Command {
  private:
   std::vector<std::string> layers_;
   std::string output_ = "a.tif", list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  bool version_ = false;
   CommonOptions common_;
 };
 
