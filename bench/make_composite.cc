@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <cstdlib>
 #include <random>
 #include <vector>
@@ -17,7 +18,7 @@
 
 using namespace gdp;
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   if (argc < 6) {
     std::fprintf(stderr, "usage: %s PHOTO WIDTH HEIGHT COMPOSITE_OUT LABELS_OUT [CELL]\n", argv[0]);
     return 2;
@@ -67,4 +68,7 @@ int main(int argc, char** argv) {
   comp.commit();
   labels.commit();
   return 0;
+} catch (const std::exception& e) {  // a missing or unreadable PHOTO: one line naming it
+  std::fprintf(stderr, "%s\n", e.what());
+  return 2;
 }

@@ -14,11 +14,13 @@ delay=${3:-1000}
 build=${4:-build}
 from=${5:-receive}
 here=$(cd "$(dirname "$0")/.." && pwd)
+source "$here/bench/shared_data.sh"
+photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
 gdp="$here/$build/tools/gdp/gdp"
 lib="$here/$build/bench/libgdp_mpi_delay.so"
 work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-mpilat.XXXXXX")
 trap 'rm -rf "$work"' EXIT
-oiiotool "$here/../shared/data/equirect/three-globe-npm/earth-blue-marble.jpg" --resize "${width}x${height}" \
+oiiotool "$photo" --resize "${width}x${height}" \
   -d float -o "$work/in.exr"
 run() {  # $1: name, then extra mpirun arguments
   local name=$1

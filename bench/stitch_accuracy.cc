@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <random>
 
 #include "gdp/apps.h"
@@ -15,7 +16,7 @@
 
 using namespace gdp;
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s IMAGE [SIZE] [REGIONS]\n", argv[0]);
     return 2;
@@ -71,4 +72,7 @@ int main(int argc, char** argv) {
                   std::sqrt(s / one.data.size()) / range, m / range, sec);
     }
   return 0;
+} catch (const std::exception& e) {  // a missing or unreadable IMAGE: one line naming it
+  std::fprintf(stderr, "%s\n", e.what());
+  return 2;
 }

@@ -207,7 +207,7 @@ TEST_F(Cli, TonemapOnTheSphereKeepsThePoleWhole) {
   // A real equirectangular HDR map through PQ and back: the top row circles the zenith within
   // 0.35 degrees, where this map's sky is uniform (its linear values vary by 1-5%), so it
   // must come out uniform, not split by the map's seams. (The nadir row has real ground detail.)
-  const std::string in = GDP_SHARED_DATA "/equirect/pmndrs-hdri/sunset.exr";
+  const std::string in = GDP_TEST_DATA "/polyhaven/sunset.exr";
   const CliRun r = gdp("tonemap --sphere " + in + " -o " + path("tm.png") + " -q");
   ASSERT_EQ(r.code, 0) << r.err;
   const Image out = read_image(path("tm.png")).image;

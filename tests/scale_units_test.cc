@@ -21,7 +21,7 @@ Image halve(const Image& a) {
 class ScaleUnits : public test::CliFixture {};
 
 TEST_F(ScaleUnits, PreviewAndFullImageAgreeWithScaleAt) {
-  const Image photo = read_image(GDP_SHARED_DATA "/panorama/opencv-stitching-tutorial/weir_1.jpg").image;
+  const Image photo = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg").image;
   Image full(512, 384, 1);
   for (int y = 0; y < 384; ++y)
     for (int x = 0; x < 512; ++x) full.at(0, x, y) = photo.at(1, x + 50, y + 50);
@@ -39,7 +39,7 @@ TEST_F(ScaleUnits, PreviewAndFullImageAgreeWithScaleAt) {
     return test::rms_difference(halve(read_image(path("full_out.exr")).image), read_image(path("preview_out.exr")).image);
   };
   const double pixels = mismatch("--scale 8"), stated = mismatch("--scale 8 --scale-at 512");
-  // Measured: rms 2.3e-2 in plain pixels, 2.7e-4 with the stated resolution.
+  // Measured: rms 3.0e-2 in plain pixels, 2.6e-4 with the stated resolution.
   EXPECT_LT(stated, 0.05 * pixels) << "pixels " << pixels << " stated " << stated;
 }
 

@@ -36,8 +36,8 @@ double psnr_equirect(const Image& a, const Image& b, double max_lat) {
 
 TEST(SphereResample, RealMapRoundTripThroughPq) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Image src = read_image(GDP_SHARED_DATA "/equirect/three-globe-npm/earth-blue-marble.jpg").image;
-  ASSERT_EQ(src.width, 4096);
+  const Image src = read_image(GDP_TEST_DATA "/nasa-blue-marble/earth-blue-marble_512.png").image;
+  ASSERT_EQ(src.width, 512);
   const int h = default_pq_height(static_cast<long long>(src.width) * src.height);
   const auto t1 = std::chrono::steady_clock::now();
   const Image pq = resample(src, {Layout::Equirect}, {Layout::Pq}, 4 * h, h);
@@ -46,10 +46,13 @@ TEST(SphereResample, RealMapRoundTripThroughPq) {
   const auto t3 = std::chrono::steady_clock::now();
   const double psnr = psnr_equirect(src, back, 80.0);
   auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-  std::printf("equirect 4096x2048 -> PQ %dx%d -> equirect: PSNR %.2f dB (|lat| < 80), all rows %.2f dB; "
+  std::printf("equirect %dx%d -> PQ %dx%d -> equirect: PSNR %.2f dB (|lat| < 80), all rows %.2f dB; "
               "read %.2fs, to-pq %.2fs, from-pq %.2fs\n",
-              4 * h, h, psnr, psnr_equirect(src, back, 90.0), secs(t0, t1), secs(t1, t2), secs(t2, t3));
-  EXPECT_GE(psnr, 40.0);
+              src.width, src.height, 4 * h, h, psnr, psnr_equirect(src, back, 90.0), secs(t0, t1), secs(t1, t2), secs(t2, t3));
+  // Measured 35.2 dB on tests/data's 512x256 map (40.1 dB on the 4096x2048 JPEG it was
+  // box-filtered from, which has less detail per pixel); nearest-neighbour resampling both ways
+  // gives 30.7 dB, so the bound tells interpolation from none.
+  EXPECT_GE(psnr, 33.0);
 }
 
 }  // namespace
@@ -170,7 +173,7 @@ TEST(SphereResample, NearestKeepsLabelsUnblended) {
 // Equirect -> PQ -> equirect of a real map: the output's seam columns and pole rows differ no more
 // than the input's do.
 TEST(SphereResample, NoSeamAtTheMeridianOrThePoles) {
-  const Image src = read_image(GDP_SHARED_DATA "/equirect/pmndrs-hdri/park.exr").image;  // 512 x 256 HDR
+  const Image src = read_image(GDP_TEST_DATA "/polyhaven/park.exr").image;  // 512 x 256 HDR
   ASSERT_EQ(src.width, 512);
   const Image back = resample(resample(src, {Layout::Equirect}, {Layout::Pq}, 4 * 184, 184), {Layout::Pq},
                               {Layout::Equirect}, 512, 256);

@@ -79,7 +79,7 @@ Diff compare(const Image& a, const Image& b) {
 // equatorial. Rotation from equatorial to that image's frame: to ecliptic (obliquity J2000), then
 // half a turn about the pole.
 TEST(SphereToast, MatchesToastyTiles) {
-  const std::string data = GDP_SHARED_DATA "/astro/toasty/";
+  const std::string data = GDP_TEST_DATA "/toasty/";
   const Image src = read_image(data + "tess_platecarree_ecliptic_512.jpg").image;
   const double eps = 23.4392911 * std::numbers::pi / 180.0, c = std::cos(eps), s = std::sin(eps);
   for (bool nearest : {true, false}) {

@@ -31,7 +31,7 @@ struct Split {
 };
 
 Split split_panorama(int width) {
-  const Image full = read_image(GDP_SHARED_DATA "/equirect/stellarium/mars.png").image;
+  const Image full = read_image(GDP_TEST_DATA "/nasa-blue-marble/earth-blue-marble_512.png").image;
   Image rgb(full.width, full.height, 3);
   std::copy(full.data.begin(), full.data.begin() + 3 * full.plane_size(), rgb.data.begin());
   Split s;
@@ -69,13 +69,17 @@ double meridian_jump(const Image& img) {
   return s / (img.channels * img.height);
 }
 
-// Spread (max - min) of the top row, all of which lies around the north pole.
-double pole_spread(const Image& img) {
+// Spread (max - min) over the top row, all of which lies around the north pole, of img - base.
+double pole_spread(const Image& img, const Image& base) {
   double spread = 0.0;
   for (int c = 0; c < img.channels; ++c) {
-    const auto row = img.row(c, 0);
-    const auto [lo, hi] = std::minmax_element(row.begin(), row.end());
-    spread = std::max(spread, double(*hi) - *lo);
+    double lo = 1e30, hi = -1e30;
+    for (int x = 0; x < img.width; ++x) {
+      const double d = double(img.at(c, x, 0)) - base.at(c, x, 0);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    spread = std::max(spread, hi - lo);
   }
   return spread;
 }
@@ -86,6 +90,11 @@ TEST(SphericalStitch, RealPanoramaAcrossTheMeridianAndOverAPole) {
   SolverOptions o;
   o.domain = Domain::Spherical;
   const Image one = stitch_on_sphere(s, o);
+  // The map's own top row is not uniform (a few bright pixels), and the trip through the PQ
+  // grid smooths it: what stitching changed there is one - base, base the same stitch of the
+  // original (stitching is linear in the composite, so that is the stitch of the offsets
+  // alone). The whole cap is one region: the change must be one value at the pole.
+  const Image base = stitch_on_sphere({s.original, s.original, s.labels}, o);
   o.precision = Precision::Float64;
   o.tolerance = 1e-8;
   const Image converged = stitch_on_sphere(s, o);
@@ -94,12 +103,13 @@ TEST(SphericalStitch, RealPanoramaAcrossTheMeridianAndOverAPole) {
   RecordProperty("meridian_jump", std::to_string(meridian_jump(one)) + " composite " +
                                       std::to_string(meridian_jump(s.composite)) + " original " +
                                       std::to_string(meridian_jump(s.original)));
-  RecordProperty("pole_spread", std::to_string(pole_spread(one)) + " composite " + std::to_string(pole_spread(s.composite)) +
-                                    " original " + std::to_string(pole_spread(s.original)));
+  RecordProperty("pole_spread", std::to_string(pole_spread(one, base)) + " composite " +
+                                    std::to_string(pole_spread(s.composite, s.original)));
   EXPECT_LT(rms, 5e-4);
-  // No seam at the meridian or the pole: no larger than the original's own differences.
+  // No seam at the meridian: no larger than the original's own differences.
   EXPECT_LE(meridian_jump(one), meridian_jump(s.original) * 1.1 + 2e-3);
-  EXPECT_LE(pole_spread(one), pole_spread(s.original) * 1.1 + 2e-3);
+  // Measured 4.9e-5; solving the same PQ grid as a plane (Domain::Planar) gives 3.1e-3.
+  EXPECT_LE(pole_spread(one, base), 5e-4);
   // The offsets are gone: the result is the original up to a constant, but for the smoothing
   // along the seams (whose true gradients were cut).
   EXPECT_LT(test::rms_difference(test::zero_mean(one), test::zero_mean(s.original), 1), 0.03);

@@ -23,7 +23,7 @@ struct Split {
 
 Split split_real_image() {
   Split s;
-  s.original = read_image(GDP_SHARED_DATA "/panorama/opencv-stitching-tutorial/weir_1.jpg").image;
+  s.original = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg").image;
   const int w = s.original.width, h = s.original.height;
   s.composite = s.original;
   s.labels = Image(w, h, 3);

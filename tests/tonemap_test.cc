@@ -22,9 +22,10 @@
 namespace gdp {
 namespace {
 
-// A real HDR environment map (Poly Haven, 1024x512, sun in view), box-filtered by `factor`.
+// A real HDR environment map (Poly Haven venice_sunset, sun in view; tests/data holds it at
+// 256x128, box-filtered by 4 from the 1024x512 original), box-filtered by `factor`.
 Image real_map(int factor) {
-  const Image full = read_image(GDP_SHARED_DATA "/hdr/polyhaven-radiance-hdr/venice_sunset_1k.hdr").image;
+  const Image full = read_image(GDP_TEST_DATA "/polyhaven/venice_sunset_256.hdr").image;
   Image out(full.width / factor, full.height / factor, full.channels);
   for (int c = 0; c < full.channels; ++c)
     for (int y = 0; y < out.height; ++y)
@@ -85,7 +86,7 @@ SolverOptions solver_options() {
 }
 
 TEST(Tonemap, RealMapUsesTheRangeAndKeepsLocalContrast) {
-  const Image in = real_map(4);  // 256 x 128
+  const Image in = real_map(1);  // 256 x 128
   const TonemapOptions opt;
   const Image out = tonemap(in, opt, solver_options());
   ASSERT_EQ(out.channels, 3);
@@ -131,7 +132,7 @@ TEST(Tonemap, RealMapUsesTheRangeAndKeepsLocalContrast) {
 }
 
 TEST(Tonemap, StreamingAndInCoreAgree) {
-  const Image in = real_map(8);  // 128 x 64
+  const Image in = real_map(2);  // 128 x 64
   SolverOptions streaming = solver_options();
   streaming.incore_bytes = 0;  // every level streams, every store is a scratch file
   SolverOptions incore = solver_options();
@@ -179,7 +180,7 @@ void expect_identity(const Image& in, Domain domain, int scales) {
 }
 
 TEST(Tonemap, BetaOneReproducesTheLogLuminance) {
-  expect_identity(grey(real_map(8)), Domain::Planar, 1);
+  expect_identity(grey(real_map(2)), Domain::Planar, 1);
 }
 
 TEST(Tonemap, BetaOneReproducesTheLogLuminanceOnTheSphere) {
@@ -201,7 +202,7 @@ Image rolled(const Image& in, int shift) {
 TEST(Tonemap, CylinderHasNoSeam) {
   // On a cylinder the result cannot depend on where the image was cut: tone mapping a map
   // rolled by half its width gives the rolled result (pyramid filters and gradients wrap).
-  const Image in = real_map(4);  // 256 x 128
+  const Image in = real_map(1);  // 256 x 128
   TonemapOptions opt;
   opt.scales = 4;  // half the width is a multiple of 2^3: every level rolls by whole pixels
   SolverOptions o = solver_options();
@@ -318,7 +319,7 @@ TEST(Tonemap, PreviewAndFullSizeAgreeWithAResolution) {
   // The same scene at 128x64 and at 4x that size: with the attenuation tied to the 128-wide
   // level, the large one (shrunk back) looks like the small one; attenuating every level of
   // the large one compresses it more.
-  const Image small = real_map(8), large = enlarged(small, 4);
+  const Image small = real_map(2), large = enlarged(small, 4);
   TonemapOptions opt;
   opt.resolution = 128;
   SolverOptions o = solver_options();

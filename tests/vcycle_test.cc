@@ -121,7 +121,7 @@ namespace {
 // Float32 storage must not lose the solution over several V-cycles (the stored operator keeps
 // constants exactly in its null space; without that the error grew to ~6e-4 after 2 cycles).
 TEST(VCycle, Float32KeepsImprovingOnARealImage) {
-  const ReadResult in = read_image(GDP_SHARED_DATA "/panorama/opencv-stitching-tutorial/weir_1.jpg");
+  const ReadResult in = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg");
   SolverOptions o;
   o.vcycles = 1;
   const ReconstructResult one = reconstruct(in.image, o);

@@ -107,6 +107,10 @@ def oiiotool(*args):
 
 def main():
     source = sys.argv[1] if len(sys.argv) > 1 else DEFAULT_SOURCE
+    if not os.path.isfile(source):
+        print(f"make_sample.py: missing {os.path.normpath(source)} (the shared data folder beside the "
+              "repository; give the photo's path as the first argument)", file=sys.stderr)
+        sys.exit(2)
     out_dir = sys.argv[2] if len(sys.argv) > 2 else HERE
     with tempfile.TemporaryDirectory() as tmp:
         base_ppm = os.path.join(tmp, "base.ppm")

@@ -27,7 +27,7 @@ inline constexpr const char* kOiioModuleName = "libgdp_oiio.so";
 inline constexpr const char* kOiioModuleVariable = "GDP_OIIO_MODULE";
 
 // The module's backend, loaded on first use (thread-safe). Looked for at $GDP_OIIO_MODULE, then
-// where the build tree puts it, then at ../lib/gdp/libgdp_oiio.so next to the executable. Throws
+// where it is installed (lib/gdp/ beside libgdp.so), then where the build tree puts it. Throws
 // CodecError ("needs OpenImageIO's module (libgdp_oiio.so): not found at ...") when none loads.
 Backend& oiio_backend();
 

@@ -24,14 +24,16 @@ std::vector<std::string> candidates() {
     paths.emplace_back(env);
     return paths;  // an explicit choice is the only one tried
   }
-  paths.emplace_back(GDP_OIIO_MODULE_BUILD_PATH);
+  // Installed: where `cmake --install` puts it relative to the file holding this code (libgdp.so,
+  // or a program linked with the static library). Then where the build tree puts it.
   Dl_info self{};
   if (dladdr(reinterpret_cast<void*>(&candidates), &self) != 0 && self.dli_fname) {
     std::error_code ec;
     fs::path binary = fs::canonical(fs::path(self.dli_fname), ec);
     if (ec) binary = fs::path(self.dli_fname);
-    paths.push_back((binary.parent_path().parent_path() / "lib" / "gdp" / kOiioModuleName).string());
+    paths.push_back((binary.parent_path() / GDP_OIIO_MODULE_RELATIVE / kOiioModuleName).lexically_normal().string());
   }
+  paths.emplace_back(GDP_OIIO_MODULE_BUILD_PATH);
   return paths;
 }
 
