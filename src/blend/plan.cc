@@ -8,7 +8,6 @@
 #include "gdp/blend.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
-#include "io/codec.h"
 #include "io/tiff_pages.h"
 
 namespace gdp {
