@@ -109,6 +109,8 @@ class Blend final : public Command {
     Stats stats("blend");
     SolverOptions solver = solver_options(common_, "blend");
     BlendOptions options;
+    if (common_.domain != "planar")
+      throw UsageError("gdp blend: the domain follows --wrap (horizontal: cylindrical, both: the sphere), not --domain");
     if (wrap_ == "vertical") throw UsageError("--wrap vertical: gdp wraps horizontally or both ways, not vertically alone");
     options.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
     options.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
