@@ -91,6 +91,7 @@ TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {
   write_image(path("small.png"), small, {});
   expect_failure("blend -o " + path("o.tif") + " " + path("grey.png") + ":" + path("small.png"), "small.png");
   expect_failure("blend -o " + path("o.tif") + " @" + path("missing.txt"), "missing.txt");
+  expect_failure("blend --anchor 3 -o " + path("o.tif") + " " + path("l0.tif") + " " + path("l1.tif"), "--anchor 3");
   // A layer whose pixels are cut short (its header is whole): found mid-run.
   write_image(path("big.png"), test::random_image(200, 200, 1), {});
   std::filesystem::copy_file(path("big.png"), path("cut.png"));

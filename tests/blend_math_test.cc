@@ -81,6 +81,17 @@ TEST(BlendMath, ConstantOffsetsBlendToTheWeightedMeanLevel) {
   }
 }
 
+// --anchor: the anchor layer's pixels keep their values, the other layer levels to it.
+TEST(BlendMath, AnchorKeepsOneLayerAndLevelsTheRest) {
+  const Image img = scene(100, 60);
+  const Image a = crop(img, 0, 0, 60, 60, 0.1f), b = crop(img, 40, 0, 60, 60);
+  BlendOptions options;
+  options.anchor = 0;
+  const Image out = blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, options, accurate());
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 100; ++x) EXPECT_NEAR(out.at(0, x, y), img.at(0, x, y) + 0.1f, 1e-4) << x << "," << y;
+}
+
 TEST(BlendMath, APixelTakesTheLayerItLiesDeepestInside) {
   const Image a(60, 40, 1, 0.2f), b(60, 40, 1, 0.7f);
   const BlendPlan plan = plan_blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, {});

@@ -56,6 +56,8 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
            BlendReport* report) {
   BlendReport local;
   BlendReport& r = report ? *report : local;
+  if (options.anchor >= static_cast<int>(plan.layers.size()))
+    throw UsageError(fmt::format("--anchor {}: there are {} layers", options.anchor + 1, plan.layers.size()));
   SolverOptions solver = solver_options;
   solver.domain = domain_of(options.wrap);
   solver.validate();
@@ -86,7 +88,13 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   RowReader& l = sphere ? sphere->input(labels, "labels", true) : labels;
   if (across) stitching.across = sphere ? &sphere->input(across_rows, "across") : &across_rows;
   RowWriter& w = sphere ? sphere->output(alpha, plan.colour_channels) : alpha;
-  stitch(c, l, stitching, solver, w, &r.solve);
+  blending::LabelReader anchor(*seams.labels, options.anchor);
+  Fidelity fidelity;
+  if (options.anchor >= 0) {
+    fidelity.pins = sphere ? &sphere->input(anchor, "anchor", true) : &anchor;
+    fidelity.pins_name = "the anchor layer";
+  }
+  stitch(c, l, stitching, solver, w, &r.solve, fidelity);
   w.commit();
   r.seconds_solve = since(start);
 }

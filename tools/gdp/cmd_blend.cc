@@ -95,6 +95,9 @@ class Blend final : public Command {
     app->add_option("--space", space_, "blend in: values | log | lab (as gdp stitch)")
         ->check(CLI::IsMember({"values", "log", "lab"}))
         ->capture_default_str();
+    app->add_option("--anchor", anchor_, "keep layer K's values (1 = the first layer given) and level the rest to "
+                                         "it; add --tolerance 1e-4, pinned problems converge more slowly")
+        ->check(CLI::PositiveNumber);
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
   }
@@ -110,13 +113,14 @@ class Blend final : public Command {
     SolverOptions solver = solver_options(common_, "blend");
     BlendOptions options;
     if (common_.domain != "planar")
-      throw UsageError("gdp blend: the domain follows --wrap (horizontal: cylindrical, both: the sphere), not --domain");
+      throw UsageError("--domain: gdp blend's domain follows --wrap (horizontal: cylindrical, both: the sphere)");
     if (wrap_ == "vertical") throw UsageError("--wrap vertical: gdp wraps horizontally or both ways, not vertically alone");
     options.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
     options.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
     options.space.kind = space_ == "log" ? BlendSpace::Kind::Log : space_ == "lab" ? BlendSpace::Kind::Lab
                                                                                    : BlendSpace::Kind::Values;
     options.pq_height = common_.pq_height;
+    options.anchor = anchor_ - 1;
     if (!canvas_.empty()) options.canvas = canvas_argument(canvas_);
     std::vector<LayerSource> sources;
     for (const std::string& a : layers_) sources.push_back(layer_argument(a));
@@ -157,6 +161,7 @@ class Blend final : public Command {
  private:
   std::vector<std::string> layers_;
   std::string output_ = "a.tif", list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  int anchor_ = 0;
   bool version_ = false;
   CommonOptions common_;
 };
