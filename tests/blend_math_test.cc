@@ -92,6 +92,19 @@ TEST(BlendMath, AnchorKeepsOneLayerAndLevelsTheRest) {
     for (int x = 0; x < 100; ++x) EXPECT_NEAR(out.at(0, x, y), img.at(0, x, y) + 0.1f, 1e-4) << x << "," << y;
 }
 
+// --correction: output minus the composite; here the offsets' removal, -0.05 and +0.05.
+TEST(BlendMath, CorrectionIsOutputMinusLayers) {
+  const Image img = scene(100, 60);
+  const Image a = crop(img, 0, 0, 60, 60), b = crop(img, 40, 0, 60, 60, 0.1f);
+  Image correction(100, 60, 1);
+  ImageRowWriter correction_rows(correction);
+  BlendOptions options;
+  options.correction = &correction_rows;
+  const Image out = blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, options, accurate());
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 100; ++x) EXPECT_NEAR(correction.at(0, x, y), x < 50 ? 0.05 : -0.05, 1e-5) << x << "," << y;
+}
+
 TEST(BlendMath, APixelTakesTheLayerItLiesDeepestInside) {
   const Image a(60, 40, 1, 0.2f), b(60, 40, 1, 0.7f);
   const BlendPlan plan = plan_blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, {});

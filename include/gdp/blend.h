@@ -53,6 +53,10 @@ struct BlendOptions {
   // >= 0: the pixels that take this layer (0 = the first) keep its values exactly (pinned) and
   // the others level to it; the V-cycles then converge more slowly (use a tolerance).
   int anchor = -1;
+  // Optional: also receives the additive correction, output minus the composite of the layers
+  // (colour channels, 0 where no layer covers a pixel; committed with the output). The layers
+  // are read once more for it.
+  RowWriter* correction = nullptr;
   bool alpha = true;  // write the alpha channel (false: colour only, e.g. for JPEG; uncovered pixels 0)
   int pq_height = 0;  // Wrap::Both: PQ height (0: sphere::default_pq_height)
   // Progress of the seam pass, 0 to 1 (the solve reports through SolverOptions::progress).

@@ -18,12 +18,16 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // Sets the colour of pixels no layer covers to 0 and, with `alpha`, adds the alpha channel from
-// the label plane (0 there, 1 elsewhere) on the way to `out`.
+// the label plane (0 there, 1 elsewhere) on the way to `out`. With a `correction` sweep, also
+// writes output minus composite (0 where nothing covers) to `correction_out`.
 class AlphaWriter final : public RowWriter {
  public:
-  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels, bool alpha)
+  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels, bool alpha,
+              blending::CanvasSweep* correction = nullptr, RowWriter* correction_out = nullptr)
       : out_(out), labels_(labels), channels_(channels), out_channels_(channels + (alpha ? 1 : 0)),
-        labels_row_(labels.width()), row_(static_cast<std::size_t>(out_channels_) * labels.width()) {}
+        sweep_(correction), correction_(correction_out), labels_row_(labels.width()),
+        row_(static_cast<std::size_t>(out_channels_) * labels.width()),
+        difference_(correction ? static_cast<std::size_t>(channels) * labels.width() : 0) {}
   void write_row(int y, std::span<const float> row) override {
     const int w = labels_.width();
     labels_.read_row(y, labels_row_);
@@ -34,16 +38,30 @@ class AlphaWriter final : public RowWriter {
         row_[static_cast<std::size_t>(c) * w + x] = known ? v : 0.0f;
       }
     out_.write_row(y, row_);
+    if (!sweep_) return;
+    const std::span<const float> composite = sweep_->composite(y);
+    for (std::size_t k = 0; k < difference_.size(); ++k)
+      difference_[k] = labels_row_[k % w] != 0 ? row[k] - composite[k] : 0.0f;
+    correction_->write_row(y, difference_);
   }
-  void commit() override { out_.commit(); }
-  void set_columns(int begin, int end) override { out_.set_columns(begin, end); }
+  void commit() override {
+    out_.commit();
+    if (correction_) correction_->commit();
+  }
+  void set_columns(int begin, int end) override {
+    out_.set_columns(begin, end);
+    if (sweep_) sweep_->set_columns(begin, end);
+    if (correction_) correction_->set_columns(begin, end);
+  }
 
  private:
   RowWriter& out_;
   const blending::LabelPlane& labels_;
   int channels_, out_channels_;
+  blending::CanvasSweep* sweep_;
+  RowWriter* correction_;
   std::vector<blending::Label> labels_row_;
-  std::vector<float> row_;
+  std::vector<float> row_, difference_;
 };
 
 Domain domain_of(Wrap wrap) {
@@ -79,7 +97,11 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across);
   blending::SweepReader composite(sweep, false), across_rows(sweep, true);
   blending::LabelReader labels(*seams.labels);
-  AlphaWriter alpha(out, *seams.labels, plan.colour_channels, options.alpha);
+  // --correction: the composite swept again as the output rows come (the layers read once more).
+  std::optional<blending::CanvasSweep> again;
+  if (options.correction) again.emplace(plan, *seams.labels, options.wrap != Wrap::None, false);
+  AlphaWriter alpha(out, *seams.labels, plan.colour_channels, options.alpha, again ? &*again : nullptr,
+                    options.correction);
   StitchOptions stitching;
   stitching.unknown = UnknownMode::Extend;
   stitching.space = options.space;

@@ -98,6 +98,8 @@ class Blend final : public Command {
     app->add_option("--anchor", anchor_, "keep layer K's values (1 = the first layer given) and level the rest to "
                                          "it; add --tolerance 1e-4, pinned problems converge more slowly")
         ->check(CLI::PositiveNumber);
+    app->add_option("--correction", correction_, "also write the additive correction (output minus the layers), "
+                                                 "float samples (.tif or .exr)");
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
   }
@@ -134,6 +136,13 @@ class Blend final : public Command {
     const int W = plan.canvas.width, H = plan.canvas.height, channels = plan.colour_channels + (options.alpha ? 1 : 0);
     const ImageFileInfo info{plan.sample_type, "tiff", false};
     const auto out = open_output(output_, W, H, channels, write_options(common_, info), common_.quiet);
+    std::unique_ptr<RowWriter> correction;
+    if (!correction_.empty()) {
+      WriteOptions f = write_options(common_, info);
+      f.sample_type = SampleType::Float;
+      correction = open_output(correction_, W, H, plan.colour_channels, f, common_.quiet);
+      options.correction = correction.get();
+    }
     options.progress = progress_line(common_, "blend: seams");
     BlendReport report;
     stats.time("total", [&] { blend(plan, options, solver, *out, &report); });
@@ -160,7 +169,7 @@ class Blend final : public Command {
 
  private:
   std::vector<std::string> layers_;
-  std::string output_ = "a.tif", list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  std::string output_ = "a.tif", correction_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
   int anchor_ = 0;
   bool version_ = false;
   CommonOptions common_;
