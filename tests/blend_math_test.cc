@@ -1,10 +1,13 @@
-// gdp blend against mathematics: one layer, agreeing layers, constant offsets, the seam rule, bands.
+// gdp blend against mathematics: one layer, agreeing layers, constant offsets, the seam rule, anchor, correction, seam files, bands, wraps.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
+#include "blend/seam_files.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
+#include "gdp/image_io.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -103,6 +106,35 @@ TEST(BlendMath, CorrectionIsOutputMinusLayers) {
   const Image out = blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, options, accurate());
   for (int y = 0; y < 60; ++y)
     for (int x = 0; x < 100; ++x) EXPECT_NEAR(correction.at(0, x, y), x < 50 ? 0.05 : -0.05, 1e-5) << x << "," << y;
+}
+
+// Seams saved, edited and loaded: a pixel takes the layer the file names where that layer covers it.
+TEST(BlendMath, SeamsSavedAndLoaded) {
+  const Image a(60, 40, 1, 0.2f), b(60, 40, 1, 0.7f);
+  const std::vector<ImageLayer> layers{{&a, nullptr, 0, 0}, {&b, nullptr, 40, 0}};
+  const std::string file = (std::filesystem::temp_directory_path() / ("gdp_seams_" + std::to_string(::getpid()) + ".png")).string();
+  BlendOptions save;
+  save.save_seams = file;
+  blend(layers, save, {});
+  Image seams = read_image(file).image;
+  EXPECT_NEAR(seams.at(0, 45, 10) * 255.0f, 1.0f, 1e-3);  // depth: a
+  EXPECT_NEAR(seams.at(0, 55, 10) * 255.0f, 2.0f, 1e-3);  // depth: b
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 100; ++x) seams.at(0, x, y) = (x < 42 ? 1.0f : 2.0f) / 255.0f;  // the seam moved to 42
+  seams.at(0, 70, 5) = 1.0f / 255.0f;  // a does not cover (70, 5): b, the first that does
+  WriteOptions png;
+  png.sample_type = SampleType::UInt8;
+  write_image(file, seams, png);
+  BlendOptions load;
+  load.load_seams = file;
+  const BlendPlan plan = plan_blend(layers, load);
+  const auto loaded = blending::load_seams(plan, file, {});
+  std::vector<blending::Label> row(100);
+  loaded.labels->read_row(5, row);
+  EXPECT_EQ(row[41], 1);
+  EXPECT_EQ(row[42], 2);
+  EXPECT_EQ(row[70], 2);
+  std::filesystem::remove(file);
 }
 
 TEST(BlendMath, APixelTakesTheLayerItLiesDeepestInside) {

@@ -57,6 +57,9 @@ struct BlendOptions {
   // (colour channels, 0 where no layer covers a pixel; committed with the output). The layers
   // are read once more for it.
   RowWriter* correction = nullptr;
+  // Seams in files (blending/seam_files.h): the label plane written as a grey image of layer
+  // numbers (1 = the first, 0 = none), or read from one instead of computed.
+  std::string save_seams, load_seams;
   bool alpha = true;  // write the alpha channel (false: colour only, e.g. for JPEG; uncovered pixels 0)
   int pq_height = 0;  // Wrap::Both: PQ height (0: sphere::default_pq_height)
   // Progress of the seam pass, 0 to 1 (the solve reports through SolverOptions::progress).

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "blend/canvas_rows.h"
+#include "blend/seam_files.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
 #include "gdp/errors.h"
@@ -84,7 +85,12 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   if (options.wrap == Wrap::Both) sphere.emplace(W, H, "the canvas", options.pq_height);
 
   auto start = Clock::now();
-  blending::SeamResult seams = blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress);
+  blending::SeamResult seams =
+      options.load_seams.empty()
+          ? blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
+          : blending::load_seams(plan, options.load_seams, solver.temp_dir);
+  if (!options.save_seams.empty())
+    blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
   r.seconds_seams = since(start);
   r.scratch_bytes = seams.scratch_bytes;
   if (plan.layers.size() > 1)

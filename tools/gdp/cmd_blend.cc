@@ -100,6 +100,10 @@ class Blend final : public Command {
         ->check(CLI::PositiveNumber);
     app->add_option("--correction", correction_, "also write the additive correction (output minus the layers), "
                                                  "float samples (.tif or .exr)");
+    app->add_option("--save-seams", save_seams_, "write the seams: a grey image of layer numbers (1 = the first, "
+                                                 "0 = none), lossless (PNG, TIFF)");
+    app->add_option("--load-seams", options_load_, "take the seams from such an image (edited, or kept from a "
+                                                   "run before) instead of computing them");
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
   }
@@ -123,6 +127,8 @@ class Blend final : public Command {
                                                                                    : BlendSpace::Kind::Values;
     options.pq_height = common_.pq_height;
     options.anchor = anchor_ - 1;
+    options.load_seams = options_load_;
+    if (MpiRun::rank() == 0) options.save_seams = save_seams_;  // every rank has the same seams
     if (!canvas_.empty()) options.canvas = canvas_argument(canvas_);
     std::vector<LayerSource> sources;
     for (const std::string& a : layers_) sources.push_back(layer_argument(a));
@@ -169,7 +175,7 @@ class Blend final : public Command {
 
  private:
   std::vector<std::string> layers_;
-  std::string output_ = "a.tif", correction_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  std::string output_ = "a.tif", correction_, save_seams_, options_load_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
   int anchor_ = 0;
   bool version_ = false;
   CommonOptions common_;
