@@ -80,6 +80,20 @@ TEST_F(BlendCli, CanvasWithAnOffsetCropsAndGdpBlendIsBlend) {
   EXPECT_EQ(out.info.sample_type, SampleType::UInt16);
 }
 
+// Under mpirun every rank finds the seams and solves its own columns; rank 0 writes the file.
+TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
+  const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
+  if (std::system((mpirun + " -np 2 true > /dev/null 2>&1").c_str()) != 0) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  write_layers();
+  const std::string layers = " " + path("l0.tif") + " " + path("l1.tif");
+  ASSERT_EQ(gdp("blend -q --depth float -o " + path("one.tif") + layers).code, 0);
+  const std::string cmd = mpirun + " -np 2 " + GDP_CLI_PATH + " blend -q --bands 1 --depth float -o " + path("two.tif") +
+                          layers + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const Image one = read_image(path("one.tif")).image, two = read_image(path("two.tif")).image;
+  EXPECT_LT(test::max_difference(one, two), 1e-4);
+}
+
 TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {
   write_layers();
   expect_failure("blend -o " + path("o.tif"), "no layers");
