@@ -110,6 +110,53 @@ TEST_F(BlendIntake, MaskFilesAndTheirSize) {
   }
 }
 
+// A grey GeoTIFF, north up: its top-left corner at (west, north), square pixels, an EPSG code.
+void write_geotiff(const std::string& path, double west, double north, double pixel, std::uint16_t epsg) {
+  TIFF* t = TIFFOpen(path.c_str(), "w");
+  ASSERT_NE(t, nullptr);
+  static TIFFFieldInfo info[] = {
+      {33550, -1, -1, TIFF_DOUBLE, FIELD_CUSTOM, 1, 1, const_cast<char*>("ModelPixelScaleTag")},
+      {33922, -1, -1, TIFF_DOUBLE, FIELD_CUSTOM, 1, 1, const_cast<char*>("ModelTiepointTag")},
+      {34735, -1, -1, TIFF_SHORT, FIELD_CUSTOM, 1, 1, const_cast<char*>("GeoKeyDirectoryTag")}};
+  TIFFMergeFieldInfo(t, info, 3);
+  const int w = 40, h = 30;
+  TIFFSetField(t, TIFFTAG_IMAGEWIDTH, w);
+  TIFFSetField(t, TIFFTAG_IMAGELENGTH, h);
+  TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, 1);
+  TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, 8);
+  TIFFSetField(t, TIFFTAG_PHOTOMETRIC, PHOTOMETRIC_MINISBLACK);
+  double scale[3] = {pixel, pixel, 0.0}, tie[6] = {0.0, 0.0, 0.0, west, north, 0.0};
+  std::uint16_t keys[8] = {1, 1, 0, 1, 3072, 0, 1, epsg};  // ProjectedCSTypeGeoKey
+  TIFFSetField(t, 33550, 3, scale);
+  TIFFSetField(t, 33922, 6, tie);
+  TIFFSetField(t, 34735, 8, keys);
+  std::vector<unsigned char> row(w, 128);
+  for (int y = 0; y < h; ++y) TIFFWriteScanline(t, row.data(), y);
+  TIFFClose(t);
+}
+
+TEST_F(BlendIntake, GeoTiffLayersArePlacedByTheirCoordinates) {
+  write_geotiff(path("a.tif"), 1000.0, 5000.0, 2.0, 32633);
+  write_geotiff(path("b.tif"), 1060.0, 4980.0, 2.0, 32633);  // 30 pixels east, 10 south
+  const BlendPlan plan = plan_blend({LayerSource{path("b.tif")}, LayerSource{path("a.tif")}}, {});
+  EXPECT_EQ(plan.layers[1].x, 0);
+  EXPECT_EQ(plan.layers[1].y, 0);
+  EXPECT_EQ(plan.layers[0].x, 30);
+  EXPECT_EQ(plan.layers[0].y, 10);
+  EXPECT_EQ(plan.canvas.width, 70);
+  EXPECT_EQ(plan.canvas.height, 40);
+  write_geotiff(path("c.tif"), 1000.0, 5000.0, 2.5, 32633);
+  write_geotiff(path("d.tif"), 1000.0, 5000.0, 2.0, 32634);
+  for (const char* other : {"c.tif", "d.tif"}) {
+    try {
+      plan_blend({LayerSource{path("a.tif")}, LayerSource{path(other)}}, {});
+      FAIL() << other << ": another pixel size or CRS is an error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(other), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(BlendIntake, CanvasRules) {
   const Image grey(10, 10, 1, 0.5f), rgb(10, 10, 3, 0.5f);
   BlendOptions f;

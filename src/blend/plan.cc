@@ -1,5 +1,7 @@
 // Planning a blend from the layers' headers: pages, placement, canvas, channels and sample type.
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <memory>
 
 #include <fmt/format.h>
@@ -64,11 +66,40 @@ void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>
   }
 }
 
+// GeoTIFF layers: placed by their model coordinates on a grid of their common pixel size, the
+// canvas's top-left corner at the westernmost and northernmost layer's.
+void place_geo(BlendPlan& plan, const std::vector<std::optional<io::TiffPage::Geo>>& geo) {
+  const auto first = std::find_if(geo.begin(), geo.end(), [](const auto& g) { return g.has_value(); });
+  if (first == geo.end()) return;
+  const io::TiffPage::Geo& ref = **first;
+  const std::string& ref_name = plan.layers[first - geo.begin()].name;
+  double west = ref.origin_x, north = ref.origin_y;
+  for (std::size_t k = 0; k < geo.size(); ++k) {
+    if (plan.sources[k].placed) continue;
+    if (!geo[k]) throw InputError(fmt::format("{}: not georeferenced, but {} is", plan.layers[k].name, ref_name));
+    const io::TiffPage::Geo& g = *geo[k];
+    if (std::abs(g.scale_x / ref.scale_x - 1) > 1e-9 || std::abs(g.scale_y / ref.scale_y - 1) > 1e-9)
+      throw InputError(fmt::format("{}: pixel size {} x {}, but {} has {} x {}; resample to one pixel size first",
+                                   plan.layers[k].name, g.scale_x, g.scale_y, ref_name, ref.scale_x, ref.scale_y));
+    if (g.keys != ref.keys)
+      throw InputError(fmt::format("{}: another coordinate reference system (GeoKeyDirectory) than {}",
+                                   plan.layers[k].name, ref_name));
+    west = std::min(west, g.origin_x);
+    north = std::max(north, g.origin_y);
+  }
+  for (std::size_t k = 0; k < geo.size(); ++k) {
+    if (plan.sources[k].placed) continue;
+    plan.layers[k].x = std::llround((geo[k]->origin_x - west) / ref.scale_x);
+    plan.layers[k].y = std::llround((north - geo[k]->origin_y) / ref.scale_y);
+  }
+}
+
 }  // namespace
 
 BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions& options) {
   BlendPlan plan;
   std::vector<int> channels;
+  std::vector<std::optional<io::TiffPage::Geo>> geo;
   int full_w = 0, full_h = 0;
   for (const LayerSource& s : sources) {
     std::vector<io::TiffPage> pages;
@@ -108,11 +139,13 @@ BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions
         plan.sample_type = reader.info().sample_type;
       }
       channels.push_back(reader.channels());
+      geo.push_back(p < static_cast<int>(pages.size()) ? pages[p].geo : std::nullopt);
       plan.layers.push_back(l);
       plan.sources.push_back(s);
       plan.pages.push_back(p);
     }
   }
+  place_geo(plan, geo);
   finish(plan, options, channels, full_w, full_h);
   return plan;
 }
