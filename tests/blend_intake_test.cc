@@ -165,8 +165,10 @@ TEST_F(BlendIntake, CanvasRules) {
   EXPECT_THROW(plan_blend({ImageLayer{&grey}, ImageLayer{&rgb}}, {}), InputError);  // grey and RGB
   EXPECT_THROW(plan_blend(std::vector<ImageLayer>{}, {}), UsageError);
   f.canvas = CanvasRect{5, 0, 50, 50};
-  const BlendPlan cut = plan_blend({ImageLayer{&grey}}, f);
-  EXPECT_EQ(cut.notes.size(), 1u);  // partly outside: noted
+  const Image cut = blend({ImageLayer{&grey}}, f, {});  // partly outside: its part inside
+  EXPECT_EQ(cut.width, 50);
+  EXPECT_EQ(cut.at(1, 4, 5), 1.0f);
+  EXPECT_EQ(cut.at(1, 5, 5), 0.0f);
 }
 
 }  // namespace

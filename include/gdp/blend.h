@@ -79,7 +79,7 @@ struct BlendPlan {
   int colour_channels = 0;       // the layers' (1 to 3); the output adds alpha
   SampleType sample_type = SampleType::UInt8;  // the widest of the layers'
   std::vector<PlacedLayer> layers;
-  std::vector<std::string> notes;  // layers cut by the canvas, mixed sample types, ...
+  std::vector<std::string> notes;  // mixed sample types
   // Internal: how each layer is opened.
   std::vector<LayerSource> sources;
   std::vector<ImageLayer> images;

@@ -26,7 +26,8 @@ int rank(SampleType t) {
   }
 }
 
-// Checks channels, fixes the canvas and drops nothing: a layer wholly outside the canvas is an error.
+// Checks channels and fixes the canvas: a layer wholly outside it is an error, one partly outside
+// it (-f cropping, as Hugin asks) is used where it lies inside.
 void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>& channels, int full_w, int full_h) {
   if (plan.layers.empty()) throw UsageError("no layers to blend");
   plan.colour_channels = colour_of(channels[0]);
@@ -61,8 +62,6 @@ void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>
     if (f.width() <= 0 || f.y1 <= f.y0)
       throw InputError(fmt::format("{}: {}x{} at ({}, {}) lies wholly outside the canvas {}x{}+{}+{}", l.name, l.width,
                                    l.height, l.x, l.y, c.width, c.height, c.x, c.y));
-    if (f.width() < l.width || f.y1 - f.y0 < l.height)
-      plan.notes.push_back(fmt::format("{}: partly outside the canvas; only its part inside is used", l.name));
   }
 }
 

@@ -102,7 +102,7 @@ class Blend final : public Command {
                                                  "float samples (.tif or .exr)");
     app->add_option("--save-seams", save_seams_, "write the seams: a grey image of layer numbers (1 = the first, "
                                                  "0 = none), lossless (PNG, TIFF)");
-    app->add_option("--load-seams", options_load_, "take the seams from such an image (edited, or kept from a "
+    app->add_option("--load-seams", load_seams_, "take the seams from such an image (edited, or kept from a "
                                                    "run before) instead of computing them");
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
@@ -117,24 +117,8 @@ class Blend final : public Command {
     }
     Stats stats("blend");
     SolverOptions solver = solver_options(common_, "blend");
-    BlendOptions options;
-    if (common_.domain != "planar")
-      throw UsageError("--domain: gdp blend's domain follows --wrap (horizontal: cylindrical, both: the sphere)");
-    if (wrap_ == "vertical") throw UsageError("--wrap vertical: gdp wraps horizontally or both ways, not vertically alone");
-    options.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
-    options.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
-    options.space.kind = space_ == "log" ? BlendSpace::Kind::Log : space_ == "lab" ? BlendSpace::Kind::Lab
-                                                                                   : BlendSpace::Kind::Values;
-    options.pq_height = common_.pq_height;
-    options.anchor = anchor_ - 1;
-    options.load_seams = options_load_;
-    if (MpiRun::rank() == 0) options.save_seams = save_seams_;  // every rank has the same seams
-    if (!canvas_.empty()) options.canvas = canvas_argument(canvas_);
-    std::vector<LayerSource> sources;
-    for (const std::string& a : layers_) sources.push_back(layer_argument(a));
-    if (!list_.empty())
-      for (const LayerSource& s : layer_list(list_)) sources.push_back(s);
-    if (sources.empty()) throw UsageError("no layers to blend (give image files, @LISTFILE or --layers LIST)");
+    BlendOptions options = blend_options();
+    const std::vector<LayerSource> sources = layer_sources();
     const BlendPlan plan = stats.time("plan", [&] { return plan_blend(sources, options); });
     options.space.srgb_encoded = plan.sample_type == SampleType::UInt8 || plan.sample_type == SampleType::UInt16;
     options.alpha = !is_lossy_extension(output_);  // JPEG and the like store no alpha
@@ -143,6 +127,8 @@ class Blend final : public Command {
     const ImageFileInfo info{plan.sample_type, "tiff", false};
     const auto out = open_output(output_, W, H, channels, write_options(common_, info), common_.quiet);
     std::unique_ptr<RowWriter> correction;
+    if (!correction_.empty() && MpiRun::size() > 1)
+      throw UsageError("--correction: not under mpirun yet (one gathered output per run)");
     if (!correction_.empty()) {
       WriteOptions f = write_options(common_, info);
       f.sample_type = SampleType::Float;
@@ -174,8 +160,34 @@ class Blend final : public Command {
   }
 
  private:
+  BlendOptions blend_options() const {
+    if (common_.domain != "planar")
+      throw UsageError("--domain: gdp blend's domain follows --wrap (horizontal: cylindrical, both: the sphere)");
+    if (wrap_ == "vertical") throw UsageError("--wrap vertical: gdp wraps horizontally or both ways, not vertically alone");
+    BlendOptions o;
+    o.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
+    o.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
+    o.space.kind = space_ == "log" ? BlendSpace::Kind::Log : space_ == "lab" ? BlendSpace::Kind::Lab
+                                                                             : BlendSpace::Kind::Values;
+    o.pq_height = common_.pq_height;
+    o.anchor = anchor_ - 1;
+    o.load_seams = load_seams_;
+    if (MpiRun::rank() == 0) o.save_seams = save_seams_;  // every rank has the same seams
+    if (!canvas_.empty()) o.canvas = canvas_argument(canvas_);
+    return o;
+  }
+
+  std::vector<LayerSource> layer_sources() const {
+    std::vector<LayerSource> sources;
+    for (const std::string& a : layers_) sources.push_back(layer_argument(a));
+    if (!list_.empty())
+      for (const LayerSource& s : layer_list(list_)) sources.push_back(s);
+    if (sources.empty()) throw UsageError("no layers to blend (give image files, @LISTFILE or --layers LIST)");
+    return sources;
+  }
+
   std::vector<std::string> layers_;
-  std::string output_ = "a.tif", correction_, save_seams_, options_load_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
   int anchor_ = 0;
   bool version_ = false;
   CommonOptions common_;
