@@ -6,6 +6,8 @@
 #include "gdp/blend.h"
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
+#include "gdp/image_stream.h"
+#include "io/tiff_pages.h"
 #include "nona_tiff.h"
 
 namespace gdp {
@@ -145,6 +147,20 @@ TEST_F(BlendIntake, GeoTiffLayersArePlacedByTheirCoordinates) {
   EXPECT_EQ(plan.layers[0].y, 10);
   EXPECT_EQ(plan.canvas.width, 70);
   EXPECT_EQ(plan.canvas.height, 40);
+  // The output carries the canvas's georeference.
+  ASSERT_TRUE(plan.geo.has_value());
+  WriteOptions options;
+  options.geo = plan.geo;
+  {
+    ImageFileWriter out(path("out.tif"), 70, 40, 2, options);
+    blend(plan, {}, {}, out);
+  }
+  const auto written = io::tiff_pages(path("out.tif"));
+  ASSERT_TRUE(written.at(0).geo.has_value());
+  EXPECT_EQ(written[0].geo->origin_x, 1000.0);
+  EXPECT_EQ(written[0].geo->origin_y, 5000.0);
+  EXPECT_EQ(written[0].geo->scale_x, 2.0);
+  EXPECT_EQ(written[0].geo->keys, (std::vector<std::uint16_t>{1, 1, 0, 1, 3072, 0, 1, 32633}));
   write_geotiff(path("c.tif"), 1000.0, 5000.0, 2.5, 32633);
   write_geotiff(path("d.tif"), 1000.0, 5000.0, 2.0, 32634);
   for (const char* other : {"c.tif", "d.tif"}) {

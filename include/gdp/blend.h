@@ -80,6 +80,7 @@ struct BlendPlan {
   SampleType sample_type = SampleType::UInt8;  // the widest of the layers'
   std::vector<PlacedLayer> layers;
   std::vector<std::string> notes;  // mixed sample types
+  std::optional<GeoReference> geo;  // GeoTIFF layers: the canvas's georeference (write it with the output)
   // Internal: how each layer is opened.
   std::vector<LayerSource> sources;
   std::vector<ImageLayer> images;

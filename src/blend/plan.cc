@@ -67,16 +67,16 @@ void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>
 
 // GeoTIFF layers: placed by their model coordinates on a grid of their common pixel size, the
 // canvas's top-left corner at the westernmost and northernmost layer's.
-void place_geo(BlendPlan& plan, const std::vector<std::optional<io::TiffPage::Geo>>& geo) {
+void place_geo(BlendPlan& plan, const std::vector<std::optional<GeoReference>>& geo) {
   const auto first = std::find_if(geo.begin(), geo.end(), [](const auto& g) { return g.has_value(); });
   if (first == geo.end()) return;
-  const io::TiffPage::Geo& ref = **first;
+  const GeoReference& ref = **first;
   const std::string& ref_name = plan.layers[first - geo.begin()].name;
   double west = ref.origin_x, north = ref.origin_y;
   for (std::size_t k = 0; k < geo.size(); ++k) {
     if (plan.sources[k].placed) continue;
     if (!geo[k]) throw InputError(fmt::format("{}: not georeferenced, but {} is", plan.layers[k].name, ref_name));
-    const io::TiffPage::Geo& g = *geo[k];
+    const GeoReference& g = *geo[k];
     if (std::abs(g.scale_x / ref.scale_x - 1) > 1e-9 || std::abs(g.scale_y / ref.scale_y - 1) > 1e-9)
       throw InputError(fmt::format("{}: pixel size {} x {}, but {} has {} x {}; resample to one pixel size first",
                                    plan.layers[k].name, g.scale_x, g.scale_y, ref_name, ref.scale_x, ref.scale_y));
@@ -91,6 +91,9 @@ void place_geo(BlendPlan& plan, const std::vector<std::optional<io::TiffPage::Ge
     plan.layers[k].x = std::llround((geo[k]->origin_x - west) / ref.scale_x);
     plan.layers[k].y = std::llround((north - geo[k]->origin_y) / ref.scale_y);
   }
+  plan.geo = ref;  // pixel (0, 0) at (west, north); moved to the canvas's corner once it is known
+  plan.geo->origin_x = west;
+  plan.geo->origin_y = north;
 }
 
 }  // namespace
@@ -98,7 +101,7 @@ void place_geo(BlendPlan& plan, const std::vector<std::optional<io::TiffPage::Ge
 BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions& options) {
   BlendPlan plan;
   std::vector<int> channels;
-  std::vector<std::optional<io::TiffPage::Geo>> geo;
+  std::vector<std::optional<GeoReference>> geo;
   int full_w = 0, full_h = 0;
   for (const LayerSource& s : sources) {
     std::vector<io::TiffPage> pages;
@@ -146,6 +149,10 @@ BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions
   }
   place_geo(plan, geo);
   finish(plan, options, channels, full_w, full_h);
+  if (plan.geo) {
+    plan.geo->origin_x += static_cast<double>(plan.canvas.x) * plan.geo->scale_x;
+    plan.geo->origin_y -= static_cast<double>(plan.canvas.y) * plan.geo->scale_y;
+  }
   return plan;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -44,6 +45,7 @@ struct EncodeSpec {
   std::string compression;  // WriteOptions::compression: empty for the format's default
   int tile_size = 0;        // > 0: tiled, tiles of this size (TIFF and OpenEXR only)
   bool bigtiff = false;
+  std::optional<GeoReference> geo;  // TIFF: GeoTIFF tags
 };
 
 // Encodes one image file: chosen by the final name's extension, then opened on the temporary

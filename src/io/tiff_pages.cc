@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "io/codecs.h"
+#include "io/tiff_geo.h"
 #include "io/tiff_util.h"
 
 namespace gdp::io {
@@ -20,27 +21,6 @@ bool position(TIFF* tif, ttag_t tag, ttag_t resolution_tag, long long& pixels) {
   if (!TIFFGetField(tif, resolution_tag, &resolution) || !(resolution > 0.0f)) resolution = 1.0f;
   pixels = std::llround(static_cast<double>(pos) * resolution);
   return true;
-}
-
-// GeoTIFF's tags, which libtiff keeps as anonymous fields (a count and an array).
-template <class T>
-std::vector<T> array_tag(TIFF* tif, ttag_t tag) {
-  std::uint32_t count = 0;
-  T* data = nullptr;
-  if (!TIFFFindField(tif, tag, TIFF_ANY) || !TIFFGetField(tif, tag, &count, &data) || !data) return {};
-  return std::vector<T>(data, data + count);
-}
-
-std::optional<TiffPage::Geo> geo(TIFF* tif) {
-  const std::vector<double> scale = array_tag<double>(tif, 33550), tie = array_tag<double>(tif, 33922);
-  if (scale.size() < 2 || tie.size() < 6 || !(scale[0] > 0) || !(scale[1] > 0)) return std::nullopt;
-  TiffPage::Geo g;
-  g.scale_x = scale[0];
-  g.scale_y = scale[1];
-  g.origin_x = tie[3] - tie[0] * scale[0];  // tie point: pixel (I, J) at model (X, Y)
-  g.origin_y = tie[4] + tie[1] * scale[1];
-  g.keys = array_tag<std::uint16_t>(tif, 34735);
-  return g;
 }
 
 }  // namespace
@@ -64,7 +44,7 @@ std::vector<TiffPage> tiff_pages(const std::string& path) {
     if (TIFFGetField(tif, TIFFTAG_PIXAR_IMAGEFULLWIDTH, &full)) p.full_width = static_cast<int>(full);
     full = 0;
     if (TIFFGetField(tif, TIFFTAG_PIXAR_IMAGEFULLLENGTH, &full)) p.full_height = static_cast<int>(full);
-    p.geo = geo(tif);
+    p.geo = read_geotiff(tif);
     pages.push_back(p);
   } while (TIFFReadDirectory(tif));
   TIFFClose(tif);

@@ -125,7 +125,9 @@ class Blend final : public Command {
     for (const std::string& n : plan.notes) note(common_, "gdp blend: " + n);
     const int W = plan.canvas.width, H = plan.canvas.height, channels = plan.colour_channels + (options.alpha ? 1 : 0);
     const ImageFileInfo info{plan.sample_type, "tiff", false};
-    const auto out = open_output(output_, W, H, channels, write_options(common_, info), common_.quiet);
+    WriteOptions write = write_options(common_, info);
+    write.geo = plan.geo;  // GeoTIFF layers: the output is georeferenced too
+    const auto out = open_output(output_, W, H, channels, write, common_.quiet);
     std::unique_ptr<RowWriter> correction;
     if (!correction_.empty() && MpiRun::size() > 1)
       throw UsageError("--correction: not under mpirun yet (one gathered output per run)");
