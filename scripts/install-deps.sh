@@ -5,8 +5,9 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libpng-dev libtiff-dev libjpeg-dev     # gdp's own PNG, TIFF and JPEG codecs (zlib comes with them)
+  libopenexr-dev                         # gdp's own OpenEXR codec
   libdeflate-dev                         # TIFF strips deflated on two threads
-  libopenimageio-dev openimageio-tools   # other formats (EXR, HDR, FITS, ...) in the loadable module; oiiotool
+  libopenimageio-dev openimageio-tools   # other formats (HDR, FITS, WebP, ...) in the loadable module; oiiotool
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)

@@ -54,7 +54,9 @@ TEST_F(BlendIntake, NonaTagsPlaceTheLayerOnTheCanvas) {
     for (int x = 0; x < 120; ++x) {
       const bool inside = x >= 37 && x < 67 && y >= 11 && y < 31 && (x - 37 + y - 11) % 7 != 0;
       ASSERT_EQ(out.at(3, x, y), inside ? 1.0f : 0.0f) << x << "," << y;
-      if (inside) EXPECT_NEAR(out.at(0, x, y), 102.0f / 255.0f, 1e-5);
+      if (inside) {
+        EXPECT_NEAR(out.at(0, x, y), 102.0f / 255.0f, 1e-5);
+      }
     }
 }
 

@@ -45,6 +45,17 @@ class CliFixture : public ::testing::Test {
     return r;
   }
 
+  // Runs a bash command line (ulimit and the like before gdp), capturing stderr.
+  CliRun gdp_shell(const std::string& command) const {
+    const std::string err_file = path("stderr.txt");
+    CliRun r;
+    const int status = std::system(("bash -c '" + command + "' 2> " + err_file + " > /dev/null").c_str());
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream f(err_file);
+    r.err.assign(std::istreambuf_iterator<char>(f), {});
+    return r;
+  }
+
   // The files in the scratch directory (but stderr.txt).
   std::set<std::string> files() const {
     std::set<std::string> out;

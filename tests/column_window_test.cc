@@ -1,4 +1,4 @@
-// ImageFileReader's column window: the window's slice of every row, and tiled TIFFs decoding only the tiles it overlaps.
+// ImageFileReader's column window: the window's slice of every row, and tiled TIFFs and OpenEXRs decoding only the tiles it overlaps.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -58,20 +58,23 @@ TEST_F(ColumnWindow, EveryFormatGivesTheWindowsColumns) {
   }
 }
 
-TEST_F(ColumnWindow, TiledTiffDecodesOnlyTheTilesTheWindowOverlaps) {
-  const fs::path p = dir_ / "tiles.tif";
-  oiio_write(p, pattern(512, 256, 3), OIIO::TypeDesc::UINT8, 64);  // 8 x 4 tiles
-  auto count = [&](ColumnRange window) {
-    const long before = io::tiff_tiles_decoded();
-    ImageFileReader reader(p, false, window);
-    std::vector<float> row(static_cast<std::size_t>(reader.window_width()) * 3);
-    for (int y = 0; y < reader.height(); ++y) reader.read_row(y, row);
-    return io::tiff_tiles_decoded() - before;
-  };
-  EXPECT_EQ(count({}), 32);
-  EXPECT_EQ(count({64, 128}), 4);   // one tile column
-  EXPECT_EQ(count({100, 180}), 8);  // two tile columns, neither whole
-  EXPECT_EQ(count({511, 512}), 4);
+TEST_F(ColumnWindow, TiledFilesDecodeOnlyTheTilesTheWindowOverlaps) {
+  for (auto [name, tiles_decoded] : {std::pair{"tiles.tif", &io::tiff_tiles_decoded}, std::pair{"tiles.exr", &io::exr_tiles_decoded}}) {
+    SCOPED_TRACE(name);
+    const fs::path p = dir_ / name;
+    oiio_write(p, pattern(512, 256, 3), OIIO::TypeDesc::UINT8, 64);  // 8 x 4 tiles
+    auto count = [&](ColumnRange window) {
+      const long before = tiles_decoded();
+      ImageFileReader reader(p, false, window);
+      std::vector<float> row(static_cast<std::size_t>(reader.window_width()) * 3);
+      for (int y = 0; y < reader.height(); ++y) reader.read_row(y, row);
+      return tiles_decoded() - before;
+    };
+    EXPECT_EQ(count({}), 32);
+    EXPECT_EQ(count({64, 128}), 4);   // one tile column
+    EXPECT_EQ(count({100, 180}), 8);  // two tile columns, neither whole
+    EXPECT_EQ(count({511, 512}), 4);
+  }
 }
 
 // RowReader::set_columns (a rank of a distributed solve): the window's columns at their place in

@@ -70,6 +70,15 @@ inline void oiio_write(const std::filesystem::path& path, const Image& image, OI
   oiio_write_with(path, image, type, [tile](OIIO::ImageSpec& spec) { spec.tile_width = spec.tile_height = tile; });
 }
 
+// An image from interleaved samples (pixel by pixel, channels together).
+inline Image from_interleaved(const std::vector<float>& pixels, int w, int h, int c) {
+  Image image(w, h, c);
+  for (int ch = 0; ch < c; ++ch)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) image.at(ch, x, y) = pixels[(static_cast<std::size_t>(y) * w + x) * c + ch];
+  return image;
+}
+
 // The whole image as OpenImageIO reads it in one call (alpha unassociated, first subimage).
 inline Image oiio_read(const std::filesystem::path& path) {
   OIIO::ImageSpec config;
@@ -82,12 +91,7 @@ inline Image oiio_read(const std::filesystem::path& path) {
   const OIIO::ImageSpec& spec = in->spec();
   std::vector<float> pixels(spec.image_pixels() * spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, pixels.data())) ADD_FAILURE() << in->geterror();
-  Image image(spec.width, spec.height, spec.nchannels);
-  for (int c = 0; c < image.channels; ++c)
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x)
-        image.at(c, x, y) = pixels[(static_cast<std::size_t>(y) * image.width + x) * image.channels + c];
-  return image;
+  return from_interleaved(pixels, spec.width, spec.height, spec.nchannels);
 }
 
 // Rows as RowReader::read_row() gives them: channel-major, row[c * width + x].

@@ -241,6 +241,19 @@ TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
 }
 
+// Rank 0 itself failing (here its output disk full: a file-size limit on rank 0 alone) ends every
+// rank, and its temporary output file goes too.
+TEST_F(MpiBands, FullOutputDiskOnRankZeroLeavesNoTemporary) {
+  // Rows are written while the ranks still solve (more than one band of rows).
+  write_image(path("in.tif"), test::random_image(1000, 400, 1, 3), {});
+  const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
+                          " --depth float -q --bands 1";
+  const test::CliRun r = mpi("-np 1 sh -c \"trap '' XFSZ; ulimit -f 100; exec " + run + "\" : -np 1 " + run);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("out.tif"), std::string::npos) << r.err;
+  EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
+}
+
 TEST_F(MpiBands, RanksThatDisagreeStopTogether) {
   const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
                           " --depth float -q --bands 1";
@@ -255,9 +268,13 @@ TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.code, 124);
   EXPECT_NE(r.err.find("only stitch"), std::string::npos) << r.err;
-  const test::CliRun s = sharpen("out.tif", 0, 2);
-  EXPECT_NE(s.code, 0);
-  EXPECT_NE(s.err.find("--bands"), std::string::npos) << s.err;
+  const test::CliRun s = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " +
+                             path("out.tif"));
+  EXPECT_EQ(s.code, 2) << s.err;
+  EXPECT_NE(s.err.find("--bands N is needed"), std::string::npos) << s.err;
+  // Every rank sees it: said once, by rank 0, without MPI_Abort's banner.
+  EXPECT_EQ(s.err.find("--bands N is needed"), s.err.rfind("--bands N is needed")) << s.err;
+  EXPECT_EQ(s.err.find("MPI_ABORT"), std::string::npos) << s.err;
 }
 
 }  // namespace

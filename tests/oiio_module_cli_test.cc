@@ -1,4 +1,4 @@
-// The gdp tool reads and writes PNG, TIFF and JPEG without OpenImageIO's module, and says so when a format needs it.
+// The gdp tool reads and writes PNG, TIFF, JPEG and OpenEXR without OpenImageIO's module, and says so when a format needs it.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -23,12 +23,12 @@ class NoModule {
 
 class OiioModuleCli : public CliFixture {};
 
-TEST_F(OiioModuleCli, PngTiffAndJpegNeedNoModule) {
+TEST_F(OiioModuleCli, PngTiffJpegAndExrNeedNoModule) {
   Image image(300, 200, 3);
   for (std::size_t i = 0; i < image.data.size(); ++i) image.data[i] = static_cast<float>(i % 251) / 250.0f;
   write_image(path("in.png"), image, {});
   const NoModule no_module;
-  for (const char* out : {"out.tif", "out.jpg", "out2.png"}) {
+  for (const char* out : {"out.tif", "out.jpg", "out.exr", "out2.png"}) {
     const CliRun r = gdp("convert " + path("in.png") + " -o " + path(out));
     EXPECT_EQ(r.code, 0) << out << ": " << r.err;
   }
@@ -36,14 +36,16 @@ TEST_F(OiioModuleCli, PngTiffAndJpegNeedNoModule) {
   EXPECT_NE(r.code, 0) << "tiled JPEG output must be refused";
   const CliRun s = gdp("smooth " + path("out.jpg") + " --scale 4 -o " + path("smooth.tif") + " --tiled --quiet");
   EXPECT_EQ(s.code, 0) << s.err;
+  const CliRun t = gdp("smooth " + path("out.exr") + " --scale 4 -o " + path("smooth.exr") + " --tiled --quiet");
+  EXPECT_EQ(t.code, 0) << t.err;
 }
 
 TEST_F(OiioModuleCli, AFormatNeedingTheMissingModuleIsAOneLineError) {
   write_image(path("in.png"), Image(8, 8, 3), {});
-  std::ofstream(path("in.exr")) << "not read";
+  std::ofstream(path("in.hdr")) << "not read";
   const NoModule no_module;
-  expect_failure("convert " + path("in.png") + " -o " + path("out.exr"), "needs OpenImageIO's module");
-  expect_failure("convert " + path("in.exr") + " -o " + path("out.png"), "/nonexistent/libgdp_oiio.so");
+  expect_failure("convert " + path("in.png") + " -o " + path("out.hdr"), "needs OpenImageIO's module");
+  expect_failure("convert " + path("in.hdr") + " -o " + path("out.png"), "/nonexistent/libgdp_oiio.so");
 }
 
 TEST_F(OiioModuleCli, ConvertingPngToTiffStaysFarBelowOpenImageIOsOwnFootprint) {

@@ -48,6 +48,7 @@ struct StitchOptions {
   // are then the mean of the composite's and this image's differences where both ends have
   // finite values (the mean of both sources' gradients), zero elsewhere (gdp blend).
   RowReader* across = nullptr;
+  std::string labels_name = "the label map";  // in messages
 };
 
 // Every application comes in two forms: rows in and rows out (RowReader / RowWriter: files
@@ -57,7 +58,10 @@ struct StitchOptions {
 
 // Seamless stitching: gradients of the composite, zero across label changes; the output's mean
 // over known pixels is the composite's (up to what the last sweeps move it, ~1e-5). Labels are
-// compared exactly, any channel count. The composite is read twice with `deramp`.
+// compared exactly, any channel count. The composite is read twice with `deramp`. A label map
+// that is all white (unknown) gives no pixel a source: an InputError naming `labels_name` after
+// the solve (nothing is committed), unless white is a label (UnknownMode::Label). (Under mpirun a
+// rank sees only its columns: there the check is left out.)
 void stitch(RowReader& composite, RowReader& labels, const StitchOptions& options, const SolverOptions& solver,
             RowWriter& out, SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options,
@@ -65,6 +69,7 @@ Image stitch(const Image& composite, const Image& labels, const StitchOptions& o
 
 // Gradient-domain sharpening (beta > 1) or smoothing (beta < 1): fit gradients beta * grad(I)
 // and values I with weight alpha. alpha = 1 / s^2 changes detail finer than about s pixels.
+// UsageError unless 0 < alpha <= 1e6 and 0 <= beta <= 1e6 (beyond, floats overflow).
 void sharpen(RowReader& image, double alpha, double beta, const SolverOptions& solver, RowWriter& out,
              SolveSummary* summary = nullptr, const Fidelity& fidelity = {});
 Image sharpen(const Image& image, double alpha, double beta, const SolverOptions& solver,

@@ -19,7 +19,7 @@ namespace gdp {
 // finite colour. Placement: `x, y` when `placed`, else the TIFF's XPOSITION/YPOSITION, else 0, 0.
 struct LayerSource {
   std::string image;
-  std::string mask;  // optional: a separate coverage image of the image's size
+  std::string mask = "";  // optional: a separate coverage image of the image's size
   bool placed = false;
   long long x = 0, y = 0;
 };

@@ -14,7 +14,10 @@ void untrack(int handle);
 // Deletes every tracked path. Async-signal-safe (only unlink()).
 void remove_tracked() noexcept;
 
-// SIGINT, SIGTERM, SIGHUP: delete the tracked files, then die of the same signal.
+// SIGINT, SIGTERM, SIGHUP, SIGQUIT: delete the tracked files, then die of the same signal.
+// SIGXFSZ is ignored: a write beyond the file-size limit fails (EFBIG) and is reported.
+// (SIGKILL cannot be caught: the next run writing the same output removes what it left,
+// io/temp_file.h.)
 void install_signal_handlers();
 
 }  // namespace gdp::cleanup

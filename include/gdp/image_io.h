@@ -45,7 +45,7 @@ struct WriteOptions {
   std::string compression;                // TIFF: "none", "zip" (deflate; "zip:1".."zip:9"), "lzw", "packbits", "jpeg", "zstd",
                                           // "lzma", others -> zip; other formats: OpenImageIO "Compression"; empty: the format's default
   int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
-  std::optional<GeoReference> geo;        // TIFF: written as GeoTIFF tags (other formats: ignored)
+  std::optional<GeoReference> geo = std::nullopt;  // TIFF: written as GeoTIFF tags (other formats: ignored)
 };
 
 // Writes an image to a temporary file in the output's directory and renames it into place,

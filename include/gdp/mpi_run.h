@@ -26,6 +26,10 @@ class MpiRun {
   // True once every rank has seen the same error in the collective check before a solve:
   // every rank then returns normally (rank 0 prints the message) instead of aborting.
   static bool failed_together();
+  // Every rank calls this at the same point with its own error ("" when it has none): returns
+  // when no rank has one, else throws the same UsageError on every rank (the lowest failing
+  // rank's, failed_together() then true). Without MPI: throws UsageError(error) unless empty.
+  static void agree(const std::string& error);
   // Prints "gdp: rank R: why" and ends every rank with exit status 2 (MPI_Abort, the MPI
   // transport's abort path); without MPI it returns and the caller reports the error.
   static void abort(const std::string& why);

@@ -48,9 +48,14 @@ void solve_image(RowReader& image, double alpha, double beta, bool start, const 
   apps::solve_with_fidelity(guidance, fidelity, solver, fixups, summary);
 }
 
+// Above these the solve overflows in float (alpha 1e6 is a scale of 1/1000 pixel: the input itself).
+constexpr double kMaxAlpha = 1e6, kMaxBeta = 1e6;
+
 void check_parameters(double alpha, double beta) {
-  if (!(alpha > 0.0)) throw UsageError(fmt::format("--alpha must be positive, got {}", alpha));
-  if (!(beta >= 0.0)) throw UsageError(fmt::format("--beta must be non-negative, got {}", beta));
+  if (!(alpha > 0.0 && alpha <= kMaxAlpha))
+    throw UsageError(fmt::format("--alpha must be in (0, {:g}], got {}", kMaxAlpha, alpha));
+  if (!(beta >= 0.0 && beta <= kMaxBeta))
+    throw UsageError(fmt::format("--beta must be in [0, {:g}], got {}", kMaxBeta, beta));
 }
 
 }  // namespace

@@ -66,6 +66,8 @@ class StitchGuidance final : public apps::ImageGuidance {
       for (auto& r : across_rows_) r.assign(static_cast<std::size_t>(channels()) * width(), 0.0f);
     if (options.deramp) compute_ramps(composite);
   }
+  // Known labels met so far (columns outside a window this process does not read count as one).
+  int labels_seen() const { return ids_.count(); }
   void set_columns(int begin, int end) override {
     ImageGuidance::set_columns(begin, end);
     labels_.set_columns(begin, std::min(end + 1, width()));
@@ -195,6 +197,10 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
   StitchGuidance guidance(in_space, labels, across_space ? &*across_space : nullptr, options, fixups);
   apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);
+  if (guidance.labels_seen() == 0)
+    throw InputError(fmt::format("{}: every pixel is white (unknown), so no pixel has a source and there is nothing "
+                                 "to stitch (--unknown label takes white for a label)",
+                                 options.labels_name));
 }
 
 Image stitch(const Image& composite, const Image& labels, const StitchOptions& options, const SolverOptions& solver,

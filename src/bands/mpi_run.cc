@@ -8,6 +8,7 @@
 
 #include "bands/mpi_agree.h"
 #include "bands/mpi_transport.h"
+#include "gdp/errors.h"
 
 namespace gdp {
 namespace {
@@ -43,6 +44,11 @@ MpiRun::~MpiRun() {
 int MpiRun::rank() { return the_rank; }
 int MpiRun::size() { return the_size; }
 bool MpiRun::failed_together() { return together; }
+
+void MpiRun::agree(const std::string& error) {
+  if (the_size > 1) bands::agree_before_solving(error, {});
+  else if (!error.empty()) throw UsageError(error);
+}
 
 void MpiRun::abort(const std::string& why) {
   if (started) bands::abort_ranks(why);

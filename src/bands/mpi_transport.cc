@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "bands/thread_transport.h"
+#include "gdp/cleanup.h"
 
 namespace gdp::bands {
 
@@ -20,6 +21,7 @@ void abort_ranks(const std::string& why) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   std::fprintf(stderr, "gdp: rank %d: %s\n", rank, why.c_str());
   std::fflush(stderr);
+  cleanup::remove_tracked();  // MPI_Abort skips every destructor: this rank's temporary output goes now
   MPI_Abort(MPI_COMM_WORLD, 2);
   std::abort();  // MPI_Abort does not return
 }

@@ -30,7 +30,8 @@ class MpiHub {
 
 // Prints "gdp: rank R: why" on stderr and calls MPI_Abort(MPI_COMM_WORLD, 2): every rank ends with
 // a non-zero status instead of waiting for messages that will never come. The only place the
-// library ends the process; used by MpiHub's abort() and gdp::MpiRun::abort().
+// library ends the process; used by MpiHub's abort() and gdp::MpiRun::abort(). Tracked files (the
+// temporary output) are removed first (gdp/cleanup.h): MPI_Abort runs no destructor.
 [[noreturn]] void abort_ranks(const std::string& why);
 
 }  // namespace gdp::bands

@@ -56,7 +56,10 @@ void remove_tracked() noexcept {
 }
 
 void install_signal_handlers() {
-  for (int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, on_signal);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) std::signal(sig, on_signal);
+  // A file-size limit (ulimit -f) then fails the write (EFBIG), which the writer reports and
+  // cleans up after, instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 }  // namespace gdp::cleanup

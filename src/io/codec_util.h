@@ -53,9 +53,10 @@ std::string one_line(std::string_view message);
 // Sample type to ask the writer for. Writers that store floating point (TIFF, OpenEXR, Radiance
 // HDR, FITS) default to Float, all others to UInt8. A floating-point type asked of a writer that
 // cannot store it becomes UInt16 for PNG and UInt8 otherwise. The encoder may still adjust the
-// type to what the format stores (TIFF Half -> Float, JPEG UInt16 -> UInt8, and in OpenImageIO
-// 2.4: OpenEXR Double -> Float and integers -> Half, HDR anything -> Float, WebP/BMP/PPM UInt16 ->
-// UInt8, FITS UInt16 -> Int16); the samples written follow that adjusted type.
+// type to what the format stores (TIFF Half -> Float, JPEG UInt16 -> UInt8, OpenEXR Double ->
+// Float and integers -> Half as OpenImageIO 2.4 did, and in OpenImageIO 2.4: HDR anything ->
+// Float, WebP/BMP/PPM UInt16 -> UInt8, FITS UInt16 -> Int16); the samples written follow that
+// adjusted type.
 SampleType choose_sample_type(const std::string& format_name, const std::optional<SampleType>& requested);
 
 // True for format names (OpenImageIO's names) that do not keep exact values.

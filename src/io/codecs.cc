@@ -1,4 +1,4 @@
-// The codec registry: file signatures and extensions to gdp's own codecs or OpenImageIO's module.
+// The codec registry: file signatures and extensions to gdp's own codecs (PNG, TIFF, JPEG, OpenEXR) or OpenImageIO's module.
 #include "io/codecs.h"
 
 #include <cstdio>
@@ -12,7 +12,7 @@
 namespace gdp::io {
 namespace {
 
-enum class Kind { Png, Tiff, Jpeg, Other };
+enum class Kind { Png, Tiff, Jpeg, Exr, Other };
 
 Kind sniff(const std::string& path) {
   unsigned char head[8] = {};
@@ -26,6 +26,7 @@ Kind sniff(const std::string& path) {
   if (n >= 4 && head[0] == 'I' && head[1] == 'I' && (head[2] == 42 || head[2] == 43) && head[3] == 0) return Kind::Tiff;
   if (n >= 4 && head[0] == 'M' && head[1] == 'M' && head[2] == 0 && (head[3] == 42 || head[3] == 43)) return Kind::Tiff;
   if (n >= 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff) return Kind::Jpeg;
+  if (n >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01) return Kind::Exr;
   return Kind::Other;
 }
 
@@ -41,6 +42,7 @@ std::unique_ptr<Decoder> open_decoder(const std::string& path, int page) {
     case Kind::Png: decoder = open_png_decoder(path); break;
     case Kind::Tiff: decoder = open_tiff_decoder(path, page); break;
     case Kind::Jpeg: decoder = open_jpeg_decoder(path); break;
+    case Kind::Exr: decoder = open_exr_decoder(path); break;
     case Kind::Other: break;
   }
   if (decoder) return decoder;
@@ -54,6 +56,7 @@ std::unique_ptr<Encoder> create_encoder(const std::string& path) {
   if (ext == "tif" || ext == "tiff") return create_tiff_encoder();
   if (ext == "jpg" || ext == "jpeg" || ext == "jpe" || ext == "jfif" || ext == "jif" || ext == "jfi")
     return create_jpeg_encoder();
+  if (ext == "exr") return create_exr_encoder();
   return oiio_backend().create_encoder(path);
 }
 

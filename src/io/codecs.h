@@ -9,17 +9,18 @@
 
 namespace gdp::io {
 
-// PNG, TIFF and JPEG files are decoded by gdp's own codecs (libpng, libtiff, libjpeg), chosen by
-// their first bytes; variants those do not handle (CMYK JPEG, palette TIFF, ...) and every other
-// format go to OpenImageIO's module (io/oiio_backend.h). Throws std::exception's with the problem.
+// PNG, TIFF, JPEG and OpenEXR files are decoded by gdp's own codecs (libpng, libtiff, libjpeg,
+// OpenEXR), chosen by their first bytes; variants those do not handle (CMYK JPEG, palette TIFF,
+// ...) and every other format go to OpenImageIO's module (io/oiio_backend.h). Throws
+// std::exception's with the problem.
 // `page` > 0 selects a later page (directory) of a multi-page TIFF (gdp's TIFF decoder only).
 std::unique_ptr<Decoder> open_decoder(const std::string& path, int page = 0);
 
 // True when the file starts with a TIFF or BigTIFF signature.
 bool is_tiff_file(const std::string& path);
 
-// .png, .tif/.tiff and .jpg/.jpeg/.jpe/.jfif/.jif/.jfi are written by gdp's own encoders, the
-// rest through OpenImageIO's module.
+// .png, .tif/.tiff, .jpg/.jpeg/.jpe/.jfif/.jif/.jfi and .exr are written by gdp's own encoders,
+// the rest through OpenImageIO's module.
 std::unique_ptr<Encoder> create_encoder(const std::string& path);
 
 // Decoders and encoders of gdp's own codecs; a decoder returns nullptr for a variant it leaves
@@ -27,9 +28,11 @@ std::unique_ptr<Encoder> create_encoder(const std::string& path);
 std::unique_ptr<Decoder> open_png_decoder(const std::string& path);
 std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path, int page = 0);
 std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path);
+std::unique_ptr<Decoder> open_exr_decoder(const std::string& path);  // never nullptr: throws instead
 std::unique_ptr<Encoder> create_png_encoder();
 std::unique_ptr<Encoder> create_tiff_encoder();
 std::unique_ptr<Encoder> create_jpeg_encoder();
+std::unique_ptr<Encoder> create_exr_encoder();
 
 // The write errors of gdp's own encoders: the file's recorded failure (no space, ...), which a
 // codec library's own message would only follow from, else the library's message.
@@ -41,6 +44,8 @@ inline CodecError write_error(const OutputFile* file, const std::string& library
   return CodecError("cannot write: " + library_message);
 }
 
-// Tiles decoded by gdp's TIFF decoder in this process so far (tests check column windows with it).
+// Tiles decoded by gdp's TIFF and OpenEXR decoders in this process so far (tests check column
+// windows with them).
 long tiff_tiles_decoded();
+long exr_tiles_decoded();
 }  // namespace gdp::io

@@ -11,6 +11,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "schedule/bounded_queue.h"
@@ -76,7 +77,11 @@ struct ImageFileReader::Impl {
     }
     layout = decoder->layout();
     decoder_used = false;
-    if (layout.width <= 0 || layout.height <= 0 || layout.channels <= 0) throw fail("image has zero size");
+    try {  // the codecs check before they allocate; OpenImageIO's are checked here
+      check_image_size(layout.width, layout.height, layout.channels);
+    } catch (const std::exception& e) {
+      throw fail(e.what());
+    }
     if (layout.channels > 4) throw fail(fmt::format("{} channels; gdp supports 1 to 4", layout.channels));
     set_window();
   }

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 
@@ -18,14 +19,16 @@ namespace {
 
 // libjpeg reports errors by calling error_exit(), which here records the message and longjmp()s
 // back to the setjmp() of the guarded call that started it. Only the guarded functions below call
-// libjpeg, and they hold no C++ objects with destructors. A file that ends early is an error too
-// (libjpeg itself only warns and fills the rest with gray), unless only its end marker is missing.
+// libjpeg, and they hold no C++ objects with destructors. Damaged data is an error too (libjpeg
+// itself only warns, "Corrupt JPEG data: ...", and fills in gray or garbage): every warning once
+// decoding has started, but a file missing only its end marker and stray bytes before it.
 struct JpegState {
   jpeg_decompress_struct cinfo{};
   jpeg_error_mgr errors{};
   std::jmp_buf jump{};
   std::FILE* file = nullptr;
   bool created = false;
+  bool decoding = false;  // past the header: a warning means lost pixels
   char message[JMSG_LENGTH_MAX] = {};
   JpegState() = default;
   JpegState(const JpegState&) = delete;
@@ -43,15 +46,27 @@ void on_error(j_common_ptr cinfo) {
   std::longjmp(state_of(cinfo)->jump, 1);
 }
 
-// The file ended early. Fatal unless the rows still to come are within the last row of MCUs,
-// which libjpeg reads ahead of the rows it returns: then only the end marker is missing.
+// Stray bytes before the end marker that some cameras' files have; more are what is left of
+// damaged data that decoded into fewer bits than it holds.
+constexpr int kStrayBytes = 8;
+
+// A warning while decoding is fatal, with two exceptions that lose nothing: the file ending
+// within the last row of MCUs (which libjpeg reads ahead of the rows it returns) of a sequential
+// file, where only the end marker is missing (were data missing, libjpeg would go on to warn that
+// it hit the marker it puts in its place), and a few stray bytes before the end marker.
+// Warnings while reading the header (metadata: JFIF version, ICC profile) are ignored.
 void on_message(j_common_ptr cinfo, int level) {
-  if (level >= 0 || cinfo->err->msg_code != JWRN_JPEG_EOF || !cinfo->is_decompressor) return;
+  if (level >= 0 || !cinfo->is_decompressor || !state_of(cinfo)->decoding) return;
   const auto* d = reinterpret_cast<j_decompress_ptr>(cinfo);
-  const JDIMENSION last_mcu_rows = static_cast<JDIMENSION>(d->max_v_samp_factor * DCTSIZE);
-  if (d->output_height == 0 || d->output_scanline + last_mcu_rows < d->output_height ||
-      d->progressive_mode)
-    on_error(cinfo);
+  const int code = cinfo->err->msg_code;
+  if (code == JWRN_EXTRANEOUS_DATA && cinfo->err->msg_parm.i[1] == 0xd9 && cinfo->err->msg_parm.i[0] <= kStrayBytes)
+    return;
+  if (code == JWRN_JPEG_EOF) {
+    const JDIMENSION last_mcu_rows = static_cast<JDIMENSION>(d->max_v_samp_factor * DCTSIZE);
+    if (d->output_height > 0 && d->output_scanline + last_mcu_rows >= d->output_height && !d->progressive_mode)
+      return;
+  }
+  on_error(cinfo);
 }
 
 // Reads the header; false on a libjpeg error.
@@ -67,6 +82,7 @@ bool guarded_header(JpegState* s) {
 bool guarded_start(JpegState* s, J_COLOR_SPACE out) {
   if (setjmp(s->jump)) return false;
   s->cinfo.out_color_space = out;
+  s->decoding = true;  // a progressive file is decoded here, whole
   jpeg_start_decompress(&s->cinfo);
   return true;
 }
@@ -83,6 +99,9 @@ bool guarded_rows(JpegState* s, unsigned char* const* rows, int count) {
     }
     done += static_cast<int>(n);
   }
+  // After the last row, read on to the end marker: data that decoded into fewer bits than the
+  // file holds (damage) shows only there.
+  if (s->cinfo.output_scanline == s->cinfo.output_height) jpeg_finish_decompress(&s->cinfo);
   return true;
 }
 
@@ -103,6 +122,7 @@ class JpegDecoder final : public Decoder {
       out = JCS_RGB;
     else
       return false;
+    check_image_size(s_.cinfo.image_width, s_.cinfo.image_height, out == JCS_GRAYSCALE ? 1 : 3);
     if (!guarded_start(&s_, out)) throw error();
     layout_.width = static_cast<int>(s_.cinfo.output_width);
     layout_.height = static_cast<int>(s_.cinfo.output_height);

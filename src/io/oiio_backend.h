@@ -8,7 +8,7 @@
 
 namespace gdp::io {
 
-// The formats gdp does not decode itself (OpenEXR, Radiance HDR, FITS, WebP, BMP, ...), through
+// The formats gdp does not decode itself (Radiance HDR, FITS, WebP, BMP, ...), through
 // OpenImageIO. Errors are std::exception's whose what() is the problem, as for every codec.
 class Backend {
  public:

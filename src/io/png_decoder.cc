@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 
@@ -39,11 +40,24 @@ void on_error(png_structp png, png_const_charp message) {
 
 void on_warning(png_structp, png_const_charp) {}  // benign (unknown chunks, sRGB profile notes)
 
-// Reads the header and sets the expansions; false on a libpng error.
-bool guarded_start(PngState* s) {
+// Reads the header; false on a libpng error.
+bool guarded_header(PngState* s) {
   if (setjmp(png_jmpbuf(s->png))) return false;
   png_init_io(s->png, s->file);
   png_read_info(s->png, s->info);
+  return true;
+}
+
+// Channels once expanded (palette to RGB, transparency to alpha).
+int expanded_channels(PngState* s) {
+  const int color = png_get_color_type(s->png, s->info);
+  const int alpha = png_get_valid(s->png, s->info, PNG_INFO_tRNS) ? 1 : 0;
+  return color == PNG_COLOR_TYPE_PALETTE ? 3 + alpha : png_get_channels(s->png, s->info) + alpha;
+}
+
+// Sets the expansions (allocating the row buffers); false on a libpng error.
+bool guarded_start(PngState* s) {
+  if (setjmp(png_jmpbuf(s->png))) return false;
   const int color = png_get_color_type(s->png, s->info);
   const int depth = png_get_bit_depth(s->png, s->info);
   if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s->png);
@@ -77,6 +91,9 @@ class PngDecoder final : public Decoder {
     if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
     // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.
     png_set_user_limits(s_.png, 0x7fffffff, 0x7fffffff);
+    if (!guarded_header(&s_)) throw error();
+    check_image_size(png_get_image_width(s_.png, s_.info), png_get_image_height(s_.png, s_.info),
+                     expanded_channels(&s_));
     if (!guarded_start(&s_)) throw error();
     layout_.width = static_cast<int>(png_get_image_width(s_.png, s_.info));
     layout_.height = static_cast<int>(png_get_image_height(s_.png, s_.info));

@@ -1,13 +1,25 @@
-// Names for temporary output files: created exclusively next to the final file.
+// Names for temporary output files: created exclusively next to the final file; stale ones removed.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
 namespace gdp::io {
 
 // Creates an empty ".NAME.tmp-PID-RANDOM.EXT" exclusively next to `path` (same extension, so a
-// plugin chosen by name still matches); on failure returns the empty path and sets `why`.
+// plugin chosen by name still matches); on failure returns the empty path and sets `why`. First
+// removes the stale temporaries of `path` (remove_stale_temp_files).
 std::filesystem::path create_temp_file(const std::filesystem::path& path, std::string& why);
+
+// ".NAME.tmp-" for `path`, such that the whole temporary name fits `max_name` bytes (NAME_MAX):
+// a stem too long for it is cut and followed by "~" and a 64-bit hash of the whole stem.
+std::string temp_prefix(const std::filesystem::path& path, std::size_t max_name);
+
+// Removes `path`'s temporaries left by processes that no longer run (a SIGKILL, a crash, a lost
+// power): named with its prefix and extension and a PID that kill(PID, 0) says does not exist.
+// PIDs are this host's: a directory shared by several hosts where two runs write the same
+// output at once is not supported anyway. Returns how many were removed.
+int remove_stale_temp_files(const std::filesystem::path& path);
 
 }  // namespace gdp::io

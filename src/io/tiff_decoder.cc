@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/tiff_util.h"
@@ -55,6 +56,8 @@ class TiffDecoder final : public Decoder {
     else if (format == SAMPLEFORMAT_IEEEFP && bits == 32) kind_ = SampleType::Float;
     else if (format == SAMPLEFORMAT_IEEEFP && bits == 64) kind_ = SampleType::Double;
     else return false;
+    check_image_size(width, height, spp);
+    messages_.warn_as_errors();  // from here on libtiff decodes pixels
     planar_ = planar == PLANARCONFIG_SEPARATE && spp > 1;
     layout_.width = static_cast<int>(width);
     layout_.height = static_cast<int>(height);
@@ -100,7 +103,8 @@ class TiffDecoder final : public Decoder {
     const int ch = layout_.channels;
     const std::size_t count = static_cast<std::size_t>(x1 - x0) * ch, in = sample_bytes(kind_);
     for (int y = y0; y < y1; ++y) {
-      if (TIFFReadScanline(tif_, chunk_.data(), static_cast<std::uint32_t>(y), 0) < 0) throw error(y);
+      if (TIFFReadScanline(tif_, chunk_.data(), static_cast<std::uint32_t>(y), 0) < 0 || messages_.warned())
+        throw error(y);
       tiff_to_band(kind_, chunk_.data() + static_cast<std::size_t>(x0) * ch * in, 1,
                    out + (y - y0) * count * band_bytes(), 1, count);
     }
@@ -118,7 +122,8 @@ class TiffDecoder final : public Decoder {
         unsigned char* buffer = chunk_.data() + c * strip_bytes;
         if (cached_strip_[c] != strip) {
           const tstrile_t index = TIFFComputeStrip(tif_, static_cast<std::uint32_t>(y), static_cast<std::uint16_t>(c));
-          if (TIFFReadEncodedStrip(tif_, index, buffer, static_cast<tmsize_t>(strip_bytes)) < 0) throw error(y);
+          if (TIFFReadEncodedStrip(tif_, index, buffer, static_cast<tmsize_t>(strip_bytes)) < 0 || messages_.warned())
+            throw error(y);
           cached_strip_[c] = strip;
         }
         const unsigned char* src = buffer + (y - strip * rows_per_strip_) * row_in + x0 * in;
@@ -140,7 +145,8 @@ class TiffDecoder final : public Decoder {
         for (int p = 0; p < planes; ++p) {
           const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0,
                                                 static_cast<std::uint16_t>(p));
-          if (TIFFReadEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0)
+          if (TIFFReadEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0 ||
+              messages_.warned())
             throw error(ty);
           tiles_decoded.fetch_add(1, std::memory_order_relaxed);
           for (int y = ya; y < yb; ++y) {

@@ -20,7 +20,12 @@ int on_error(TIFF*, void* user, const char* module, const char* format, va_list 
   return 1;  // handled: the process-wide handler is not called
 }
 
-int on_warning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+int on_warning(TIFF*, void* user, const char*, const char* format, va_list args) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, args);
+  static_cast<TiffMessages*>(user)->warning(text);
+  return 1;
+}
 
 }  // namespace
 
@@ -37,9 +42,16 @@ void TiffMessages::add(const char* text) {
   text_ += text;
 }
 
+void TiffMessages::warning(const char* text) {
+  if (!warnings_are_errors_) return;
+  add(text);
+  warned_ = true;
+}
+
 std::string TiffMessages::take() {
   std::string result = one_line(text_);
   text_.clear();
+  warned_ = false;
   return result;
 }
 

@@ -1,4 +1,4 @@
-// Decoding through OpenImageIO: the formats gdp does not decode itself (OpenEXR, HDR, FITS, ...).
+// Decoding through OpenImageIO: the formats gdp does not decode itself (Radiance HDR, FITS, WebP, ...).
 #include <algorithm>
 #include <cstring>
 #include <vector>

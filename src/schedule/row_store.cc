@@ -48,11 +48,17 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
     : name_(std::move(name)), row_length_(row_length), encoding_(policy.encoding) {
   const std::size_t total = encoded_bytes() * rows;
   if (total > policy.memory_limit) {
-    fd_ = open_unlinked(policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir, name_);
+    dir_ = policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
+    fd_ = open_unlinked(dir_, name_);
     buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
   } else {
     buffer_.resize(total);
   }
+}
+
+template <class T>
+std::string RowStore<T>::where() const {
+  return fmt::format("scratch file in {} ({})", dir_.string(), name_);
 }
 
 template <class T>
@@ -88,7 +94,7 @@ void RowStore<T>::flush() {
     const ssize_t k = ::write(fd_, buffer_.data() + done, buffered_ - done);
     if (k < 0 && errno == EINTR) continue;
     if (k <= 0)
-      throw OutputError(fmt::format("scratch file for {}: cannot write: {}", name_,
+      throw OutputError(fmt::format("{}: cannot write: {} (--temp DIR puts scratch files elsewhere)", where(),
                                     k < 0 ? system_message() : "no space left on device"));
     done += static_cast<std::size_t>(k);
   }
@@ -99,7 +105,7 @@ template <class T>
 void RowStore<T>::rewind() {
   if (fd_ >= 0) {
     if (!reading_) flush();
-    if (::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(fmt::format("scratch file for {}: {}", name_, system_message()));
+    if (::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(fmt::format("{}: {}", where(), system_message()));
     buffered_ = 0;
     file_read_ = 0;
   }
@@ -118,7 +124,7 @@ void RowStore<T>::fill() {
     const ssize_t k = ::read(fd_, buffer_.data() + buffered_, want);
     if (k < 0 && errno == EINTR) continue;
     if (k <= 0)
-      throw OutputError(fmt::format("scratch file for {}: cannot read back: {}", name_,
+      throw OutputError(fmt::format("{}: cannot read back: {}", where(),
                                     k < 0 ? system_message() : "file is shorter than written"));
     buffered_ += static_cast<std::size_t>(k);
     file_read_ += static_cast<std::size_t>(k);

@@ -50,7 +50,11 @@ class RowStore {
   void fill();
   std::size_t encoded_bytes() const;
 
+  // "scratch file in DIR (NAME)": messages name the directory (the disk that filled up).
+  std::string where() const;
+
   std::string name_;
+  std::filesystem::path dir_;  // of the file (empty in memory)
   std::size_t row_length_;
   StoreEncoding encoding_;
   int fd_ = -1;

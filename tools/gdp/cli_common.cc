@@ -10,13 +10,28 @@
 #include <algorithm>
 #include <cstdio>
 #include <thread>
-#include <fstream>
+#include <system_error>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "size_guard.h"
 
 namespace gdp::cli {
+
+namespace {
+
+// Checked when the flags are parsed: a --stats file that cannot be written fails before the run.
+std::string stats_path_problem(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return fmt::format("no such directory '{}'", dir.string());
+  if (std::filesystem::is_directory(p, ec)) return fmt::format("'{}' is a directory", path);
+  return "";
+}
+
+}  // namespace
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
   if (solver_flags) {
@@ -42,16 +57,25 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--incore-bytes", o.solver.incore_bytes,
                    "streaming and bands: coarse levels of at most this many bytes are solved in memory (on one "
                    "worker with bands; narrower bands merge in pairs above it)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](const std::string& v) { return v.find('-') == std::string::npos ? "" : "a negative size, got " + v; },
+            "BYTES"));
     cmd.add_option("--bands", o.bands, "split the columns into this many bands solved in parallel, one thread each "
-                                       "(paper section 6; docs/how-bands-work.md)");
+                                       "(paper section 6; docs/how-bands-work.md)")
+        ->check(CLI::Range(1, 1 << 16));
     cmd.add_option("--temp", o.solver.temp_dir,
                    "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
                    "rank's number (a directory per rank, e.g. on each node's own disk)");
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
   }
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
-  cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file");
+  cmd.add_option("--max-pixels", o.max_pixels,
+                 "refuse images of more pixels (default: what the free scratch disk and memory allow, estimated "
+                 "from the header before anything is allocated)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--stats", o.stats_path, "write statistics as JSON to this file")
+      ->check(CLI::Validator(stats_path_problem, "FILE"));
   cmd.add_option("--depth", o.depth, "output sample type: 8, 16, half, float (default: the input's)")
       ->check(CLI::IsMember({"8", "16", "half", "float"}));
   cmd.add_option("--quality", o.quality, "JPEG quality 1-100")->check(CLI::Range(1, 100))->capture_default_str();
@@ -113,11 +137,14 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   s.progress = progress_line(o, command + ": solving");
   s.validate();
+  guard_sizes(o, &s);
   return s;
 }
 
 std::unique_ptr<SphereRows> sphere_rows(const CommonOptions& o, const RowReader& reader, const std::string& name) {
   if (!o.sphere) return nullptr;
+  if (o.pq_height > 0) check_derived_size(fmt::format("--pq-height {}", o.pq_height), 4LL * o.pq_height, o.pq_height,
+                                          reader.channels());
   return std::make_unique<SphereRows>(reader.width(), reader.height(), name, o.pq_height);
 }
 
@@ -202,8 +229,30 @@ class RankFileWriter final : public RowWriter {
 
 }  // namespace
 
+void check_compression(const std::string& path, const std::string& compression) {
+  if (compression.empty()) return;
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string name = compression.substr(0, compression.find(':'));
+  const auto one_of = [&](std::initializer_list<const char*> names) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  std::string known;
+  if (ext == ".tif" || ext == ".tiff") {
+    if (one_of({"none", "lzw", "zip", "deflate", "packbits", "jpeg", "zstd", "lzma"})) return;
+    known = "none, lzw, zip, packbits, jpeg, zstd, lzma (':LEVEL' after zip, zstd, lzma)";
+  } else if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jpe" || ext == ".jfif") {
+    if (ext != ".png" && name == "jpeg" && compression.size() > 5) return;  // jpeg:QUALITY
+    known = ext == ".png" ? "none: PNG is always deflated" : "jpeg:QUALITY only (or --quality)";
+  } else {
+    return;  // other formats' names are OpenImageIO's
+  }
+  throw UsageError(fmt::format("--compression {} does not apply to {}: {}", compression, path, known));
+}
+
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet) {
+  check_compression(path, options.compression);
   if (path.find(kRankKey) != std::string::npos)
     return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
   // Under mpirun rank 0 writes the file, from every rank's columns.
@@ -268,8 +317,18 @@ void Stats::write(const std::string& path) const {
   }
   json += fmt::format("}},\n  \"seconds_total\": {:.4f},\n  \"peak_rss_mb\": {:.1f}\n}}\n",
                       std::chrono::duration<double>(Clock::now() - start_).count(), ru.ru_maxrss / 1024.0);
-  std::ofstream f(path);
-  if (!(f << json)) throw OutputError(fmt::format("{}: cannot write statistics", path));
+  // Every step checked (a full disk shows only when the buffer is written, at fclose).
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  bool ok = f && std::fwrite(json.data(), 1, json.size(), f) == json.size();
+  int error = errno;
+  if (f && std::fclose(f) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (ok) return;
+  std::error_code ec;
+  if (f && std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);  // no partial JSON
+  throw OutputError(fmt::format("{}: cannot write statistics: {}", path, std::generic_category().message(error)));
 }
 
 }  // namespace gdp::cli

@@ -36,6 +36,7 @@ struct CommonOptions {
   int bands = 0;  // > 0: the band schedule with this many bands (threads)
   bool sphere = false;  // --sphere: equirectangular or PQ input, solved on the PQ domain
   int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
+  long long max_pixels = 0;  // --max-pixels (0: what the free scratch disk and memory allow; size_guard.h)
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);
@@ -71,6 +72,10 @@ std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowR
 // each rank says on stderr which columns it wrote, unless `quiet`).
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet);
+
+// UsageError when `compression` (--compression) is not one the format of `path` knows (TIFF: its
+// codecs' names; PNG: none; JPEG: jpeg:QUALITY; other formats: left to OpenImageIO).
+void check_compression(const std::string& path, const std::string& compression);
 
 // `path` with every {rank} replaced by this process's MPI rank (0 without mpirun).
 std::string for_this_rank(const std::string& path);

@@ -1,6 +1,7 @@
 // `gdp convert`: stream an image through gdp's reader and writer (the I/O floor for timings).
 #include "cli_common.h"
 #include "commands.h"
+#include "size_guard.h"
 #include "gdp/image_stream.h"
 
 namespace gdp::cli {
@@ -17,6 +18,7 @@ class Convert final : public Command {
 
   int run() override {
     Stats stats("convert");
+    guard_sizes(common_, nullptr);
     ImageFileReader in(input_);
     ImageFileWriter out(output_, in.width(), in.height(), in.channels(), write_options(common_, in.info()));
     stats.time("total", [&] {

@@ -51,7 +51,9 @@ class Sharpen final : public Command {
     Stats stats(name_);
     if (smooth_ && !(beta_ < 1.0)) throw UsageError(fmt::format("smooth needs --beta below 1, got {}", beta_));
     if (!smooth_ && !(beta_ > 1.0)) throw UsageError(fmt::format("sharpen needs --beta above 1, got {}", beta_));
-    if (!(scale_ > 0.0)) throw UsageError(fmt::format("--scale must be positive, got {}", scale_));
+    // Below 1/1000 pixel alpha = 1 / scale^2 is beyond what the solve takes (the input itself).
+    if (!(scale_ >= 1e-3 && std::isfinite(scale_)))
+      throw UsageError(fmt::format("--scale must be a finite number of pixels, at least 0.001, got {}", scale_));
     if (app->count("--scale-at") && !(scale_at_ > 0)) throw UsageError(fmt::format("--scale-at must be positive, got {}", scale_at_));
     if (app->count("--scale-deg") && !(scale_deg_ > 0.0 && scale_deg_ < 180.0))
       throw UsageError(fmt::format("--scale-deg must be in (0, 180), got {}", scale_deg_));
@@ -66,7 +68,7 @@ class Sharpen final : public Command {
       const auto sphere = sphere_rows(common_, in, input_);
       RowReader& r = sphere ? sphere->input(in, input_) : in;
       RowWriter& w = sphere ? sphere->output(*out, in.channels()) : *out;
-      if (alpha_ == 0.0) alpha_ = 1.0 / std::pow(scale_pixels(in, r), 2);
+      if (!app->count("--alpha")) alpha_ = 1.0 / std::pow(scale_pixels(in, r), 2);
       const auto fidelity = open_fidelity(fidelity_, in, input_, sphere.get());
       if (low_.empty()) {
         sharpen(r, alpha_, beta_, solver, w, &summary, fidelity->fidelity);

@@ -6,6 +6,7 @@
 
 #include "cli_common.h"
 #include "commands.h"
+#include "size_guard.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
 #include "gdp/sphere.h"
@@ -47,6 +48,7 @@ class Sphere final : public Command {
   }
 
   int run() override {
+    guard_sizes(common_, nullptr, true);  // resampled in memory
     try {
       if (toast_->parsed()) return run_toast();
       return run_resample(to_pq_->parsed());
@@ -71,7 +73,11 @@ class Sphere final : public Command {
     const long long pixels = static_cast<long long>(in.width()) * in.height();
     Projection pq{Layout::Pq, sphere::parse_square_map(map_), false}, other{Layout::Equirect, {}, sky_};
     if (to_pq) {
-      other.layout = sphere::guess_layout(in.width(), in.height());
+      try {
+        other.layout = sphere::guess_layout(in.width(), in.height());
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", input_, e.what()));
+      }
       if (other.layout == Layout::Pq) throw InputError(input_ + ": is already a PQ image (4:1)");
     } else {
       if (in.width() != 4 * in.height())
@@ -85,7 +91,13 @@ class Sphere final : public Command {
       else if (other.layout == Layout::Equirect) size = 2 * static_cast<int>(std::lround(std::sqrt(pixels / 2.0)));
       else size = std::max(1, static_cast<int>(std::lround(std::sqrt(pixels / 6.0))));
     }
-    const auto [w, h] = sphere::layout_size(to_pq ? Layout::Pq : other.layout, size);
+    const Layout layout = to_pq ? Layout::Pq : other.layout;
+    const long long side = size;
+    check_derived_size(fmt::format("{} {}", to_pq ? "--height" : "--width", size),
+                       layout == Layout::Pq ? 4 * side : side,
+                       layout == Layout::Pq ? side : layout == Layout::Cube ? 6 * side : std::max(1LL, side / 2),
+                       in.channels());
+    const auto [w, h] = sphere::layout_size(layout, size);
     sphere::ResampleOptions options;
     options.nearest = nearest_;
     options.threads = threads_;

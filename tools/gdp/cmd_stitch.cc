@@ -4,6 +4,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/apps.h"
+#include "gdp/errors.h"
 #include "gdp/strip_files.h"
 
 namespace gdp::cli {
@@ -39,7 +40,11 @@ class Stitch final : public Command {
                        : unknown_ == "label"  ? UnknownMode::Label
                        : unknown_ == "extend" ? UnknownMode::Extend
                                               : UnknownMode::Harmonic;
+    options_.labels_name = labels_;
     StripFilesReader composite(composite_), labels(labels_);
+    if (labels.width() != composite.width() || labels.height() != composite.height())
+      throw InputError(fmt::format("{}: label map of {}x{}, but the composite {} is {}x{}", labels_, labels.width(),
+                                   labels.height(), composite_, composite.width(), composite.height()));
     options_.space.kind = space_ == "log" ? BlendSpace::Kind::Log
                           : space_ == "lab" ? BlendSpace::Kind::Lab
                                             : BlendSpace::Kind::Values;

@@ -1,0 +1,21 @@
+// The size check every image decoder applies to a file's header before it allocates anything.
+#pragma once
+
+#include <functional>
+
+namespace gdp {
+
+// Throws (an exception derived from std::exception whose what() is one line; the reader puts the
+// file's name in front) when an image of this size must not be opened.
+using SizeCheck = std::function<void(long long width, long long height, int channels)>;
+
+// The process-wide check, installed before images are opened (the gdp tool installs one from
+// --max-pixels or the free disk and memory); none by default.
+void set_size_check(SizeCheck check);
+
+// What decoders call with a header's size: first gdp's own bounds (sides of 1 to 2^31 - 1 pixels,
+// rows of at most 2^30 samples, so that no row, stride or level size overflows an int), then
+// the installed check. std::length_error on a size outside gdp's bounds.
+void check_image_size(long long width, long long height, int channels);
+
+}  // namespace gdp
