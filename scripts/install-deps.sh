@@ -16,6 +16,7 @@ packages=(
   python3-dev pybind11-dev python3-numpy # the Python module (python/)
   python3-pytest python3-venv python3-pip # its tests, and `pip install .` into a virtual environment
   python3-astropy                        # tests: sky positions checked against astropy
+  enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
 )
 
 missing=()

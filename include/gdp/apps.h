@@ -16,6 +16,9 @@ enum class UnknownMode {
   Black,     // fill smoothly for the solve, then output black there
   Harmonic,  // no gradients into or inside them: a smooth (harmonic) fill
   Label,     // white is an ordinary label
+  Extend,    // the composite's own differences into and inside them, as if part of every neighbouring
+             // label: the correction field runs on smoothly through them, and labels on either side of
+             // a gap keep their relative levels (gdp blend: pixels no layer covers)
 };
 
 // "black" | "harmonic" | "label"; anything else throws UsageError.
@@ -48,6 +51,11 @@ struct StitchOptions {
   bool deramp = false;            // subtract each label's mean gradient (removes linear ramps)
   bool start_from_composite = true;  // initial guess: the composite (else zero)
   BlendSpace space;
+  // Optional: at each pixel next to a label change, the value there of the source across it (the
+  // composite's size and channels; non-finite where unknown). Gradients across a label change
+  // are then the mean of the composite's and this image's differences where both ends have
+  // finite values (the mean of both sources' gradients), zero elsewhere (gdp blend).
+  RowReader* across = nullptr;
   std::string labels_name = "the label map";  // in messages
   std::string composite_name;                 // in messages (a file's name; empty: none)
 };

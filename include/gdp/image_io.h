@@ -1,10 +1,12 @@
 // Reading and writing image files (PNG/TIFF/JPEG by gdp's codecs, others through OpenImageIO's module), with atomic writes.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gdp/image.h"
 
@@ -28,6 +30,15 @@ struct ReadResult {
 // Reads a whole image. Throws InputError naming the file and the problem.
 ReadResult read_image(const std::filesystem::path& path);
 
+// Where a raster lies on the Earth (GeoTIFF): the model coordinates of the top-left pixel's
+// corner, the pixel size (north up), and the GeoKeyDirectory with its parameters (the CRS).
+struct GeoReference {
+  double origin_x = 0, origin_y = 0, scale_x = 0, scale_y = 0;
+  std::vector<std::uint16_t> keys;      // GeoKeyDirectoryTag (34735)
+  std::vector<double> double_params;    // GeoDoubleParamsTag (34736)
+  std::string ascii_params;             // GeoAsciiParamsTag (34737)
+};
+
 struct WriteOptions {
   std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
@@ -36,6 +47,7 @@ struct WriteOptions {
                                           // "lzma", others -> zip; other formats: OpenImageIO "Compression"; empty: the format's default
   int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
   std::string fits_header = {};           // FITS: header cards (80 characters each) to add, e.g. a WCS
+  std::optional<GeoReference> geo = std::nullopt;  // TIFF: written as GeoTIFF tags (other formats: ignored)
 };
 
 // Writes an image to a temporary file in the output's directory and renames it into place,

@@ -32,8 +32,9 @@ struct ColumnRange {
 class ImageFileReader final : public RowReader {
  public:
   explicit ImageFileReader(const std::filesystem::path& path, bool prefetch = true);
-  // Throws InputError when the window is empty or outside the image.
-  ImageFileReader(const std::filesystem::path& path, bool prefetch, ColumnRange columns);
+  // Throws InputError when the window is empty or outside the image. `page` > 0 reads that page
+  // (0-based) of a multi-page TIFF instead of the first (InputError for other formats).
+  ImageFileReader(const std::filesystem::path& path, bool prefetch, ColumnRange columns, int page = 0);
   ~ImageFileReader() override;
   const ImageFileInfo& info() const;
   int window_begin() const;

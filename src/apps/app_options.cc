@@ -13,7 +13,8 @@ UnknownMode parse_unknown_mode(std::string_view name) {
   if (name == "black") return UnknownMode::Black;
   if (name == "harmonic") return UnknownMode::Harmonic;
   if (name == "label") return UnknownMode::Label;
-  throw UsageError(fmt::format("--unknown must be black, harmonic or label, got '{}'", name));
+  if (name == "extend") return UnknownMode::Extend;
+  throw UsageError(fmt::format("--unknown must be black, harmonic, label or extend, got '{}'", name));
 }
 
 BlendSpace::Kind parse_blend_space(std::string_view name) {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -54,11 +55,15 @@ class LabelIds {
 
 class StitchGuidance final : public apps::ImageGuidance {
  public:
-  StitchGuidance(RowReader& composite, RowReader& labels, const StitchOptions& options, apps::OutputFixups& fixups)
+  StitchGuidance(RowReader& composite, RowReader& labels, RowReader* across, const StitchOptions& options,
+                 apps::OutputFixups& fixups)
       : ImageGuidance(composite, 0.0, 1.0, options.start_from_composite),
-        labels_(labels), black_(options.unknown == UnknownMode::Black), fixups_(fixups),
+        labels_(labels), across_(across), black_(options.unknown == UnknownMode::Black),
+        extend_(options.unknown == UnknownMode::Extend), fixups_(fixups),
         ids_(composite.width(), labels.channels(), options.unknown == UnknownMode::Label),
         label_row_(static_cast<std::size_t>(labels.channels()) * labels.width()), zero_(composite.width()) {
+    if (across_)
+      for (auto& r : across_rows_) r.assign(static_cast<std::size_t>(channels()) * width(), 0.0f);
     if (options.deramp) compute_ramps(composite);
   }
   // Known labels met so far (columns outside a window this process does not read count as one).
@@ -66,6 +71,7 @@ class StitchGuidance final : public apps::ImageGuidance {
   void set_columns(int begin, int end) override {
     ImageGuidance::set_columns(begin, end);
     labels_.set_columns(begin, std::min(end + 1, width()));
+    if (across_) across_->set_columns(begin, std::min(end + 1, width()));
   }
   void read_row(int j, GuidanceRow& out) override {
     ImageGuidance::read_row(j, out);
@@ -77,6 +83,7 @@ class StitchGuidance final : public apps::ImageGuidance {
   void on_source_row(int y, std::span<const float> row) override {
     labels_.read_row(y, label_row_);
     ids_.assign(label_row_, row_ids_[y % 2]);
+    if (across_) across_->read_row(y, across_rows_[y % 2]);
     for (int i = 0; i < width(); ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
     fixups_.record(y, row, zero_);
   }
@@ -85,22 +92,41 @@ class StitchGuidance final : public apps::ImageGuidance {
     const int w = width();
     const std::vector<int>& here = row_ids_[j % 2];
     const std::vector<int>& next = j + 1 < height() ? row_ids_[(j + 1) % 2] : here;  // spherical: folded
+    const int last = j + 1 < height() ? j + 1 : j;
     for (int i = 0; i < w; ++i) {
-      const int a = here[i];
-      right[i] = a != kUnknown && a == here[i + 1 < w ? i + 1 : 0];
-      down[i] = down[i] && a != kUnknown && a == next[below(i, j)];
+      const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
+      right[i] = joined(a, here[r]) || across_both(i, j, r, j);
+      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_both(i, j, d, last)));
     }
-    for (std::size_t i = 0; i < above.size(); ++i)
-      above[i] = here[i] != kUnknown && here[i] == here[this->above(static_cast<int>(i))];
+    for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
-  bool has_offsets() const override { return !ramp_.empty(); }
+  bool has_offsets() const override { return !ramp_.empty() || across_; }
+  // Across a label change (with `across`): the composite's difference less the mean of its and
+  // the across image's, leaving that mean. Inside a label: its ramp (--deramp).
   double offset(int c, int i, int j, bool horizontal) const override {
-    if (ramp_.empty()) return 0.0;
-    return ramp_[(static_cast<std::size_t>(id(i, j)) * channels() + c) * 2 + (horizontal ? 0 : 1)];
+    const int a = id(i, j), i2 = horizontal ? (i + 1 < width() ? i + 1 : 0) : i, j2 = horizontal ? j : j + 1;
+    const int b = id(i2, j2);
+    if (a != b && a != kUnknown && b != kUnknown) {
+      const std::size_t p = static_cast<std::size_t>(c) * width() + i, q = static_cast<std::size_t>(c) * width() + i2;
+      const double composite = double(source_row(j2)[q]) - source_row(j)[p];
+      const double other = double(across_rows_[j2 % 2][q]) - across_rows_[j % 2][p];
+      return 0.5 * (composite - other);
+    }
+    if (ramp_.empty() || a == kUnknown || a != b) return 0.0;
+    return ramp_[(static_cast<std::size_t>(a) * channels() + c) * 2 + (horizontal ? 0 : 1)];
   }
 
  private:
   int id(int i, int j) const { return row_ids_[j % 2][i]; }
+  // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
+  bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
+  // With `across`, a label change whose across values are finite at both ends (first channel).
+  bool across_both(int i, int j, int i2, int j2) const {
+    if (!across_) return false;
+    const int a = id(i, j), b = id(i2, j2);
+    return a != b && a != kUnknown && b != kUnknown && std::isfinite(across_rows_[j % 2][i]) &&
+           std::isfinite(across_rows_[j2 % 2][i2]);
+  }
 
   // A first pass over both inputs: the mean horizontal and vertical difference inside each
   // label, per channel. Then both are rewound for the solve.
@@ -139,7 +165,9 @@ class StitchGuidance final : public apps::ImageGuidance {
   }
 
   RowReader& labels_;
-  bool black_;
+  RowReader* across_;
+  std::vector<float> across_rows_[2];
+  bool black_, extend_;
   apps::OutputFixups& fixups_;
   LabelIds ids_;
   std::vector<float> label_row_;
@@ -163,10 +191,17 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   check_stitch_inputs(composite, labels, options);
   if (options.space.kind == BlendSpace::Kind::Lab && composite.channels() < 3)
     throw UsageError(fmt::format("--space lab needs an RGB composite, this one has {} channel(s)", composite.channels()));
+  if (options.across && (options.across->width() != composite.width() || options.across->height() != composite.height() ||
+                         options.across->channels() != composite.channels()))
+    throw InputError(fmt::format("across image is {}x{}x{} but the composite is {}x{}x{}", options.across->width(),
+                                 options.across->height(), options.across->channels(), composite.width(),
+                                 composite.height(), composite.channels()));
   apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
   apps::SpaceReader in_space(composite, options.space);
+  std::optional<apps::SpaceReader> across_space;
+  if (options.across) across_space.emplace(*options.across, options.space);
   apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
-  StitchGuidance guidance(in_space, labels, options, fixups);
+  StitchGuidance guidance(in_space, labels, across_space ? &*across_space : nullptr, options, fixups);
   apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);
   if (guidance.labels_seen() == 0)
     throw InputError(fmt::format("{}: every pixel is white (unknown), so no pixel has a source and there is nothing "

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +46,7 @@ struct EncodeSpec {
   int tile_size = 0;        // > 0: tiled, tiles of this size (TIFF and OpenEXR only)
   bool bigtiff = false;
   std::string fits_header;  // WriteOptions::fits_header
+  std::optional<GeoReference> geo;  // TIFF: GeoTIFF tags
 };
 
 // Encodes one image file: chosen by the final name's extension, then opened on the temporary

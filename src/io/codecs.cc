@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include <fmt/format.h>
+
 #include "io/codec_util.h"
 #include "io/oiio_backend.h"
 
@@ -33,17 +35,22 @@ Kind sniff(const std::string& path) {
 
 }  // namespace
 
-std::unique_ptr<Decoder> open_decoder(const std::string& path) {
+bool is_tiff_file(const std::string& path) { return sniff(path) == Kind::Tiff; }
+
+std::unique_ptr<Decoder> open_decoder(const std::string& path, int page) {
   std::unique_ptr<Decoder> decoder;
-  switch (sniff(path)) {
+  const Kind kind = sniff(path);
+  if (page > 0 && kind != Kind::Tiff) throw CodecError(fmt::format("page {}: only TIFF files have pages", page));
+  switch (kind) {
     case Kind::Png: decoder = open_png_decoder(path); break;
-    case Kind::Tiff: decoder = open_tiff_decoder(path); break;
+    case Kind::Tiff: decoder = open_tiff_decoder(path, page); break;
     case Kind::Jpeg: decoder = open_jpeg_decoder(path); break;
     case Kind::Exr: decoder = open_exr_decoder(path); break;
     case Kind::Fits: decoder = open_fits_decoder(path); break;
     case Kind::Other: break;
   }
   if (decoder) return decoder;
+  if (page > 0) throw CodecError(fmt::format("page {}: a TIFF variant gdp reads only through OpenImageIO, first page only", page));
   return oiio_backend().open_decoder(path);
 }
 

@@ -13,7 +13,11 @@ namespace gdp::io {
 // libjpeg, OpenEXR, cfitsio), chosen by their first bytes; variants those do not handle (CMYK JPEG, palette TIFF,
 // ...) and every other format go to OpenImageIO's module (io/oiio_backend.h). Throws
 // std::exception's with the problem.
-std::unique_ptr<Decoder> open_decoder(const std::string& path);
+// `page` > 0 selects a later page (directory) of a multi-page TIFF (gdp's TIFF decoder only).
+std::unique_ptr<Decoder> open_decoder(const std::string& path, int page = 0);
+
+// True when the file starts with a TIFF or BigTIFF signature.
+bool is_tiff_file(const std::string& path);
 
 // .png, .tif/.tiff, .jpg/.jpeg/.jpe/.jfif/.jif/.jfi, .exr and .fits/.fit/.fts are written by gdp's own encoders,
 // the rest through OpenImageIO's module.
@@ -22,7 +26,7 @@ std::unique_ptr<Encoder> create_encoder(const std::string& path);
 // Decoders and encoders of gdp's own codecs; a decoder returns nullptr for a variant it leaves
 // to OpenImageIO.
 std::unique_ptr<Decoder> open_png_decoder(const std::string& path);
-std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path);
+std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path, int page = 0);
 std::unique_ptr<Decoder> open_jpeg_decoder(const std::string& path);
 std::unique_ptr<Decoder> open_exr_decoder(const std::string& path);  // never nullptr: throws instead
 std::unique_ptr<Decoder> open_fits_decoder(const std::string& path);

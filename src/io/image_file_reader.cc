@@ -47,6 +47,7 @@ struct ImageFileReader::Impl {
   std::string name;
   bool prefetch;
   ColumnRange columns;
+  int page = 0;
   int x0 = 0, x1 = 0;  // the window
   bool decoder_used = false;  // the decoder has read rows (formats like PNG only go forwards)
   bool in_place = false;  // set_columns(): the window's samples go to their columns of a full row
@@ -70,7 +71,7 @@ struct ImageFileReader::Impl {
     if (fd < 0) throw fail("cannot open: " + std::generic_category().message(errno));
     ::close(fd);
     try {
-      decoder = io::open_decoder(name);
+      decoder = io::open_decoder(name, page);
     } catch (const std::exception& e) {
       throw fail(e.what());
     }
@@ -158,8 +159,9 @@ struct ImageFileReader::Impl {
 
 ImageFileReader::ImageFileReader(const fs::path& path, bool prefetch) : ImageFileReader(path, prefetch, ColumnRange{}) {}
 
-ImageFileReader::ImageFileReader(const fs::path& path, bool prefetch, ColumnRange columns)
+ImageFileReader::ImageFileReader(const fs::path& path, bool prefetch, ColumnRange columns, int page)
     : impl_(std::make_unique<Impl>()) {
+  impl_->page = page;
   impl_->path = path;
   impl_->name = path.string();
   impl_->prefetch = prefetch;

@@ -142,6 +142,7 @@ ImageFileWriter::ImageFileWriter(const fs::path& path, int width, int height, in
   spec.jpeg_quality = options.jpeg_quality;
   spec.compression = options.compression;
   spec.fits_header = options.fits_header;
+  spec.geo = options.geo;
   const double bytes = static_cast<double>(width) * height * channels * io::sample_bytes(spec.sample_type);
   spec.bigtiff = format == "tiff" && bytes > io::kBigTiffBytes;
   if (options.tiled) {

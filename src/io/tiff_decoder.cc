@@ -27,10 +27,12 @@ class TiffDecoder final : public Decoder {
   }
 
   // False for a variant left to OpenImageIO (palette, CMYK, 1-bit, signed integers, ...).
-  bool open(const std::string& path) {
+  bool open(const std::string& path, int page) {
     // "m": no memory mapping, whose touched pages would count as resident memory (the whole file).
     tif_ = TIFFOpenExt(path.c_str(), "rm", messages_.options());
     if (!tif_) throw CodecError(fmt::format("not a TIFF file libtiff can read ({})", messages_.take()));
+    if (page > 0 && !TIFFSetDirectory(tif_, static_cast<tdir_t>(page)))
+      throw CodecError(fmt::format("has no page {} ({} page(s))", page, static_cast<int>(TIFFNumberOfDirectories(tif_))));
     std::uint32_t width = 0, height = 0;
     std::uint16_t spp = 1, bits = 1, format = SAMPLEFORMAT_UINT, photometric = 0, planar = PLANARCONFIG_CONTIG;
     std::uint16_t compression = COMPRESSION_NONE;
@@ -171,9 +173,9 @@ class TiffDecoder final : public Decoder {
 
 }  // namespace
 
-std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path) {
+std::unique_ptr<Decoder> open_tiff_decoder(const std::string& path, int page) {
   auto decoder = std::make_unique<TiffDecoder>();
-  if (!decoder->open(path)) return nullptr;
+  if (!decoder->open(path, page)) return nullptr;
   return decoder;
 }
 

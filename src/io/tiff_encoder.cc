@@ -11,6 +11,7 @@
 #include "io/codecs.h"
 #include "io/output_file.h"
 #include "io/tiff_strip_compressor.h"
+#include "io/tiff_geo.h"
 #include "io/tiff_util.h"
 
 namespace gdp::io {
@@ -126,6 +127,7 @@ class TiffEncoder final : public Encoder {
       std::vector<std::uint16_t> extra(static_cast<std::size_t>(channels_ - 3), EXTRASAMPLE_UNSPECIFIED);
       TIFFSetField(tif_, TIFFTAG_EXTRASAMPLES, static_cast<std::uint16_t>(extra.size()), extra.data());
     }
+    if (spec.geo) write_geotiff(tif_, *spec.geo);
     const int deflate_level = level > 0 ? std::clamp(level, 1, 9) : 6;
     if (tile_ > 0) {
       TIFFSetField(tif_, TIFFTAG_TILEWIDTH, static_cast<std::uint32_t>(tile_));

@@ -31,7 +31,8 @@ GDP_CONVERT void from_half(const _Float16* in, T* out, std::size_t n) {
 
 std::string system_message() { return std::generic_category().message(errno); }
 
-// An exclusive file in dir, unlinked at once: only our descriptor keeps it alive.
+}  // namespace
+
 int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
   std::string pattern = (dir / fmt::format("gdp-scratch-{}-{}-XXXXXX", static_cast<long>(::getpid()), name)).string();
   const int fd = ::mkstemp(pattern.data());
@@ -41,7 +42,6 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
   return fd;
 }
 
-}  // namespace
 
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)

@@ -10,6 +10,10 @@
 
 namespace gdp::schedule {
 
+// An exclusive file in `dir`, unlinked at once: only the returned descriptor keeps it alive
+// (OutputError naming the directory when it cannot be created).
+int open_unlinked(const std::filesystem::path& dir, const std::string& name);
+
 // How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
 enum class StoreEncoding { Native, Half };
 

@@ -86,28 +86,33 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
 
 namespace {
 
-// "\r<command>: 42% ETA 3s" on a terminal, rate-limited; a final newline at 100%.
+// "\r<label> 42% ETA 3s" on a terminal, rate-limited; a final newline at 100%.
 class Progress {
  public:
-  explicit Progress(std::string command) : command_(std::move(command)), start_(Clock::now()) {}
+  explicit Progress(std::string label) : label_(std::move(label)), start_(Clock::now()) {}
   void operator()(double fraction) {
     const auto now = Clock::now();
     if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(200)) return;
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r%s: solving %3.0f%%  ETA %.0fs   %s", command_.c_str(), 100.0 * fraction, eta,
+    std::fprintf(stderr, "\r%s %3.0f%%  ETA %.0fs   %s", label_.c_str(), 100.0 * fraction, eta,
                  fraction >= 1.0 ? "\n" : "");
     std::fflush(stderr);
   }
 
  private:
   using Clock = std::chrono::steady_clock;
-  std::string command_;
+  std::string label_;
   Clock::time_point start_, last_{};
 };
 
 }  // namespace
+
+std::function<void(double)> progress_line(const CommonOptions& o, const std::string& label) {
+  if (o.quiet || !isatty(STDERR_FILENO)) return nullptr;
+  return Progress(label);
+}
 
 SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   SolverOptions s = o.solver;
@@ -117,7 +122,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  if (!o.quiet && isatty(STDERR_FILENO)) s.progress = Progress(command);
+  s.progress = progress_line(o, command + ": solving");
   s.validate();
   guard_sizes(o, &s);
   return s;

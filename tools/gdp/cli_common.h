@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -39,6 +40,9 @@ struct CommonOptions {
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);
+
+// "\r<label> 42%  ETA 3s" on stderr when it is a terminal and not --quiet; else empty.
+std::function<void(double)> progress_line(const CommonOptions& o, const std::string& label);
 
 // Validates and converts flags into the solver's options (log/progress hooked to stderr).
 SolverOptions solver_options(CommonOptions& o, const std::string& command);

@@ -17,8 +17,8 @@ class Stitch final : public Command {
     app->add_option("--composite,-c", composite_, "composite image (any format OpenImageIO reads; {rank} in the name: vertical strips 0, 1, ... side by side)")->required();
     app->add_option("--labels,-l", labels_, "label map: one colour per source image; white = unknown")->required();
     app->add_option("-o,--output", output_, "output image")->required();
-    app->add_option("--unknown", unknown_, "pixels labelled white: black | harmonic | label")
-        ->check(CLI::IsMember({"black", "harmonic", "label"}))
+    app->add_option("--unknown", unknown_, "pixels labelled white: black | harmonic | label | extend (the composite's own differences into and inside them)")
+        ->check(CLI::IsMember({"black", "harmonic", "label", "extend"}))
         ->capture_default_str();
     app->add_flag("--deramp", options_.deramp, "subtract each label's mean gradient");
     app->add_option("--space", space_,

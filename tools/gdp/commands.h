@@ -24,5 +24,6 @@ std::unique_ptr<Command> make_sphere(CLI::App& root);
 std::unique_ptr<Command> make_tonemap(CLI::App& root);
 std::unique_ptr<Command> make_clone(CLI::App& root);
 std::unique_ptr<Command> make_sky(CLI::App& root);
+std::unique_ptr<Command> make_blend(CLI::App& root);
 
 }  // namespace gdp::cli

@@ -1,8 +1,10 @@
 // gdp command line entry point: parses a subcommand, runs it, maps errors to exit codes.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "blend_args.h"
 #include "commands.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
@@ -14,19 +16,22 @@ using gdp::cli::Command;
 
 // The command line's own error ("" when none): an unknown command (CLI11 would say only "A
 // subcommand is required"), a flag CLI11 refuses, or a command mpirun cannot run.
-std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr<Command>>& commands, int argc,
-                               char** argv) {
-  if (argc > 1 && argv[1][0] != '-') {
+// `args`: the arguments after the program's name (gdp::cli::command_line: gdp-blend and enblend's
+// syntax already translated).
+std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr<Command>>& commands,
+                               std::vector<std::string> args) {
+  if (!args.empty() && !args[0].empty() && args[0][0] != '-') {
     std::string names;
     bool known = false;
     for (const auto& c : commands) {
-      known = known || c->app->check_name(argv[1]);
+      known = known || c->app->check_name(args[0]);
       names += (names.empty() ? "" : ", ") + c->app->get_name();
     }
-    if (!known) return "unknown command '" + std::string(argv[1]) + "' (one of: " + names + ")";
+    if (!known) return "unknown command '" + args[0] + "' (one of: " + names + ")";
   }
   try {
-    root.parse(argc, argv);
+    std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+    root.parse(args);
   } catch (const CLI::ParseError& e) {
     if (dynamic_cast<const CLI::CallForHelp*>(&e) || dynamic_cast<const CLI::CallForAllHelp*>(&e)) throw;
     return e.what();
@@ -35,7 +40,7 @@ std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr
   for (const auto& c : commands) {
     if (!c->app->parsed()) continue;
     if (!c->runs_under_mpi())
-      return "under mpirun, only stitch, sharpen, smooth and clone run, not " + c->app->get_name();
+      return "under mpirun, only stitch, sharpen, smooth, clone and blend run, not " + c->app->get_name();
     const CLI::Option* in_core = c->app->get_option_no_throw("--in-core");
     if (in_core && in_core->count())  // ranks solve bands (one per rank unless --bands says more)
       return "--in-core does not run under mpirun (ranks solve bands, which stream; docs/how-bands-work.md)";
@@ -59,10 +64,12 @@ int main(int argc, char** argv) {
   commands.push_back(gdp::cli::make_tonemap(root));
   commands.push_back(gdp::cli::make_clone(root));
   commands.push_back(gdp::cli::make_sky(root));
+  commands.push_back(gdp::cli::make_blend(root));
   try {
     // Every rank checks its own command line, then they agree: one message, from rank 0, and
     // every rank ends normally (no abort banner).
-    gdp::MpiRun::agree(command_line_error(root, commands, argc, argv));
+    // gdp-blend runs `gdp blend`; blend's arguments may be enblend's (Hugin's makefiles).
+    gdp::MpiRun::agree(command_line_error(root, commands, gdp::cli::command_line(argc, argv)));
   } catch (const CLI::ParseError& e) {
     return root.exit(e);  // --help
   } catch (const gdp::Error& e) {

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# gdp blend side by side with enblend (Debian's) on nona-style layers cut from a real photo, each
+# with its own exposure offset (up to +-40/255) and vignetting: colour error against the unaltered
+# photo (mean removed), wall and CPU seconds, peak memory. docs/blend.md has the figures.
+#
+#   bench/blend_vs_enblend.sh [SIZE (8192)] [GRID (4x4)] [PHOTO] [OVERLAP (0.2)]
+#
+# Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
+# ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+size=${1:-8192}
+grid=${2:-4x4}
+photo=${3:-../shared/data/equirect/three-globe-npm/earth-blue-marble.jpg}
+overlap=${4:-0.2}
+dir=${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}/${size}_${grid}
+mkdir -p "$dir"
+if [ ! -f "$dir/original.tif" ]; then
+  build/bench/blend_layers cut "$photo" "$dir" --size "${size}x${size}" --grid "$grid" --overlap "$overlap" \
+    --offset 40 --vignette 0.3 --seed 7
+fi
+layers=("$dir"/layer_*.tif)
+echo "canvas ${size}x${size}, ${#layers[@]} layers ($grid, overlap $overlap), photo $(basename "$photo")"
+run() {  # name, command...
+  local name=$1
+  shift
+  /usr/bin/time -f "%e %U %S %M" -o "$dir/time_$name" "$@" > /dev/null 2> "$dir/log_$name"
+  read -r wall user sys kb < "$dir/time_$name"
+  local err
+  err=$(build/bench/blend_layers error "$dir/out_$name.tif" "$dir/original.tif")
+  printf "%-14s wall %7.1f s  cpu %7.1f s  peak %7.0f MB  %s\n" "$name" "$wall" "$(echo "$user + $sys" | bc)" \
+    "$(echo "$kb / 1024" | bc)" "$err"
+}
+run gdp build/tools/gdp/gdp blend -o "$dir/out_gdp.tif" --temp "$dir" -- "${layers[@]}"
+run gdp-zero build/tools/gdp/gdp blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
+run enblend enblend -o "$dir/out_enblend.tif" -- "${layers[@]}"

@@ -1,0 +1,109 @@
+// Seamless mosaics from N aligned layers (gdp blend; docs/blend.md): seams by depth, then stitching.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gdp/apps.h"
+#include "gdp/image.h"
+#include "gdp/image_io.h"
+#include "gdp/rows.h"
+#include "gdp/solver.h"
+
+namespace gdp {
+
+// One input file: every page of a multi-page TIFF is a layer of its own. Coverage: the alpha
+// channel (2 or 4 channels: the last) and the mask's first channel, each at least 0.5, and
+// finite colour. Placement: `x, y` when `placed`, else the TIFF's XPOSITION/YPOSITION, else 0, 0.
+struct LayerSource {
+  std::string image;
+  std::string mask = "";  // optional: a separate coverage image of the image's size
+  bool placed = false;
+  long long x = 0, y = 0;
+};
+
+// An in-memory layer (tests, library users): colour channels plus optional alpha as above.
+struct ImageLayer {
+  const Image* image = nullptr;
+  const Image* mask = nullptr;
+  long long x = 0, y = 0;
+};
+
+// A rectangle of the layers' coordinate plane.
+struct CanvasRect {
+  long long x = 0, y = 0;
+  int width = 0, height = 0;
+};
+
+// Topology of the canvas: none, horizontal (a 360-degree panorama: left and right edges meet,
+// the cylindrical domain), both (a full equirectangular sphere, 2:1, solved on the sphere).
+enum class Wrap { None, Horizontal, Both };
+
+// Guidance across a seam between two layers: zero (the paper, DMG), or the mean of both layers'
+// gradients where both cover the seam's pixels (docs/blend.md measures both).
+enum class SeamGuidance { Zero, Mean };
+
+struct BlendOptions {
+  std::optional<CanvasRect> canvas;  // enblend's -f; else the union of the layers and their canvas tags
+  Wrap wrap = Wrap::None;
+  SeamGuidance seam_guidance = SeamGuidance::Mean;
+  BlendSpace space;
+  // >= 0: the pixels that take this layer (0 = the first) keep its values exactly (pinned) and
+  // the others level to it; the V-cycles then converge more slowly (use a tolerance).
+  int anchor = -1;
+  // Optional: also receives the additive correction, output minus the composite of the layers
+  // (colour channels, 0 where no layer covers a pixel; committed with the output). The layers
+  // are read once more for it.
+  RowWriter* correction = nullptr;
+  // Seams in files (blending/seam_files.h): the label plane written as a grey image of layer
+  // numbers (1 = the first, 0 = none), or read from one instead of computed.
+  std::string save_seams, load_seams;
+  bool alpha = true;  // write the alpha channel (false: colour only, e.g. for JPEG; uncovered pixels 0)
+  int pq_height = 0;  // Wrap::Both: PQ height (0: sphere::default_pq_height)
+  // Progress of the seam pass, 0 to 1 (the solve reports through SolverOptions::progress).
+  std::function<void(double)> progress;
+};
+
+// A layer placed on the canvas.
+struct PlacedLayer {
+  std::string name;  // the file, with its page for multi-page TIFFs
+  long long x = 0, y = 0;
+  int width = 0, height = 0;
+};
+
+// What the layers make: read from every layer's header, no pixels.
+struct BlendPlan {
+  CanvasRect canvas;
+  int colour_channels = 0;       // the layers' (1 to 3); the output adds alpha
+  SampleType sample_type = SampleType::UInt8;  // the widest of the layers'
+  std::vector<PlacedLayer> layers;
+  std::vector<std::string> notes;  // mixed sample types
+  std::optional<GeoReference> geo;  // GeoTIFF layers: the canvas's georeference (write it with the output)
+  // Internal: how each layer is opened.
+  std::vector<LayerSource> sources;
+  std::vector<ImageLayer> images;
+  std::vector<int> pages;
+};
+
+// Throws InputError naming the file: unreadable, different colour channel counts, a mask of
+// another size, a layer wholly outside the canvas; UsageError for no layers.
+BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions& options);
+BlendPlan plan_blend(const std::vector<ImageLayer>& layers, const BlendOptions& options);
+
+struct BlendReport {
+  std::vector<std::string> isolated;  // layers that overlap no other: placed as they are
+  double seconds_seams = 0.0, seconds_solve = 0.0;
+  std::size_t scratch_bytes = 0;  // distance and label planes
+  SolveSummary solve;
+};
+
+// Output rows: the canvas, colour channels plus alpha (0 where no layer covers the pixel; the
+// colour there is 0), committed at the end. The solver's domain follows options.wrap.
+void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver, RowWriter& out,
+           BlendReport* report = nullptr);
+Image blend(const std::vector<ImageLayer>& layers, const BlendOptions& options, const SolverOptions& solver,
+            BlendReport* report = nullptr);
+
+}  // namespace gdp

@@ -1,0 +1,139 @@
+// gdp::blend: depth seams over the layers, then stitching of the composite they make, with alpha on the way out.
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "blend/canvas_rows.h"
+#include "blend/seam_files.h"
+#include "blend/seams.h"
+#include "gdp/blend.h"
+#include "gdp/errors.h"
+#include "gdp/sphere_rows.h"
+
+namespace gdp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Sets the colour of pixels no layer covers to 0 and, with `alpha`, adds the alpha channel from
+// the label plane (0 there, 1 elsewhere) on the way to `out`. With a `correction` sweep, also
+// writes output minus composite (0 where nothing covers) to `correction_out`.
+class AlphaWriter final : public RowWriter {
+ public:
+  AlphaWriter(RowWriter& out, const blending::LabelPlane& labels, int channels, bool alpha,
+              blending::CanvasSweep* correction = nullptr, RowWriter* correction_out = nullptr)
+      : out_(out), labels_(labels), channels_(channels), out_channels_(channels + (alpha ? 1 : 0)),
+        sweep_(correction), correction_(correction_out), labels_row_(labels.width()),
+        row_(static_cast<std::size_t>(out_channels_) * labels.width()),
+        difference_(correction ? static_cast<std::size_t>(channels) * labels.width() : 0) {}
+  void write_row(int y, std::span<const float> row) override {
+    const int w = labels_.width();
+    labels_.read_row(y, labels_row_);
+    for (int c = 0; c < out_channels_; ++c)
+      for (int x = 0; x < w; ++x) {
+        const bool known = labels_row_[x] != 0;
+        const float v = c < channels_ ? row[static_cast<std::size_t>(c) * w + x] : 1.0f;
+        row_[static_cast<std::size_t>(c) * w + x] = known ? v : 0.0f;
+      }
+    out_.write_row(y, row_);
+    if (!sweep_) return;
+    const std::span<const float> composite = sweep_->composite(y);
+    for (std::size_t k = 0; k < difference_.size(); ++k)
+      difference_[k] = labels_row_[k % w] != 0 ? row[k] - composite[k] : 0.0f;
+    correction_->write_row(y, difference_);
+  }
+  void commit() override {
+    out_.commit();
+    if (correction_) correction_->commit();
+  }
+  void set_columns(int begin, int end) override {
+    out_.set_columns(begin, end);
+    if (sweep_) sweep_->set_columns(begin, end);
+    if (correction_) correction_->set_columns(begin, end);
+  }
+
+ private:
+  RowWriter& out_;
+  const blending::LabelPlane& labels_;
+  int channels_, out_channels_;
+  blending::CanvasSweep* sweep_;
+  RowWriter* correction_;
+  std::vector<blending::Label> labels_row_;
+  std::vector<float> row_, difference_;
+};
+
+Domain domain_of(Wrap wrap) {
+  return wrap == Wrap::None ? Domain::Planar : wrap == Wrap::Horizontal ? Domain::Cylindrical : Domain::Spherical;
+}
+
+}  // namespace
+
+void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver_options, RowWriter& out,
+           BlendReport* report) {
+  BlendReport local;
+  BlendReport& r = report ? *report : local;
+  if (options.anchor >= static_cast<int>(plan.layers.size()))
+    throw UsageError(fmt::format("--anchor {}: there are {} layers", options.anchor + 1, plan.layers.size()));
+  SolverOptions solver = solver_options;
+  solver.domain = domain_of(options.wrap);
+  solver.validate();
+  const int W = plan.canvas.width, H = plan.canvas.height;
+  std::optional<SphereRows> sphere;
+  if (options.wrap == Wrap::Both) sphere.emplace(W, H, "the canvas", options.pq_height);
+
+  auto start = Clock::now();
+  blending::SeamResult seams =
+      options.load_seams.empty()
+          ? blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
+          : blending::load_seams(plan, options.load_seams, solver.temp_dir);
+  if (!options.save_seams.empty())
+    blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
+  r.seconds_seams = since(start);
+  r.scratch_bytes = seams.scratch_bytes;
+  if (plan.layers.size() > 1)
+    for (std::size_t k = 0; k < plan.layers.size(); ++k)
+      if (!seams.overlaps[k]) r.isolated.push_back(plan.layers[k].name);
+
+  // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN
+  // around them): resampled spheres take zero guidance across seams.
+  const bool across = options.seam_guidance == SeamGuidance::Mean && !(sphere && sphere->resampled());
+  blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across);
+  blending::SweepReader composite(sweep, false), across_rows(sweep, true);
+  blending::LabelReader labels(*seams.labels);
+  // --correction: the composite swept again as the output rows come (the layers read once more).
+  std::optional<blending::CanvasSweep> again;
+  if (options.correction) again.emplace(plan, *seams.labels, options.wrap != Wrap::None, false);
+  AlphaWriter alpha(out, *seams.labels, plan.colour_channels, options.alpha, again ? &*again : nullptr,
+                    options.correction);
+  StitchOptions stitching;
+  stitching.unknown = UnknownMode::Extend;
+  stitching.space = options.space;
+  start = Clock::now();
+  RowReader& c = sphere ? sphere->input(composite, "composite") : composite;
+  RowReader& l = sphere ? sphere->input(labels, "labels", true) : labels;
+  if (across) stitching.across = sphere ? &sphere->input(across_rows, "across") : &across_rows;
+  RowWriter& w = sphere ? sphere->output(alpha, plan.colour_channels) : alpha;
+  blending::LabelReader anchor(*seams.labels, options.anchor);
+  Fidelity fidelity;
+  if (options.anchor >= 0) {
+    fidelity.pins = sphere ? &sphere->input(anchor, "anchor", true) : &anchor;
+    fidelity.pins_name = "the anchor layer";
+  }
+  stitch(c, l, stitching, solver, w, &r.solve, fidelity);
+  w.commit();
+  r.seconds_solve = since(start);
+}
+
+Image blend(const std::vector<ImageLayer>& layers, const BlendOptions& options, const SolverOptions& solver,
+            BlendReport* report) {
+  const BlendPlan plan = plan_blend(layers, options);
+  Image out(plan.canvas.width, plan.canvas.height, plan.colour_channels + (options.alpha ? 1 : 0));
+  ImageRowWriter writer(out);
+  blend(plan, options, solver, writer, report);
+  return out;
+}
+
+}  // namespace gdp

@@ -1,0 +1,140 @@
+// The canvas sweep: layers opened and closed as rows pass, composite and across-seam rows from the label plane.
+#include "blend/canvas_rows.h"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+namespace gdp::blending {
+
+struct CanvasSweep::Open {
+  int index;
+  std::unique_ptr<LayerRows> rows;
+  std::vector<float> colour;
+  std::vector<unsigned char> covered;
+};
+
+CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across)
+    : plan_(plan), labels_(labels), wrap_x_(wrap_x), with_across_(across), width_(plan.canvas.width),
+      height_(plan.canvas.height), channels_(plan.colour_channels), order_(plan.layers.size()),
+      slot_(plan.layers.size(), nullptr) {
+  std::iota(order_.begin(), order_.end(), 0);
+  std::stable_sort(order_.begin(), order_.end(),
+                   [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
+  for (auto& r : label_rows_) r.assign(width_, 0);
+  composite_.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
+  across_.assign(composite_.size(), std::numeric_limits<float>::quiet_NaN());
+}
+
+CanvasSweep::~CanvasSweep() = default;
+
+void CanvasSweep::set_columns(int begin, int end) {
+  if (columns_set_) {
+    begin = std::min(begin, begin_);
+    end = std::max(end, end_);
+  }
+  if (columns_set_ && begin == begin_ && end == end_) return;
+  begin_ = begin;
+  end_ = end;
+  columns_set_ = true;
+  restart();
+}
+
+void CanvasSweep::restart() {
+  open_.clear();
+  std::fill(slot_.begin(), slot_.end(), nullptr);
+  next_ = 0;
+  row_ = -1;
+}
+
+std::span<const float> CanvasSweep::composite(int y) {
+  if (y < row_) restart();
+  while (row_ < y) advance();
+  return composite_;
+}
+
+std::span<const float> CanvasSweep::across(int y) {
+  composite(y);
+  return across_;
+}
+
+void CanvasSweep::advance() {
+  const int y = ++row_, b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  // Open the layers that start here and reach the columns wanted; close those that ended.
+  for (; next_ < order_.size() && footprint(plan_, order_[next_]).y0 <= y; ++next_) {
+    const int k = order_[next_];
+    const Footprint f = footprint(plan_, k);
+    if (f.y1 <= y || f.x1 <= b || f.x0 >= e) continue;
+    auto o = std::make_unique<Open>();
+    o->index = k;
+    o->rows = std::make_unique<LayerRows>(plan_, k, b, e, open_.size() < 8);
+    o->colour.resize(static_cast<std::size_t>(channels_) * f.width());
+    o->covered.resize(f.width());
+    slot_[k] = o.get();
+    open_.push_back(std::move(o));
+  }
+  std::erase_if(open_, [&](const auto& o) {
+    if (o->rows->where().y1 > y) return false;
+    slot_[o->index] = nullptr;
+    return true;
+  });
+  for (auto& o : open_) o->rows->read(y, o->colour, o->covered);
+  // Label rows y - 1, y, y + 1.
+  if (y == 0) labels_.read_row(0, label_rows_[0]);
+  if (y + 1 < height_) labels_.read_row(y + 1, label_rows_[(y + 1) % 3]);
+  const std::span<const Label> here = label_rows_[y % 3];
+  for (int x = b; x < e; ++x) {
+    const Label l = here[x];
+    const Open* o = l ? slot_[l - 1] : nullptr;
+    const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
+    for (int c = 0; c < channels_; ++c)
+      composite_[static_cast<std::size_t>(c) * width_ + x] = o ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : 0.0f;
+  }
+  if (with_across_)
+    compute_across(y > 0 ? std::span<const Label>(label_rows_[(y + 2) % 3]) : std::span<const Label>(),
+                   here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>());
+}
+
+void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  for (int x = b; x < e; ++x) {
+    const Label a = here[x];
+    Label other = 0;
+    bool ambiguous = false;
+    const auto see = [&](Label n) {
+      if (n == 0 || n == a) return;
+      if (other != 0 && other != n) ambiguous = true;
+      other = n;
+    };
+    if (a != 0) {
+      if (x > 0 || wrap_x_) see(here[x > 0 ? x - 1 : width_ - 1]);
+      if (x + 1 < width_ || wrap_x_) see(here[x + 1 < width_ ? x + 1 : 0]);
+      if (!up.empty()) see(up[x]);
+      if (!down.empty()) see(down[x]);
+    }
+    const Open* o = other && !ambiguous ? slot_[other - 1] : nullptr;
+    const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
+    const bool covers = o && x >= fx0 && x < fx0 + fw && o->covered[x - fx0];
+    for (int c = 0; c < channels_; ++c)
+      across_[static_cast<std::size_t>(c) * width_ + x] =
+          covers ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : nan;
+  }
+}
+
+void SweepReader::read_row(int y, std::span<float> out) {
+  const std::span<const float> row = across_ ? sweep_.across(y) : sweep_.composite(y);
+  std::copy(row.begin(), row.end(), out.begin());
+}
+
+void LabelReader::read_row(int y, std::span<float> out) {
+  const int b = begin_, e = end_ < 0 ? labels_.width() : end_;
+  labels_.read_row(y, row_, b, e);
+  if (pin_ >= 0) {
+    for (int x = b; x < e; ++x) out[x] = row_[x] == pin_ + 1 ? 1.0f : 0.0f;
+  } else {
+    for (int x = b; x < e; ++x) out[x] = row_[x] ? -static_cast<float>(row_[x]) : 1.0f;
+  }
+}
+
+}  // namespace gdp::blending

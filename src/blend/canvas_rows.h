@@ -1,0 +1,93 @@
+// The rows a blend hands to stitching: composite (each pixel from its layer), labels, and across-seam values.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "blend/layer_rows.h"
+#include "blend/seams.h"
+#include "gdp/blend.h"
+#include "gdp/rows.h"
+
+namespace gdp::blending {
+
+// Sweeps the canvas top to bottom, opening each layer at its first row and closing it after its
+// last, and computes per row: the composite (the labelled layer's pixel, 0 where no layer covers
+// it) and, with `across`, the across-seam values (at a pixel whose neighbours carry exactly one
+// other label, that layer's value there if it covers the pixel; NaN elsewhere). Rows are asked
+// for in order; asking for an earlier row starts the sweep again.
+class CanvasSweep {
+ public:
+  CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across);
+  ~CanvasSweep();
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+  // Only columns [begin, end) are needed (several calls: their union); before rows are read.
+  void set_columns(int begin, int end);
+  std::span<const float> composite(int y);
+  std::span<const float> across(int y);
+
+ private:
+  struct Open;
+  void restart();
+  void advance();  // computes row row_ + 1
+  void compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down);
+
+  const BlendPlan& plan_;
+  const LabelPlane& labels_;
+  bool wrap_x_, with_across_;
+  int width_, height_, channels_;
+  int begin_ = 0, end_ = -1;  // end_ < 0: whole rows
+  bool columns_set_ = false;
+  int row_ = -1;
+  std::vector<int> order_;  // layers by first row
+  std::size_t next_ = 0;
+  std::vector<std::unique_ptr<Open>> open_;
+  std::vector<Open*> slot_;  // per layer: its open state, or null
+  std::vector<Label> label_rows_[3];  // rows row_-1, row_, row_+1 (by y % 3)
+  std::vector<float> composite_, across_;
+};
+
+// A view of the sweep as a RowReader: its composite or its across rows.
+class SweepReader final : public RowReader {
+ public:
+  SweepReader(CanvasSweep& sweep, bool across) : sweep_(sweep), across_(across) {}
+  int width() const override { return sweep_.width(); }
+  int height() const override { return sweep_.height(); }
+  int channels() const override { return sweep_.channels(); }
+  void read_row(int y, std::span<float> out) override;
+  void rewind() override {}
+  void set_columns(int begin, int end) override { sweep_.set_columns(begin, end); }
+
+ private:
+  CanvasSweep& sweep_;
+  bool across_;
+};
+
+// The label plane as a one-channel label map for stitching: 1.0 (white: unknown) where no layer
+// covers a pixel, -(layer + 1) elsewhere. With `pin_layer` >= 0 instead a pin mask: 1 where
+// that layer is taken, 0 elsewhere.
+class LabelReader final : public RowReader {
+ public:
+  explicit LabelReader(const LabelPlane& labels, int pin_layer = -1)
+      : labels_(labels), pin_(pin_layer), row_(labels.width()) {}
+  int width() const override { return labels_.width(); }
+  int height() const override { return labels_.height(); }
+  int channels() const override { return 1; }
+  void read_row(int y, std::span<float> out) override;
+  void rewind() override {}
+  void set_columns(int begin, int end) override {
+    begin_ = begin;
+    end_ = end;
+  }
+
+ private:
+  const LabelPlane& labels_;
+  int pin_;
+  std::vector<Label> row_;
+  int begin_ = 0, end_ = -1;
+};
+
+}  // namespace gdp::blending

@@ -1,0 +1,78 @@
+// Opening a layer: its file (or page, or in-memory image) and mask read in canvas order, coverage from alpha and mask.
+#include "blend/layer_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+#include "gdp/image_stream.h"
+
+namespace gdp::blending {
+
+Footprint footprint(const BlendPlan& plan, int index) {
+  const PlacedLayer& l = plan.layers[index];
+  const CanvasRect& c = plan.canvas;
+  const long long left = l.x - c.x, top = l.y - c.y;
+  Footprint f;
+  f.x0 = static_cast<int>(std::clamp<long long>(left, 0, c.width));
+  f.x1 = static_cast<int>(std::clamp<long long>(left + l.width, 0, c.width));
+  f.y0 = static_cast<int>(std::clamp<long long>(top, 0, c.height));
+  f.y1 = static_cast<int>(std::clamp<long long>(top + l.height, 0, c.height));
+  f.skip_x = static_cast<int>(f.x0 - left);
+  f.skip_y = static_cast<int>(f.y0 - top);
+  return f;
+}
+
+LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch)
+    : where_(footprint(plan, index)), name_(plan.layers[index].name) {
+  if (!plan.images.empty()) {
+    const ImageLayer& l = plan.images[index];
+    image_ = std::make_unique<ImageRowReader>(*l.image);
+    if (l.mask) mask_ = std::make_unique<ImageRowReader>(*l.mask);
+  } else {
+    const LayerSource& s = plan.sources[index];
+    image_ = std::make_unique<ImageFileReader>(s.image, prefetch, ColumnRange{}, plan.pages[index]);
+    if (!s.mask.empty()) mask_ = std::make_unique<ImageFileReader>(s.mask, prefetch);
+  }
+  channels_ = image_->channels();
+  colour_ = plan.colour_channels;
+  // The layer's own columns that are wanted: canvas [begin, end) within the footprint.
+  const int a = std::max(begin, where_.x0) - where_.x0 + where_.skip_x;
+  const int b = std::min(end, where_.x1) - where_.x0 + where_.skip_x;
+  if (a < b && (a > 0 || b < image_->width())) {
+    image_->set_columns(a, b);
+    if (mask_) mask_->set_columns(a, b);
+  }
+  row_.assign(static_cast<std::size_t>(channels_) * image_->width(), 0.0f);
+  if (mask_) mask_row_.assign(static_cast<std::size_t>(mask_->channels()) * mask_->width(), 0.0f);
+}
+
+LayerRows::~LayerRows() = default;
+
+void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> covered) {
+  const int r = y - where_.y0 + where_.skip_y, w = where_.width(), lw = image_->width();
+  for (; next_ <= r; ++next_) {  // rows above the canvas are read and dropped
+    image_->read_row(next_, row_);
+    if (mask_) mask_->read_row(next_, mask_row_);
+  }
+  const bool alpha = channels_ == colour_ + 1;
+  std::fill(covered.begin(), covered.begin() + w, 1);
+  for (int c = 0; c < colour_; ++c) {
+    const float* in = row_.data() + static_cast<std::size_t>(c) * lw + where_.skip_x;
+    float* out = colour.data() + static_cast<std::size_t>(c) * w;
+    for (int i = 0; i < w; ++i) {
+      out[i] = in[i];
+      if (!std::isfinite(in[i])) covered[i] = 0;
+    }
+  }
+  const auto cover = [&](const float* in) {
+    for (int i = 0; i < w; ++i)
+      if (!(in[i] >= kCovered)) covered[i] = 0;
+  };
+  if (alpha) cover(row_.data() + static_cast<std::size_t>(colour_) * lw + where_.skip_x);
+  if (mask_) cover(mask_row_.data() + where_.skip_x);
+}
+
+}  // namespace gdp::blending

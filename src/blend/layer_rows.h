@@ -1,0 +1,45 @@
+// One layer of a blend, opened: its rows on the canvas with their coverage.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "gdp/blend.h"
+#include "gdp/rows.h"
+
+namespace gdp::blending {
+
+// Where layer `index` of a plan lies on the canvas: canvas columns [x0, x1) and rows [y0, y1)
+// (clipped to the canvas), starting at the layer's own column skip_x and row skip_y.
+struct Footprint {
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  int skip_x = 0, skip_y = 0;
+  int width() const { return x1 - x0; }
+};
+Footprint footprint(const BlendPlan& plan, int index);
+
+// Coverage threshold of alpha and mask samples.
+inline constexpr float kCovered = 0.5f;
+
+// A layer's rows in canvas order. Opened on demand (files decoded row by row).
+class LayerRows {
+ public:
+  // Only canvas columns [begin, end) will be used (a band or rank of a distributed solve): the
+  // files decode only those (the rest of each row is left as it is).
+  LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch);
+  ~LayerRows();
+  const Footprint& where() const { return where_; }
+  // Canvas row y in [y0, y1), in increasing order: colour samples (colour channels x width(),
+  // channel-major) and coverage flags (width()), for the footprint's columns.
+  void read(int y, std::span<float> colour, std::span<unsigned char> covered);
+
+ private:
+  Footprint where_;
+  int channels_ = 0, colour_ = 0, next_ = 0;  // next_: the next row of the layer itself
+  std::string name_;
+  std::unique_ptr<RowReader> image_, mask_;
+  std::vector<float> row_, mask_row_;
+};
+
+}  // namespace gdp::blending

@@ -1,0 +1,92 @@
+// Saving the label plane as a grey image and loading edited seams back, checked against the layers' coverage.
+#include "blend/seam_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "blend/layer_rows.h"
+#include "gdp/errors.h"
+#include "gdp/image_stream.h"
+
+namespace gdp::blending {
+
+void save_seams(const LabelPlane& labels, int layers, const std::string& path) {
+  const int w = labels.width();
+  WriteOptions options;
+  options.sample_type = layers <= 255 ? SampleType::UInt8 : SampleType::UInt16;
+  const float scale = layers <= 255 ? 1.0f / 255.0f : 1.0f / 65535.0f;
+  ImageFileWriter out(path, w, labels.height(), 1, options);
+  std::vector<Label> row(w);
+  std::vector<float> values(w);
+  for (int y = 0; y < labels.height(); ++y) {
+    labels.read_row(y, row);
+    for (int x = 0; x < w; ++x) values[x] = row[x] * scale;
+    out.write_row(y, values);
+  }
+  out.commit();
+}
+
+SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std::filesystem::path& temp_dir) {
+  const int n = static_cast<int>(plan.layers.size()), W = plan.canvas.width, H = plan.canvas.height;
+  ImageFileReader file(path);
+  if (file.width() != W || file.height() != H)
+    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file.width(), file.height(), W, H));
+  const SampleType t = file.info().sample_type;
+  const float scale = t == SampleType::UInt8 ? 255.0f : t == SampleType::UInt16 ? 65535.0f : 1.0f;
+  SeamResult result;
+  result.labels = std::make_unique<LabelPlane>(temp_dir, W, H);
+  result.overlaps.assign(n, 1);
+  result.scratch_bytes = result.labels->bytes();
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
+  struct Open {
+    int index;
+    std::unique_ptr<LayerRows> rows;
+    std::vector<float> colour;
+    std::vector<unsigned char> covered;
+  };
+  std::vector<Open> open;
+  std::vector<float> values(static_cast<std::size_t>(file.channels()) * W);
+  std::vector<Label> label(W), first(W);
+  std::vector<unsigned char> wanted_covers(W);
+  std::size_t next = 0;
+  for (int y = 0; y < H; ++y) {
+    for (; next < order.size() && footprint(plan, order[next]).y0 == y; ++next) {
+      const int k = order[next], w = footprint(plan, k).width();
+      open.push_back({k, std::make_unique<LayerRows>(plan, k, 0, W, open.size() < 8),
+                      std::vector<float>(static_cast<std::size_t>(plan.colour_channels) * w),
+                      std::vector<unsigned char>(w)});
+    }
+    std::sort(open.begin(), open.end(), [](const Open& a, const Open& b) { return a.index < b.index; });
+    file.read_row(y, values);
+    std::fill(first.begin(), first.end(), Label{0});
+    for (int x = 0; x < W; ++x) {
+      const long v = std::lround(values[x] * scale);
+      if (!(v >= 0 && v <= n))
+        throw InputError(fmt::format("{}: label {} at ({}, {}); there are {} layers", path, values[x] * scale, x, y, n));
+      label[x] = static_cast<Label>(v);
+    }
+    std::fill(wanted_covers.begin(), wanted_covers.end(), 0);
+    for (Open& o : open) {
+      o.rows->read(y, o.colour, o.covered);
+      const int x0 = o.rows->where().x0;
+      for (int x = 0; x < static_cast<int>(o.covered.size()); ++x) {
+        if (!o.covered[x]) continue;
+        if (!first[x0 + x]) first[x0 + x] = static_cast<Label>(o.index + 1);
+        if (label[x0 + x] == o.index + 1) wanted_covers[x0 + x] = 1;
+      }
+    }
+    for (int x = 0; x < W; ++x)
+      if (!wanted_covers[x]) label[x] = first[x];
+    result.labels->write_row(y, label);
+    std::erase_if(open, [&](const Open& o) { return o.rows->where().y1 == y + 1; });
+  }
+  return result;
+}
+
+}  // namespace gdp::blending

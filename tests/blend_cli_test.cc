@@ -1,0 +1,117 @@
+// gdp blend on the command line: enblend's options as Hugin passes them, gdp-blend, bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "blend_args.h"
+#include "cli_fixture.h"
+#include "gdp/errors.h"
+#include "gdp/image_io.h"
+#include "nona_tiff.h"
+#include "test_util.h"
+
+namespace gdp {
+namespace {
+
+TEST(BlendArgs, EnblendOptionsAsHuginPassesThem) {
+  std::vector<std::string> ignored;
+  const auto out = cli::from_enblend({"--compression=LZW", "-w", "-f11618x5809", "-o", "pano.tif", "--", "a.tif"},
+                                     ignored);
+  const std::vector<std::string> want = {"--compression=lzw", "--wrap=horizontal", "--canvas=11618x5809", "-o",
+                                         "pano.tif", "--", "a.tif"};
+  EXPECT_EQ(out, want);
+  EXPECT_TRUE(ignored.empty());
+  const auto more = cli::from_enblend({"--compression=90", "-f2795x4607+1002+1232", "-d", "r32", "--wrap=both",
+                                       "-opano.jpg", "--depth=16", "-l", "29", "--fine-mask", "--no-optimize",
+                                       "--levels=3", "-v"},
+                                      ignored);
+  const std::vector<std::string> want_more = {"--quality=90",  "--canvas=2795x4607+1002+1232", "--depth=float",
+                                              "--wrap=both",   "-o",
+                                              "pano.jpg",      "--depth=16",
+                                              "--verbose"};
+  EXPECT_EQ(more, want_more);
+  const std::vector<std::string> want_ignored = {"-l 29", "--fine-mask", "--no-optimize", "--levels=3"};
+  EXPECT_EQ(ignored, want_ignored);
+  EXPECT_THROW(cli::from_enblend({"-d", "12"}, ignored), UsageError);
+}
+
+class BlendCli : public test::CliFixture {
+ protected:
+  // Two overlapping nona layers of an RGB ramp, the second 0.1 brighter, on a 90x40 canvas.
+  void write_layers() {
+    Image a(60, 40, 4, 1.0f), b(60, 40, 4, 1.0f);
+    for (int y = 0; y < 40; ++y)
+      for (int x = 0; x < 60; ++x)
+        for (int c = 0; c < 3; ++c) {
+          a.at(c, x, y) = 0.2f + 0.004f * x + 0.001f * y;
+          b.at(c, x, y) = 0.2f + 0.004f * (x + 30) + 0.001f * y + 0.1f;
+        }
+    test::write_nona_tiff(path("l0.tif"), {{&a, 0, 0, 8}}, 90, 40);
+    test::write_nona_tiff(path("l1.tif"), {{&b, 30, 0, 8}}, 90, 40);
+  }
+};
+
+TEST_F(BlendCli, HuginStyleCommandLine) {
+  write_layers();
+  std::ofstream(path("list.txt")) << "# layers\n" << path("l1.tif") << "\n";
+  const auto r = gdp("blend --compression=LZW -w -f90x40 --fine-mask -o " + path("pano.tif") + " -- " +
+                     path("l0.tif") + " @" + path("list.txt"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("ignoring enblend-only option(s) --fine-mask"), std::string::npos) << r.err;
+  const ReadResult out = read_image(path("pano.tif"));
+  EXPECT_EQ(out.image.width, 90);
+  EXPECT_EQ(out.image.channels, 4);
+  EXPECT_EQ(out.info.sample_type, SampleType::UInt8);
+  // No seam: the step between columns stays the ramp's wherever the layers meet.
+  for (int x = 40; x < 50; ++x)
+    EXPECT_NEAR(out.image.at(0, x + 1, 20) - out.image.at(0, x, 20), 0.004, 2.5 / 255) << x;
+}
+
+TEST_F(BlendCli, CanvasWithAnOffsetCropsAndGdpBlendIsBlend) {
+  write_layers();
+  const std::string link = path("gdp-blend");
+  std::filesystem::create_symlink(GDP_CLI_PATH, link);
+  const std::string cmd = link + " -f40x20+25+10 -d 16 -o " + path("crop.tif") + " " + path("l0.tif") + " " +
+                          path("l1.tif") + " 2> " + path("err.txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const ReadResult out = read_image(path("crop.tif"));
+  EXPECT_EQ(out.image.width, 40);
+  EXPECT_EQ(out.image.height, 20);
+  EXPECT_EQ(out.info.sample_type, SampleType::UInt16);
+}
+
+// Under mpirun every rank finds the seams and solves its own columns; rank 0 writes the file.
+TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
+  const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
+  if (std::system((mpirun + " -np 2 true > /dev/null 2>&1").c_str()) != 0) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  write_layers();
+  const std::string layers = " " + path("l0.tif") + " " + path("l1.tif");
+  ASSERT_EQ(gdp("blend -q --depth float -o " + path("one.tif") + layers).code, 0);
+  const std::string cmd = mpirun + " -np 2 " + GDP_CLI_PATH + " blend -q --bands 1 --depth float -o " + path("two.tif") +
+                          layers + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const Image one = read_image(path("one.tif")).image, two = read_image(path("two.tif")).image;
+  EXPECT_LT(test::max_difference(one, two), 1e-4);
+}
+
+TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {
+  write_layers();
+  expect_failure("blend -o " + path("o.tif"), "no layers");
+  Image grey(20, 20, 1, 0.5f);
+  write_image(path("grey.png"), grey, {});
+  expect_failure("blend -o " + path("o.tif") + " " + path("l0.tif") + " " + path("grey.png"), "grey.png");
+  expect_failure("blend -f10x10+500+500 -o " + path("o.tif") + " " + path("l0.tif"), "wholly outside");
+  Image small(10, 10, 1, 1.0f);
+  write_image(path("small.png"), small, {});
+  expect_failure("blend -o " + path("o.tif") + " " + path("grey.png") + ":" + path("small.png"), "small.png");
+  expect_failure("blend -o " + path("o.tif") + " @" + path("missing.txt"), "missing.txt");
+  expect_failure("blend --anchor 3 -o " + path("o.tif") + " " + path("l0.tif") + " " + path("l1.tif"), "--anchor 3");
+  // A layer whose pixels are cut short (its header is whole): found mid-run.
+  write_image(path("big.png"), test::random_image(200, 200, 1), {});
+  std::filesystem::copy_file(path("big.png"), path("cut.png"));
+  std::filesystem::resize_file(path("cut.png"), std::filesystem::file_size(path("cut.png")) / 2);
+  expect_failure("blend -o " + path("o.tif") + " " + path("big.png") + " " + path("cut.png"), "cut.png");
+}
+
+}  // namespace
+}  // namespace gdp

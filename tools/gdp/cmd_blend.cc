@@ -1,0 +1,202 @@
+// `gdp blend`: seamless mosaics from N aligned layers, a drop-in for enblend (docs/blend.md).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "commands.h"
+#include "gdp/blend.h"
+#include "gdp/errors.h"
+#include "gdp/mpi_run.h"
+
+namespace gdp::cli {
+namespace {
+
+// "IMAGE" or, when no such file exists, "IMAGE:MASK" (split at the last colon).
+LayerSource layer_argument(const std::string& arg) {
+  LayerSource s;
+  s.image = arg;
+  std::error_code ec;
+  const auto colon = arg.rfind(':');
+  if (!std::filesystem::exists(arg, ec) && colon != std::string::npos && colon > 0 && colon + 1 < arg.size()) {
+    s.image = arg.substr(0, colon);
+    s.mask = arg.substr(colon + 1);
+  }
+  return s;
+}
+
+bool integer(const std::string& s, long long& v) {
+  static const std::regex number("[+-]?[0-9]+");
+  if (!std::regex_match(s, number)) return false;
+  v = std::stoll(s);
+  return true;
+}
+
+// --layers LIST: per line "IMAGE [MASK] [X Y]" (tokens split at white space, "double quotes"
+// keep spaces; # comments). Relative paths are taken from the current directory.
+std::vector<LayerSource> layer_list(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read the layer list", path));
+  std::vector<LayerSource> layers;
+  int number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    std::istringstream words(line);
+    std::vector<std::string> t;
+    for (std::string w; words >> std::quoted(w);) t.push_back(w);
+    if (t.empty() || t[0][0] == '#') continue;
+    LayerSource s;
+    s.image = t[0];
+    const bool placed = t.size() >= 3 && integer(t[t.size() - 2], s.x) && integer(t.back(), s.y);
+    s.placed = placed;
+    if (t.size() == 2 || t.size() == 4) s.mask = t[1];
+    if (t.size() > 4 || ((t.size() == 3 || t.size() == 4) && !placed))
+      throw InputError(fmt::format("{}:{}: expected IMAGE [MASK] [X Y], got '{}'", path, number, line));
+    layers.push_back(s);
+  }
+  return layers;
+}
+
+// enblend's -f: WxH, WxH+X+Y (also +xX+yY; offsets may be negative).
+CanvasRect canvas_argument(const std::string& text) {
+  static const std::regex form("([0-9]+)x([0-9]+)(?:([+-])x?([0-9]+)([+-])y?([0-9]+))?");
+  std::smatch m;
+  if (!std::regex_match(text, m, form))
+    throw UsageError(fmt::format("-f/--canvas: '{}' is not WIDTHxHEIGHT or WIDTHxHEIGHT+X+Y", text));
+  CanvasRect c;
+  c.width = std::stoi(m[1]);
+  c.height = std::stoi(m[2]);
+  if (m[3].matched) {
+    c.x = std::stoll(m[4]) * (m[3] == "-" ? -1 : 1);
+    c.y = std::stoll(m[6]) * (m[5] == "-" ? -1 : 1);
+  }
+  return c;
+}
+
+class Blend final : public Command {
+ public:
+  explicit Blend(CLI::App& root) {
+    app = root.add_subcommand("blend", "seamless mosaic of aligned layers (enblend's options accepted; docs/blend.md)");
+    app->add_option("layers", layers_, "layer images (multi-page TIFF: a layer per page; IMAGE:MASK; @LISTFILE)");
+    app->add_option("-o,--output", output_, "output image")->capture_default_str();
+    app->add_option("--layers", list_, "a file listing layers, one a line: IMAGE [MASK] [X Y]");
+    app->add_option("--canvas", canvas_, "canvas WxH[+X+Y] in the layers' coordinates (enblend's -f); default: "
+                                         "the layers' union and their TIFF canvas size");
+    app->add_option("--wrap", wrap_, "none | horizontal (360-degree panorama; enblend's -w) | both (full sphere)")
+        ->check(CLI::IsMember({"none", "horizontal", "vertical", "both"}))
+        ->capture_default_str();
+    app->add_option("--seam-guidance", guidance_, "gradients across seams: mean (of both layers') | zero")
+        ->check(CLI::IsMember({"mean", "zero"}))
+        ->capture_default_str();
+    app->add_option("--space", space_, "blend in: values | log | lab (as gdp stitch)")
+        ->check(CLI::IsMember({"values", "log", "lab"}))
+        ->capture_default_str();
+    app->add_option("--anchor", anchor_, "keep layer K's values (1 = the first layer given) and level the rest to "
+                                         "it; add --tolerance 1e-4, pinned problems converge more slowly")
+        ->check(CLI::PositiveNumber);
+    app->add_option("--correction", correction_, "also write the additive correction (output minus the layers), "
+                                                 "float samples (.tif or .exr)");
+    app->add_option("--save-seams", save_seams_, "write the seams: a grey image of layer numbers (1 = the first, "
+                                                 "0 = none), lossless (PNG, TIFF)");
+    app->add_option("--load-seams", load_seams_, "take the seams from such an image (edited, or kept from a "
+                                                   "run before) instead of computing them");
+    app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
+    add_common_options(*app, common_);
+  }
+
+  bool runs_under_mpi() const override { return true; }
+
+  int run() override {
+    if (version_) {
+      std::printf("gdp blend (gdp-blend): gradient-domain blending, accepts enblend's options\n");
+      return 0;
+    }
+    Stats stats("blend");
+    SolverOptions solver = solver_options(common_, "blend");
+    BlendOptions options = blend_options();
+    const std::vector<LayerSource> sources = layer_sources();
+    const BlendPlan plan = stats.time("plan", [&] { return plan_blend(sources, options); });
+    options.space.srgb_encoded = plan.sample_type == SampleType::UInt8 || plan.sample_type == SampleType::UInt16;
+    options.alpha = !is_lossy_extension(output_);  // JPEG and the like store no alpha
+    for (const std::string& n : plan.notes) note(common_, "gdp blend: " + n);
+    const int W = plan.canvas.width, H = plan.canvas.height, channels = plan.colour_channels + (options.alpha ? 1 : 0);
+    const ImageFileInfo info{plan.sample_type, "tiff", false};
+    WriteOptions write = write_options(common_, info);
+    write.geo = plan.geo;  // GeoTIFF layers: the output is georeferenced too
+    const auto out = open_output(output_, W, H, channels, write, common_.quiet);
+    std::unique_ptr<RowWriter> correction;
+    if (!correction_.empty() && MpiRun::size() > 1)
+      throw UsageError("--correction: not under mpirun yet (one gathered output per run)");
+    if (!correction_.empty()) {
+      WriteOptions f = write_options(common_, info);
+      f.sample_type = SampleType::Float;
+      correction = open_output(correction_, W, H, plan.colour_channels, f, common_.quiet);
+      options.correction = correction.get();
+    }
+    options.progress = progress_line(common_, "blend: seams");
+    BlendReport report;
+    stats.time("total", [&] { blend(plan, options, solver, *out, &report); });
+    if (!report.isolated.empty()) {
+      std::string list;
+      for (std::size_t k = 0; k < report.isolated.size() && k < 8; ++k) list += (k ? ", " : "") + report.isolated[k];
+      if (report.isolated.size() > 8) list += fmt::format(", ... ({} in all)", report.isolated.size());
+      note(common_, fmt::format("blend: layer(s) overlapping no other, placed as they are: {}", list));
+    }
+    stats.summary(report.solve);
+    stats.image(W, H, channels);
+    stats.set("layers", std::to_string(plan.layers.size()));
+    stats.set("seconds_seams", fmt::format("{:.3f}", report.seconds_seams));
+    stats.set("seconds_solve", fmt::format("{:.3f}", report.seconds_solve));
+    stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
+    note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
+                              "residual {:.2e} -> {}",
+                              plan.layers.size(), W, H, plan.canvas.x, plan.canvas.y, report.seconds_seams, report.seconds_solve,
+                              report.solve.relative_residuals.empty() ? 0.0 : report.solve.relative_residuals.back(),
+                              output_));
+    stats.write(common_.stats_path);
+    return 0;
+  }
+
+ private:
+  BlendOptions blend_options() const {
+    if (common_.domain != "planar")
+      throw UsageError("--domain: gdp blend's domain follows --wrap (horizontal: cylindrical, both: the sphere)");
+    if (wrap_ == "vertical") throw UsageError("--wrap vertical: gdp wraps horizontally or both ways, not vertically alone");
+    BlendOptions o;
+    o.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
+    o.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
+    o.space.kind = space_ == "log" ? BlendSpace::Kind::Log : space_ == "lab" ? BlendSpace::Kind::Lab
+                                                                             : BlendSpace::Kind::Values;
+    o.pq_height = common_.pq_height;
+    o.anchor = anchor_ - 1;
+    o.load_seams = load_seams_;
+    if (MpiRun::rank() == 0) o.save_seams = save_seams_;  // every rank has the same seams
+    if (!canvas_.empty()) o.canvas = canvas_argument(canvas_);
+    return o;
+  }
+
+  std::vector<LayerSource> layer_sources() const {
+    std::vector<LayerSource> sources;
+    for (const std::string& a : layers_) sources.push_back(layer_argument(a));
+    if (!list_.empty())
+      for (const LayerSource& s : layer_list(list_)) sources.push_back(s);
+    if (sources.empty()) throw UsageError("no layers to blend (give image files, @LISTFILE or --layers LIST)");
+    return sources;
+  }
+
+  std::vector<std::string> layers_;
+  std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  int anchor_ = 0;
+  bool version_ = false;
+  CommonOptions common_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_blend(CLI::App& root) { return std::make_unique<Blend>(root); }
+
+}  // namespace gdp::cli
