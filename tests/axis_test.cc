@@ -114,10 +114,18 @@ TEST(Axis, ProlongationRowsSumToOne) {
       for (const auto& r : p.rows) {
         EXPECT_DOUBLE_EQ(r.weight[0] + r.weight[1], 1.0);
         EXPECT_GE(r.index[0], 0);
+        EXPECT_LT(r.index[0], p.coarse_n);
         EXPECT_LT(r.index[1], p.coarse_n);
       }
     }
   }
+}
+
+// Fine sample i reads coarse i / 2: halving an odd axis to n / 2 (rounding down) would make the
+// last sample read one past the coarse axis, so it is refused.
+TEST(Axis, ProlongationRefusesToHalveAnOddAxisRoundingDown) {
+  EXPECT_THROW(make_prolongation(make_fine_axis(63, AxisBoundary::Periodic), 31), std::logic_error);
+  EXPECT_EQ(make_prolongation(make_fine_axis(63, AxisBoundary::Periodic), 32).rows.back().index[0], 31);
 }
 
 TEST(Axis, EvenSizesNestExactlyIncludingBoundaryRows) {

@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "gdp/errors.h"
 #include "multigrid/plane_ops.h"
 #include "multigrid/window_ops.h"
 #include "topology/topology.h"
@@ -17,6 +18,7 @@ struct Levels {
   std::vector<LevelOperator<double>> ops;
   Levels(Domain d, int w, int hgt) {
     auto topo = topology::make_topology(d);
+    if (d == Domain::Spherical) hgt = w / 4;  // PQ: W = 4H
     h = build_hierarchy(*topo, w, hgt, 0.01, 4);
     for (const auto& g : h.levels) ops.emplace_back(g, h.alpha);
   }
@@ -157,7 +159,6 @@ TEST_P(WindowOps, RelaxAcrossTheWrapEqualsShiftedColumns) {
 
 TEST_P(WindowOps, RestrictAndProlongOverBandsEqualWholeRows) {
   const auto [domain, width] = GetParam();
-  if (domain == Domain::Spherical && width % 2) GTEST_SKIP() << "PQ images are an even number of columns wide";
   const Levels s(domain, width, 16);
   const LevelGeometry& g = s.h.levels[1];
   const bool periodic = s.ops[0].periodic_x;
@@ -208,8 +209,27 @@ TEST_P(WindowOps, RestrictAndProlongOverBandsEqualWholeRows) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Domains, WindowOps,
-                         ::testing::Combine(::testing::Values(Domain::Planar, Domain::Cylindrical, Domain::Spherical),
+                         ::testing::Combine(::testing::Values(Domain::Planar, Domain::Cylindrical),
                                             ::testing::Values(64, 63)));
+// PQ images are 4H x H with H even (odd widths are refused below).
+INSTANTIATE_TEST_SUITE_P(Sphere, WindowOps,
+                         ::testing::Combine(::testing::Values(Domain::Spherical), ::testing::Values(64, 72)));
+
+// No PQ level is odd-width: the hierarchy refuses a spherical size that is not 4H x H with H even
+// (an odd periodic row halved to W / 2 columns would prolong its last column from one past the
+// coarse row), and on valid sizes W halves only with H, so every level stays 4H x H.
+TEST(WindowOpsSphere, NoLevelIsOddWidth) {
+  const auto topo = topology::make_topology(Domain::Spherical);
+  for (auto [w, h] : {std::pair{63, 16}, std::pair{64, 12}, std::pair{60, 15}})
+    EXPECT_THROW(build_hierarchy(*topo, w, h, 0.01, 4), UsageError) << w << "x" << h;
+  for (int h : {2, 6, 12, 16, 40}) {
+    const Hierarchy hier = build_hierarchy(*topo, 4 * h, h, 0.01, 1);
+    for (const LevelGeometry& g : hier.levels) {
+      EXPECT_EQ(g.width(), 4 * g.height());
+      for (const fem::ProlongationRow& r : g.px.rows) EXPECT_LT(r.index[0], g.width());
+    }
+  }
+}
 
 }  // namespace
 }  // namespace gdp::multigrid

@@ -117,7 +117,13 @@ inline constexpr double kCloneTolerance = 1e-5;  // gdp clone's tolerance unless
 struct CloneOptions {
   int offset_x = 0, offset_y = 0;
   bool mixed = false;
+  // The input files' names, in messages (empty: not a file; the message names the role alone).
+  std::string target_name, source_name, mask_name;
 };
+// InputError naming the files when the mask's size is not the source's or the source has fewer
+// channels than the target (what clone checks first; the CLI checks it before opening its output).
+void check_clone_inputs(const RowReader& target, const RowReader& source, const RowReader& mask,
+                        const CloneOptions& options);
 void clone(RowReader& target, RowReader& source, RowReader& mask, const CloneOptions& options,
            const SolverOptions& solver, RowWriter& out, SolveSummary* summary = nullptr);
 Image clone(const Image& target, const Image& source, const Image& mask, const CloneOptions& options,

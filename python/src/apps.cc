@@ -125,8 +125,11 @@ py::object clone(Kind kind, py::handle target, py::handle source, py::handle mas
 
   Job job(kind, named("clone", kind), args.flags);
   RowReader& t = job.input(target, "target");
+  if (kind == Kind::Files) o.target_name = job.last_name();  // as the CLI names them in messages
   RowReader& s = job.input(source, "source");
+  if (kind == Kind::Files) o.source_name = job.last_name();
   RowReader& m = job.input(mask, "mask", true);
+  if (kind == Kind::Files) o.mask_name = job.last_name();
   RowWriter& w = job.output(output, write, t.channels());
   SolveSummary summary;
   Released(args).run([&](const SolverOptions& options) {

@@ -42,6 +42,23 @@ def test_size_mismatch_has_the_cli_message(tmp_path, cli):
     assert not (tmp_path / "o.png").exists()
 
 
+def test_clone_mismatches_have_the_cli_messages(tmp_path, cli):
+    t, s, m, o = (tmp_path / n for n in ("t.png", "s.png", "m.png", "o.png"))
+    gdp.write_image(t, np.zeros((8, 12, 3), np.uint8))
+    for source, mask, fragment in [((8, 12, 3), (8, 10), "m.png: 10x8, but the source"),
+                                   ((8, 12), (8, 12), "s.png: 1 channel(s), but the target")]:
+        gdp.write_image(s, np.zeros(source, np.uint8))
+        gdp.write_image(m, np.zeros(mask, np.uint8))
+        expected = cli_message(cli, "clone", "-t", t, "-s", s, "-m", m, "-o", o, "-q")
+        assert fragment in expected
+        with pytest.raises(gdp.InputError) as e:
+            gdp.clone_file(t, s, m, o)
+        assert str(e.value) == expected
+        assert not o.exists()
+    with pytest.raises(gdp.InputError, match="^the mask: 10x8, but the source is 12x8$"):
+        gdp.clone(np.zeros((8, 12), np.float32), np.zeros((8, 12), np.float32), np.zeros((8, 10), np.float32))
+
+
 def test_invalid_options_have_the_cli_messages(tmp_path, cli):
     gdp.write_image(tmp_path / "a.png", np.zeros((8, 8), np.uint8))
     image = np.zeros((8, 8), np.float32)

@@ -1,5 +1,6 @@
 // Seamless cloning (Perez et al. 2003): a source's gradients inside a mask, the target pinned outside it.
 #include <cmath>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -81,16 +82,28 @@ class CloneGuidance final : public apps::ImageGuidance {
   int next_ = 0;
 };
 
+// A file's name, or the role ("the mask") where the input is not a file.
+std::string subject(const std::string& role, const std::string& name) { return name.empty() ? "the " + role : name; }
+// "the source s.png", or "the source".
+std::string mention(const std::string& role, const std::string& name) {
+  return name.empty() ? "the " + role : "the " + role + " " + name;
+}
+
 }  // namespace
+
+void check_clone_inputs(const RowReader& target, const RowReader& source, const RowReader& mask,
+                        const CloneOptions& o) {
+  if (mask.width() != source.width() || mask.height() != source.height())
+    throw InputError(fmt::format("{}: {}x{}, but {} is {}x{}", subject("mask", o.mask_name), mask.width(),
+                                 mask.height(), mention("source", o.source_name), source.width(), source.height()));
+  if (source.channels() < target.channels())
+    throw InputError(fmt::format("{}: {} channel(s), but {} has {}", subject("source", o.source_name),
+                                 source.channels(), mention("target", o.target_name), target.channels()));
+}
 
 void clone(RowReader& target, RowReader& source, RowReader& mask, const CloneOptions& options,
            const SolverOptions& solver, RowWriter& out, SolveSummary* summary) {
-  if (mask.width() != source.width() || mask.height() != source.height())
-    throw InputError(fmt::format("the mask is {}x{} but the source is {}x{}", mask.width(), mask.height(),
-                                 source.width(), source.height()));
-  if (source.channels() < target.channels())
-    throw InputError(fmt::format("the source has {} channels but the target {}", source.channels(),
-                                 target.channels()));
+  check_clone_inputs(target, source, mask, options);
   if (solver.domain == Domain::Spherical) throw UsageError("clone works on planar and cylindrical images");
   CloneGuidance guidance(target, source, mask, options);
   solve(guidance, solver, out, summary);

@@ -102,6 +102,9 @@ int next_size(const Axis& fine) {
 }
 
 Prolongation make_prolongation(const Axis& fine, int m) {
+  // Fine sample i interpolates from coarse i / 2: an odd axis halved to n / 2 would read past its end.
+  if (m != fine.n && m != (fine.n + 1) / 2)
+    throw std::logic_error("a prolongation keeps an axis or halves it rounding up");
   Prolongation p{m, std::vector<ProlongationRow>(fine.n)};
   for (int i = 0; i < fine.n; ++i) {
     if (m == fine.n) {

@@ -7,6 +7,10 @@ namespace gdp::multigrid {
 
 Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height, double alpha,
                           int coarsest_size) {
+  // Throws UsageError for sizes the domain does not admit. On the sphere this is what keeps every
+  // level 4H x H (W halves only with H), so no level is odd-width: an odd periodic row halved to
+  // floor(W/2) columns would leave its last column's prolongation index one past the coarse row.
+  topo.validate_size(width, height);
   Hierarchy h;
   h.alpha = alpha;
   h.levels.push_back({fem::make_fine_axis(width, topo.x_boundary()),

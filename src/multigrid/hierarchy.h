@@ -23,7 +23,8 @@ struct Hierarchy {
   double alpha = 0.0;                 // screening weight (same at every level; the mass carries the scale)
 };
 
-// Halves both axes (each while it can) until neither side exceeds coarsest_size.
+// Halves both axes (each while it can) until neither side exceeds coarsest_size. UsageError
+// (Topology::validate_size) for a size the domain does not admit, e.g. a PQ image that is not 4H x H.
 Hierarchy build_hierarchy(const topology::Topology& topo, int width, int height, double alpha,
                           int coarsest_size);
 

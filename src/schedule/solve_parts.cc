@@ -10,9 +10,8 @@ namespace gdp::schedule {
 template <class T>
 Problem<T>::Problem(const GuidanceSource& source, const SolverOptions& options, SolveSummary& summary)
     : topology(topology::make_topology(options.domain)),
-      hierarchy((topology->validate_size(source.width(), source.height()),
-                 multigrid::build_hierarchy(*topology, source.width(), source.height(), source.alpha(),
-                                            options.coarsest_size))),
+      hierarchy(multigrid::build_hierarchy(*topology, source.width(), source.height(), source.alpha(),
+                                           options.coarsest_size)),
       ops(hierarchy) {
   // Per-pixel weights hold values (where positive): no null space, no mean to keep.
   if (source.has_weights()) ops.singular = false;

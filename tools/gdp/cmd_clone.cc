@@ -4,7 +4,6 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/apps.h"
-#include "gdp/errors.h"
 #include "gdp/image_stream.h"
 
 namespace gdp::cli {
@@ -37,13 +36,11 @@ class Clone final : public Command {
       options_.offset_x = offset_[0];
       options_.offset_y = offset_[1];
     }
+    options_.target_name = target_;
+    options_.source_name = source_;
+    options_.mask_name = mask_;
     ImageFileReader target(target_), source(source_), mask(mask_);
-    if (mask.width() != source.width() || mask.height() != source.height())
-      throw InputError(fmt::format("{}: {}x{}, but the source {} is {}x{}", mask_, mask.width(), mask.height(),
-                                   source_, source.width(), source.height()));
-    if (source.channels() < target.channels())
-      throw InputError(fmt::format("{}: {} channel(s), but the target {} has {}", source_, source.channels(),
-                                   target_, target.channels()));
+    check_clone_inputs(target, source, mask, options_);
     const auto out = open_output(output_, target.width(), target.height(), target.channels(),
                                  write_options(common_, target.info()), common_.quiet);
     SolveSummary summary;
