@@ -29,9 +29,7 @@ void lon_lat(const sphere::Vec3& d, double& lon, double& lat) {
 }
 
 float Plate::sample(double x, double y) const {
-  return bilinear_finite(x, y, [&](int i, int j) {
-    return pixels[static_cast<std::size_t>(std::clamp(j, 0, height - 1)) * width + std::clamp(i, 0, width - 1)];
-  });
+  return bilinear_clamped(pixels.data(), width, height, x, y);
 }
 
 float Plate::extended(double x, double y, double margin) const {

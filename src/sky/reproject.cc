@@ -40,10 +40,7 @@ long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& targe
       // meets none) clamps.
       row[x] = window.whole()
                    ? bilinear_finite(p.x, p.y, [&](int i, int j) { return pq.data[grid->offset(i, j, hx, hy)]; })
-                   : bilinear_finite(p.x - window.i0, p.y - window.j0, [&](int i, int j) {
-                       return pq.data[static_cast<std::size_t>(std::clamp(j, 0, pq.height - 1)) * pq.width +
-                                      std::clamp(i, 0, pq.width - 1)];
-                     });
+                   : bilinear_clamped(pq.data.data(), pq.width, pq.height, p.x - window.i0, p.y - window.j0);
       ++covered;
     }
     out.write_row(y, row);
