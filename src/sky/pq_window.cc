@@ -10,7 +10,7 @@ namespace gdp::sky {
 
 std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int height, double extension) {
   const int w = 4 * height, steps = 256, margin = 4;
-  const int depth = static_cast<int>(std::ceil(std::log2(2.0 * height))) + 3;
+  const int depth = toast_depth(height);
   double x0 = w, x1 = -1.0, y0 = height, y1 = -1.0;
   for (const Plate& p : plates) {
     const double m = extension * std::max(p.width, p.height);

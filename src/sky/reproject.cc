@@ -14,8 +14,7 @@ namespace gdp::sky {
 
 long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& target, RowWriter& out) {
   const int w = target.width(), h = target.height(), H = window.height;
-  const auto grid = sphere::make_source({sphere::Layout::Pq, sphere::SquareMap::Toast, false}, 4 * H, H,
-                                        static_cast<int>(std::ceil(std::log2(2.0 * H))) + 3);
+  const auto grid = sphere::make_source({sphere::Layout::Pq, sphere::SquareMap::Toast, false}, 4 * H, H, toast_depth(H));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::vector<double> xy(2 * static_cast<std::size_t>(w)), sky(2 * static_cast<std::size_t>(w));
   std::vector<unsigned char> ok(w);
