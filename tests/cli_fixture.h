@@ -34,22 +34,16 @@ class CliFixture : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Runs gdp with the arguments, capturing stderr.
-  CliRun gdp(const std::string& args) const {
-    const std::string err_file = path("stderr.txt");
-    const std::string cmd = std::string(GDP_CLI_PATH) + " " + args + " 2> " + err_file + " > /dev/null";
-    CliRun r;
-    const int status = std::system(cmd.c_str());
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream f(err_file);
-    r.err.assign(std::istreambuf_iterator<char>(f), {});
-    return r;
-  }
+  CliRun gdp(const std::string& args) const { return run_capturing_stderr(std::string(GDP_CLI_PATH) + " " + args); }
 
   // Runs a bash command line (ulimit and the like before gdp), capturing stderr.
-  CliRun gdp_shell(const std::string& command) const {
+  CliRun gdp_shell(const std::string& command) const { return run_capturing_stderr("bash -c '" + command + "'"); }
+
+  // Runs a shell command line with stdout discarded; its exit code and stderr.
+  CliRun run_capturing_stderr(const std::string& command) const {
     const std::string err_file = path("stderr.txt");
     CliRun r;
-    const int status = std::system(("bash -c '" + command + "' 2> " + err_file + " > /dev/null").c_str());
+    const int status = std::system((command + " 2> " + err_file + " > /dev/null").c_str());
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     std::ifstream f(err_file);
     r.err.assign(std::istreambuf_iterator<char>(f), {});

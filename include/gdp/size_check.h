@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 namespace gdp {
 
@@ -17,5 +18,10 @@ void set_size_check(SizeCheck check);
 // rows of at most 2^30 samples, so that no row, stride or level size overflows an int), then
 // the installed check. std::length_error on a size outside gdp's bounds.
 void check_image_size(long long width, long long height, int channels);
+
+// An image size derived from options (`what`, e.g. "--pq-height 100000": its PQ grid), checked
+// like a file's header; UsageError "what: problem". Sides are given as long long so that a
+// product computed from an option cannot have overflowed already.
+void check_derived_size(const std::string& what, long long width, long long height, int channels);
 
 }  // namespace gdp

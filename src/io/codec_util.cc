@@ -63,4 +63,12 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+CompressionSpec split_compression(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  CompressionSpec spec{text.substr(0, colon), std::nullopt};
+  for (char& ch : spec.name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (colon != std::string::npos) spec.level = text.substr(colon + 1);
+  return spec;
+}
+
 }  // namespace gdp::io

@@ -83,4 +83,11 @@ inline std::uint16_t to_u16(float v) { return static_cast<std::uint16_t>(clamp01
 // Lower-case extension without the dot ("TIF" -> "tif").
 std::string lower_extension(const std::string& path);
 
+// WriteOptions::compression "NAME[:LEVEL]": NAME in lower case, and the text after ':' if any.
+struct CompressionSpec {
+  std::string name;
+  std::optional<std::string> level;
+};
+CompressionSpec split_compression(const std::string& text);
+
 }  // namespace gdp::io

@@ -8,7 +8,6 @@
 #include <Imath/half.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -45,9 +44,7 @@ class Stream final : public Imf::OStream {
 // on photographs a third of zip's CPU time (OpenEXR's and OpenImageIO's default; zlib, one
 // thread) and smaller files, for half and float alike (docs/formats.md).
 void set_compression(Imf::Header& header, const std::string& text) {
-  std::string name = text.substr(0, text.find(':'));
-  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const char* level = text.find(':') == std::string::npos ? nullptr : text.c_str() + text.find(':') + 1;
+  const auto [name, level] = split_compression(text);
   static const std::pair<const char*, Imf::Compression> names[] = {
       {"none", Imf::NO_COMPRESSION},     {"rle", Imf::RLE_COMPRESSION},   {"zips", Imf::ZIPS_COMPRESSION},
       {"zip", Imf::ZIP_COMPRESSION},     {"piz", Imf::PIZ_COMPRESSION},   {"pxr24", Imf::PXR24_COMPRESSION},
@@ -59,9 +56,9 @@ void set_compression(Imf::Header& header, const std::string& text) {
   if (!level) return;
   const Imf::Compression c = header.compression();
   if (c == Imf::ZIP_COMPRESSION || c == Imf::ZIPS_COMPRESSION)
-    header.zipCompressionLevel() = std::clamp(std::atoi(level), 1, 9);
-  if ((c == Imf::DWAA_COMPRESSION || c == Imf::DWAB_COMPRESSION) && std::atof(level) > 0)
-    header.dwaCompressionLevel() = static_cast<float>(std::atof(level));
+    header.zipCompressionLevel() = std::clamp(std::atoi(level->c_str()), 1, 9);
+  if ((c == Imf::DWAA_COMPRESSION || c == Imf::DWAB_COMPRESSION) && std::atof(level->c_str()) > 0)
+    header.dwaCompressionLevel() = static_cast<float>(std::atof(level->c_str()));
 }
 
 class ExrEncoder final : public Encoder {

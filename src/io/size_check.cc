@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "gdp/errors.h"
+
 namespace gdp {
 namespace {
 
@@ -36,6 +38,14 @@ void check_image_size(long long width, long long height, int channels) {
     check = installed;
   }
   if (check) check(width, height, channels);
+}
+
+void check_derived_size(const std::string& what, long long width, long long height, int channels) {
+  try {
+    check_image_size(width, height, channels);
+  } catch (const std::exception& e) {
+    throw UsageError(fmt::format("{}: {}", what, e.what()));
+  }
 }
 
 }  // namespace gdp

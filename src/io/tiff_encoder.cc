@@ -1,6 +1,5 @@
 // Encoding TIFF with libtiff: strips or tiles, 8/16-bit unsigned or 32/64-bit float, compressed (deflate on two threads), through a checked file.
 #include <algorithm>
-#include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -58,9 +57,9 @@ void io_unmap(thandle_t, void*, toff_t) {}
 // WriteOptions::compression ("zip", "lzw:...", ...) as a libtiff code and a level (0: default).
 // Unknown or unavailable names give zip (deflate), as OpenImageIO 2.4 did.
 std::pair<std::uint16_t, int> compression_of(const std::string& text) {
-  std::string name = text.substr(0, text.find(':'));
-  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const int level = text.find(':') == std::string::npos ? 0 : std::atoi(text.c_str() + text.find(':') + 1);
+  const CompressionSpec spec = split_compression(text);
+  const std::string& name = spec.name;
+  const int level = spec.level ? std::atoi(spec.level->c_str()) : 0;
   std::uint16_t code = COMPRESSION_ADOBE_DEFLATE;
   if (name == "none") code = COMPRESSION_NONE;
   else if (name == "lzw") code = COMPRESSION_LZW;

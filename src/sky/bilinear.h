@@ -1,7 +1,9 @@
 // Bilinear interpolation among the finite ones of the four pixel centres around a point (blanks left out).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace gdp::sky {
@@ -23,6 +25,13 @@ float bilinear_finite(double x, double y, Fetch&& fetch) {
       weight += w;
     }
   return weight > 0.0 ? static_cast<float>(sum / weight) : std::numeric_limits<float>::quiet_NaN();
+}
+
+// bilinear_finite on a row-major `width` x `height` grid of values, indices clamped to its edges.
+inline float bilinear_clamped(const float* data, int width, int height, double x, double y) {
+  return bilinear_finite(x, y, [&](int i, int j) {
+    return data[static_cast<std::size_t>(std::clamp(j, 0, height - 1)) * width + std::clamp(i, 0, width - 1)];
+  });
 }
 
 }  // namespace gdp::sky

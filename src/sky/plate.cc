@@ -29,9 +29,7 @@ void lon_lat(const sphere::Vec3& d, double& lon, double& lat) {
 }
 
 float Plate::sample(double x, double y) const {
-  return bilinear_finite(x, y, [&](int i, int j) {
-    return pixels[static_cast<std::size_t>(std::clamp(j, 0, height - 1)) * width + std::clamp(i, 0, width - 1)];
-  });
+  return bilinear_clamped(pixels.data(), width, height, x, y);
 }
 
 float Plate::extended(double x, double y, double margin) const {
@@ -41,6 +39,15 @@ float Plate::extended(double x, double y, double margin) const {
   const double t = std::min(1.0, outside / (0.8 * margin));
   const double s = t * t * (3.0 - 2.0 * t);
   return static_cast<float>(edge * (1.0 - s) + fade_to * s);
+}
+
+std::vector<std::array<double, 2>> border_points(double left, double top, double right, double bottom, int steps) {
+  std::vector<std::array<double, 2>> points;
+  for (int k = 0; k <= steps; ++k) {
+    const double t = double(k) / steps, x = left + t * (right - left), y = top + t * (bottom - top);
+    points.insert(points.end(), {{x, top}, {x, bottom}, {left, y}, {right, y}});
+  }
+  return points;
 }
 
 Plate load_plate(const std::string& path, long plane) {
@@ -81,13 +88,8 @@ Plate load_plate(const std::string& path, long plane) {
   p.centre = direction(lon, lat);
   double widest = 0.0;
   const int steps = 64;
-  for (int k = 0; k <= steps; ++k) {
-    const double t = double(k) / steps;
-    const double border[4][2] = {{t * p.width, 0.0}, {t * p.width, double(p.height)}, {0.0, t * p.height},
-                                 {double(p.width), t * p.height}};
-    for (const auto& b : border)
-      if (p.wcs->pixel_to_sky(b[0], b[1], lon, lat)) widest = std::max(widest, sphere::angle(p.centre, direction(lon, lat)));
-  }
+  for (const auto& b : border_points(0.0, 0.0, p.width, p.height, steps))
+    if (p.wcs->pixel_to_sky(b[0], b[1], lon, lat)) widest = std::max(widest, sphere::angle(p.centre, direction(lon, lat)));
   double lon1 = 0, lat1 = 0, lon2 = 0, lat2 = 0;
   p.wcs->pixel_to_sky(p.width / 2.0 + 1.0, p.height / 2.0, lon1, lat1);
   p.wcs->pixel_to_sky(p.width / 2.0, p.height / 2.0 + 1.0, lon2, lat2);

@@ -1,6 +1,7 @@
 // A sky plate in memory: its pixels (one plane), its WCS, and where it lies on the sphere.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,10 @@ struct Plate {
 // Reads plane `plane` (0-based) of the first image HDU of `path` and its WCS. Throws InputError
 // naming the file: not FITS, no celestial WCS, a WCS wcslib rejects, plane out of range.
 Plate load_plate(const std::string& path, long plane = 0);
+
+// Points along the four sides of [left, right] x [top, bottom] (pixel coordinates), every
+// 1/steps of a side, corners included.
+std::vector<std::array<double, 2>> border_points(double left, double top, double right, double bottom, int steps);
 
 // A direction from longitude and latitude in degrees (z: the pole, x: longitude 0).
 sphere::Vec3 direction(double lon, double lat);

@@ -10,24 +10,19 @@ namespace gdp::sky {
 
 std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int height, double extension) {
   const int w = 4 * height, steps = 256, margin = 4;
-  const int depth = static_cast<int>(std::ceil(std::log2(2.0 * height))) + 3;
+  const int depth = toast_depth(height);
   double x0 = w, x1 = -1.0, y0 = height, y1 = -1.0;
   for (const Plate& p : plates) {
     const double m = extension * std::max(p.width, p.height);
     const double left = -m, right = p.width + m, top = -m, bottom = p.height + m;
-    for (int k = 0; k <= steps; ++k) {
-      const double t = double(k) / steps;
-      const double border[4][2] = {{left + t * (right - left), top}, {left + t * (right - left), bottom},
-                                   {left, top + t * (bottom - top)}, {right, top + t * (bottom - top)}};
-      for (const auto& b : border) {
-        double lon = 0, lat = 0;
-        if (!p.wcs->pixel_to_sky(b[0], b[1], lon, lat)) return std::nullopt;  // the extension leaves the projection
-        const sphere::Point2 q = sphere::pq_from_direction(sphere::SquareMap::Toast, height, direction(lon, lat), depth);
-        x0 = std::min(x0, q.x);
-        x1 = std::max(x1, q.x);
-        y0 = std::min(y0, q.y);
-        y1 = std::max(y1, q.y);
-      }
+    for (const auto& b : border_points(left, top, right, bottom, steps)) {
+      double lon = 0, lat = 0;
+      if (!p.wcs->pixel_to_sky(b[0], b[1], lon, lat)) return std::nullopt;  // the extension leaves the projection
+      const sphere::Point2 q = sphere::pq_from_direction(sphere::SquareMap::Toast, height, direction(lon, lat), depth);
+      x0 = std::min(x0, q.x);
+      x1 = std::max(x1, q.x);
+      y0 = std::min(y0, q.y);
+      y1 = std::max(y1, q.y);
     }
   }
   PqWindow win{height, static_cast<int>(std::floor(x0)) - margin, static_cast<int>(std::floor(y0)) - margin, 0, 0};

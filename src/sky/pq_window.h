@@ -1,6 +1,7 @@
 // The part of the PQ sphere that a set of plates covers: a rectangle solved as a planar image when it meets no fold.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct PqWindow {
 };
 
 inline PqWindow whole_pq(int height) { return {height, 0, 0, 4 * height, height}; }
+
+// The TOAST recursion depth that resolves a PQ image of height `height` to a fraction of a pixel.
+inline int toast_depth(int height) { return static_cast<int>(std::ceil(std::log2(2.0 * height))) + 3; }
 
 // The rectangle holding every plate with its extension (`extension` times its size beyond its
 // edges) and a margin of 4 pixels, found from points along the extended borders. nullopt when it

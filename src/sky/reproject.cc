@@ -14,8 +14,7 @@ namespace gdp::sky {
 
 long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& target, RowWriter& out) {
   const int w = target.width(), h = target.height(), H = window.height;
-  const auto grid = sphere::make_source({sphere::Layout::Pq, sphere::SquareMap::Toast, false}, 4 * H, H,
-                                        static_cast<int>(std::ceil(std::log2(2.0 * H))) + 3);
+  const auto grid = sphere::make_source({sphere::Layout::Pq, sphere::SquareMap::Toast, false}, 4 * H, H, toast_depth(H));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::vector<double> xy(2 * static_cast<std::size_t>(w)), sky(2 * static_cast<std::size_t>(w));
   std::vector<unsigned char> ok(w);
@@ -40,10 +39,7 @@ long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& targe
       // meets none) clamps.
       row[x] = window.whole()
                    ? bilinear_finite(p.x, p.y, [&](int i, int j) { return pq.data[grid->offset(i, j, hx, hy)]; })
-                   : bilinear_finite(p.x - window.i0, p.y - window.j0, [&](int i, int j) {
-                       return pq.data[static_cast<std::size_t>(std::clamp(j, 0, pq.height - 1)) * pq.width +
-                                      std::clamp(i, 0, pq.width - 1)];
-                     });
+                   : bilinear_clamped(pq.data.data(), pq.width, pq.height, p.x - window.i0, p.y - window.j0);
       ++covered;
     }
     out.write_row(y, row);

@@ -107,11 +107,7 @@ std::array<int, 2> plan_resampling(bool to_pq, Layout& other, int size, int widt
   // Sides in long long, so that an option's product cannot have overflowed before the check.
   const long long w = out == Layout::Pq ? 4 * side : side;
   const long long h = out == Layout::Pq ? side : out == Layout::Cube ? 6 * side : std::max(1LL, side / 2);
-  try {
-    check_image_size(w, h, channels);
-  } catch (const std::exception& e) {
-    throw UsageError(std::string(to_pq ? "--height " : "--width ") + std::to_string(side) + ": " + e.what());
-  }
+  check_derived_size(std::string(to_pq ? "--height " : "--width ") + std::to_string(side), w, h, channels);
   return layout_size(out, static_cast<int>(side));
 }
 

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/size_check.h"
 #include "size_guard.h"
 
 namespace gdp::cli {

@@ -76,12 +76,4 @@ void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_me
   });
 }
 
-void check_derived_size(const std::string& what, long long width, long long height, int channels) {
-  try {
-    check_image_size(width, height, channels);
-  } catch (const std::exception& e) {
-    throw UsageError(fmt::format("{}: {}", what, e.what()));
-  }
-}
-
 }  // namespace gdp::cli

@@ -11,9 +11,4 @@ namespace gdp::cli {
 // through without solving, or resamples in memory when `in_memory`) needs per sample.
 void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_memory = false);
 
-// An image size derived from options (`what`, e.g. "--pq-height 100000": its PQ grid), checked
-// like a file's header (gdp/size_check.h); UsageError naming `what`. Sides are given as long
-// long so that a product computed from an option cannot have overflowed already.
-void check_derived_size(const std::string& what, long long width, long long height, int channels);
-
 }  // namespace gdp::cli
