@@ -15,6 +15,9 @@ shift $(( $# > 1 ? 2 : 1 ))
 photos=("$@")
 if [ ${#photos[@]} -eq 0 ]; then
   photos=(../shared/data/panorama/opencv-stitching-tutorial/budapest{1,2,3}.jpg)
+  for p in "${photos[@]}"; do  # not part of the repository: say so plainly
+    [ -f "$p" ] || { echo "hugin_blend: $p is missing (the default photos come from ../shared/data; name photos instead)" >&2; exit 2; }
+  done
 fi
 for i in "${!photos[@]}"; do photos[$i]=$(realpath "${photos[$i]}"); done
 blender="$PWD/build/tools/gdp/gdp-blend"
