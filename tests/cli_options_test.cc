@@ -51,6 +51,12 @@ TEST_F(CliOptions, UnknownCompressionIsRefused) {
   EXPECT_EQ(r.code, 0) << r.err;
 }
 
+TEST_F(CliOptions, UnknownExrCompressionIsRefused) {  // the EXR encoder used to fall back to piz silently
+  expect_failure(sharpen("--compression bogus", "out.exr"), "bogus");
+  const test::CliRun r = gdp(sharpen("--compression dwaa:45", "out.exr"));
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
 TEST_F(CliOptions, UnknownSubcommandIsNamed) {
   const test::CliRun r = gdp("stich -c a.png");
   EXPECT_EQ(r.code, 2);

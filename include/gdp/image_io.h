@@ -50,6 +50,12 @@ struct WriteOptions {
   std::optional<GeoReference> geo = std::nullopt;  // TIFF: written as GeoTIFF tags (other formats: ignored)
 };
 
+// UsageError when `compression` (WriteOptions::compression, --compression) is not one the codec
+// writing `path` knows (TIFF, OpenEXR: their names; PNG: none; JPEG: jpeg:QUALITY; formats of
+// OpenImageIO's module: left to it). Front ends (the CLI, Python) check before a run; ImageFileWriter
+// itself takes an unknown name as the format's default.
+void check_compression(const std::filesystem::path& path, const std::string& compression);
+
 // Writes an image to a temporary file in the output's directory and renames it into place,
 // so no partial file is ever visible under the final name. Integer outputs are clamped to
 // [0, 1]; float outputs are written as they are. Throws OutputError (nothing left behind).

@@ -80,6 +80,7 @@ RowWriter& Job::output(const py::handle& output, const WriteKeywords& write, int
   } else {
     WriteOptions w = write.options;
     if (!w.sample_type && !format_default) w.sample_type = main_info_.sample_type;
+    check_compression(path_of(output, "output"), w.compression);  // as the CLI does
     writer_ = std::make_unique<ImageFileWriter>(path_of(output, "output"), main.width(), main.height(), channels, w);
   }
   rows_out_ = sphere_ ? &sphere_->output(*writer_, channels) : writer_.get();

@@ -40,7 +40,7 @@ class Stream final : public Imf::OStream {
 };
 
 // WriteOptions::compression ("zip", "dwaa:45", ...) into the header; a level after ':' applies to
-// zip, zips, dwaa and dwab. Empty and unknown names give piz (lossless wavelet, 32-row blocks):
+// zip, zips, dwaa and dwab (other names: check_compression refuses them). Empty gives piz (lossless wavelet, 32-row blocks):
 // on photographs a third of zip's CPU time (OpenEXR's and OpenImageIO's default; zlib, one
 // thread) and smaller files, for half and float alike (docs/formats.md).
 void set_compression(Imf::Header& header, const std::string& text) {

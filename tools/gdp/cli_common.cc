@@ -213,27 +213,6 @@ class RankFileWriter final : public RowWriter {
 
 }  // namespace
 
-void check_compression(const std::string& path, const std::string& compression) {
-  if (compression.empty()) return;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  const std::string name = compression.substr(0, compression.find(':'));
-  const auto one_of = [&](std::initializer_list<const char*> names) {
-    return std::find(names.begin(), names.end(), name) != names.end();
-  };
-  std::string known;
-  if (ext == ".tif" || ext == ".tiff") {
-    if (one_of({"none", "lzw", "zip", "deflate", "packbits", "jpeg", "zstd", "lzma"})) return;
-    known = "none, lzw, zip, packbits, jpeg, zstd, lzma (':LEVEL' after zip, zstd, lzma)";
-  } else if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".jpe" || ext == ".jfif") {
-    if (ext != ".png" && name == "jpeg" && compression.size() > 5) return;  // jpeg:QUALITY
-    known = ext == ".png" ? "none: PNG is always deflated" : "jpeg:QUALITY only (or --quality)";
-  } else {
-    return;  // other formats' names are OpenImageIO's
-  }
-  throw UsageError(fmt::format("--compression {} does not apply to {}: {}", compression, path, known));
-}
-
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet) {
   check_compression(path, options.compression);

@@ -73,10 +73,6 @@ std::unique_ptr<FidelityInputs> open_fidelity(const FidelityFiles& f, const RowR
 std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int height, int channels,
                                        const WriteOptions& options, bool quiet);
 
-// UsageError when `compression` (--compression) is not one the format of `path` knows (TIFF: its
-// codecs' names; PNG: none; JPEG: jpeg:QUALITY; other formats: left to OpenImageIO).
-void check_compression(const std::string& path, const std::string& compression);
-
 // `path` with every {rank} replaced by this process's MPI rank (0 without mpirun).
 std::string for_this_rank(const std::string& path);
 
