@@ -5,7 +5,7 @@
 #
 #   scripts/hugin_blend.sh OUT.tif [FOV_DEGREES [PHOTOS...]]
 #
-# Default photos: the budapest1-3 panorama of ../shared/data (OpenCV's stitching test images).
+# Default photos: examples/data/budapest1-3.jpg (OpenCV's stitching test images, resized).
 # Needs build/ (scripts/build.sh) and hugin-tools. Work files go to a temporary directory.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,10 +14,7 @@ fov=${2:-60}
 shift $(( $# > 1 ? 2 : 1 ))
 photos=("$@")
 if [ ${#photos[@]} -eq 0 ]; then
-  photos=(../shared/data/panorama/opencv-stitching-tutorial/budapest{1,2,3}.jpg)
-  for p in "${photos[@]}"; do  # not part of the repository: say so plainly
-    [ -f "$p" ] || { echo "hugin_blend: $p is missing (the default photos come from ../shared/data; name photos instead)" >&2; exit 2; }
-  done
+  photos=(examples/data/budapest{1,2,3}.jpg)
 fi
 for i in "${!photos[@]}"; do photos[$i]=$(realpath "${photos[$i]}"); done
 blender="$PWD/build/tools/gdp/gdp-blend"
