@@ -27,8 +27,12 @@ void check_stages(const multigrid::Hierarchy& h, const BandLayout& top) {
       EXPECT_EQ(S->bounds[r].front(), 0);
       EXPECT_EQ(S->bounds[r].back(), h.levels[level + r].width());
       for (int b = 0; b < S->bands; ++b) {
-        if (r < S->levels) EXPECT_GE(S->end(r, b) - S->begin(r, b), S->min_band_width()) << "level " << level + r;
-        if (r > 0 && b > 0) EXPECT_EQ(2 * S->bounds[r][b], S->bounds[r - 1][b]) << "level " << level + r;
+        if (r < S->levels) {
+          EXPECT_GE(S->end(r, b) - S->begin(r, b), S->min_band_width()) << "level " << level + r;
+        }
+        if (r > 0 && b > 0) {
+          EXPECT_EQ(2 * S->bounds[r][b], S->bounds[r - 1][b]) << "level " << level + r;
+        }
       }
     }
     if (S->merged) {

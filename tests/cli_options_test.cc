@@ -51,6 +51,11 @@ TEST_F(CliOptions, UnknownCompressionIsRefused) {
   EXPECT_EQ(r.code, 0) << r.err;
 }
 
+TEST_F(CliOptions, ConvertRefusesUnknownCompression) {  // convert writes without open_output: the writer checks
+  expect_failure("convert " + path("in.png") + " -o " + path("out.tif") + " --compression bogus", "bogus");
+  expect_failure("convert " + path("in.png") + " -o " + path("out.exr") + " --compression zstd", "zstd");
+}
+
 TEST_F(CliOptions, UnknownExrCompressionIsRefused) {  // the EXR encoder used to fall back to piz silently
   expect_failure(sharpen("--compression bogus", "out.exr"), "bogus");
   const test::CliRun r = gdp(sharpen("--compression dwaa:45", "out.exr"));

@@ -60,6 +60,12 @@ class Encoder {
   virtual bool integer_file() const = 0;                // after open(): the file stores integers (clamp floats)
   virtual void write(int y0, int y1, const void* rows) = 0;  // interleaved samples of stored()
   virtual void close() = 0;                             // finishes the file; throws on failure
+  // Empty when `compression` (--compression, e.g. "zip:6") suits this format, else the names it
+  // accepts, for the message that refuses it.
+  virtual std::string compression_refusal(const std::string& compression) const {
+    (void)compression;
+    return {};
+  }
 };
 
 }  // namespace gdp::io

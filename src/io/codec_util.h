@@ -90,4 +90,32 @@ struct CompressionSpec {
 };
 CompressionSpec split_compression(const std::string& text);
 
+// A codec's compression names with their codes, for Encoder::compression_refusal().
+template <class Code>
+struct CompressionName {
+  const char* name;
+  Code code;
+};
+
+// The code named in `names` (or `fallback` for a name not there).
+template <class Code, std::size_t N>
+Code compression_code(const CompressionName<Code> (&names)[N], const std::string& name, Code fallback) {
+  for (const auto& n : names)
+    if (name == n.name) return n.code;
+  return fallback;
+}
+
+// Empty when `compression`'s name is in `names`, else "a, b, c" followed by `levels`.
+template <class Code, std::size_t N>
+std::string compression_refusal(const CompressionName<Code> (&names)[N], const std::string& compression,
+                                const char* levels) {
+  const std::string name = split_compression(compression).name;
+  std::string list;
+  for (const auto& n : names) {
+    if (name == n.name) return {};
+    list += (list.empty() ? "" : ", ") + std::string(n.name);
+  }
+  return list + " " + levels;
+}
+
 }  // namespace gdp::io

@@ -43,16 +43,15 @@ class Stream final : public Imf::OStream {
 // zip, zips, dwaa and dwab (other names: check_compression refuses them). Empty gives piz (lossless wavelet, 32-row blocks):
 // on photographs a third of zip's CPU time (OpenEXR's and OpenImageIO's default; zlib, one
 // thread) and smaller files, for half and float alike (docs/formats.md).
+const CompressionName<Imf::Compression> kCompressions[] = {
+    {"none", Imf::NO_COMPRESSION}, {"rle", Imf::RLE_COMPRESSION},   {"zips", Imf::ZIPS_COMPRESSION},
+    {"zip", Imf::ZIP_COMPRESSION}, {"piz", Imf::PIZ_COMPRESSION},   {"pxr24", Imf::PXR24_COMPRESSION},
+    {"b44", Imf::B44_COMPRESSION}, {"b44a", Imf::B44A_COMPRESSION}, {"dwaa", Imf::DWAA_COMPRESSION},
+    {"dwab", Imf::DWAB_COMPRESSION}};
+
 void set_compression(Imf::Header& header, const std::string& text) {
   const auto [name, level] = split_compression(text);
-  static const std::pair<const char*, Imf::Compression> names[] = {
-      {"none", Imf::NO_COMPRESSION},     {"rle", Imf::RLE_COMPRESSION},   {"zips", Imf::ZIPS_COMPRESSION},
-      {"zip", Imf::ZIP_COMPRESSION},     {"piz", Imf::PIZ_COMPRESSION},   {"pxr24", Imf::PXR24_COMPRESSION},
-      {"b44", Imf::B44_COMPRESSION},     {"b44a", Imf::B44A_COMPRESSION}, {"dwaa", Imf::DWAA_COMPRESSION},
-      {"dwab", Imf::DWAB_COMPRESSION}};
-  header.compression() = Imf::PIZ_COMPRESSION;
-  for (const auto& [n, code] : names)
-    if (name == n) header.compression() = code;
+  header.compression() = compression_code(kCompressions, name, Imf::PIZ_COMPRESSION);
   if (!level) return;
   const Imf::Compression c = header.compression();
   if (c == Imf::ZIP_COMPRESSION || c == Imf::ZIPS_COMPRESSION)
@@ -64,6 +63,9 @@ void set_compression(Imf::Header& header, const std::string& text) {
 class ExrEncoder final : public Encoder {
  public:
   std::string format_name() const override { return "openexr"; }
+  std::string compression_refusal(const std::string& compression) const override {
+    return io::compression_refusal(kCompressions, compression, "(':LEVEL' after zip, zips, dwaa, dwab)");
+  }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
     file_ = std::make_unique<OutputFile>(path);

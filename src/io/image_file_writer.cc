@@ -118,29 +118,13 @@ struct ImageFileWriter::Impl {
 
 void check_compression(const std::filesystem::path& path, const std::string& compression) {
   if (compression.empty()) return;
-  std::string format;
+  std::string known;
   try {
-    format = io::create_encoder(path.string())->format_name();
+    known = io::create_encoder(path.string())->compression_refusal(compression);
   } catch (const std::exception&) {
     return;  // no codec for the name: ImageFileWriter says so, naming the file
   }
-  const std::string name = io::split_compression(compression).name;
-  const auto one_of = [&](std::initializer_list<const char*> names) {
-    return std::find(names.begin(), names.end(), name) != names.end();
-  };
-  std::string known;
-  if (format == "tiff") {
-    if (one_of({"none", "lzw", "zip", "deflate", "packbits", "jpeg", "zstd", "lzma"})) return;
-    known = "none, lzw, zip, packbits, jpeg, zstd, lzma (':LEVEL' after zip, zstd, lzma)";
-  } else if (format == "openexr") {
-    if (one_of({"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"})) return;
-    known = "none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab (':LEVEL' after zip, zips, dwaa, dwab)";
-  } else if (format == "png" || format == "jpeg") {
-    if (format == "jpeg" && name == "jpeg" && compression.size() > 5) return;  // jpeg:QUALITY
-    known = format == "png" ? "none: PNG is always deflated" : "jpeg:QUALITY only (or --quality)";
-  } else {
-    return;  // other formats' names are OpenImageIO's
-  }
+  if (known.empty()) return;  // (other formats' names are OpenImageIO's)
   throw UsageError(fmt::format("--compression {} does not apply to {}: {}", compression, path.string(), known));
 }
 
@@ -161,6 +145,7 @@ ImageFileWriter::ImageFileWriter(const fs::path& path, int width, int height, in
   } catch (const std::exception& e) {
     throw m.fail(e.what());
   }
+  check_compression(path, options.compression);  // (every writer: gdp convert too)
   const std::string format = m.output->format_name();
   io::EncodeSpec& spec = m.spec;
   spec.width = width;

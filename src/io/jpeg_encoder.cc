@@ -113,6 +113,10 @@ int quality_of(const EncodeSpec& spec) {
 class JpegEncoder final : public Encoder {
  public:
   std::string format_name() const override { return "jpeg"; }
+  std::string compression_refusal(const std::string& compression) const override {
+    const bool quality = compression.size() > 5 && compression.compare(0, 5, "jpeg:") == 0;
+    return quality ? std::string() : "jpeg:QUALITY only (or --quality)";
+  }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
     file_ = std::make_unique<OutputFile>(path);

@@ -70,6 +70,7 @@ bool guarded_end(PngWriteState* s) {
 class PngEncoder final : public Encoder {
  public:
   std::string format_name() const override { return "png"; }
+  std::string compression_refusal(const std::string&) const override { return "none: PNG is always deflated"; }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
     if (spec.channels > 4) throw CodecError(fmt::format("cannot write: PNG holds 1 to 4 channels, not {}", spec.channels));

@@ -54,19 +54,17 @@ toff_t io_size(thandle_t h) { return static_cast<toff_t>(static_cast<Io*>(h)->fi
 int io_map(thandle_t, void**, toff_t*) { return 0; }
 void io_unmap(thandle_t, void*, toff_t) {}
 
+const CompressionName<std::uint16_t> kCompressions[] = {
+    {"none", COMPRESSION_NONE}, {"lzw", COMPRESSION_LZW},   {"zip", COMPRESSION_ADOBE_DEFLATE},
+    {"deflate", COMPRESSION_ADOBE_DEFLATE}, {"packbits", COMPRESSION_PACKBITS},
+    {"jpeg", COMPRESSION_JPEG}, {"zstd", COMPRESSION_ZSTD}, {"lzma", COMPRESSION_LZMA}};
+
 // WriteOptions::compression ("zip", "lzw:...", ...) as a libtiff code and a level (0: default).
-// Unknown or unavailable names give zip (deflate), as OpenImageIO 2.4 did.
+// An empty or unavailable name gives zip (deflate), as OpenImageIO 2.4 did.
 std::pair<std::uint16_t, int> compression_of(const std::string& text) {
   const CompressionSpec spec = split_compression(text);
-  const std::string& name = spec.name;
   const int level = spec.level ? std::atoi(spec.level->c_str()) : 0;
-  std::uint16_t code = COMPRESSION_ADOBE_DEFLATE;
-  if (name == "none") code = COMPRESSION_NONE;
-  else if (name == "lzw") code = COMPRESSION_LZW;
-  else if (name == "packbits") code = COMPRESSION_PACKBITS;
-  else if (name == "jpeg") code = COMPRESSION_JPEG;
-  else if (name == "zstd") code = COMPRESSION_ZSTD;
-  else if (name == "lzma") code = COMPRESSION_LZMA;
+  std::uint16_t code = compression_code(kCompressions, spec.name, std::uint16_t{COMPRESSION_ADOBE_DEFLATE});
   if (!TIFFIsCODECConfigured(code)) code = COMPRESSION_ADOBE_DEFLATE;
   return {code, level};
 }
@@ -78,6 +76,9 @@ class TiffEncoder final : public Encoder {
   }
 
   std::string format_name() const override { return "tiff"; }
+  std::string compression_refusal(const std::string& compression) const override {
+    return io::compression_refusal(kCompressions, compression, "(':LEVEL' after zip, zstd, lzma)");
+  }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
     file_ = std::make_unique<OutputFile>(path);
