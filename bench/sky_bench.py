@@ -10,6 +10,10 @@ its own smooth background (offset + plane + radial term, seeded). Both pipelines
 mosaic on the same template header; both and the uncorrected seamed mosaic (gdp --no-blend) are
 compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
 removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step).
+With --projected, gdp starts where Montage's background steps do: Montage's projdir (mProjExec's
+images on the template, with their area images) goes to `gdp sky --projected`, beside mOverlaps,
+mDiffExec, mFitExec, mBgModel, mBgExec and mAdd on the same directory, and beside mAdd alone (no
+correction); mProjExec's time is shared and reported apart.
 Needs Debian python3-astropy, python3-numpy and montage.
 """
 import argparse
@@ -36,6 +40,7 @@ ap.add_argument("--seed", type=int, default=18)
 ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA 0, Dec 0 crosses a PQ fold)")
 ap.add_argument("--dec0", type=float, default=0.0)
 ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
+ap.add_argument("--projected", action="store_true", help="gdp sky --projected on Montage's projdir (mProjExec output)")
 args = ap.parse_args()
 out = args.out
 raw = os.path.join(out, "raw")
@@ -111,6 +116,10 @@ for k, (ra, dec) in enumerate(centres):
     a, b, c, d = rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1)
     data = sky(ra_p, dec_p) + stars(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
     fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(raw, f"plate{k:02d}.fits"), overwrite=True)
+    if args.projected:  # the plates without their backgrounds: the truth through Montage's projection
+        os.makedirs(os.path.join(out, "raw_truth"), exist_ok=True)
+        fits.PrimaryHDU((data - (a + b * u + c * v + d * (u * u + v * v))).astype(np.float32), h).writeto(
+            os.path.join(out, "raw_truth", f"plate{k:02d}.fits"), overwrite=True)
 
 # The template: TAN over the plates' extent.
 mw = int(round((args.nx * step + args.overlap) / s))
@@ -128,24 +137,46 @@ ra_t, dec_t = target.all_pix2world(xx + 1.0, yy + 1.0, 1)
 truth_t = sky(ra_t % 360.0, dec_t) + stars(ra_t, dec_t)
 
 plates = sorted(os.path.join(raw, p) for p in os.listdir(raw))
-gdp_log, seamed_log, montage_log = [], [], []
-run([args.gdp, "sky", *plates, "--header", hdr, "-o", os.path.join(out, "gdp.fits"), "--tolerance", "1e-4",
-     "--quiet"], gdp_log)
-run([args.gdp, "sky", *plates, "--header", hdr, "-o", os.path.join(out, "seamed.fits"), "--no-blend", "--quiet"],
-    seamed_log)
 m = lambda *p: os.path.join(out, *p)
 for d in ("proj", "diff", "corr"):
     os.makedirs(m(d), exist_ok=True)
-for cmd in (["mImgtbl", raw, m("images.tbl")],
-            ["mProjExec", "-q", "-p", raw, m("images.tbl"), hdr, m("proj"), m("stats.tbl")],
-            ["mImgtbl", m("proj"), m("pimages.tbl")],
-            ["mOverlaps", m("pimages.tbl"), m("diffs.tbl")],
-            ["mDiffExec", "-p", m("proj"), m("diffs.tbl"), hdr, m("diff")],
-            ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
-            ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
-            ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
-            ["mAdd", "-e", "-p", m("corr"), m("pimages.tbl"), hdr, m("montage.fits")]):
-    run(cmd, montage_log)
+project = [["mImgtbl", raw, m("images.tbl")],
+           ["mProjExec", "-q", "-p", raw, m("images.tbl"), hdr, m("proj"), m("stats.tbl")]]
+background = [["mImgtbl", m("proj"), m("pimages.tbl")],
+              ["mOverlaps", m("pimages.tbl"), m("diffs.tbl")],
+              ["mDiffExec", "-p", m("proj"), m("diffs.tbl"), hdr, m("diff")],
+              ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
+              ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
+              ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
+              # mImgtbl writes absolute file names when given an absolute directory, and mAdd then
+              # reads those, not -p's: the corrected images need a table of their own.
+              ["mImgtbl", m("corr"), m("cimages.tbl")],
+              ["mAdd", "-e", "-p", m("corr"), m("cimages.tbl"), hdr, m("montage.fits")]]
+gdp_log, seamed_log, montage_log, project_log = [], [], [], []
+if args.projected:
+    # Both start from mProjExec's directory; "mAdd only" co-adds it uncorrected.
+    for cmd in project:
+        run(cmd, project_log)
+    run([args.gdp, "sky", "--projected", m("proj"), "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
+         "--quiet"], gdp_log)
+    for cmd in background:
+        run(cmd, montage_log)
+    run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
+    os.makedirs(m("proj_truth"), exist_ok=True)
+    for cmd in (["mImgtbl", m("raw_truth"), m("timages.tbl")],
+                ["mProjExec", "-q", "-p", m("raw_truth"), m("timages.tbl"), hdr, m("proj_truth"), m("tstats.tbl")],
+                ["mImgtbl", m("proj_truth"), m("ptimages.tbl")],
+                ["mAdd", "-e", "-p", m("proj_truth"), m("ptimages.tbl"), hdr, m("truth_proj.fits")],
+                [args.gdp, "sky", "--projected", m("proj_truth"), "--header", hdr, "-o", m("truth_gdp.fits"),
+                 "--tolerance", "1e-4", "--quiet"]):
+        run(cmd, [])
+    names = {"gdp": "gdp --projected", "montage": "Montage bg+add", "seamed": "mAdd only"}
+else:
+    run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4", "--quiet"], gdp_log)
+    run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("seamed.fits"), "--no-blend", "--quiet"], seamed_log)
+    for cmd in project + background:
+        run(cmd, montage_log)
+    names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend"}
 
 
 def median3(a):
@@ -166,17 +197,25 @@ results = {name: rows_top_down(m(name + ".fits")) for name in ("gdp", "montage",
 valid = np.isfinite(truth_t[::-1])
 for r in results.values():
     valid &= np.isfinite(r)
-truth_m = median3(truth_t[::-1])
 print(f"{len(plates)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} TAN; "
       f"{valid.mean():.1%} of it compared")
-print(f"{'':10s} {'bg rms':>9s} {'seam p99.9':>11s}")
-for name, r in results.items():
-    e = median3(r) - truth_m
-    e[~valid] = np.nan
-    e -= np.nanmean(e)
-    steps = np.concatenate([np.abs(np.diff(e, axis=1)).ravel(), np.abs(np.diff(e, axis=0)).ravel()])
-    steps = steps[np.isfinite(steps)]
-    print(f"{name:10s} {np.sqrt(np.nanmean(e * e)):9.4f} {np.percentile(steps, 99.9):11.4f}")
+# --projected: also against the truth as Montage's projection and each pipeline's co-addition
+# give it (gdp's seams on the truth's projdir; mAdd's mean of overlapping images): the same
+# resampling and compositing as the result, which leaves only the background correction.
+truths = [("the truth", {name: truth_t[::-1] for name in results})]
+if args.projected:
+    added = rows_top_down(m("truth_proj.fits"))
+    truths.append(("the truth through mProjExec -q and the same co-addition",
+                   {"gdp": rows_top_down(m("truth_gdp.fits")), "montage": added, "seamed": added}))
+for label, truth_of in truths:
+    print(f"{'against ' + label:56s} {'bg rms':>9s} {'seam p99.9':>11s}")
+    for name, r in results.items():
+        e = median3(r) - median3(truth_of[name])
+        e[~valid] = np.nan
+        e -= np.nanmean(e)
+        steps = np.concatenate([np.abs(np.diff(e, axis=1)).ravel(), np.abs(np.diff(e, axis=0)).ravel()])
+        steps = steps[np.isfinite(steps)]
+        print(f"  {names[name]:54s} {np.sqrt(np.nanmean(e * e)):9.4f} {np.percentile(steps, 99.9):11.4f}")
 # Star fluxes: sums over a 13 x 13 pixel box around each star minus the box's border median, in
 # the result and in the truth on the same grid (the star's own flux there, as sampled).
 sx, sy = target.all_world2pix(star_ra % 360.0, star_dec, 0)
@@ -201,7 +240,8 @@ if args.stars:
 for name in results if args.stars else []:
     rel = np.abs(fluxes(results[name][::-1]) / truth_flux - 1.0)
     rel = rel[np.isfinite(rel)]
-    print(f"{name:10s} {np.median(rel):.2e} {np.max(rel):.2e} ({len(rel)} stars)")
-for name, log in (("gdp sky", gdp_log), ("gdp --no-blend", seamed_log), ("Montage", montage_log)):
+    print(f"{names[name]:16s} {np.median(rel):.2e} {np.max(rel):.2e} ({len(rel)} stars)")
+logs = [(names["gdp"], gdp_log), (names["seamed"], seamed_log), (names["montage"], montage_log)]
+for name, log in logs + ([("mProjExec (shared)", project_log)] if args.projected else []):
     wall, cpu, rss = sum(x[1] for x in log), sum(x[2] for x in log), max(x[3] for x in log)
-    print(f"{name:15s} wall {wall:6.2f} s  cpu {cpu:6.2f} s  peak {rss:6.1f} MiB  ({len(log)} command(s))")
+    print(f"{name:18s} wall {wall:6.2f} s  cpu {cpu:6.2f} s  peak {rss:6.1f} MiB  ({len(log)} command(s))")

@@ -17,6 +17,7 @@ packages=(
   python3-pytest python3-venv python3-pip # its tests, and `pip install .` into a virtual environment
   python3-astropy                        # tests: sky positions checked against astropy
   enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
+  montage                                # bench/sky_bench.py: Montage's pipeline beside gdp sky (and --projected)
 )
 
 missing=()

@@ -22,6 +22,8 @@ struct LayerSource {
   std::string mask = "";  // optional: a separate coverage image of the image's size
   bool placed = false;
   long long x = 0, y = 0;
+  float offset = 0.0f;      // added to the colour as it is read (gdp sky --projected: each image's level)
+  float mask_scale = 1.0f;  // the mask's samples times this are tested (area images: 1 / the largest area)
 };
 
 // An in-memory layer (tests, library users): colour channels plus optional alpha as above.

@@ -33,6 +33,8 @@ LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool 
     if (l.mask) mask_ = std::make_unique<ImageRowReader>(*l.mask);
   } else {
     const LayerSource& s = plan.sources[index];
+    offset_ = s.offset;
+    mask_scale_ = s.mask_scale;
     image_ = std::make_unique<ImageFileReader>(s.image, prefetch, ColumnRange{}, plan.pages[index]);
     if (!s.mask.empty()) mask_ = std::make_unique<ImageFileReader>(s.mask, prefetch);
   }
@@ -63,16 +65,16 @@ void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> co
     const float* in = row_.data() + static_cast<std::size_t>(c) * lw + where_.skip_x;
     float* out = colour.data() + static_cast<std::size_t>(c) * w;
     for (int i = 0; i < w; ++i) {
-      out[i] = in[i];
+      out[i] = in[i] + offset_;
       if (!std::isfinite(in[i])) covered[i] = 0;
     }
   }
-  const auto cover = [&](const float* in) {
+  const auto cover = [&](const float* in, float scale) {
     for (int i = 0; i < w; ++i)
-      if (!(in[i] >= kCovered)) covered[i] = 0;
+      if (!(in[i] * scale >= kCovered)) covered[i] = 0;
   };
-  if (alpha) cover(row_.data() + static_cast<std::size_t>(colour_) * lw + where_.skip_x);
-  if (mask_) cover(mask_row_.data() + where_.skip_x);
+  if (alpha) cover(row_.data() + static_cast<std::size_t>(colour_) * lw + where_.skip_x, 1.0f);
+  if (mask_) cover(mask_row_.data() + where_.skip_x, mask_scale_);
 }
 
 }  // namespace gdp::blending

@@ -37,6 +37,7 @@ class LayerRows {
  private:
   Footprint where_;
   int channels_ = 0, colour_ = 0, next_ = 0;  // next_: the next row of the layer itself
+  float offset_ = 0.0f, mask_scale_ = 1.0f;  // LayerSource's
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;
   std::vector<float> row_, mask_row_;

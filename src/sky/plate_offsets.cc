@@ -1,4 +1,4 @@
-// Plate offsets from overlaps: mean differences on sample points, then Gauss-Seidel on the overlap graph.
+// Plate offsets from overlaps: mean differences on sample points, then least squares (CG) on the overlap graph.
 #include "sky/plate_offsets.h"
 
 #include <algorithm>
@@ -49,46 +49,67 @@ Overlap overlap(const Plate& a, const Plate& b) {
 
 }  // namespace
 
+std::vector<double> offsets_from_overlaps(std::size_t count, const std::vector<OverlapSum>& pairs) {
+  // L o = r: L the Laplacian weighted by n_ab, r_a = sum over a's pairs of sum(a - b). Each
+  // connected part's r sums to 0, so CG from 0 converges to the solution of mean 0 per part.
+  std::vector<double> r(count, 0.0), diagonal(count, 0.0);
+  for (const OverlapSum& p : pairs) {
+    if (p.n == 0) continue;
+    r[p.a] += p.sum;
+    r[p.b] -= p.sum;
+    diagonal[p.a] += static_cast<double>(p.n);
+    diagonal[p.b] += static_cast<double>(p.n);
+  }
+  const auto apply = [&](const std::vector<double>& x, std::vector<double>& out) {
+    for (std::size_t k = 0; k < count; ++k) out[k] = diagonal[k] * x[k];
+    for (const OverlapSum& p : pairs) {
+      out[p.a] -= static_cast<double>(p.n) * x[p.b];
+      out[p.b] -= static_cast<double>(p.n) * x[p.a];
+    }
+  };
+  const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) s += a[k] * b[k];
+    return s;
+  };
+  std::vector<double> o(count, 0.0), d = r, q(count);
+  double rr = dot(r, r);
+  const double stop = rr * 1e-28;
+  for (std::size_t it = 0; it < 4 * count + 20 && rr > stop && rr > 0.0; ++it) {
+    apply(d, q);
+    const double alpha = rr / dot(d, q);
+    for (std::size_t k = 0; k < count; ++k) {
+      o[k] += alpha * d[k];
+      r[k] -= alpha * q[k];
+    }
+    const double next = dot(r, r);
+    for (std::size_t k = 0; k < count; ++k) d[k] = r[k] + next / rr * d[k];
+    rr = next;
+  }
+  double mean = 0.0;
+  long long linked = 0;
+  for (std::size_t k = 0; k < count; ++k)
+    if (diagonal[k] > 0.0) {
+      mean += o[k];
+      ++linked;
+    }
+  if (linked) mean /= static_cast<double>(linked);
+  for (std::size_t k = 0; k < count; ++k) o[k] = diagonal[k] > 0.0 ? o[k] - mean : 0.0;
+  return o;
+}
+
 std::vector<double> plate_offsets(const std::vector<Plate>& plates) {
   const std::size_t m = plates.size();
-  std::vector<Overlap> pairs(m * m);
+  std::vector<OverlapSum> pairs;
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = a + 1; b < m; ++b) {
       const double reach = std::acos(std::clamp(plates[a].cos_radius, -1.0, 1.0)) +
                            std::acos(std::clamp(plates[b].cos_radius, -1.0, 1.0));
       if (sphere::angle(plates[a].centre, plates[b].centre) > reach) continue;
-      pairs[a * m + b] = overlap(plates[a], plates[b]);
-      pairs[b * m + a] = {-pairs[a * m + b].sum, pairs[a * m + b].n};
+      const Overlap o = overlap(plates[a], plates[b]);
+      if (o.n > 0) pairs.push_back({static_cast<int>(a), static_cast<int>(b), o.sum, o.n});
     }
-  std::vector<double> o(m, 0.0);
-  std::vector<unsigned char> linked(m, 0);
-  for (int sweep = 0; sweep < 1000; ++sweep) {
-    double change = 0.0;
-    for (std::size_t a = 0; a < m; ++a) {
-      double num = 0.0, den = 0.0;
-      for (std::size_t b = 0; b < m; ++b) {
-        const Overlap& p = pairs[a * m + b];
-        if (p.n == 0) continue;
-        num += p.n * o[b] + p.sum;  // n (o_b + mean(a - b))
-        den += static_cast<double>(p.n);
-      }
-      if (den == 0.0) continue;
-      linked[a] = 1;
-      change = std::max(change, std::abs(num / den - o[a]));
-      o[a] = num / den;
-    }
-    if (change < 1e-12) break;
-  }
-  double mean = 0.0;
-  long long count = 0;
-  for (std::size_t a = 0; a < m; ++a)
-    if (linked[a]) {
-      mean += o[a];
-      ++count;
-    }
-  if (count) mean /= static_cast<double>(count);
-  for (std::size_t a = 0; a < m; ++a) o[a] = linked[a] ? o[a] - mean : 0.0;
-  return o;
+  return offsets_from_overlaps(m, pairs);
 }
 
 void set_fade_levels(std::vector<Plate>& plates) {

@@ -7,6 +7,18 @@
 
 namespace gdp::sky {
 
+// The sum of (a - b) over n points that images a and b both cover.
+struct OverlapSum {
+  int a = 0, b = 0;
+  double sum = 0.0;
+  long long n = 0;
+};
+
+// Offsets o_k of `count` images minimising sum over pairs of n_ab (o_a - o_b - sum_ab / n_ab)^2
+// (conjugate gradients on the overlap graph's Laplacian), mean 0 over the images in some pair;
+// images in none get 0.
+std::vector<double> offsets_from_overlaps(std::size_t count, const std::vector<OverlapSum>& pairs);
+
 // Offsets o_k minimising sum over overlapping pairs of n_ab (o_a - o_b - d_ab)^2, where d_ab is
 // the mean of (a - b) over n_ab sample points inside both plates (every `stride`-th pixel of a,
 // about 64 per side), with mean 0 over the plates that overlap some other. Plates overlapping

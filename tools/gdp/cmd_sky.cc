@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "gdp/errors.h"
 #include "gdp/sky.h"
+#include "gdp/sky_projected.h"
 
 namespace gdp::cli {
 namespace {
@@ -29,7 +30,7 @@ class Sky final : public Command {
  public:
   explicit Sky(CLI::App& root) {
     app = root.add_subcommand("sky", "sky mosaic: FITS plates with WCS blended on the sphere, written for a target WCS");
-    app->add_option("plates", plates_, "FITS plates with a celestial WCS")->required();
+    app->add_option("plates", plates_, "FITS plates with a celestial WCS (--projected: images or directories)")->required();
     app->add_option("-o,--output", output_, "output image (FITS gets the target's WCS in its header)")->required();
     app->add_option("--header", options_.target.header, "target header template (Montage's form: KEY = value lines)");
     app->add_option("--center", center_, "target centre RA,DEC in degrees (with --size and --scale)");
@@ -42,12 +43,16 @@ class Sky final : public Command {
     app->add_option("--plane", plane_, "plane of cube plates (1-based)")->capture_default_str();
     app->add_flag("!--no-blend", options_.blend,
                   "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
+    app->add_flag("--projected", projected_,
+                  "the images are already reprojected onto the --header template (Montage's mProjExec output, a "
+                  "directory such as its projdir too; NAME_area.fits give coverage): blend them planar on it");
     add_common_options(*app, common_);
   }
 
   int run() override {
     Stats stats("sky");
     const SolverOptions solver = solver_options(common_, "sky");
+    if (projected_) return run_projected(stats, solver);
     if (!options_.target.header.empty() && !center_.empty())
       throw UsageError("give the target either as --header or as --center/--size/--scale, not both");
     if (options_.target.header.empty()) {
@@ -73,6 +78,27 @@ class Sky final : public Command {
   }
 
  private:
+  // --projected: images on the template, blended planar (gdp/sky_projected.h).
+  int run_projected(Stats& stats, const SolverOptions& solver) {
+    if (!center_.empty() || !options_.toast.empty() || !options_.blend || common_.pq_height > 0 || plane_ != 1)
+      throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --no-blend, "
+                       "--pq-height or --plane");
+    ProjectedOptions options;
+    options.header = options_.target.header;
+    ProjectedSummary summary;
+    const std::vector<ProjectedInput> inputs = projected_inputs(plates_);
+    stats.time("total", [&] {
+      sky_projected(inputs, options, solver, output_, write_options(common_, ImageFileInfo{}), &summary);
+    });
+    stats.summary(summary.blend.solve);
+    stats.set("covered_pixels", std::to_string(summary.covered));
+    note(common_, fmt::format("sky --projected: {} image(s) on the {}x{} template; {} pixels covered -> {}",
+                              inputs.size(), summary.width, summary.height, summary.covered, output_));
+    stats.write(common_.stats_path);
+    return 0;
+  }
+
+  bool projected_ = false;
   std::vector<std::string> plates_;
   std::string output_, center_, size_;
   long plane_ = 1;

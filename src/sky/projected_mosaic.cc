@@ -1,0 +1,85 @@
+// gdp sky --projected: images on one template -> levels from overlaps -> gdp blend's seams and planar solve -> FITS with the template's WCS.
+#include <chrono>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+#include "gdp/image_stream.h"
+#include "gdp/sky_projected.h"
+#include "sky/header.h"
+#include "sky/projected_levels.h"
+#include "sky/projected_place.h"
+#include "sky/wcs.h"
+
+namespace gdp {
+namespace {
+
+// Blend rows (value, alpha) -> one channel, NaN where alpha is 0 (no image covers the pixel).
+class NanWhereUncovered final : public RowWriter {
+ public:
+  NanWhereUncovered(RowWriter& out, int width) : out_(out), width_(width), row_(static_cast<std::size_t>(width)) {}
+  void write_row(int y, std::span<const float> row) override {
+    for (int x = 0; x < width_; ++x) {
+      const bool known = row[static_cast<std::size_t>(width_) + x] > 0.0f;
+      row_[x] = known ? row[x] : std::numeric_limits<float>::quiet_NaN();
+      if (known && x >= begin_ && x < end_) ++covered_;
+    }
+    out_.write_row(y, row_);
+  }
+  void commit() override { out_.commit(); }
+  void set_columns(int begin, int end) override {
+    begin_ = begin;
+    end_ = end;
+    out_.set_columns(begin, end);
+  }
+  long long covered() const { return covered_; }
+
+ private:
+  RowWriter& out_;
+  int width_, begin_ = 0, end_ = std::numeric_limits<int>::max();
+  std::vector<float> row_;
+  long long covered_ = 0;
+};
+
+}  // namespace
+
+void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOptions& options,
+                   const SolverOptions& solver, const std::filesystem::path& out, WriteOptions write,
+                   ProjectedSummary* summary) {
+  if (inputs.empty()) throw UsageError("gdp sky --projected needs at least one image");
+  if (options.header.empty())
+    throw UsageError("gdp sky --projected needs --header TEMPLATE.hdr: the template the images were reprojected onto");
+  const std::string name = options.header.string(), cards = sky::read_header_template(options.header);
+  const auto w = sky::header_number(cards, "NAXIS1"), h = sky::header_number(cards, "NAXIS2");
+  if (!w || !h || *w < 1 || *h < 1) throw InputError(fmt::format("{}: no positive NAXIS1 and NAXIS2", name));
+  ProjectedSummary s;
+  s.width = static_cast<int>(*w);
+  s.height = static_cast<int>(*h);
+  const sky::Wcs tpl(cards, s.width, s.height, name);
+  std::vector<LayerSource> layers;
+  for (const ProjectedInput& in : inputs) layers.push_back(sky::projected_layer(in, tpl));
+  BlendOptions blending;
+  blending.canvas = CanvasRect{0, 0, s.width, s.height};
+  BlendPlan plan = plan_blend(layers, blending);  // InputError for an image outside the template
+
+  const auto start = std::chrono::steady_clock::now();
+  const sky::CanvasLevels levels = sky::canvas_levels(plan);
+  s.seconds_offsets = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (std::size_t k = 0; k < inputs.size() && inputs.size() > 1; ++k)
+    if (!levels.overlapped[k])
+      throw InputError(fmt::format("{}: overlaps no other image, so its level cannot be matched to the mosaic's "
+                                   "(leave it out, or add the images between)",
+                                   inputs[k].image));
+  for (std::size_t k = 0; k < inputs.size(); ++k) plan.sources[k].offset = static_cast<float>(-levels.offsets[k]);
+  s.offsets = levels.offsets;
+
+  write.fits_header = cards;
+  ImageFileWriter file(out, s.width, s.height, 1, write);
+  NanWhereUncovered writer(file, s.width);
+  blend(plan, blending, solver, writer, &s.blend);
+  s.covered = writer.covered();
+  if (summary) *summary = std::move(s);
+}
+
+}  // namespace gdp
