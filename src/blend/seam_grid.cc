@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+// Boost 1.74's edge iterators trip GCC 12's -Wmaybe-uninitialized at -O3 (a boost::optional false positive).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <boost/graph/adjacency_list.hpp>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 
