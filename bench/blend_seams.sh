@@ -31,7 +31,7 @@ for seams in depth graphcut; do
     --stats "$dir/stats_$seams.json" -o "$dir/out_$seams.tif" --temp "$dir" -- "${layers[@]}" > /dev/null 2> "$dir/log_$seams"
   read -r wall user sys kb < "$dir/time_$seams"
   err=$(build/bench/blend_layers error "$dir/out_$seams.tif" "$dir/original.tif")
-  stats=$(python3 -c "import json,sys; s=json.load(open(sys.argv[1])); print('seams %.1f s, seam cost %s' % (float(s['seconds_seams']), s.get('seam_cost', '-')))" "$dir/stats_$seams.json")
+  stats=$(python3 -c "import json,sys; s=json.load(open(sys.argv[1])); print('seams %.1f s, seam cost %s (depth seams %s)' % (float(s['seconds_seams']), s.get('seam_cost', '-'), s.get('seam_cost_depth', '-')))" "$dir/stats_$seams.json")
   printf "%-9s wall %6.1f s  cpu %6.1f s  peak %5.0f MB  %s; %s\n" "$seams" "$wall" "$(echo "$user + $sys" | bc)" \
     "$(echo "$kb / 1024" | bc)" "$stats" "$err"
 done

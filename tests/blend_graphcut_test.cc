@@ -9,6 +9,7 @@
 #include "gdp/blend.h"
 #include "gdp/image_io.h"
 #include "nona_tiff.h"
+#include "test_util.h"
 
 namespace gdp {
 namespace {
@@ -135,22 +136,7 @@ TEST(GraphcutSeams, NeverCostlierThanDepthSeamsOnAPhoto) {
   }
 }
 
-// RMS difference over RGB, each channel's mean difference removed.
-double error(const Image& out, const Image& truth) {
-  double total = 0.0;
-  for (int c = 0; c < 3; ++c) {
-    double s = 0.0, s2 = 0.0;
-    for (int y = 0; y < truth.height; ++y)
-      for (int x = 0; x < truth.width; ++x) {
-        const double d = double(out.at(c, x, y)) - truth.at(c, x, y);
-        s += d;
-        s2 += d * d;
-      }
-    const double n = double(truth.width) * truth.height;
-    total += s2 / n - (s / n) * (s / n);
-  }
-  return std::sqrt(total / 3);
-}
+double error(const Image& out, const Image& truth) { return test::rms_difference_mean_removed(out, truth); }
 
 class GraphcutCli : public test::CliFixture {};
 
