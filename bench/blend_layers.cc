@@ -2,7 +2,9 @@
 // with exposure offsets, vignetting and wavy edges, for bench/blend_vs_enblend.sh; also scores a blend.
 //
 //   blend_layers cut PHOTO OUTDIR [--size WxH] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
-//       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size)
+//                    [--ghosts N]
+//       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size);
+//       --ghosts: N moving objects per layer (discs of one colour) near its edges, in the overlaps
 //   blend_layers error BLENDED ORIGINAL
 //       prints the RMS colour error (per value, 0..1) over the blend's covered pixels, each channel's
 //       mean difference removed, and the largest such error
@@ -29,7 +31,28 @@ struct Cut {
   int width = 0, height = 0, cols = 4, rows = 4;
   double overlap = 0.2, offset = 40.0 / 255.0, vignette = 0.3;
   unsigned seed = 1;
+  int ghosts = 0;
 };
+
+// A moving object: a disc of one colour that only one layer saw.
+struct Ghost {
+  double x, y, r, colour[3];
+};
+
+// Ghosts of a w x h layer near its edges (within the overlap), in layer pixels.
+std::vector<Ghost> ghosts_of(const Cut& o, int w, int h, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Ghost> g(o.ghosts);
+  for (Ghost& q : g) {
+    const int side = static_cast<int>(u(rng) * 4) % 4;
+    const double depth = o.overlap * (side < 2 ? w : h) * u(rng), along = u(rng);
+    q.x = side == 0 ? depth : side == 1 ? w - 1 - depth : along * w;
+    q.y = side == 2 ? depth : side == 3 ? h - 1 - depth : along * h;
+    q.r = 0.2 * o.overlap * std::min(w, h);
+    for (double& c : q.colour) c = u(rng);
+  }
+  return g;
+}
 
 // Bilinear resampling of the photo to the canvas size.
 Image resize(const Image& in, int w, int h) {
@@ -105,6 +128,7 @@ void cut(const std::string& photo, const std::string& dir, const Cut& o) {
       const double shift = o.offset * uniform(rng), phase = 6.283 * uniform(rng);
       const double margin = 0.15 * o.overlap * std::min(lw, lh);  // wavy edges, as warped photos have
       std::vector<unsigned char> rgba(static_cast<std::size_t>(w) * h * 4);
+      const std::vector<Ghost> ghosts = ghosts_of(o, w, h, rng);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
           const double u = (x + 0.5) / w - 0.5, v = (y + 0.5) / h - 0.5;
@@ -113,7 +137,9 @@ void cut(const std::string& photo, const std::string& dir, const Cut& o) {
           const bool inside = std::min(x, w - 1 - x) >= wx && std::min(y, h - 1 - y) >= wy;
           unsigned char* p = rgba.data() + (static_cast<std::size_t>(y) * w + x) * 4;
           for (int ch = 0; ch < 3; ++ch) {
-            const double value = img.at(ch, x0 + x, y0 + y) * fall + shift;
+            double value = img.at(ch, x0 + x, y0 + y) * fall + shift;
+            for (const Ghost& g : ghosts)
+              if ((x - g.x) * (x - g.x) + (y - g.y) * (y - g.y) < g.r * g.r) value = g.colour[ch];
             p[ch] = inside ? static_cast<unsigned char>(std::clamp(value, 0.0, 1.0) * 255.0 + 0.5) : 0;
           }
           p[3] = inside ? 255 : 0;
@@ -171,6 +197,7 @@ int main(int argc, char** argv) {
       else if (k == "--offset") o.offset = std::stod(v) / 255.0;
       else if (k == "--vignette") o.vignette = std::stod(v);
       else if (k == "--seed") o.seed = static_cast<unsigned>(std::stoul(v));
+      else if (k == "--ghosts") o.ghosts = std::stoi(v);
       else throw std::runtime_error("unknown option " + k);
     }
     cut(a[1], a[2], o);

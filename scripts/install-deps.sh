@@ -9,6 +9,7 @@ packages=(
   libdeflate-dev                         # TIFF strips deflated on two threads
   libcfitsio-dev wcslib-dev              # FITS and its world coordinates (gdp sky)
   libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
+  libboost-graph-dev                     # Boykov-Kolmogorov max-flow for gdp blend --seams graphcut (header-only)
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)

@@ -112,7 +112,7 @@ TEST(BlendMath, CorrectionIsOutputMinusLayers) {
 TEST(BlendMath, SeamsSavedAndLoaded) {
   const Image a(60, 40, 1, 0.2f), b(60, 40, 1, 0.7f);
   const std::vector<ImageLayer> layers{{&a, nullptr, 0, 0}, {&b, nullptr, 40, 0}};
-  const std::string file = (std::filesystem::temp_directory_path() / ("gdp_seams_" + std::to_string(::getpid()) + ".png")).string();
+  const std::string file = (std::filesystem::temp_directory_path() / ("gdp_seams_" + std::to_string(::getpid()) + ".tif")).string();  // gdp's label map (.png: multiblend's)
   BlendOptions save;
   save.save_seams = file;
   blend(layers, save, {});

@@ -35,22 +35,7 @@ Cut cut_photo() {
   return c;
 }
 
-// RMS error against the photo, each channel's mean difference removed.
-double error(const Image& out, const Image& photo) {
-  double total = 0.0;
-  for (int c = 0; c < 3; ++c) {
-    double s = 0.0, s2 = 0.0;
-    for (int y = 0; y < photo.height; ++y)
-      for (int x = 0; x < photo.width; ++x) {
-        const double d = double(out.at(c, x, y)) - photo.at(c, x, y);
-        s += d;
-        s2 += d * d;
-      }
-    const double n = double(photo.width) * photo.height;
-    total += s2 / n - (s / n) * (s / n);
-  }
-  return std::sqrt(total / 3);
-}
+double error(const Image& out, const Image& truth) { return test::rms_difference_mean_removed(out, truth); }
 
 TEST(BlendPhoto, MeanGuidanceAcrossSeamsBeatsZero) {
   const Cut c = cut_photo();

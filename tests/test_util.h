@@ -74,6 +74,24 @@ inline double rms_difference(const Image& a, const Image& b, int c = 0) {
   return std::sqrt(s / (double(a.width) * a.height));
 }
 
+// RMS difference over the first `channels` channels, each channel's mean difference removed
+// (a blend is defined up to a constant level).
+inline double rms_difference_mean_removed(const Image& out, const Image& truth, int channels = 3) {
+  double total = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    double s = 0.0, s2 = 0.0;
+    for (int y = 0; y < truth.height; ++y)
+      for (int x = 0; x < truth.width; ++x) {
+        const double d = double(out.at(c, x, y)) - truth.at(c, x, y);
+        s += d;
+        s2 += d * d;
+      }
+    const double n = double(truth.width) * truth.height;
+    total += s2 / n - (s / n) * (s / n);
+  }
+  return std::sqrt(total / channels);
+}
+
 inline double max_difference(const Image& a, const Image& b) {
   double m = 0.0;
   for (std::size_t k = 0; k < a.data.size(); ++k) m = std::max(m, std::abs(double(a.data[k]) - b.data[k]));

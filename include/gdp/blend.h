@@ -47,10 +47,15 @@ enum class Wrap { None, Horizontal, Both };
 // gradients where both cover the seam's pixels (docs/blend.md measures both).
 enum class SeamGuidance { Zero, Mean };
 
+// Where seams run: each pixel takes the layer it lies deepest inside (depth), or those seams
+// moved through the overlaps to where the layers agree best (graphcut; docs/blend.md).
+enum class SeamMethod { Depth, Graphcut };
+
 struct BlendOptions {
   std::optional<CanvasRect> canvas;  // enblend's -f; else the union of the layers and their canvas tags
   Wrap wrap = Wrap::None;
   SeamGuidance seam_guidance = SeamGuidance::Mean;
+  SeamMethod seams = SeamMethod::Depth;
   BlendSpace space;
   // >= 0: the pixels that take this layer (0 = the first) keep its values exactly (pinned) and
   // the others level to it; the V-cycles then converge more slowly (use a tolerance).
@@ -98,6 +103,7 @@ struct BlendReport {
   std::vector<std::string> isolated;  // layers that overlap no other: placed as they are
   double seconds_seams = 0.0, seconds_solve = 0.0;
   std::size_t scratch_bytes = 0;  // distance and label planes
+  double seam_cost_depth = 0, seam_cost = 0;  // SeamMethod::Graphcut: the depth seams' cost and the result's
   SolveSummary solve;
 };
 

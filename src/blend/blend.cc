@@ -7,6 +7,7 @@
 
 #include "blend/canvas_rows.h"
 #include "blend/seam_files.h"
+#include "blend/graphcut_seams.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
 #include "gdp/errors.h"
@@ -87,12 +88,16 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   auto start = Clock::now();
   blending::SeamResult seams =
       options.load_seams.empty()
-          ? blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
+          ? options.seams == SeamMethod::Graphcut
+                ? blending::compute_graphcut_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
+                : blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
           : blending::load_seams(plan, options.load_seams, solver.temp_dir);
   if (!options.save_seams.empty())
     blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
   r.seconds_seams = since(start);
   r.scratch_bytes = seams.scratch_bytes;
+  r.seam_cost_depth = seams.depth_cost;
+  r.seam_cost = seams.cost;
   if (plan.layers.size() > 1)
     for (std::size_t k = 0; k < plan.layers.size(); ++k)
       if (!seams.overlaps[k]) r.isolated.push_back(plan.layers[k].name);

@@ -1,7 +1,10 @@
-// Saving the label plane as a grey image and loading edited seams back, checked against the layers' coverage.
+// Saving the label plane (gdp's grey label map or multiblend's palette PNG) and loading edited seams back, checked against the layers' coverage.
 #include "blend/seam_files.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -9,12 +12,60 @@
 #include <fmt/format.h>
 
 #include "blend/layer_rows.h"
+#include "blend/seam_png.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
 
 namespace gdp::blending {
 
+namespace {
+
+bool png_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".png";
+}
+
+// Label rows from gdp's grey label maps (1 = the first layer, 0 = none).
+std::function<void(int, std::vector<Label>&)> grey_labels(const std::string& path, int n, int W, int H) {
+  auto file = std::make_shared<ImageFileReader>(path);
+  if (file->width() != W || file->height() != H)
+    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file->width(), file->height(), W, H));
+  const SampleType t = file->info().sample_type;
+  const float scale = t == SampleType::UInt8 ? 255.0f : t == SampleType::UInt16 ? 65535.0f : 1.0f;
+  auto values = std::make_shared<std::vector<float>>(static_cast<std::size_t>(file->channels()) * W);
+  return [=](int y, std::vector<Label>& label) {
+    file->read_row(y, *values);
+    for (int x = 0; x < W; ++x) {
+      const long v = std::lround((*values)[x] * scale);
+      if (!(v >= 0 && v <= n))
+        throw InputError(fmt::format("{}: label {} at ({}, {}); there are {} layers", path, (*values)[x] * scale, x, y, n));
+      label[x] = static_cast<Label>(v);
+    }
+  };
+}
+
+// Label rows from multiblend's palette PNGs (index = layer, 0 = the first; kPaletteNone = none).
+std::function<void(int, std::vector<Label>&)> palette_labels(const std::string& path, int n, int W, int H) {
+  auto file = std::make_shared<PaletteRows>(path);
+  if (file->width() != W || file->height() != H)
+    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file->width(), file->height(), W, H));
+  auto bytes = std::make_shared<std::vector<std::uint8_t>>(W);
+  return [=](int y, std::vector<Label>& label) {
+    file->read_row(*bytes);
+    for (int x = 0; x < W; ++x) {
+      const int v = (*bytes)[x];
+      if (v != kPaletteNone && v >= n)
+        throw InputError(fmt::format("{}: layer index {} at ({}, {}); there are {} layers", path, v, x, y, n));
+      label[x] = static_cast<Label>(v == kPaletteNone ? 0 : v + 1);
+    }
+  };
+}
+
+}  // namespace
+
 void save_seams(const LabelPlane& labels, int layers, const std::string& path) {
+  if (png_extension(path)) return write_palette_seams(labels, layers, path);
   const int w = labels.width();
   WriteOptions options;
   options.sample_type = layers <= 255 ? SampleType::UInt8 : SampleType::UInt16;
@@ -32,11 +83,7 @@ void save_seams(const LabelPlane& labels, int layers, const std::string& path) {
 
 SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std::filesystem::path& temp_dir) {
   const int n = static_cast<int>(plan.layers.size()), W = plan.canvas.width, H = plan.canvas.height;
-  ImageFileReader file(path);
-  if (file.width() != W || file.height() != H)
-    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file.width(), file.height(), W, H));
-  const SampleType t = file.info().sample_type;
-  const float scale = t == SampleType::UInt8 ? 255.0f : t == SampleType::UInt16 ? 65535.0f : 1.0f;
+  const auto read_labels = is_palette_png(path) ? palette_labels(path, n, W, H) : grey_labels(path, n, W, H);
   SeamResult result;
   result.labels = std::make_unique<LabelPlane>(temp_dir, W, H);
   result.overlaps.assign(n, 1);
@@ -51,7 +98,6 @@ SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std:
     std::vector<unsigned char> covered;
   };
   std::vector<Open> open;
-  std::vector<float> values(static_cast<std::size_t>(file.channels()) * W);
   std::vector<Label> label(W), first(W);
   std::vector<unsigned char> wanted_covers(W);
   std::size_t next = 0;
@@ -63,14 +109,8 @@ SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std:
                       std::vector<unsigned char>(w)});
     }
     std::sort(open.begin(), open.end(), [](const Open& a, const Open& b) { return a.index < b.index; });
-    file.read_row(y, values);
+    read_labels(y, label);
     std::fill(first.begin(), first.end(), Label{0});
-    for (int x = 0; x < W; ++x) {
-      const long v = std::lround(values[x] * scale);
-      if (!(v >= 0 && v <= n))
-        throw InputError(fmt::format("{}: label {} at ({}, {}); there are {} layers", path, values[x] * scale, x, y, n));
-      label[x] = static_cast<Label>(v);
-    }
     std::fill(wanted_covers.begin(), wanted_covers.end(), 0);
     for (Open& o : open) {
       o.rows->read(y, o.colour, o.covered);

@@ -37,6 +37,8 @@ struct SeamResult {
   std::unique_ptr<LabelPlane> labels;
   std::vector<char> overlaps;     // per layer: some pixel it covers is covered by another layer too
   std::size_t scratch_bytes = 0;  // distances and labels kept between the passes
+  // Graph-cut seams: the seam cost of the depth seams and of those returned (graphcut_seams.h).
+  double depth_cost = 0, cost = 0;
 };
 
 // Depth of a covered pixel: the chamfer distance (5x5 mask: 1, sqrt 2, sqrt 5; within 2 % of

@@ -92,6 +92,9 @@ class Blend final : public Command {
     app->add_option("--seam-guidance", guidance_, "gradients across seams: mean (of both layers') | zero")
         ->check(CLI::IsMember({"mean", "zero"}))
         ->capture_default_str();
+    app->add_option("--seams", seams_, "where seams run: depth (deepest layer) | graphcut (where the layers agree)")
+        ->check(CLI::IsMember({"depth", "distance", "graphcut"}))
+        ->capture_default_str();
     app->add_option("--space", space_, "blend in: values | log | lab (as gdp stitch)")
         ->check(CLI::IsMember({"values", "log", "lab"}))
         ->capture_default_str();
@@ -151,6 +154,10 @@ class Blend final : public Command {
     stats.set("layers", std::to_string(plan.layers.size()));
     stats.set("seconds_seams", fmt::format("{:.3f}", report.seconds_seams));
     stats.set("seconds_solve", fmt::format("{:.3f}", report.seconds_solve));
+    if (seams_ == "graphcut") {
+      stats.set("seam_cost", fmt::format("{:.6g}", report.seam_cost));
+      stats.set("seam_cost_depth", fmt::format("{:.6g}", report.seam_cost_depth));
+    }
     stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
     note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
                               "residual {:.2e} -> {}",
@@ -169,6 +176,7 @@ class Blend final : public Command {
     BlendOptions o;
     o.wrap = common_.sphere || wrap_ == "both" ? Wrap::Both : wrap_ == "horizontal" ? Wrap::Horizontal : Wrap::None;
     o.seam_guidance = guidance_ == "zero" ? SeamGuidance::Zero : SeamGuidance::Mean;
+    o.seams = seams_ == "graphcut" ? SeamMethod::Graphcut : SeamMethod::Depth;
     o.space.kind = space_ == "log" ? BlendSpace::Kind::Log : space_ == "lab" ? BlendSpace::Kind::Lab
                                                                              : BlendSpace::Kind::Values;
     o.pq_height = common_.pq_height;
@@ -189,7 +197,7 @@ class Blend final : public Command {
   }
 
   std::vector<std::string> layers_;
-  std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", space_ = "values";
+  std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", seams_ = "depth", space_ = "values";
   int anchor_ = 0;
   bool version_ = false;
   CommonOptions common_;
