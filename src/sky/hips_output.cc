@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <random>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "io/staged_directory.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
 #include "sky/hips_pyramid.h"
@@ -102,7 +102,8 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
 
 }  // namespace
 
-void check_hips_output(const fs::path& dir, const HipsOptions& options) {
+void check_hips_output(const fs::path& dir, const HipsOptions& options, const std::string& longitude) {
+  hips_frame(longitude);
   const int w = options.tile_width;
   if (w < 8 || w > 4096 || (w & (w - 1)) != 0)
     throw UsageError(fmt::format("--hips-tile {}: a power of 2 from 8 to 4096 (HiPS tiles are 512 by default)", w));
@@ -113,8 +114,7 @@ void check_hips_output(const fs::path& dir, const HipsOptions& options) {
 
 HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::string& longitude, const fs::path& out,
                            const HipsOptions& options) {
-  check_hips_output(out, options);
-  const fs::path dir = out.has_filename() ? out : out.parent_path();  // "dir/" names dir
+  check_hips_output(out, options, longitude);
   HipsFormat format;
   format.frame = hips_frame(longitude);
   format.width = options.tile_width;
@@ -122,24 +122,9 @@ HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::s
   format.order = std::max(0, hips_pixel_order(window.height) - shift);
   std::tie(format.lo, format.hi) = display_range(pq);
   const HipsGeometry geometry(format.order, format.width);
-  // Build beside the destination, rename at the end: no partial HiPS is ever visible.
-  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-  const fs::path temp = parent / fmt::format(".{}.gdp-{}", dir.filename().string(), std::random_device{}());
-  try {
-    fs::create_directories(temp);
-    const HipsSummary s = write_tree(pq, window, geometry, format, options, temp);
-    if (fs::exists(dir)) fs::remove(dir);
-    fs::rename(temp, dir);
-    return s;
-  } catch (const fs::filesystem_error& e) {
-    std::error_code ignore;
-    fs::remove_all(temp, ignore);
-    throw OutputError(dir.string() + ": " + e.code().message());
-  } catch (...) {
-    std::error_code ignore;
-    fs::remove_all(temp, ignore);
-    throw;
-  }
+  HipsSummary s;
+  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, temp); });
+  return s;
 }
 
 }  // namespace gdp::sky

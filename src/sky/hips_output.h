@@ -20,8 +20,9 @@ struct HipsSummary {
   long long tiles = 0;          // of every order
 };
 
-// UsageError when `dir` exists and is not an empty directory, or the tile width is not allowed.
-void check_hips_output(const std::filesystem::path& dir, const HipsOptions& options);
+// UsageError when `dir` exists and is not an empty directory, the tile width is not allowed, or
+// the plates' longitude axis (`longitude`, "RA" or "GLON") has no HiPS frame.
+void check_hips_output(const std::filesystem::path& dir, const HipsOptions& options, const std::string& longitude);
 
 // Writes `dir` from `pq` (`window` of a TOAST PQ image of the sky, one channel, NaN where no plate
 // is), in the plates' frame (`longitude`: the WCS longitude type, "RA" or "GLON"). The deepest

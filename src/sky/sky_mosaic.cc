@@ -104,7 +104,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
       throw UsageError(options.toast.string() + ": exists and is not an empty directory");
     H = sky::toast_height(H);
   }
-  if (!options.hips.empty()) sky::check_hips_output(options.hips, {options.hips_tile});
+  if (!options.hips.empty()) sky::check_hips_output(options.hips, {options.hips_tile}, target.frame());
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
   // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
   // fold); TOAST output needs the whole sphere.
