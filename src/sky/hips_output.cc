@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <thread>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
 #include "io/staged_directory.h"
+#include "schedule/parallel.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
 #include "sky/hips_pyramid.h"
@@ -67,14 +69,14 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
   const Coverage coverage = find_coverage(pq, window, geometry);
   const PqSampler sampler(pq, window);
   std::vector<sphere::Vec3> dirs;
+  const int w = format.width, threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, w);
   const HipsSample sample = [&](std::int64_t npix, Image& tile) {
     geometry.tile_directions(npix, dirs);
-    bool any = false;
-    for (std::size_t k = 0; k < dirs.size(); ++k) {
-      tile.data[k] = sampler.at(dirs[k]);
-      any = any || std::isfinite(tile.data[k]);
-    }
-    return any;
+    schedule::run_workers(threads, [&](int t) {
+      for (std::size_t k = std::size_t(w) * (w * t / threads); k < std::size_t(w) * (w * (t + 1) / threads); ++k)
+        tile.data[k] = sampler.at(dirs[k]);
+    });
+    return std::any_of(tile.data.begin(), tile.data.end(), [](float v) { return std::isfinite(v); });
   };
   HipsAllsky allsky(std::min(3, format.order), format.width);
   std::vector<std::int64_t> deepest;

@@ -16,7 +16,7 @@ namespace gdp::sky {
 
 // Values of `pq` (`window` of a TOAST PQ image, one channel) at directions: bilinear between its
 // finite pixels (across the folds on the whole sphere; a window clamps); NaN where the nearest
-// PQ pixel is NaN (no plate there) or outside the window. Not thread-safe.
+// PQ pixel is NaN (no plate there) or outside the window. at() may run on several threads.
 class PqSampler {
  public:
   PqSampler(const Image& pq, const PqWindow& window);
