@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "cli_fixture.h"
+#include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "gdp/sphere.h"
 #include "sky/header.h"
@@ -221,6 +222,17 @@ TEST_F(SkyHips, OnlyTilesWithDataAreWrittenAndTheMocIsThem) {
   EXPECT_EQ(props["hips_version"], "1.4");
   EXPECT_NEAR(std::stod(props["hips_initial_ra"]), 30.0, 1.0);
   EXPECT_NEAR(std::stod(props["hips_initial_dec"]), 50.0, 2.0);  // the mean of PQ pixel directions
+}
+
+TEST_F(SkyHips, RefusesWhatItCannotWrite) {
+  EXPECT_NO_THROW(sky::check_hips_output(path("new"), {512, ""}, "RA"));
+  EXPECT_NO_THROW(sky::check_hips_output(path("new"), {16, ""}, "GLON"));
+  EXPECT_THROW(sky::check_hips_output(path("new"), {512, ""}, "ELON"), UsageError);  // no MOC frame for it
+  EXPECT_THROW(sky::check_hips_output(path("new"), {100, ""}, "RA"), UsageError);
+  EXPECT_THROW(sky::check_hips_output(path("new"), {4, ""}, "RA"), UsageError);
+  fs::create_directories(path("full"));
+  std::ofstream(path("full/file")) << "x";
+  EXPECT_THROW(sky::check_hips_output(path("full"), {512, ""}, "RA"), UsageError);
 }
 
 TEST_F(SkyHips, CommandLine) {
