@@ -17,7 +17,7 @@ install(FILES ${PROJECT_BINARY_DIR}/gdpConfig.cmake ${PROJECT_BINARY_DIR}/gdpCon
 if(BUILD_SHARED_LIBS)
   set(GDP_PC_REQUIRES_PRIVATE "")
 else()
-  set(GDP_PC_REQUIRES_PRIVATE "fmt libpng libtiff-4 libjpeg OpenEXR libdeflate cfitsio wcslib ompi-cxx")
+  set(GDP_PC_REQUIRES_PRIVATE "fmt libpng libtiff-4 libjpeg OpenEXR libdeflate cfitsio wcslib healpix_cxx ompi-cxx")
 endif()
 file(RELATIVE_PATH GDP_PC_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
 string(REGEX REPLACE "/$" "" GDP_PC_PREFIX "${GDP_PC_PREFIX}")

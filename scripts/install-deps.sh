@@ -8,6 +8,7 @@ packages=(
   libopenexr-dev                         # gdp's own OpenEXR codec
   libdeflate-dev                         # TIFF strips deflated on two threads
   libcfitsio-dev wcslib-dev              # FITS and its world coordinates (gdp sky)
+  libhealpix-cxx-dev                     # HEALPix tiles of gdp sky --hips
   libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
   libboost-graph-dev                     # Boykov-Kolmogorov max-flow for gdp blend --seams graphcut (header-only)
   libcli11-dev libfmt-dev                # command line parsing, formatting

@@ -30,6 +30,10 @@ struct SkyOptions {
   // Non-empty: also a WorldWideTelescope TOAST pyramid there (new or empty directory; PNG grey +
   // alpha, 0.5-99.5 percentile stretch); the PQ height is then rounded up to 128 * 2^n.
   std::filesystem::path toast;
+  // Non-empty: also a HiPS directory there (new or empty; IVOA HiPS 1.0, docs/sky.md): HEALPix
+  // tiles hips_tile pixels wide (a power of 2) as FITS and PNG, properties, Moc.fits, Allsky.
+  std::filesystem::path hips;
+  int hips_tile = 512;
   std::function<void(const std::string&)> note;  // notes for the user (cubes, plates not used)
 };
 
@@ -38,6 +42,8 @@ struct SkySummary {
   std::array<int, 4> pq_window{};       // the PQ columns and rows solved: i0, j0, width, rows
   std::vector<long long> plate_pixels;  // PQ pixels taken from each plate
   long long covered = 0, target_pixels = 0;  // target pixels with a value, of all
+  int hips_order = -1;                       // with `hips`: the deepest tile order and the tiles written
+  long long hips_tiles = 0;
   SolveSummary solve;
 };
 

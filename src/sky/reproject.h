@@ -1,12 +1,33 @@
 // A PQ image of the sky onto a target image with its own WCS (bilinear; blanks stay blank).
 #pragma once
 
+#include <memory>
+
 #include "gdp/image.h"
 #include "gdp/rows.h"
 #include "sky/pq_window.h"
 #include "sky/wcs.h"
 
+namespace gdp::sphere {
+class SourceGrid;
+}
+
 namespace gdp::sky {
+
+// Values of `pq` (`window` of a TOAST PQ image, one channel) at directions: bilinear between its
+// finite pixels (across the folds on the whole sphere; a window clamps); NaN where the nearest
+// PQ pixel is NaN (no plate there) or outside the window. at() may run on several threads.
+class PqSampler {
+ public:
+  PqSampler(const Image& pq, const PqWindow& window);
+  ~PqSampler();
+  float at(const sphere::Vec3& d) const;
+
+ private:
+  const Image& pq_;
+  PqWindow window_;
+  std::unique_ptr<sphere::SourceGrid> grid_;
+};
 
 // Writes target.height() rows of target.width() samples (one channel): at each pixel centre's
 // direction, the bilinear value of `pq` (`window` of a TOAST PQ image, one channel) between its

@@ -9,6 +9,7 @@
 #include "gdp/image_stream.h"
 #include "gdp/sky.h"
 #include "sky/header.h"
+#include "sky/hips_output.h"
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_offsets.h"
@@ -103,6 +104,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
       throw UsageError(options.toast.string() + ": exists and is not an empty directory");
     H = sky::toast_height(H);
   }
+  if (!options.hips.empty()) sky::check_hips_output(options.hips, {options.hips_tile}, target.frame());
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
   // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
   // fold); TOAST output needs the whole sphere.
@@ -136,6 +138,13 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   for (std::size_t k = 0; k < plates.size(); ++k)
     if (rows.chosen()[k] == 0) note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
+  if (!options.hips.empty()) {
+    const auto h = sky::write_sky_hips(pq, win, target.frame(), options.hips, {options.hips_tile});
+    s.hips_order = h.order;
+    s.hips_tiles = h.tiles;
+    note(fmt::format("HiPS order {} ({} tiles of {} pixels there, {} in all) -> {}", h.order, h.deepest_tiles,
+                     options.hips_tile, h.tiles, options.hips.string()));
+  }
   write.fits_header = grid.cards;
   ImageFileWriter writer(out, grid.width, grid.height, 1, write);
   s.covered = sky::reproject_pq(pq, win, target, writer);

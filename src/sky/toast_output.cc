@@ -15,7 +15,7 @@ int toast_height(int height) {
   return h;
 }
 
-void write_sky_toast(const Image& pq, const std::filesystem::path& dir) {
+std::pair<float, float> display_range(const Image& pq) {
   // Percentiles from at most about a million covered samples.
   const std::size_t stride = std::max<std::size_t>(1, pq.data.size() / (std::size_t{1} << 20));
   std::vector<float> sample;
@@ -32,6 +32,11 @@ void write_sky_toast(const Image& pq, const std::filesystem::path& dir) {
     hi = at(0.995);
     if (!(hi > lo)) hi = lo + 1.0f;
   }
+  return {lo, hi};
+}
+
+void write_sky_toast(const Image& pq, const std::filesystem::path& dir) {
+  const auto [lo, hi] = display_range(pq);
   Image tiles(pq.width, pq.height, 2);
   for (std::size_t k = 0; k < pq.plane_size(); ++k) {
     const float v = pq.data[k];

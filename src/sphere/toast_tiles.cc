@@ -1,11 +1,11 @@
 // WorldWideTelescope TOAST tile pyramids from TOAST PQ images (copies, rotations, 2x2 averages).
 #include <fstream>
-#include <random>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
 #include "gdp/sphere.h"
+#include "io/staged_directory.h"
 
 namespace gdp::sphere {
 
@@ -77,10 +77,8 @@ void write_toast_pyramid(const Image& pq, const fs::path& dir, const ToastPyrami
                                  (kTile / 2) << deepest, pq.height, top));
   if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
     throw UsageError(dir.string() + ": exists and is not an empty directory");
-  // Build next to the destination, rename at the end: no partial pyramid is ever visible.
-  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
-  const fs::path temp = parent / fmt::format(".{}.gdp-{}", dir.filename().string(), std::random_device{}());
-  try {
+  // Built next to the destination, renamed at the end: no partial pyramid is ever visible.
+  io::write_staged_directory(dir, [&](const fs::path& temp) {
     Image square = pq_to_square(pq);
     for (int level = top; level > deepest; --level) square = halve(square);
     for (int level = deepest; level >= 0; --level) {
@@ -94,17 +92,7 @@ void write_toast_pyramid(const Image& pq, const fs::path& dir, const ToastPyrami
       if (level > 0) square = halve(square);
     }
     write_wtml(temp / "toast.wtml", options.name, deepest);
-    if (fs::exists(dir)) fs::remove(dir);
-    fs::rename(temp, dir);
-  } catch (const fs::filesystem_error& e) {
-    std::error_code ignore;
-    fs::remove_all(temp, ignore);
-    throw OutputError(dir.string() + ": " + e.code().message());
-  } catch (...) {
-    std::error_code ignore;
-    fs::remove_all(temp, ignore);
-    throw;
-  }
+  });
 }
 
 }  // namespace gdp::sphere

@@ -40,6 +40,9 @@ class Sky final : public Command {
         ->capture_default_str();
     app->add_option("--toast", options_.toast, "also write a WorldWideTelescope TOAST tile pyramid into this new or empty "
                                                "directory (PQ height rounded up to 128 * 2^n)");
+    app->add_option("--hips", options_.hips, "also write a HiPS directory (IVOA HiPS 1.0: HEALPix tiles as FITS and PNG, "
+                                             "properties, Moc.fits, Allsky) into this new or empty directory");
+    app->add_option("--hips-tile", options_.hips_tile, "HiPS tile width (a power of 2)")->capture_default_str();
     app->add_option("--plane", plane_, "plane of cube plates (1-based)")->capture_default_str();
     app->add_flag("!--no-blend", options_.blend,
                   "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
