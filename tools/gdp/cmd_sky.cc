@@ -83,9 +83,10 @@ class Sky final : public Command {
  private:
   // --projected: images on the template, blended planar (gdp/sky_projected.h).
   int run_projected(Stats& stats, const SolverOptions& solver) {
-    if (!center_.empty() || !options_.toast.empty() || !options_.blend || common_.pq_height > 0 || plane_ != 1)
-      throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --no-blend, "
-                       "--pq-height or --plane");
+    if (!center_.empty() || !options_.toast.empty() || !options_.hips.empty() || !options_.blend ||
+        common_.pq_height > 0 || plane_ != 1)
+      throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --hips, "
+                       "--no-blend, --pq-height or --plane");
     ProjectedOptions options;
     options.header = options_.target.header;
     ProjectedSummary summary;
