@@ -53,47 +53,32 @@ InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse
     b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
   }
   r_row_.resize(ops.levels[first].width);
+  coarse_b_ = Plane<double>(ops.coarsest.width, ops.coarsest.height);
+  coarse_u_ = coarse_b_;
 }
 
 template <class T>
 void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Plane<T>>* weights,
                           CycleProbe* probe) {
-  const std::vector<LevelGeometry>& geo = ops_.hierarchy->levels;
   const int levels = ops_.count();
   auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
   auto B = [&](int l) -> const Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
-  const auto dot = [&](int l) {
-    if (!weights || !probe) return;
-    double s = 0.0;
-    for (int j = 0; j < U(l).height; ++j) s += row_dot(W(l).row(j), U(l).row(j), U(l).width);
-    probe->dots.push_back(s);
-  };
 
   for (int l = first_; l + 1 < levels; ++l) {
-    const LevelOperator<T>& op = ops_.levels[l];
-    relax(op, U(l), B(l), sweeps_, scratch_, D(l));
-    dot(l);
     Plane<T>& coarse_b = b_[l - first_];
-    Plane<T>& coarse_u = u_[l - first_];
     std::fill(coarse_b.data.begin(), coarse_b.data.end(), T(0));
-    std::fill(coarse_u.data.begin(), coarse_u.data.end(), T(0));
-    const LevelGeometry& g = geo[l + 1];
-    double rr = 0.0;
-    for (int j = 0; j < op.height; ++j) {
-      residual(op, j, window(op, U(l), j), whole_row(op), B(l).row(j), r_row_.data(), scratch_, diag_row(D(l), j));
-      rr += row_dot(r_row_.data(), r_row_.data(), op.width);
-      const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_rows(g.px, py, r_row_.data(), 0, whole_row(ops_.levels[l + 1]), coarse_b.row(py.index[0]),
-                    coarse_b.row(py.index[1]), {0, 0}, scratch_);
-    }
+    std::fill(u_[l - first_].data.begin(), u_[l - first_].data.end(), T(0));
+    double dots = 0.0;
+    const double rr = descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots);
+    if (weights && probe) probe->dots.push_back(dots);
     if (probe) probe->level_norms.push_back(std::sqrt(rr));
   }
 
   {  // Coarsest level: conjugate gradients in double precision.
     const LevelOperator<double>& op = ops_.coarsest;
-    Plane<double> b(op.width, op.height), u(op.width, op.height);
+    Plane<double> &b = coarse_b_, &u = coarse_u_;  // b is overwritten, u is the initial guess
     std::copy(B(levels - 1).data.begin(), B(levels - 1).data.end(), b.data.begin());
     std::copy(U(levels - 1).data.begin(), U(levels - 1).data.end(), u.data.begin());
     const Plane<double>* dp = diag_ ? &coarse_diag_ : nullptr;
@@ -107,19 +92,58 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     }
     std::transform(u.data.begin(), u.data.end(), U(levels - 1).data.begin(),
                    [](double v) { return static_cast<T>(v); });
-    dot(levels - 1);
+    if (weights && probe) {
+      double s = 0.0;
+      for (int j = 0; j < op.height; ++j) s += row_dot(W(levels - 1).row(j), U(levels - 1).row(j), op.width);
+      probe->dots.push_back(s);
+    }
   }
 
-  for (int l = levels - 2; l >= first_; --l) {
-    const LevelOperator<T>& op = ops_.levels[l];
-    const LevelGeometry& g = geo[l + 1];
-    const Plane<T>& coarse = U(l + 1);
-    for (int j = 0; j < op.height; ++j) {
-      const fem::ProlongationRow& py = g.py.rows[j];
-      prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, whole_row(op),
-                   U(l).row(j), 0, scratch_);
+  for (int l = levels - 2; l >= first_; --l) ascend(l, U(l), B(l), D(l), U(l + 1));
+}
+
+// Pre-smoothing, then residual and restriction, in one pass down the rows: at step t sweep s + 1
+// relaxes row t - 2s, and row t - 2k, whose neighbours are then final, has its residual restricted
+// into the coarser level. Every relaxation sees what it sees in k whole sweeps one after the other
+// (rows above at this sweep, rows below at the one before; they couple within two rows), so the
+// bits are the same; the rows being worked on stay in cache. Returns |r|^2; adds <w, u> to dots.
+template <class T>
+double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
+                                const Plane<T>* w, double& dots) {
+  const LevelOperator<T>& op = ops_.levels[l];
+  const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+  const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
+  double rr = 0.0;
+  for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
+    for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
+      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
+    const int j = t - 2 * sweeps_;
+    if (j < 0) continue;
+    if (w) dots += row_dot(w->row(j), u.row(j), op.width);
+    residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
+    rr += row_dot(r_row_.data(), r_row_.data(), op.width);
+    const fem::ProlongationRow& py = g.py.rows[j];
+    restrict_rows(g.px, py, r_row_.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
+                  {0, 0}, scratch_);
+  }
+  return rr;
+}
+
+// Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
+// at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
+template <class T>
+void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse) {
+  const LevelOperator<T>& op = ops_.levels[l];
+  const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
+  const Columns row = whole_row(op);
+  for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
+    if (t < op.height) {
+      const fem::ProlongationRow& py = g.py.rows[t];
+      prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
+                   scratch_);
     }
-    relax(op, U(l), B(l), sweeps_, scratch_, D(l));
+    for (int s = 0, j = t - 2; s < sweeps_; ++s, j -= 2)
+      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
   }
 }
 

@@ -56,6 +56,10 @@ class InCoreVCycle {
   void set_diagonal(const std::vector<Plane<T>>* diag);
 
  private:
+  double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
+                 double& dots);
+  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
+
   const Operators<T>& ops_;
   int sweeps_;
   double coarse_tolerance_;
@@ -64,6 +68,7 @@ class InCoreVCycle {
   Plane<double> coarse_diag_;           // the coarsest level's diagonal term in double ...
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
+  Plane<double> coarse_b_, coarse_u_;  // the coarsest level's b and u in double, reused
   std::vector<T> r_row_;
   Scratch<T> scratch_;
 };

@@ -44,18 +44,15 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
   const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
   const int count = std::max(to - from, 0);
-  T* a = grow(s.a, len);
-  T* c = grow(s.c, len);
+  T *a = grow(s.a, len), *c = grow(s.c, len);
   std::array<const T*, 5> u;
   std::array<T, 5> m{}, k{};
-  const std::array<T, 5>& my = op.my[j];  // row tables: one lookup each, not one per row
-  const std::array<T, 5>& cy = op.cy[j];
+  const std::array<T, 5> &my = op.my[j], &cy = op.cy[j];  // row tables: one lookup each, not one per row
   const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
   for (int d = 0; d < 5; ++d) {
     const T* row = w.rows[d];
-    if (!row) {  // unused rows have zero coefficients
-      if (static_cast<int>(s.zero.size()) < count) s.zero.assign(count, T(0));
-      u[d] = s.zero.data();
+    if (!row) {  // unused rows have zero coefficients: any (finite) row will do
+      u[d] = w.rows[2] + (from - w.origin[2]);
       continue;
     }
     m[d] = my[d], k[d] = cy[d];
@@ -133,34 +130,21 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
   }
 }
 
-// q = (A u) on the columns, in s.q.
-template <class T>
-GDP_INLINE T* stencil(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
-  T* q = grow(s.q, cols.end - cols.begin);
-  combine(op, j, w, cols, s);
-  convolve(op, cols, s, q);
-  return q;
-}
-
-// The recurrence's terms of table columns [g0, g0 + count) into K from K's column 0 (diag:
-// indexed likewise), for one direction; blocks of four on table multiples of 4.
+// The recurrence's terms of table columns [g0, g0 + count) into K[0..) (diag likewise), one direction.
 template <class T>
 void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int count, bool forward,
           typename Scratch<T>::Coefficients& K) {
   const int near = forward ? 1 : 3, far = forward ? 0 : 4;
-  T* inv = grow(K.inv, count);
-  T* k1 = grow(K.k[near], count);
-  T* k2 = grow(K.k[far], count);
+  T *inv = grow(K.inv, count), *k1 = grow(K.k[near], count), *k2 = grow(K.k[far], count);
   for (int i = 0; i < count; ++i) {
     const int g = g0 + i;
     inv[i] = T(1) / (op.sx[2][g] * m0 + op.mx[2][g] * c0 + (diag ? diag[i] : T(0)));
     k1[i] = (op.sx[near][g] * m0 + op.mx[near][g] * c0) * inv[i];
     k2[i] = (op.sx[far][g] * m0 + op.mx[far][g] * c0) * inv[i];
   }
-  // dx[b + r] = A_r + B[b + r] dx[b - 1] + C[b + r] dx[b - 2] (backward: from the block's top
-  // down, with dx[e + 1], dx[e + 2]); A is the recurrence started from zero inside the block.
-  T* B = grow(forward ? K.fb : K.bb, count);
-  T* C = grow(forward ? K.fc : K.bc, count);
+  // Blocks of 4 on table multiples of 4: dx[b + r] = A_r + B[b + r] dx[b - 1] + C[b + r] dx[b - 2] (backward:
+  // from the block's top down, with dx[e + 1], dx[e + 2]); A is the recurrence started from zero in the block.
+  T *B = grow(forward ? K.fb : K.bb, count), *C = grow(forward ? K.fc : K.bc, count);
   const int s = forward ? 1 : -1;
   for (int b = (4 - g0 % 4) % 4; b + 4 <= count; b += 4) {
     const int e = forward ? b : b + 3;
@@ -178,17 +162,21 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
 
 // The recurrence dx[x] = t[x] - kn[x] dx[x - S] - kf[x] dx[x - 2S] for x = 0, S, .. (S - 1) *
 // count, carrying d1 = dx[x - S], d2 = dx[x - 2S]; blocks of four from step `lead` on (the only
-// chain carried from block to block is two multiply-adds).
-template <int S, class T>
-GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* dx,
+// chain carried from block to block is two multiply-adds). Add: out[x] += dx[x] (u), else out[x] = dx[x].
+template <int S, bool Add, class T>
+GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* out,
                       T& d1, T& d2) {
+  const auto put = [out](int x, T v) __attribute__((always_inline)) {
+    if constexpr (Add) out[x] += v;
+    else out[x] = v;
+  };
   for (int n = 0; n < count;) {
     const int x = S * n;
     if (n < lead || n + 4 > count) {  // one sample
       const T v = t[x] - kf[x] * d2;
       d2 = d1;
       d1 = v - kn[x] * d1;
-      dx[x] = d1;
+      put(x, d1);
       ++n;
       continue;
     }
@@ -196,12 +184,12 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     const T a1 = t[x + S] - kn[x + S] * a0;
     const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
     const T a3 = t[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
-    dx[x] = a0 + B[x] * d1 + C[x] * d2;
-    dx[x + S] = a1 + B[x + S] * d1 + C[x + S] * d2;
+    put(x, a0 + B[x] * d1 + C[x] * d2);
+    put(x + S, a1 + B[x + S] * d1 + C[x + S] * d2);
     const T n2 = a2 + B[x + 2 * S] * d1 + C[x + 2 * S] * d2;
     const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
-    dx[x + 2 * S] = n2;
-    dx[x + 3 * S] = n1;
+    put(x + 2 * S, n2);
+    put(x + 3 * S, n1);
     d2 = n2;
     d1 = n1;
     n += 4;
@@ -218,8 +206,7 @@ Columns Columns::whole(int n, bool periodic) {
 Columns Columns::range(int n, bool periodic, int begin, int end, bool forward) {
   if (!periodic) begin = std::max(begin, 0), end = std::min(end, n);
   const Edge left = !periodic && begin == 0 ? Edge::Image : Edge::Halo;
-  const Edge right = !periodic && end == n ? Edge::Image : Edge::Halo;
-  return {begin, end, n, periodic, left, right, forward};
+  return {begin, end, n, periodic, left, !periodic && end == n ? Edge::Image : Edge::Halo, forward};
 }
 
 template <class T>
@@ -230,8 +217,7 @@ const typename Scratch<T>::Coefficients& Scratch<T>::coefficients(const LevelOpe
   else cached.emplace_back();
   Coefficients& k = cached.back();
   k.op = &op, k.m0 = m0, k.c0 = c0;
-  fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, true, k);
-  fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, false, k);
+  for (bool forward : {true, false}) fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, forward, k);
   return k;
 }
 
@@ -251,9 +237,9 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
                          Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  T* q = stencil(op, j, w, cols, s);
-  // A pinned pixel's equation u = value holds after relaxation (to ~1e-6); b - A u - D u there is
-  // round-off of D * value against D * u, noise that would swamp the residual norms: taken as zero.
+  T* q = grow(s.q, len);  // q = A u on the columns
+  combine(op, j, w, cols, s), convolve(op, cols, s, q);
+  // Pinned pixels hold u = value (to ~1e-6); b - A u - D u there is round-off that would swamp the norms: 0.
   const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
   for (int x = 0, i = o; x < len; ++x, ++i)
     r[i] = diag && diag[i] >= pinned ? T(0) : b[i] - q[x] - (diag ? diag[i] * u[i] : T(0));
@@ -267,7 +253,8 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
                       Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  T* q = stencil(op, j, w, cols, s);
+  T* q = grow(s.q, len);  // q = A u on the columns
+  combine(op, j, w, cols, s), convolve(op, cols, s, q);
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
@@ -285,14 +272,16 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     inv = K->inv.data() + at;
     T* t = q + x0;
     for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
-    if (fwd) {
-      recur<1>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at,
-               std::min(count, swept - x0), (4 - g0 % 4) % 4, dx + x0, d1, d2);
-    } else {
-      const int top = count - 1;
-      recur<-1>(t + top, K->k[3].data() + at + top, K->k[4].data() + at + top, K->bb.data() + at + top,
-                K->bc.data() + at + top, count, ((g0 + top) % 4 + 1) % 4, dx + x0 + top, d1, d2);
-    }
+    const int lead = (4 - g0 % 4) % 4, top = count - 1;
+    if (wrap)  // corrections kept for the last two samples, added below
+      recur<1, false>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at,
+                      std::min(count, swept - x0), lead, dx + x0, d1, d2);
+    else if (fwd)
+      recur<1, true>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at, count, lead,
+                     u + o + x0, d1, d2);
+    else
+      recur<-1, true>(t + top, K->k[3].data() + at + top, K->k[4].data() + at + top, K->bb.data() + at + top,
+                      K->bc.data() + at + top, count, ((g0 + top) % 4 + 1) % 4, u + o + x0 + top, d1, d2);
     done += count;
   }
   for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)
@@ -303,12 +292,12 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     }
     dx[i] = v;
   }
-  for (int x = 0; x < len; ++x) u[o + x] += dx[x];
+  if (wrap)
+    for (int x = 0; x < len; ++x) u[o + x] += dx[x];
 }
 
-// Coarse J = 1 .. m-2 take the plain two-scale weights from fine 2J-1 .. 2J+2 (a gather that
-// vectorises); only J = 0 and m-1 see reflected or wrapped fine samples, and those come only from
-// the first and last three fine samples, read at the copy nearest to J (Halo) or in the row.
+// Coarse J = 1 .. m-2 gather the two-scale weights from fine 2J-1 .. 2J+2; only J = 0 and m-1 see reflected or
+// wrapped fine samples, only the first and last three, read at the copy nearest to J (Halo) or in the row.
 template <class T>
 GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine,
                               int fine_origin, Columns cols, T* coarse0, T* coarse1, std::array<int, 2> origin,
@@ -354,8 +343,8 @@ GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   }
 }
 
-// Fine 2J and 2J+1 take 3/4 of coarse J and 1/4 of J-1 and J+1, from the y-interpolated coarse
-// samples formed once; only the first and last three fine samples read reflected or wrapped ones.
+// Fine 2J, 2J+1 take 3/4 of coarse J, 1/4 of J-1 / J+1 (y-interpolated coarse samples formed once); only
+// the first and last three fine samples read reflected or wrapped ones.
 template <class T>
 GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0,
                              const T* coarse1, std::array<int, 2> origin, bool coarse_whole, Columns cols, T* fine,

@@ -1,7 +1,5 @@
-// The multigrid kernels on a column window of one row: operator, residual, relaxation, transfers.
-// Every schedule (in-core, streaming, bands) calls them, on whole rows or on a band's columns
-// (docs/multigrid.md): what lies beyond each end is decided once per call (Edge), and each kernel
-// splits its range into the columns by an image edge and the interior (one constant stencil).
+// The multigrid kernels on a column window of one row: operator, residual, relaxation, transfers
+// (docs/multigrid.md). Every schedule calls them, on whole rows or on a band's columns.
 #pragma once
 
 #include <array>
@@ -12,10 +10,9 @@
 
 namespace gdp::multigrid {
 
-// What lies beyond one end of the columns: Image, the level's (Neumann) end: nothing, read as
-// zeros; Wrap, a periodic level worked on whole: its other end (relax closes the ring as a
-// whole-row sweep does); Halo: more of the row, held by the rows (a neighbour band's columns;
-// on periodic levels in unwrapped column numbers, holding the wrapped values).
+// Beyond one end of the columns: Image, the level's (Neumann) end: nothing, read as zeros; Wrap, a periodic
+// level worked on whole: its other end (relax closes the ring as a whole-row sweep does); Halo: more of the
+// row, held by the rows (a neighbour band's columns; on periodic levels unwrapped, holding the wrapped values).
 enum class Edge : unsigned char { Image, Wrap, Halo };
 
 // Columns [begin, end) of a level n columns wide (on periodic levels they may leave [0, n)).
@@ -29,16 +26,12 @@ struct Columns {
   static Columns range(int n, bool periodic, int begin, int end, bool forward = true);
 };
 
-// Rows j-2 .. j+2 of one channel: rows[d][i - origin[d]] is column i of row j + d - 2, null
-// where the level operator has no coupling (LevelOperator::row_of). A row read mirrored
-// (LevelOperator::mirror_of: across a spherical domain's fold) is held whole, [0, n).
-// The kernels read columns [begin - 2, end + 2) of the rows (within the level on non-periodic
-// ones); the row's own arrays (u, b, out, diag) are indexed like rows[2]: x[i - origin[2]].
+// Rows j-2 .. j+2 of one channel: rows[d][i - origin[d]] is column i of row j + d - 2, null where
+// the operator has no coupling (row_of); a row read mirrored (mirror_of) is held whole, [0, n).
+// The kernels read columns [begin - 2, end + 2) (within non-periodic levels); the row's own
+// arrays (u, b, out, diag) are indexed like rows[2]: x[i - origin[2]].
 template <class T>
-struct Window {
-  std::array<const T*, 5> rows{};
-  std::array<int, 5> origin{};
-};
+struct Window { std::array<const T*, 5> rows{}; std::array<int, 5> origin{}; };
 
 // Temporary rows and recurrence coefficients, one per thread, grown to the widest call and reused.
 template <class T>
@@ -46,21 +39,18 @@ struct Scratch {
   // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): k[d] =
   // K_{d-2} / K_0; per block of four, the terms of the corrections carried in (forward, backward).
   struct Coefficients {
-    const void* op = nullptr;
-    T m0{}, c0{};
+    const void* op = nullptr; T m0{}, c0{};
     std::vector<T> inv, k[5], fb, fc, bb, bc;
   };
-  std::vector<T> a, c, q, dx, line, zero;
+  std::vector<T> a, c, q, dx, line;
   std::array<std::vector<T>, 5> mirrored;
   std::vector<Coefficients> cached;  // whole rows of a few (level, m0, c0), newest last
   Coefficients local;                // with a per-pixel diagonal term: one call's columns
   const Coefficients& coefficients(const LevelOperator<T>& op, T m0, T c0);
 };
 
-// `diag`: an optional per-pixel diagonal term (row j of D): the operator is then A + D, D >= 0
-// the lumped fidelity weights scaled like A (docs/weights.md); residuals are 0 where D is pinned.
-
-// apply: out = (A u) on row j; residual: r = b - (A u).
+// apply: out = (A u) on row j; residual: r = b - (A u). `diag`: an optional per-pixel diagonal term
+// (row j of D, the lumped fidelity weights scaled like A, docs/weights.md): the operator is A + D.
 template <class T>
 void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
            const T* diag = nullptr);
@@ -74,17 +64,16 @@ template <class T>
 void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b, Scratch<T>& s,
            const T* diag = nullptr);
 
-// Restriction (P^T) of a fine row into coarse columns `cols` of the coarse rows py.index[0] and
-// [1] (coarse_k[J - origin[k]]; the second read mirrored where py.mirror says so, then held
-// whole). fine[i - fine_origin] holds the fine columns [2 begin - 1, 2 end + 1) (within the
-// level on non-periodic ones; the whole row where cols wrap).
+// Restriction (P^T) of a fine row into coarse columns `cols` of the coarse rows py.index[0] and [1]
+// (coarse_k[J - origin[k]]; the second mirrored where py.mirror says so, then held whole). fine[i -
+// fine_origin] holds fine columns [2 begin - 1, 2 end + 1) (within non-periodic levels; whole where cols wrap).
 template <class T>
 void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine, int fine_origin,
                    Columns cols, T* coarse0, T* coarse1, std::array<int, 2> origin, Scratch<T>& s);
 
-// Prolongation (P) added into fine columns `cols` (fine[i - fine_origin]) from the coarse rows
-// py.index[0] and [1]: with `coarse_whole` they hold [0, m) (origins 0; periodic columns wrap
-// into them), else the columns the fine ones read, like the fine row's halo.
+// Prolongation (P) added into fine columns `cols` (fine[i - fine_origin]) from the coarse rows py.index[0]
+// and [1]: with `coarse_whole` they hold [0, m) (origins 0; periodic columns wrap into them), else the
+// columns the fine ones read, like the fine row's halo.
 template <class T>
 void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0, const T* coarse1,
                   std::array<int, 2> origin, bool coarse_whole, Columns cols, T* fine, int fine_origin,
