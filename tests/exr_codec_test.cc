@@ -187,7 +187,7 @@ TEST_F(ExrCodec, LosslessRoundTripsAreExact) {
   int n = 0;
   for (int tile : {0, 16, 64})
     for (SampleType type : {SampleType::Half, SampleType::Float})
-      for (const char* compression : {"", "none", "rle", "zips", "zip:9", "piz", "pxr24", "bogus"}) {
+      for (const char* compression : {"", "none", "rle", "zips", "zip:9", "piz", "pxr24"}) {
         if (type == SampleType::Float && std::string(compression) == "pxr24") continue;  // 24-bit floats
         const int channels = n++ % 4 == 0 ? 1 : 3 + n % 2;
         const fs::path p = dir_ / fmt::format("rt_{}_{}_{}.exr", tile, static_cast<int>(type), n);
@@ -198,7 +198,7 @@ TEST_F(ExrCodec, LosslessRoundTripsAreExact) {
         expect_same(written, oiio_read(p), "OpenImageIO");
         const OiioHeader header = oiio_header(p);
         const std::string name = std::string(compression).substr(0, std::string(compression).find(':'));
-        EXPECT_EQ(header.compression, name.empty() || name == "bogus" ? "piz" : name);
+        EXPECT_EQ(header.compression, name.empty() ? "piz" : name);
         EXPECT_EQ(header.tile_width, tile);
         EXPECT_EQ(header.format, type == SampleType::Half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
         EXPECT_EQ(header.channels, names[channels - 1]);
