@@ -5,6 +5,7 @@ each figure's range over the runs and the gdp/DMG ratio of each interleaved pair
     bench/vs_dmg_table.py DIR SIZE RUNS
 """
 import json
+import os
 import re
 import sys
 
@@ -45,7 +46,8 @@ def span(values, fmt):
 
 def main(d, size, runs):
     rows = {tool: [load(d, tool, r) for r in range(1, runs + 1)] for tool in ("gdp", "dmg")}
-    print(f"\n{size}x{size} stitch, {runs} interleaved run(s) each (CPU = user+sys; DMG = server + client)")
+    print(f"\n{size}x{size} stitch, {runs} interleaved run(s) each (CPU = user+sys; DMG = server + client);"
+          f" load average now {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
     print("| run | tool | " + " | ".join(c[1] for c in COLUMNS) + " |")
     print("|---" * (len(COLUMNS) + 2) + "|")
     for r in range(runs):
