@@ -4,7 +4,8 @@
     bench/measure_run.py OUT.json -- COMMAND [ARGS...]
 
 OUT.json: start/end (epoch seconds), wall, user, sys (CPU seconds of the command and its
-children), peak_rss_kb, minor_faults, rc, and the kernel's I/O accounting of the command:
+children), peak_rss_kb, minor_faults, voluntary_switches (waits: a lock, a queue, I/O),
+involuntary_switches (preempted), rc, and the kernel's I/O accounting of the command:
 wchar (bytes passed to write(), files and pipes alike), write_bytes (bytes sent towards the
 disk), cancelled_write_bytes (of those, dropped because the file was deleted or truncated
 first). The I/O counters are read from /proc/PID/io of the `time` process after it has
@@ -27,6 +28,8 @@ def parse_time_v(text):
         "System time (seconds)": ("sys", float),
         "Maximum resident set size (kbytes)": ("peak_rss_kb", int),
         "Minor (reclaiming a frame) page faults": ("minor_faults", int),
+        "Voluntary context switches": ("voluntary_switches", int),
+        "Involuntary context switches": ("involuntary_switches", int),
     }
     out = {}
     for line in text.splitlines():

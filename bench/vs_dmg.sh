@@ -24,7 +24,8 @@
 # processes. scratch = bytes written by write() less the output file; disk = bytes the kernel sent
 # towards the disk. Error: RMS in 8-bit levels against the truth, each channel's mean difference
 # removed (the two solvers may differ in the constant). Extra flags: $GDP_ARGS, $DMG_SERVER_ARGS,
-# $DMG_CLIENT_ARGS. Work files: ${GDP_BENCH_DIR:-/tmp/gdp-vs-dmg}/SIZE (inputs kept, outputs removed
+# $DMG_CLIENT_ARGS. VS_DMG_NICE=N runs both under `nice -n N` (negative, as root: a shared machine's
+# other load then disturbs the wall figures less). Work files: ${GDP_BENCH_DIR:-/tmp/gdp-vs-dmg}/SIZE (inputs kept, outputs removed
 # once scored; the last pair is also compared with each other).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -38,7 +39,7 @@ while (($#)); do
     --dmg) dmg_src=$2; shift 2 ;;
     --runs) runs=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
-    -h|--help) sed -n '2,28p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^set -e/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) sizes+=("$1"); shift ;;
   esac
 done
@@ -59,7 +60,8 @@ for exe in "$gdp" "$here/$build/bench/make_composite" "$here/$build/bench/blend_
 done
 source "$here/bench/shared_data.sh"
 photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-measure="$here/bench/measure_run.py"
+measure=("$here/bench/measure_run.py")
+[[ -z ${VS_DMG_NICE:-} ]] || measure=(nice -n "$VS_DMG_NICE" "${measure[@]}")
 
 # DMG, built once outside the repository from the given source.
 dmg=${DMG_BUILD:-/tmp/gdp-vs-dmg/dmg}
@@ -78,44 +80,59 @@ if [[ ! -x $dmg/Bin/Server || ! -x $dmg/Bin/Client ]]; then
     > "$dmg/build.log" 2>&1 || { echo "$me: DMG did not build; see $dmg/build.log" >&2; exit 2; }
 fi
 
-server_wrapper="" scratch=""
-cleanup() {  # should a run stop halfway: the DMG server (its measure_run, time and Server, by id), scratch
-  [[ -z $scratch ]] || rm -rf "$scratch"
-  [[ -n $server_wrapper ]] || return 0
-  local t s
-  for t in $(pgrep -P "$server_wrapper" || true); do
-    for s in $(pgrep -P "$t" || true); do kill "$s" 2> /dev/null || true; done
+wrappers=() scratch=""
+stop_tree() {  # a measure_run started here, its `time` and the program under it, by id
+  local t p
+  for t in $(pgrep -P "$1" || true); do
+    for p in $(pgrep -P "$t" || true); do kill "$p" 2> /dev/null || true; done
   done
-  kill "$server_wrapper" 2> /dev/null || true
+  kill "$1" 2> /dev/null || true
+}
+cleanup() {  # should a run stop halfway (an error, Ctrl-C, TERM): the programs still running, scratch
+  local w
+  for w in "${wrappers[@]}"; do stop_tree "$w"; done
+  [[ -z $scratch ]] || rm -rf "$scratch"
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
+measured() {  # JSON, LOG, COMMAND...: in the background, so that a signal reaches the traps at once
+  local json=$1 log=$2
+  shift 2
+  "${measure[@]}" "$json" -- "$@" > "$log" 2>&1 &
+  wrappers+=($!)
+}
+
+finish() {  # LOG, WHAT: waits for the latest measured command
+  local pid=${wrappers[-1]}
+  wait "$pid" || { echo "$me: $2 failed; see $1" >&2; exit 1; }
+  unset 'wrappers[-1]'
+}
+
 run_gdp() {  # dir, run
   local d=$1 r=$2
-  "$measure" "$d/gdp_$r.json" -- "$gdp" stitch -c "$d/composite.png" -l "$d/labels.png" -o "$d/out_gdp.tif" \
-    --depth 16 --compression none --threads 2 --temp "$d/scratch" --stats "$d/gdp_stats_$r.json" -q \
-    ${GDP_ARGS:-} > "$d/gdp_$r.log" 2>&1 || { echo "$me: gdp failed; see $d/gdp_$r.log" >&2; exit 1; }
+  measured "$d/gdp_$r.json" "$d/gdp_$r.log" "$gdp" stitch -c "$d/composite.png" -l "$d/labels.png" \
+    -o "$d/out_gdp.tif" --depth 16 --compression none --threads 2 --temp "$d/scratch" \
+    --stats "$d/gdp_stats_$r.json" -q ${GDP_ARGS:-}
+  finish "$d/gdp_$r.log" gdp
 }
 
 run_dmg() {  # dir, run
   local d=$1 r=$2 port="" i
-  "$measure" "$d/dmg_server_$r.json" -- "$dmg/Bin/Server" --count 1 --quality 0 --hdr --verbose \
-    ${DMG_SERVER_ARGS:-} \
-    > "$d/dmg_server_$r.log" 2>&1 &
-  server_wrapper=$!
+  measured "$d/dmg_server_$r.json" "$d/dmg_server_$r.log" "$dmg/Bin/Server" --count 1 --quality 0 --hdr --verbose \
+    ${DMG_SERVER_ARGS:-}
   for ((i = 0; i < 300; ++i)); do
-    port=$(sed -n 's/^Server Address: .*:\([0-9][0-9]*\)$/\1/p' "$d/dmg_server_$r.log")
+    port=$(sed -n 's/^Server Address: .*:\([0-9][0-9]*\)$/\1/p' "$d/dmg_server_$r.log" 2> /dev/null || true)
     [[ -n $port ]] && break
-    kill -0 "$server_wrapper" 2> /dev/null || break
+    kill -0 "${wrappers[-1]}" 2> /dev/null || break
     sleep 0.1
   done
   [[ -n $port ]] || { echo "$me: DMG's server gave no port; see $d/dmg_server_$r.log" >&2; exit 1; }
-  "$measure" "$d/dmg_client_$r.json" -- "$dmg/Bin/Client" --pixels "$d/composite.png" --labels "$d/labels.png" \
-    --out "$d/out_dmg.tif" --address 127.0.0.1 --port "$port" --threads 2 --temp "$d/scratch" ${DMG_CLIENT_ARGS:-} \
-    > "$d/dmg_client_$r.log" 2>&1 || { echo "$me: DMG's client failed; see $d/dmg_client_$r.log" >&2; exit 1; }
-  wait "$server_wrapper" || { echo "$me: DMG's server failed; see $d/dmg_server_$r.log" >&2; exit 1; }
-  server_wrapper=""
+  measured "$d/dmg_client_$r.json" "$d/dmg_client_$r.log" "$dmg/Bin/Client" --pixels "$d/composite.png" \
+    --labels "$d/labels.png" --out "$d/out_dmg.tif" --address 127.0.0.1 --port "$port" --threads 2 \
+    --temp "$d/scratch" ${DMG_CLIENT_ARGS:-}
+  finish "$d/dmg_client_$r.log" "DMG's client"
+  finish "$d/dmg_server_$r.log" "DMG's server"
 }
 
 score() {  # dir, tool, run: output size and error against the truth

@@ -30,13 +30,15 @@ def load(d, tool, r):
         "scratch": (written - out_bytes) / 1e9,
         "disk": max(disk - out_bytes, 0) / 1e9,
         "faults": sum(x["minor_faults"] for x in runs),
+        "waits": sum(x["voluntary_switches"] for x in runs),
         "error": error_levels(f"{d}/{tool}_error_{r}"),
     }
 
 
 COLUMNS = (("wall", "wall s", "{:.2f}"), ("cpu", "CPU s", "{:.2f}"), ("sys", "sys s", "{:.2f}"),
            ("peak", "peak MB", "{:.0f}"), ("scratch", "scratch GB", "{:.3f}"), ("disk", "disk GB", "{:.3f}"),
-           ("faults", "minor faults", "{:.0f}"), ("error", "rms err (levels)", "{:.3f}"))
+           ("faults", "minor faults", "{:.0f}"),
+           ("waits", "voluntary switches", "{:.0f}"), ("error", "rms err (levels)", "{:.3f}"))
 
 
 def span(values, fmt):
@@ -58,7 +60,7 @@ def main(d, size, runs):
     print("|---|---|---|---|")
     for key, name, fmt in COLUMNS:
         g, m = [x[key] for x in rows["gdp"]], [x[key] for x in rows["dmg"]]
-        ratios = [a / b for a, b in zip(g, m) if b > 0]
+        ratios = [a / b for a, b in zip(g, m) if float(fmt.format(b)) > 0]  # none against a zero as printed
         print(f"| {name} | {span(g, fmt)} | {span(m, fmt)} | {span(ratios, '{:.2f}x') if ratios else '-'} |")
     cg = [re.search(r"Server Conjugate Gradient: *([0-9.]+)", open(f"{d}/dmg_server_{r}.log").read())
           for r in range(1, runs + 1)]
