@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "blend_args.h"
+#include "cli_checkpoint.h"
 #include "commands.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
@@ -79,8 +80,12 @@ int main(int argc, char** argv) {
   }
   gdp::cleanup::install_signal_handlers();
   try {
-    for (auto& c : commands)
-      if (c->app->parsed()) return c->run();
+    for (auto& c : commands) {
+      if (!c->app->parsed()) continue;
+      const int code = c->run();
+      if (code == 0) gdp::cli::finish_checkpoint();  // the output is committed: its checkpoint is spent
+      return code;
+    }
   } catch (const gdp::Error& e) {
     // Under mpirun a rank that fails alone ends them all (the others may be waiting for it);
     // an error every rank saw in the collective check is printed once, by rank 0.
