@@ -24,14 +24,15 @@ timed() {
   shift
   /usr/bin/time -f "$label %e %U %S" -a -o "$work/times" "$@"
 }
-timed full "$gdp" "${args[@]}" -o "$work/full.tif"
+timed full "$gdp" "${args[@]}" -o "$work/full.tif" --stats "$work/full.json"
 timed checkpointed "$gdp" "${args[@]}" -o "$work/cp.tif" --checkpoint "$work/cp"
 cmp "$work/full.tif" "$work/cp.tif"
 [[ ! -e $work/cp ]] || { echo "checkpoint directory left after success" >&2; exit 1; }
 full_wall=$(awk '$1 == "full" {print $2}' "$work/times")
 
 for ((i = 1; i <= kills; i++)); do
-  fraction=$(awk -v r=$RANDOM 'BEGIN {printf "%.3f", 0.05 + 0.9 * r / 32768}')
+  r=$RANDOM  # here, not in the command substitution's subshell (which would not advance it)
+  fraction=$(awk -v r=$r 'BEGIN {printf "%.3f", 0.05 + 0.9 * r / 32768}')
   delay=$(awk -v f="$fraction" -v w="$full_wall" 'BEGIN {printf "%.2f", f * w}')
   "$gdp" "${args[@]}" -o "$work/r.tif" --checkpoint "$work/cp" &
   pid=$!
@@ -50,6 +51,12 @@ for ((i = 1; i <= kills; i++)); do
   rm -f "$work/r.tif"
 done
 
+python3 - "$work/full.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(f"full run: input read and right-hand side {s['seconds']['rhs']:.1f} s of {s['seconds_total']:.1f} s"
+      " (what a resume reads again)")
+PY
 awk -v size="$size" '
   $1 == "full" { fw = $2; fc = $3 + $4 }
   { wall[NR] = $2; cpu[NR] = $3 + $4; name[NR] = $1 }
