@@ -51,6 +51,11 @@ void SolverOptions::validate() const {
   std::error_code ec;
   if (!temp_dir.empty() && !std::filesystem::is_directory(temp_dir, ec))
     throw UsageError(fmt::format("--temp: '{}' is not a directory", temp_dir.string()));
+  if (resume && checkpoint_dir.empty()) throw UsageError("resuming needs the checkpoint's directory");
+  if (!checkpoint_dir.empty() && schedule == Schedule::InCore)
+    throw UsageError("--checkpoint and --resume need the streaming schedule: they do not combine with --in-core");
+  if (!checkpoint_dir.empty() && schedule == Schedule::Bands)
+    throw UsageError("--checkpoint and --resume do not combine with --bands (band schedules do not checkpoint yet)");
 }
 
 void ScheduleFlags::apply(SolverOptions& options) const {

@@ -286,5 +286,14 @@ TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   EXPECT_EQ(s.err.find("MPI_ABORT"), std::string::npos) << s.err;
 }
 
+// Band schedules do not checkpoint (docs/resume.md): refused on every rank, said once, nothing left.
+TEST_F(MpiBands, CheckpointIsRefused) {
+  const test::CliRun r = sharpen("out.tif", 1, 2, "--checkpoint " + path("cp"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--checkpoint does not run under mpirun"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("--checkpoint"), r.err.rfind("--checkpoint")) << r.err;
+  EXPECT_EQ(files(), std::set<std::string>{"in.tif"});
+}
+
 }  // namespace
 }  // namespace gdp

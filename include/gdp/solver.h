@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gdp/checkpoint.h"
 #include "gdp/guidance.h"
 #include "gdp/image.h"
 #include "gdp/rows.h"
@@ -43,6 +44,12 @@ struct SolverOptions {
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
   // memory and solved in-core; larger ones stream.
   std::size_t incore_bytes = std::size_t{8} << 20;
+  // Streaming: keep the scratch and the solver's state in this directory at every completed unit
+  // of work (docs/resume.md); with `resume`, continue from what it holds. `checkpoint_identity`
+  // (inputs and options) is written to its manifest and must match when resuming.
+  std::filesystem::path checkpoint_dir;
+  bool resume = false;
+  CheckpointIdentity checkpoint_identity;
   // Receives one line per level and V-cycle with residual norms (the CLI's --verbose).
   std::function<void(const std::string&)> log;
   // Receives the fraction of work done, from 0 to 1.

@@ -5,13 +5,18 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "gdp/solver.h"
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
 #include "schedule/bounded_queue.h"
+#include "schedule/checkpoint.h"
 #include "schedule/input_rows.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
@@ -19,6 +24,18 @@
 namespace gdp::schedule {
 
 constexpr std::size_t kQueued = 2;  // batches in flight per worker and direction
+
+// How far a worker got, saved with its state (docs/resume.md): in V-cycle `cycle` (from 0), pass
+// 0 is the restriction pass with `rows` rows pushed, 1 the restriction pass done (the in-core
+// tail solved), 2 the cycle's result stored for the next.
+struct CycleMark {
+  int cycle = 0, pass = 0, rows = 0;
+  std::string describe(int height) const {
+    if (pass == 0) return fmt::format("V-cycle {}: restriction pass, {} of {} rows", cycle + 1, rows, height);
+    if (pass == 1) return fmt::format("V-cycle {}: restriction pass and in-core levels done", cycle + 1);
+    return fmt::format("V-cycle {} done", cycle + 1);
+  }
+};
 
 // Rows handed between threads at a time: about 256K samples (1 MB of floats), 1 to 16 rows.
 inline int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
@@ -73,6 +90,40 @@ class CycleWorker {
   }
   std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
 
+  // Checkpoints (docs/resume.md): saves go to `cp` as lane `lane` after every `unit_rows` rows of
+  // the first restriction pass, after every restriction pass (in-core tail included) and after
+  // every V-cycle whose result is stored for the next; `log`'s channels c0 .. c0 + channels - 1
+  // are saved with them. When `cp` resumes, the lane's last saved state is restored. Returns the
+  // input rows (first cycle's) the lane already has: they are not to be pushed again.
+  int use_checkpoint(Checkpoint& cp, int lane, int unit_rows, ResidualLog& log, int c0) {
+    checkpoint_ = &cp;
+    lane_ = lane;
+    unit_rows_ = std::max(1, unit_rows);
+    log_ = &log;
+    c0_ = c0;
+    if (!cp.resuming()) return 0;
+    const std::optional<std::string> state = cp.load(lane);
+    if (!state) return 0;
+    try {
+      StateReader in(*state);
+      int version = 0;
+      in.get(version);
+      in.get(mark_);
+      if (version != kStateVersion || mark_.cycle < 0 || mark_.cycle >= cycles() || mark_.pass < 0 ||
+          mark_.pass > 2 || mark_.rows < 0 || mark_.rows > height_)
+        throw CorruptState("unknown version or position");
+      if constexpr (requires(StateReader& r) { vcycle_.load(r); }) vcycle_.load(in);
+      std::size_t carried = 0;
+      in.get(carried);
+      if (carry_) carry_->restore(carried);
+      log.load(in, c0, channels_);
+      if (!in.at_end()) throw CorruptState("it is longer than expected");
+    } catch (const CorruptState& e) {
+      throw InputError(fmt::format("--resume {}: lane{}.state is corrupt ({})", cp.dir().string(), lane, e.what()));
+    }
+    return mark_.cycle > 0 || mark_.pass > 0 ? height_ : mark_.rows;
+  }
+
   // `totals()` gives the input's sums (InputTotals; called once every input row is pushed, it
   // may wait for them); `log` gets channels c0 .. c0 + channels - 1. Returns false when one of
   // the queues was closed (the solve was stopped).
@@ -80,36 +131,13 @@ class CycleWorker {
   bool run(Totals&& totals, ResidualLog& log, int c0, int keep, int kept) {
     keep_ = keep;
     kept_ = kept;
-    const std::size_t n = static_cast<std::size_t>(channels_) * length_;
-    std::vector<T> u(n);
+    u_.resize(static_cast<std::size_t>(channels_) * length_);
     std::vector<double> shift(channels_);
-    Batch<T> batch, result;
-    int next_in = 0;  // row of `batch` to push next
-    for (int k = 0; k < cycles(); ++k) {
-      vcycle_.begin_cycle();
-      if (carry_) carry_->rewind();
-      for (int j = 0; j < height_; ++j) {
-        if (k > 0) {
-          carry_->read(u);
-          vcycle_.push(u, {}, {});
-          continue;
-        }
-        if (next_in == batch.rows) {
-          auto b = in.pop();
-          if (!b) return false;
-          spent_in.give(std::move(batch));
-          batch = std::move(*b);
-          next_in = 0;
-        }
-        const std::size_t at = static_cast<std::size_t>(next_in) * n;
-        const auto pixel_row = [&](const std::vector<T>& v) {
-          return v.empty() ? std::span<const T>{}
-                           : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
-                                                static_cast<std::size_t>(length_)};
-        };
-        vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
-        ++next_in;
-      }
+    Batch<T> result;
+    for (int k = mark_.cycle; k < cycles(); ++k) {
+      const int pass = k == mark_.cycle ? mark_.pass : 0;
+      if (pass == 2) continue;  // this cycle's result is stored: on to the next
+      if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
       const InputTotals& sums = totals();
       for (int c = 0; c < channels_; ++c) {
         if (k == 0) {
@@ -121,14 +149,14 @@ class CycleWorker {
       const bool surely_last = k + 1 == cycles();
       if (carry_ && !surely_last) carry_->clear();
       for (int j = 0; j < height_; ++j) {
-        vcycle_.pull(u);
+        vcycle_.pull(u_);
         for (int c = 0; c < channels_; ++c) {
           if (shift[c] == 0.0) continue;
-          T* p = u.data() + static_cast<std::size_t>(c) * length_;
+          T* p = u_.data() + static_cast<std::size_t>(c) * length_;
           for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
         }
-        if (!surely_last) carry_->append(u);
-        else if (!emit(result, j, u)) return false;
+        if (!surely_last) carry_->append(u_);
+        else if (!emit(result, j, u_)) return false;
       }
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < channels_; ++c) {
@@ -139,11 +167,12 @@ class CycleWorker {
       if (converged) {  // the carried result is the answer (every worker sees the same sums)
         carry_->rewind();
         for (int j = 0; j < height_; ++j) {
-          carry_->read(u);
-          if (!emit(result, j, u)) return false;
+          carry_->read(u_);
+          if (!emit(result, j, u_)) return false;
         }
         return true;
       }
+      save({k, 2, 0});
     }
     return true;
   }
@@ -153,6 +182,56 @@ class CycleWorker {
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
+
+  // Pushes cycle k's rows from `first` on (the first cycle's from the batches in `in`, later ones'
+  // from the previous result); false when stopped.
+  bool restriction_pass(int k, int first) {
+    if (first == 0) {
+      vcycle_.begin_cycle();
+      if (carry_) carry_->rewind();
+    }
+    const std::size_t n = static_cast<std::size_t>(channels_) * length_;
+    Batch<T> batch;
+    int next_in = 0;  // row of `batch` to push next
+    for (int j = first; j < height_; ++j) {
+      if (k > 0) {
+        carry_->read(u_);
+        vcycle_.push(u_, {}, {});
+        continue;
+      }
+      if (next_in == batch.rows) {
+        auto b = in.pop();
+        if (!b) return false;
+        spent_in.give(std::move(batch));
+        batch = std::move(*b);
+        next_in = 0;
+      }
+      const std::size_t at = static_cast<std::size_t>(next_in) * n;
+      const auto pixel_row = [&](const std::vector<T>& v) {
+        return v.empty() ? std::span<const T>{}
+                         : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
+                                              static_cast<std::size_t>(length_)};
+      };
+      vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
+      ++next_in;
+      if ((j + 1) % unit_rows_ == 0 && j + 1 < height_) save({k, 0, j + 1});
+    }
+    save({k, 1, 0});
+    return true;
+  }
+
+  // The worker's state at a unit's end into the checkpoint (when there is one).
+  void save(CycleMark m) {
+    if (!checkpoint_) return;
+    StateWriter out;
+    out.put(kStateVersion);
+    out.put(m);
+    if constexpr (requires(StateWriter& w) { vcycle_.save(w); }) vcycle_.save(out);
+    else throw std::logic_error("this schedule does not checkpoint");
+    out.put(carry_ ? carry_->make_durable() : std::size_t{0});
+    log_->save(out, c0_, channels_);
+    checkpoint_->save(lane_, out.bytes(), m.describe(height_));
+  }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
     if (result.rows == 0) result.first = j;
@@ -172,6 +251,14 @@ class CycleWorker {
   bool singular_;
   int channels_, length_, height_, keep_ = 0, kept_ = 0;
   std::unique_ptr<RowStore<T>> carry_;
+  std::vector<T> u_;  // a row of every channel
+  // Checkpoints: where to save (none: null), this lane's number, log and first channel; where a
+  // resumed run starts.
+  static constexpr int kStateVersion = 1;
+  Checkpoint* checkpoint_ = nullptr;
+  int lane_ = 0, unit_rows_ = 1 << 30, c0_ = 0;
+  ResidualLog* log_ = nullptr;
+  CycleMark mark_;
 };
 
 }  // namespace gdp::schedule

@@ -45,9 +45,16 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
 
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
-    : name_(std::move(name)), row_length_(row_length), encoding_(policy.encoding) {
+    : name_(policy.name_prefix + name), row_length_(row_length), encoding_(policy.encoding) {
   const std::size_t total = encoded_bytes() * rows;
-  if (total > policy.memory_limit) {
+  if (!policy.keep_dir.empty()) {
+    dir_ = policy.keep_dir;
+    const std::filesystem::path path = dir_ / (name_ + ".store");
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0)
+      throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), system_message()));
+    buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
+  } else if (total > policy.memory_limit) {
     dir_ = policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
     fd_ = open_unlinked(dir_, name_);
     buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
@@ -150,6 +157,28 @@ template <class T>
 void RowStore<T>::clear() {
   if (fd_ >= 0) ::lseek(fd_, 0, SEEK_SET);  // later reads never pass written_
   buffered_ = cursor_ = written_ = file_read_ = 0;
+  reading_ = false;
+}
+
+template <class T>
+std::size_t RowStore<T>::make_durable() {
+  if (fd_ < 0) throw std::logic_error("RowStore::make_durable in memory");
+  if (!reading_) flush();
+  if (::fdatasync(fd_) != 0) throw OutputError(fmt::format("{}: cannot sync: {}", where(), system_message()));
+  return written_;
+}
+
+template <class T>
+void RowStore<T>::restore(std::size_t bytes) {
+  if (fd_ < 0) throw std::logic_error("RowStore::restore in memory");
+  const off_t end = ::lseek(fd_, 0, SEEK_END);
+  if (end < 0 || static_cast<std::size_t>(end) < bytes)
+    throw OutputError(fmt::format("{}: shorter than the checkpoint says ({} of {} bytes)", where(),
+                                  static_cast<long long>(end), bytes));
+  if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0 || ::lseek(fd_, static_cast<off_t>(bytes), SEEK_SET) < 0)
+    throw OutputError(fmt::format("{}: {}", where(), system_message()));
+  buffered_ = cursor_ = file_read_ = 0;
+  written_ = bytes;
   reading_ = false;
 }
 

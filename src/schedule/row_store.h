@@ -24,6 +24,10 @@ struct StorePolicy {
   std::filesystem::path dir;
   std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store
   StoreEncoding encoding = StoreEncoding::Native;
+  // Non-empty (a checkpoint's directory): every store is a named file `keep_dir/NAME.store`,
+  // kept after the process ends, whatever its size (docs/resume.md).
+  std::filesystem::path keep_dir;
+  std::string name_prefix;  // put before every store's name (a lane's, "lane0-")
 };
 
 // A sequential stream of equal-length rows of T: append them, rewind(), read them back in the
@@ -44,6 +48,12 @@ class RowStore {
   // Bytes of the stream so far (what it occupies on disk or in memory).
   std::size_t bytes() const { return written_; }
   bool on_disk() const { return fd_ >= 0; }
+
+  // Checkpoints (kept files only): writes what is buffered, syncs the file and returns the
+  // stream's length; restore() makes the stream that long again (truncating what came after),
+  // ready to append or to rewind. OutputError when the file is shorter than that.
+  std::size_t make_durable();
+  void restore(std::size_t bytes);
 
  private:
   void flush();

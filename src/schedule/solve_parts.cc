@@ -59,6 +59,30 @@ void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) co
       for (const auto& l : lines) options.log(l);
 }
 
+void ResidualLog::save(StateWriter& out, int c0, int n) const {
+  for (int c = c0; c < c0 + n; ++c) {
+    out.put(b_norm_[c]);
+    out.put(rel_[c]);
+    out.put(static_cast<std::uint64_t>(lines_[c].size()));
+    for (const std::string& line : lines_[c]) out.put(std::vector<char>(line.begin(), line.end()));
+  }
+}
+
+void ResidualLog::load(StateReader& in, int c0, int n) {
+  for (int c = c0; c < c0 + n; ++c) {
+    in.get(b_norm_[c]);
+    in.get(rel_[c]);
+    std::uint64_t count = 0;
+    in.get(count);
+    lines_[c].clear();
+    for (std::uint64_t k = 0; k < count; ++k) {
+      std::vector<char> line;
+      in.get(line);
+      lines_[c].emplace_back(line.begin(), line.end());
+    }
+  }
+}
+
 template struct Problem<float>;
 template struct Problem<double>;
 

@@ -9,6 +9,7 @@
 #include "gdp/guidance.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
+#include "schedule/state_io.h"
 #include "topology/topology.h"
 
 namespace gdp::schedule {
@@ -49,6 +50,9 @@ class ResidualLog {
   double last(int c) const { return rel_[c].back(); }
   // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
   void finish(SolveSummary& summary, const SolverOptions& options) const;
+  // Checkpoints: channels c0 .. c0 + n - 1 (one lane's).
+  void save(StateWriter& out, int c0, int n) const;
+  void load(StateReader& in, int c0, int n);
 
  private:
   double relative(int c, double r) const { return b_norm_[c] > 0.0 ? r / b_norm_[c] : r; }

@@ -3,7 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <condition_variable>
+#include <mutex>
 #include <thread>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+#include "schedule/checkpoint.h"
 
 #include "schedule/cycle_worker.h"
 #include "schedule/input_rows.h"
@@ -13,31 +20,88 @@
 namespace gdp::schedule {
 namespace {
 
+// Thrown to a lane waiting for the input's sums when the solve is stopped.
+struct Stopped {};
+
+// The input's sums, handed from the reading thread to the lanes once every row was read (a lane
+// resumed past its first restriction pass waits for them without reading any row).
+class TotalsGate {
+ public:
+  void open(InputTotals totals) {
+    const std::lock_guard lock(mutex_);
+    totals_ = std::move(totals);
+    ready_ = true;
+    changed_.notify_all();
+  }
+  void close() {
+    const std::lock_guard lock(mutex_);
+    closed_ = true;
+    changed_.notify_all();
+  }
+  const InputTotals& wait() {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return ready_ || closed_; });
+    if (!ready_) throw Stopped{};
+    return totals_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  InputTotals totals_;
+  bool ready_ = false, closed_ = false;
+};
+
 // Channels [c0, c0 + n) solved by one streaming V-cycle on its own thread: input batches in,
 // result batches out, as many V-cycles as asked for.
 template <class T>
 class Lane {
  public:
   Lane(const multigrid::Operators<T>& ops, const SolverOptions& opt, typename StreamingVCycle<T>::Settings s,
-       int c0, int n, const InputTotals& totals, ResidualLog& log)
+       int c0, int n, TotalsGate& totals, ResidualLog& log)
       : c0_(c0), n_(n), width_(ops.levels[0].width), totals_(totals), log_(log), vcycle_(ops, (s.channels = n, s)),
         worker(vcycle_, opt, ops.singular, n, width_, ops.levels[0].height, s.stores, "result") {}
   int first_channel() const { return c0_; }
   int channels() const { return n_; }
   const StreamingVCycle<T>& vcycle() const { return vcycle_; }
+  // Saves to `cp` as lane `lane` (restoring its state when resuming); the input rows it has.
+  int use_checkpoint(Checkpoint& cp, int lane) {
+    // A unit of the first pass stores about four times what a save writes (the rows held).
+    const double row_bytes = 2.0 * n_ * width_ * sizeof(T);
+    const int rows = static_cast<int>(std::min(1e9, 4.0 * static_cast<double>(vcycle_.window_bytes()) / row_bytes));
+    return worker.use_checkpoint(cp, lane, cp.unit_rows(std::max(16, rows)), log_, c0_);
+  }
   void run() {
-    worker.run([this]() -> const InputTotals& { return totals_; }, log_, c0_, 0, width_);  // false: stopped
+    try {
+      worker.run([this]() -> const InputTotals& { return totals_.wait(); }, log_, c0_, 0, width_);  // false: stopped
+    } catch (const Stopped&) {
+    }
   }
 
  private:
   int c0_, n_, width_;
-  const InputTotals& totals_;
+  TotalsGate& totals_;
   ResidualLog& log_;
   StreamingVCycle<T> vcycle_;
 
  public:
   CycleWorker<T, StreamingVCycle<T>> worker;
 };
+
+// With opt.checkpoint_dir: the checkpoint (its lane count replaces `lanes` when resuming), scratch
+// kept there under each lane's names.
+template <class T>
+std::unique_ptr<Checkpoint> open_checkpoint(const SolverOptions& opt, const multigrid::Operators<T>& ops, int channels,
+                                            int& lanes, StorePolicy& stores) {
+  if (opt.checkpoint_dir.empty()) return nullptr;
+  const std::string sizes = fmt::format("{} {} {} {} {} {}", ops.levels[0].width, ops.levels[0].height, channels,
+                                        ops.count(), sizeof(T), opt.half_scratch ? "half" : "native");
+  auto cp = std::make_unique<Checkpoint>(opt, sizes, lanes);
+  if (lanes < 1 || lanes > channels)
+    throw InputError(fmt::format("--resume {}: the manifest is corrupt (lanes)", opt.checkpoint_dir.string()));
+  stores.keep_dir = opt.checkpoint_dir;
+  return cp;
+}
 
 }  // namespace
 
@@ -55,13 +119,17 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
   summary.streamed_levels = settings.incore_from;
 
   // Channels are independent problems: up to one lane each, two threads left to the codecs.
-  InputTotals totals;
+  TotalsGate totals;
   ResidualLog log(channels, static_cast<bool>(opt.log));
   std::vector<std::unique_ptr<Lane<T>>> lanes;
-  const int lane_count = std::clamp(opt.threads - 2, 1, channels);
+  int lane_count = std::clamp(opt.threads - 2, 1, channels);
+  const std::unique_ptr<Checkpoint> checkpoint = open_checkpoint(opt, ops, channels, lane_count, settings.stores);
+  std::vector<int> skip(lane_count, 0);  // input rows each lane already has (resumed)
   for (int t = 0; t < lane_count; ++t) {
     const int c0 = t * channels / lane_count, c1 = (t + 1) * channels / lane_count;
+    if (checkpoint) settings.stores.name_prefix = fmt::format("lane{}-", t);
     lanes.push_back(std::make_unique<Lane<T>>(ops, opt, settings, c0, c1 - c0, totals, log));
+    if (checkpoint) skip[t] = lanes.back()->use_checkpoint(*checkpoint, t);
   }
   std::vector<std::exception_ptr> errors(lanes.size());
   std::vector<std::thread> threads;
@@ -70,6 +138,7 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
       lane->worker.in.close();
       lane->worker.out.close();
     }
+    totals.close();
   };
   for (std::size_t t = 0; t < lanes.size(); ++t)
     threads.emplace_back([&, t] {
@@ -100,8 +169,9 @@ void solve_streaming(GuidanceSource& source, const SolverOptions& opt, RowWriter
       input.next(u, b, wt, d);
       seconds_input += seconds_since(t);
       const bool last = j + 1 == h;
-      if (last) totals = input.totals();
+      if (last) totals.open(input.totals());
       for (std::size_t l = 0; l < lanes.size(); ++l) {
+        if (j < skip[l]) continue;  // resumed: the lane has this row
         Batch<T>& batch = batches[l];
         const Lane<T>& lane = *lanes[l];
         const auto from = static_cast<std::ptrdiff_t>(lane.first_channel()) * w;

@@ -358,6 +358,64 @@ std::size_t StreamingVCycle<T>::window_bytes() const {
   return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }
 
+template <class T>
+void StreamingVCycle<T>::save(StateWriter& out) {
+  out.put(cycle_);
+  out.put(prolongation_);
+  for (const auto& L : levels_) {
+    for (const std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d}) out.put(*ring);
+    out.put(L->stages);
+    out.put(L->done);
+    for (int v : {L->arrived, L->zeroed, L->next_complete, L->needed_from}) out.put(v);
+    out.put(L->inputs_stored);
+    out.put(L->rr);
+    out.put(L->dots);
+    for (RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
+      out.put(store ? store->make_durable() : std::size_t{0});
+  }
+  for (const auto* planes : {&tail_u_, &tail_b_})
+    for (const Plane<T>& p : *planes) out.put(p.data);
+  out.put(tail_w_.data);
+  out.put(tail_d_.data);
+  for (const multigrid::CycleProbe& p : probes_) {
+    out.put(p.dots);
+    out.put(p.level_norms);
+  }
+  out.put(initial_rr_);
+  out.put(final_rr_);
+}
+
+template <class T>
+void StreamingVCycle<T>::load(StateReader& in) {
+  in.get(cycle_);
+  in.get(prolongation_);
+  for (auto& L : levels_) {
+    for (std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d}) in.get_sized(*ring);
+    in.get(L->stages);
+    in.get(L->done);
+    if (L->done.size() != L->stages.size()) throw CorruptState("stage counts differ");
+    for (int* v : {&L->arrived, &L->zeroed, &L->next_complete, &L->needed_from}) in.get(*v);
+    in.get(L->inputs_stored);
+    in.get(L->rr);
+    in.get(L->dots);
+    for (RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()}) {
+      std::size_t bytes = 0;
+      in.get(bytes);
+      if (store) store->restore(bytes);
+    }
+  }
+  for (auto* planes : {&tail_u_, &tail_b_})
+    for (Plane<T>& p : *planes) in.get_sized(p.data);
+  in.get_sized(tail_w_.data);
+  in.get_sized(tail_d_.data);
+  for (multigrid::CycleProbe& p : probes_) {
+    in.get(p.dots);
+    in.get(p.level_norms);
+  }
+  in.get(initial_rr_);
+  in.get(final_rr_);
+}
+
 template class StreamingVCycle<float>;
 template class StreamingVCycle<double>;
 

@@ -10,6 +10,7 @@
 #include "multigrid/incore_vcycle.h"
 #include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
+#include "schedule/state_io.h"
 
 namespace gdp::schedule {
 
@@ -50,6 +51,13 @@ class StreamingVCycle {
   // Bytes written to row stores in this cycle (on disk or in memory) and held in memory now.
   std::size_t store_bytes() const;
   std::size_t window_bytes() const;
+
+  // Checkpoints (stores kept in files: StorePolicy::keep_dir), between two pushes or between
+  // passes: save() makes the row stores durable and writes the whole state (rings, counters,
+  // the in-core tail, probes, the stores' lengths); load() puts it back and truncates the
+  // stores to those lengths. CorruptState when the blob does not fit this cycle's shape.
+  void save(StateWriter& out);
+  void load(StateReader& in);
 
  private:
   struct Level;

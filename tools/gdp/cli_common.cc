@@ -16,6 +16,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/size_check.h"
+#include "cli_checkpoint.h"
 #include "size_guard.h"
 
 namespace gdp::cli {
@@ -70,7 +71,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
                    "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
                    "rank's number (a directory per rank, e.g. on each node's own disk)");
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
+    add_checkpoint_options(cmd, o.checkpoint, o.resume);
   }
+  o.app = &cmd;
   cmd.add_flag("--quiet,-q", o.quiet, "no progress or notes on stderr");
   cmd.add_option("--max-pixels", o.max_pixels,
                  "refuse images of more pixels (default: what the free scratch disk and memory allow, estimated "
@@ -124,6 +127,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   s.progress = progress_line(o, command + ": solving");
+  if (o.app) apply_checkpoint_options(*o.app, command, o.checkpoint, o.resume, s);
   s.validate();
   guard_sizes(o, &s);
   return s;

@@ -37,6 +37,8 @@ struct CommonOptions {
   bool sphere = false;  // --sphere: equirectangular or PQ input, solved on the PQ domain
   int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
   long long max_pixels = 0;  // --max-pixels (0: what the free scratch disk and memory allow; size_guard.h)
+  std::string checkpoint, resume;  // --checkpoint DIR, --resume DIR (cli_checkpoint.h)
+  const CLI::App* app = nullptr;   // the subcommand these flags were added to
 };
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags = true);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "blend_args.h"
+#include "cli_checkpoint.h"
 #include "commands.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
@@ -44,6 +45,11 @@ std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr
     const CLI::Option* in_core = c->app->get_option_no_throw("--in-core");
     if (in_core && in_core->count())  // ranks solve bands (one per rank unless --bands says more)
       return "--in-core does not run under mpirun (ranks solve bands, which stream; docs/how-bands-work.md)";
+    for (const char* flag : {"--checkpoint", "--resume"}) {
+      const CLI::Option* o = c->app->get_option_no_throw(flag);
+      if (o && o->count())  // every rank would need its own checkpoint of its columns
+        return std::string(flag) + " does not run under mpirun yet (band schedules do not checkpoint; docs/resume.md)";
+    }
   }
   return "";
 }
@@ -79,8 +85,12 @@ int main(int argc, char** argv) {
   }
   gdp::cleanup::install_signal_handlers();
   try {
-    for (auto& c : commands)
-      if (c->app->parsed()) return c->run();
+    for (auto& c : commands) {
+      if (!c->app->parsed()) continue;
+      const int code = c->run();
+      if (code == 0) gdp::cli::finish_checkpoint();  // the output is committed: its checkpoint is spent
+      return code;
+    }
   } catch (const gdp::Error& e) {
     // Under mpirun a rank that fails alone ends them all (the others may be waiting for it);
     // an error every rank saw in the collective check is printed once, by rank 0.
