@@ -10,7 +10,7 @@ shift || true
 codecs=("$@")
 [ ${#codecs[@]} -gt 0 ] || codecs=(png tiff jpeg exr fits)
 if ! command -v clang++-14 > /dev/null; then
-  echo "fuzz.sh: clang++-14 is missing (scripts/install-deps.sh installs it)" >&2
+  echo "fuzz.sh: needs clang++-14 and libFuzzer: apt-get install clang-14 libclang-rt-14-dev" >&2
   exit 2
 fi
 launcher=()
