@@ -216,10 +216,11 @@ TEST_F(FaultCampaign, FullDisks) {
   }
 }
 
-// SIGKILL to one rank of `mpirun -np 2 gdp sharpen` at seeded random moments: the job ends (no
-// hang: mpirun runs under `timeout`, status 124) with a non-zero status and Open MPI's line naming
-// the rank and the signal, and no output. A killed rank 1 leaves nothing; rank 0, which writes
-// the output, cannot remove its temporary when killed, and the next run writing that output does.
+// SIGKILL to one rank of `mpirun -np 2 gdp sharpen` at seeded random moments of its solve: the job
+// ends (no hang: mpirun runs under `timeout`, status 124) with a non-zero status and Open MPI's line
+// naming the rank and the signal, and leaves no output, temporary or scratch file. For rank 0,
+// which writes the output, the next run writing it also succeeds and leaves nothing (a temporary
+// a SIGKILL leaves while it writes goes with that run: TempOutput.KilledRunsTemporaryGoesWithTheNextRun).
 TEST_F(FaultCampaign, RankDeathUnderMpirun) {
   if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes here: rank death not tried";
   write_image(path("big.tif"), test::random_image(400, 300, 3, 2), {});
@@ -250,7 +251,7 @@ TEST_F(FaultCampaign, RankDeathUnderMpirun) {
     EXPECT_NE(r.err.find("rank " + std::to_string(rank)), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out.tif")));
-    if (rank == 0) {  // its temporary stays until the next run writing out.tif removes it
+    if (rank == 0) {  // the next run writing out.tif
       write_image(path("small.tif"), test::random_image(16, 16, 1, 3), {});
       const test::CliRun next = gdp("convert " + path("small.tif") + " -o " + path("out.tif"));
       EXPECT_EQ(next.code, 0) << next.err;

@@ -42,7 +42,7 @@ TEST(FuzzFindings, EachReadsOrIsAnInputErrorNamingTheFile) {
       EXPECT_EQ(std::string(e.what()).rfind(entry.path().string() + ": ", 0), 0u) << e.what();
     }
   }
-  EXPECT_EQ(files, 3);
+  EXPECT_EQ(files, 4);
 }
 
 // A FITS file whose first HDU is no image: cfitsio's open fails but leaves the file open; gdp
@@ -79,6 +79,18 @@ TEST(FuzzFindings, GeoTiffTagsOfAnotherTypeAreIgnored) {
   fs::remove(path);
   ASSERT_EQ(pages.size(), 1u);
   EXPECT_FALSE(pages[0].geo.has_value());
+}
+
+// A tiled TIFF of a few pixels whose tiles are declared huge: the tile buffer (allocated and
+// zeroed before any pixel is read) took gigabytes. Tiles over 64 MB are refused now.
+TEST(FuzzFindings, HugeTiffTilesAreRefusedBeforeTheyAreAllocated) {
+  const fs::path file = kFindings + "tiff-huge-tiles.fuzz";
+  try {
+    read_image(file);
+    ADD_FAILURE() << "read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tiles of "), std::string::npos) << e.what();
+  }
 }
 
 // libpng allocates a text chunk as long as its header says (Debian's libpng only warns past
