@@ -15,6 +15,15 @@
 
 namespace gdp::test {
 
+// mpirun as the tests start it; `timeout` turns a hang into a failure (exit status 124).
+inline const std::string kMpirun = "timeout 60 mpirun --oversubscribe --allow-run-as-root";
+
+// True when mpirun can start 2 processes here (MPI tests skip otherwise).
+inline bool mpirun_works() {
+  static const bool works = std::system((kMpirun + " -np 2 true > /dev/null 2>&1").c_str()) == 0;
+  return works;
+}
+
 struct CliRun {
   int code = -1;
   std::string err;

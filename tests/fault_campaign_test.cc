@@ -1,10 +1,10 @@
 // The fault campaign on the gdp tool (small images): bad inputs and options, every codec's files cut
-// at many offsets, signals at random moments, full disks. Each case: exit status, one line naming
-// the file or option, no output or temporary left. Seeded, so every run tries the same cases.
+// at many offsets, signals at random moments, full disks, a rank killed under mpirun (decoder
+// mutations: decoder_mutation_test.cc). Each case: exit status, one line naming the file or option,
+// no output or temporary left. Seeded, so every run tries the same cases.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
-#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstdio>
@@ -17,10 +17,7 @@
 #include <vector>
 
 #include "cli_fixture.h"
-#include "gdp/errors.h"
 #include "gdp/image_io.h"
-#include "gdp/image_stream.h"
-#include "gdp/size_check.h"
 #include "test_util.h"
 
 namespace fs = std::filesystem;
@@ -219,63 +216,51 @@ TEST_F(FaultCampaign, FullDisks) {
   }
 }
 
-// A seeded mutation loop over every decoder (bit flips, byte runs, cuts, duplicated and deleted
-// spans of a valid file), for GDP_FUZZ_SECONDS per codec (default 1): each mutant reads whole or
-// is an InputError naming the file; never another exception, a crash or a hang.
-TEST_F(FaultCampaign, DecoderFuzz) {
-  const char* env = std::getenv("GDP_FUZZ_SECONDS");
-  const double seconds = env ? std::atof(env) : 1.0;
-  const Image image = test::random_image(40, 24, 3, 9);
-  const std::vector<std::pair<std::string, WriteOptions>> seeds = {
-      {"f.png", {}},
-      {"f.jpg", {}},
-      {"f.tif", WriteOptions{SampleType::UInt8, 95, false, "zip", 256}},
-      {"t.tif", WriteOptions{SampleType::UInt16, 95, true, "lzw", 16}},
-      {"p.tif", WriteOptions{SampleType::Float, 95, false, "packbits", 256}},
-      {"f.exr", {}},
-      {"z.exr", WriteOptions{SampleType::Half, 95, false, "zip", 256}},
-      {"t.exr", WriteOptions{SampleType::Half, 95, true, "dwaa", 16}}};
-  set_size_check([](long long w, long long h, int) {  // what the gdp tool does, smaller
-    if (w * h > 1 << 20) throw std::length_error("too many pixels");
-  });
-  std::mt19937 random(5);
-  for (const auto& [name, options] : seeds) {
-    write_image(path(name), image, options);
-    std::ifstream f(path(name), std::ios::binary);
-    const std::string whole(std::istreambuf_iterator<char>(f), {});
-    const std::string mutant_path = path("mutant_" + name);
-    int runs = 0, read_whole = 0;
-    const auto start = std::chrono::steady_clock::now();
-    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds) {
-      std::string m = whole;
-      for (int edits = 1 + random() % 4; edits > 0; --edits) {
-        const std::size_t at = random() % m.size(), span = 1 + random() % 16;
-        switch (random() % 5) {
-          case 0: m[at] ^= static_cast<char>(1 << (random() % 8)); break;
-          case 1: m.replace(at, std::min(span, m.size() - at), span, static_cast<char>(random())); break;
-          case 2: m.resize(std::max<std::size_t>(1, at)); break;
-          case 3: m.insert(at, m.substr(at, span)); break;
-          default: m.erase(at, std::min(span, m.size() - at - (at + 1 < m.size() ? 0 : 1)));
-        }
-        if (m.empty()) m = "x";
-      }
-      std::ofstream(mutant_path, std::ios::binary) << m;
-      ++runs;
-      try {
-        ImageFileReader reader(mutant_path, runs % 2 == 0);
-        std::vector<float> row(static_cast<std::size_t>(reader.width()) * reader.channels());
-        for (int y = 0; y < reader.height(); ++y) reader.read_row(y, row);
-        ++read_whole;
-      } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind(mutant_path + ": ", 0), 0u) << e.what();
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << name << " mutant " << runs << ": not an InputError: " << e.what();
-      }
+// SIGKILL to one rank of `mpirun -np 2 gdp sharpen` at seeded random moments of its solve: the job
+// ends (no hang: mpirun runs under `timeout`, status 124) with a non-zero status and Open MPI's line
+// naming the rank and the signal, and leaves no output, temporary or scratch file. For rank 0,
+// which writes the output, the next run writing it also succeeds and leaves nothing (a temporary
+// a SIGKILL leaves while it writes goes with that run: TempOutput.KilledRunsTemporaryGoesWithTheNextRun).
+TEST_F(FaultCampaign, RankDeathUnderMpirun) {
+  if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes here: rank death not tried";
+  write_image(path("big.tif"), test::random_image(400, 300, 3, 2), {});
+  const fs::path ctl = fs::temp_directory_path() / ("gdp_rank_death_" + std::to_string(::getpid()));
+  fs::create_directories(ctl);
+  const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("big.tif") + " -o " + path("out.tif") +
+                          " --bands 1 --vcycles 400 -q --temp " + dir_.string();
+  // The victim rank says its PID, then becomes gdp (exec keeps the PID).
+  std::ofstream(ctl / "victim.sh") << "echo $$ > " << (ctl / "rank.pid").string() << "\nexec " << run << "\n";
+  const std::set<std::string> before = files();
+  std::mt19937 random(23);
+  for (int i = 0; i < 4; ++i) {
+    const int rank = i == 3 ? 0 : 1;
+    const double seconds = 0.2 + (random() % 600) / 1000.0;
+    const std::string victim = "-np 1 sh " + (ctl / "victim.sh").string(), other = "-np 1 " + run;
+    std::ofstream(ctl / "kill.sh") << "rm -f " << (ctl / "rank.pid").string() << "\n"
+                                   << test::kMpirun << " " << (rank == 0 ? victim + " : " + other : other + " : " + victim)
+                                   << " & job=$!\n"
+                                   << "for i in $(seq 6000); do [ -s " << (ctl / "rank.pid").string()
+                                   << " ] && break; sleep 0.01; done\n"
+                                   << "sleep " << seconds << "; kill -KILL $(cat " << (ctl / "rank.pid").string()
+                                   << ")\nwait $job\n";
+    SCOPED_TRACE("rank " + std::to_string(rank) + " killed " + std::to_string(seconds) + " s after it started");
+    ++cases_;
+    const test::CliRun r = run_capturing_stderr("bash " + (ctl / "kill.sh").string());
+    EXPECT_NE(r.code, 0) << r.err;
+    EXPECT_NE(r.code, 124) << "timed out: the job hung after a rank died\n" << r.err;
+    EXPECT_NE(r.err.find("rank " + std::to_string(rank)), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("signal 9"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.tif")));
+    if (rank == 0) {  // the next run writing out.tif
+      write_image(path("small.tif"), test::random_image(16, 16, 1, 3), {});
+      const test::CliRun next = gdp("convert " + path("small.tif") + " -o " + path("out.tif"));
+      EXPECT_EQ(next.code, 0) << next.err;
+      fs::remove(path("out.tif"));
+      fs::remove(path("small.tif"));
     }
-    cases_ += runs;
-    std::printf("[ campaign ] fuzz %s: %d mutants, %d read whole\n", name.c_str(), runs, read_whole);
+    EXPECT_EQ(files(), before) << "no output, temporary or scratch file may remain";
   }
-  set_size_check(nullptr);
+  fs::remove_all(ctl);
 }
 
 }  // namespace

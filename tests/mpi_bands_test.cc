@@ -13,20 +13,13 @@
 namespace gdp {
 namespace {
 
-// mpirun as these tests start it; `timeout` turns a hang into a failure (exit status 124).
-const std::string kMpirun = "timeout 60 mpirun --oversubscribe --allow-run-as-root";
-
-bool mpirun_works() {
-  static const bool works =
-      std::system((kMpirun + " -np 2 true > /dev/null 2>&1").c_str()) == 0;
-  return works;
-}
+using test::kMpirun;
 
 class MpiBands : public test::CliFixture {
  protected:
   void SetUp() override {
     CliFixture::SetUp();
-    if (!mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes here: MPI tests skipped";
+    if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes here: MPI tests skipped";
     // A stitching-like problem: smooth content with offsets between regions, and some noise.
     Image im = test::cosine_image(320, 96, 2, 1);
     for (int y = 0; y < im.height; ++y)

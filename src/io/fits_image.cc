@@ -40,8 +40,8 @@ std::string fits_error(int status) {
 FitsImage::FitsImage(const std::string& path) : file_(std::make_unique<File>()) {
   int status = 0;
   // fits_open_image moves past an empty primary HDU to the first image extension.
+  // On failure the handle may be open all the same (an HDU that is not an image): ~File closes it.
   if (fits_open_image(&file_->f, path.c_str(), READONLY, &status)) {
-    file_->f = nullptr;
     throw CodecError("cannot read FITS: " + fits_error(status));
   }
   int equivalent = 0, bitpix = 0, naxis = 0;

@@ -91,6 +91,10 @@ class PngDecoder final : public Decoder {
     if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
     // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.
     png_set_user_limits(s_.png, 0x7fffffff, 0x7fffffff);
+    // Chunks gdp does not use and libpng would allocate whole, as long as their header says (a
+    // 93-byte file whose text chunk claimed 1.5 GB made it allocate that), are skipped unread.
+    static const png_byte unused[] = "tEXt\0zTXt\0iTXt\0iCCP\0sPLT\0eXIf\0pCAL\0sCAL";
+    png_set_keep_unknown_chunks(s_.png, PNG_HANDLE_CHUNK_NEVER, unused, 8);
     if (!guarded_header(&s_)) throw error();
     check_image_size(png_get_image_width(s_.png, s_.info), png_get_image_height(s_.png, s_.info),
                      expanded_channels(&s_));

@@ -19,6 +19,7 @@ std::atomic<long> tiles_decoded{0};
 // Separate-plane strips are decoded whole (one cached per plane); above this many bytes for all
 // planes together the file is left to OpenImageIO instead.
 constexpr std::size_t kMaxPlaneStripBytes = std::size_t{64} << 20;
+constexpr std::uint64_t kMaxTileBytes = std::uint64_t{64} << 20;  // one tile's bytes
 
 class TiffDecoder final : public Decoder {
  public:
@@ -69,9 +70,15 @@ class TiffDecoder final : public Decoder {
       TIFFGetField(tif_, TIFFTAG_TILEWIDTH, &tw);
       TIFFGetField(tif_, TIFFTAG_TILELENGTH, &th);
       if (tw == 0 || th == 0) return false;
+      // The header's tile size is allocated (and zeroed) before any pixel is read: a tiny file
+      // declaring 65536x65536 tiles took gigabytes. Real tiles are far below this bound.
+      const std::uint64_t tile = TIFFTileSize64(tif_);
+      if (tile == 0 || tile > kMaxTileBytes)
+        throw CodecError(fmt::format("tiles of {}x{} ({} bytes each) are not what gdp reads (at most {} MB)", tw, th,
+                                     tile, kMaxTileBytes >> 20));
       layout_.tile_width = static_cast<int>(tw);
       layout_.tile_height = static_cast<int>(th);
-      chunk_.resize(static_cast<std::size_t>(TIFFTileSize(tif_)));
+      chunk_.resize(static_cast<std::size_t>(tile));
     } else if (planar_) {
       std::uint32_t rows = 0;
       TIFFGetFieldDefaulted(tif_, TIFFTAG_ROWSPERSTRIP, &rows);

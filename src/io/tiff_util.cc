@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include <Imath/half.h>
+
 #include "io/codec_util.h"
 
 namespace gdp::io {
@@ -67,9 +69,9 @@ void tiff_to_band(SampleType kind, const unsigned char* src, std::size_t src_ste
     }
     case SampleType::Half:
       for (std::size_t i = 0; i < count; ++i) {
-        _Float16 h;  // as the row stores convert halves (exact to float)
-        std::memcpy(&h, src + i * src_step * 2, 2);
-        const float f = h;
+        std::uint16_t bits;  // Imath's half, not _Float16: clang before 15 (the fuzz build) lacks it on x86
+        std::memcpy(&bits, src + i * src_step * 2, 2);
+        const float f = Imath::half(Imath::half::FromBits, bits);
         std::memcpy(dst + i * dst_step * 4, &f, 4);
       }
       return;
