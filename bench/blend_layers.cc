@@ -4,7 +4,8 @@
 //   blend_layers cut PHOTO OUTDIR [--size WxH] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
 //       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size)
 //   blend_layers tiles PHOTO OUTDIR [--tile T] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
-//       writes OUTDIR/tile_NNNNN.tif (T x T nona-style layers, no wavy edges: a microscopy slide's tiles)
+//       writes OUTDIR/tile_NNNNN.tif (T x T layers with XPOSITION/YPOSITION but no canvas tags, no
+//       wavy edges: a microscopy slide's tiles)
 //       and OUTDIR/tiles.txt (a --layers list: file x y); the photo is repeated mirrored at its own
 //       resolution, so any canvas size is cut without holding it
 //   blend_layers error BLENDED ORIGINAL
@@ -89,8 +90,10 @@ void write_layer(const std::string& path, const std::vector<unsigned char>& rgba
   TIFFSetField(t, TIFFTAG_YRESOLUTION, resolution);
   TIFFSetField(t, TIFFTAG_XPOSITION, x / resolution);
   TIFFSetField(t, TIFFTAG_YPOSITION, y / resolution);
-  TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLWIDTH, canvas_w);
-  TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLLENGTH, canvas_h);
+  if (canvas_w > 0) {  // 0: no canvas tags (tiles: a subset of the list is a canvas of its own)
+    TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLWIDTH, canvas_w);
+    TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLLENGTH, canvas_h);
+  }
   for (int r = 0; r < h; ++r)
     check(TIFFWriteScanline(t, const_cast<unsigned char*>(rgba.data()) + static_cast<std::size_t>(r) * w * 4, r) >= 0,
           "cannot write " + path);
@@ -167,7 +170,7 @@ void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
           p[3] = 255;
         }
       const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
-      write_layer(name, rgba, t, t, x0, y0, W, H);
+      write_layer(name, rgba, t, t, x0, y0, 0, 0);
       std::fprintf(list, "%s %d %d\n", name.c_str(), x0, y0);
     }
   std::fclose(list);

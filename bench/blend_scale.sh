@@ -4,9 +4,11 @@
 #
 #   bench/blend_scale.sh [height|tiles|big|all (height tiles)] [PHOTO]
 #
-#   height: an 8192-wide canvas (-f) 8192 and 32768 rows tall, 4 layers across (2560 px, 25 % overlap)
-#   tiles:  512x512 tiles, 10 % overlap, 25 across and 10, 20, 40, 80 down (250 ... 2000 tiles),
-#           given as a --layers list as a microscope's stage positions would be; least-squares slope
+#   height: a WIDTH-wide canvas (-f; WIDTH=8192 unless set) WIDTH and 4 x WIDTH rows tall, 4 layers
+#           across (WIDTH x 5/16 pixels, 25 % overlap)
+#   tiles:  TILE x TILE tiles (TILE=512 unless set), 10 % overlap, 25 across and 10, 20, 40, 80 down
+#           (250 ... 2000 tiles), given as a --layers list as a microscope's stage positions would
+#           be (no canvas tags: each subset is a canvas of its own); least-squares slope
 #   big:    65536x40000 (past 2^31 pixels) of 4096-pixel layers to BigTIFF
 # Layers are cut from PHOTO (default: NASA's Blue Marble in ../shared/data) repeated mirrored at its
 # own resolution, each with an exposure offset (up to +-20/255) and a 10 % falloff to its corners.
@@ -42,17 +44,18 @@ run() {
 height() {
   local d=$dir/height
   mkdir -p "$d"
-  [ -f "$d/tiles.txt" ] || "$cutter" tiles "$photo" "$d" --tile 2560 --grid 4x17 --overlap 0.25 --offset 20 --vignette 0.1 --seed 3
-  head -n 20 "$d/tiles.txt" > "$d/short.txt"  # the rows of layers that reach into the first 8192 rows
-  run h8192 "$d/short.txt" -f 8192x8192
-  run h32768 "$d/tiles.txt" -f 8192x32768
+  local w=${WIDTH:-8192}
+  [ -f "$d/tiles.txt" ] || "$cutter" tiles "$photo" "$d" --tile $((w * 5 / 16)) --grid 4x17 --overlap 0.25 --offset 20 --vignette 0.1 --seed 3
+  head -n 20 "$d/tiles.txt" > "$d/short.txt"  # the rows of layers that reach into the first WIDTH rows
+  run "h$w" "$d/short.txt" -f "${w}x${w}"
+  run "h$((4 * w))" "$d/tiles.txt" -f "${w}x$((4 * w))"
   rm -rf "$d"
 }
 
 tiles() {
   local d=$dir/tiles
   mkdir -p "$d"
-  [ -f "$d/tiles.txt" ] || "$cutter" tiles "$photo" "$d" --tile 512 --grid 25x80 --overlap 0.1 --offset 20 --vignette 0.1 --seed 5
+  [ -f "$d/tiles.txt" ] || "$cutter" tiles "$photo" "$d" --tile "${TILE:-512}" --grid 25x80 --overlap 0.1 --offset 20 --vignette 0.1 --seed 5
   : > "$dir/fit"
   for n in 250 500 1000 2000; do
     head -n "$n" "$d/tiles.txt" > "$d/first_$n.txt"

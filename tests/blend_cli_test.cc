@@ -85,10 +85,10 @@ TEST_F(BlendCli, PinAndWeightsByLayerOrImage) {
   write_layers();
   const std::string layers = " " + path("l0.tif") + " " + path("l1.tif");
   ASSERT_EQ(gdp("blend -q --pin 2 --tolerance 1e-6 --depth float -o " + path("pin.tif") + layers).code, 0);
-  ASSERT_EQ(gdp("blend -q --weights 1,0 --depth float -o " + path("w.tif") + layers).code, 0);
+  ASSERT_EQ(gdp("blend -q --weights 1e-6,0 --depth float -o " + path("w.tif") + layers).code, 0);
   const Image pinned = read_image(path("pin.tif")).image, weighted = read_image(path("w.tif")).image;
   const Image l1 = read_image(path("l1.tif")).image;
-  // Layer 2 (x >= 45 by depth) keeps its values; with weights 1, 0 all take layer 1's level: its
+  // Layer 2 (x >= 45 by depth) keeps its values; with weights 1e-6, 0 all take layer 1's level: its
   // value at x = 10 and layer 2's shifted down by its +0.1 (8-bit: within 1.5/255 of each).
   for (int x = 50; x < 90; x += 7) EXPECT_NEAR(pinned.at(0, x, 20), l1.at(0, x - 30, 20), 1e-5) << x;
   EXPECT_NEAR(weighted.at(0, 70, 20), l1.at(0, 40, 20) - 0.1f, 1.5 / 255) << "levelled to layer 1";

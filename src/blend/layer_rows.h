@@ -40,7 +40,8 @@ class LayerRows {
 
  private:
   Footprint where_;
-  int channels_ = 0, colour_ = 0, own_ = 0, next_ = 0;  // own_: the layer's own colour channels  // next_: the next row of the layer itself
+  int channels_ = 0, colour_ = 0, next_ = 0;
+  int own_ = 0;  // the layer's own colour channels (1: grey, promoted when colour_ is 3)  // next_: the next row of the layer itself
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;
   std::vector<float> row_, mask_row_;

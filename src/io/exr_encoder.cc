@@ -77,7 +77,8 @@ class ExrEncoder final : public Encoder {
     Imf::Header header(spec.width, spec.height);
     if (spec.frame) {  // the data window where it lies in the display window (a cropped layer)
       const FramePlacement& f = *spec.frame;
-      header.displayWindow() = Imath::Box2i({f.frame_x, f.frame_y}, {f.frame_x + f.frame_width - 1, f.frame_y + f.frame_height - 1});
+      header.displayWindow() =
+          Imath::Box2i({f.frame_x, f.frame_y}, {f.frame_x + f.frame_width - 1, f.frame_y + f.frame_height - 1});
       header.dataWindow() = Imath::Box2i({f.x, f.y}, {f.x + spec.width - 1, f.y + spec.height - 1});
       origin_x_ = f.x;
       origin_y_ = f.y;
