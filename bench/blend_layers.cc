@@ -5,6 +5,11 @@
 //                    [--ghosts N]
 //       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size);
 //       --ghosts: N moving objects per layer (discs of one colour) near its edges, in the overlaps
+//   blend_layers tiles PHOTO OUTDIR [--tile T] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
+//       writes OUTDIR/tile_NNNNN.tif (T x T layers with XPOSITION/YPOSITION but no canvas tags, no
+//       wavy edges: a microscopy slide's tiles)
+//       and OUTDIR/tiles.txt (a --layers list: file x y); the photo is repeated mirrored at its own
+//       resolution, so any canvas size is cut without holding it
 //   blend_layers error BLENDED ORIGINAL
 //       prints the RMS colour error (per value, 0..1) over the blend's covered pixels, each channel's
 //       mean difference removed, and the largest such error
@@ -32,6 +37,16 @@ struct Cut {
   double overlap = 0.2, offset = 40.0 / 255.0, vignette = 0.3;
   unsigned seed = 1;
   int ghosts = 0;
+  int tile = 0;  // tiles: the tile size (the canvas follows from grid and overlap)
+};
+
+// A tile's exposure: a brightness offset and a falloff towards its corners.
+struct Exposure {
+  double shift = 0.0, vignette = 0.0;
+  double at(double value, int x, int y, int w, int h) const {
+    const double u = (x + 0.5) / w - 0.5, v = (y + 0.5) / h - 0.5;
+    return value * (1.0 - vignette * 2.0 * (u * u + v * v)) + shift;
+  }
 };
 
 // A moving object: a disc of one colour that only one layer saw.
@@ -98,8 +113,10 @@ void write_layer(const std::string& path, const std::vector<unsigned char>& rgba
   TIFFSetField(t, TIFFTAG_YRESOLUTION, resolution);
   TIFFSetField(t, TIFFTAG_XPOSITION, x / resolution);
   TIFFSetField(t, TIFFTAG_YPOSITION, y / resolution);
-  TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLWIDTH, canvas_w);
-  TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLLENGTH, canvas_h);
+  if (canvas_w > 0) {  // 0: no canvas tags (tiles: a subset of the list is a canvas of its own)
+    TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLWIDTH, canvas_w);
+    TIFFSetField(t, TIFFTAG_PIXAR_IMAGEFULLLENGTH, canvas_h);
+  }
   for (int r = 0; r < h; ++r)
     check(TIFFWriteScanline(t, const_cast<unsigned char*>(rgba.data()) + static_cast<std::size_t>(r) * w * 4, r) >= 0,
           "cannot write " + path);
@@ -131,13 +148,11 @@ void cut(const std::string& photo, const std::string& dir, const Cut& o) {
       const std::vector<Ghost> ghosts = ghosts_of(o, w, h, rng);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-          const double u = (x + 0.5) / w - 0.5, v = (y + 0.5) / h - 0.5;
-          const double fall = 1.0 - o.vignette * 2.0 * (u * u + v * v);
           const double wx = margin * (1.0 + std::sin(0.02 * y + phase)), wy = margin * (1.0 + std::sin(0.02 * x - phase));
           const bool inside = std::min(x, w - 1 - x) >= wx && std::min(y, h - 1 - y) >= wy;
           unsigned char* p = rgba.data() + (static_cast<std::size_t>(y) * w + x) * 4;
           for (int ch = 0; ch < 3; ++ch) {
-            double value = img.at(ch, x0 + x, y0 + y) * fall + shift;
+            double value = Exposure{shift, o.vignette}.at(img.at(ch, x0 + x, y0 + y), x, y, w, h);
             for (const Ghost& g : ghosts)
               if ((x - g.x) * (x - g.x) + (y - g.y) * (y - g.y) < g.r * g.r) value = g.colour[ch];
             p[ch] = inside ? static_cast<unsigned char>(std::clamp(value, 0.0, 1.0) * 255.0 + 0.5) : 0;
@@ -146,6 +161,46 @@ void cut(const std::string& photo, const std::string& dir, const Cut& o) {
         }
       write_layer(fmt::format("{}/layer_{:02d}.tif", dir, n), rgba, w, h, x0, y0, W, H);
     }
+}
+
+// Mirrored repetition of the photo: canvas pixel (x, y) of an unbounded canvas.
+float mirrored(const Image& img, int c, long long x, long long y) {
+  const auto fold = [](long long v, int n) {
+    const long long m = v % (2LL * n);
+    return static_cast<int>(m < n ? m : 2LL * n - 1 - m);
+  };
+  return img.at(c, fold(x, img.width), fold(y, img.height));
+}
+
+void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
+  const Image img = gdp::read_image(photo).image;
+  check(img.channels >= 3, "the photo must be RGB");
+  const int t = o.tile;
+  const double step = t * (1.0 - o.overlap);
+  const int W = static_cast<int>(std::lround((o.cols - 1) * step)) + t, H = static_cast<int>(std::lround((o.rows - 1) * step)) + t;
+  std::mt19937 rng(o.seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::FILE* list = std::fopen((dir + "/tiles.txt").c_str(), "w");
+  check(list != nullptr, "cannot create " + dir + "/tiles.txt");
+  std::vector<unsigned char> rgba(static_cast<std::size_t>(t) * t * 4);
+  for (int r = 0, n = 0; r < o.rows; ++r)
+    for (int c = 0; c < o.cols; ++c, ++n) {
+      const int x0 = static_cast<int>(std::lround(c * step)), y0 = static_cast<int>(std::lround(r * step));
+      const Exposure e{o.offset * uniform(rng), o.vignette};
+      for (int y = 0; y < t; ++y)
+        for (int x = 0; x < t; ++x) {
+          unsigned char* p = rgba.data() + (static_cast<std::size_t>(y) * t + x) * 4;
+          for (int ch = 0; ch < 3; ++ch)
+            p[ch] = static_cast<unsigned char>(
+                std::clamp(e.at(mirrored(img, ch, x0 + x, y0 + y), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
+          p[3] = 255;
+        }
+      const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
+      write_layer(name, rgba, t, t, x0, y0, 0, 0);
+      std::fprintf(list, "%s %d %d\n", name.c_str(), x0, y0);
+    }
+  std::fclose(list);
+  std::printf("%d tiles of %dx%d, canvas %dx%d\n", o.cols * o.rows, t, t, W, H);
 }
 
 void error(const std::string& blended, const std::string& original) {
@@ -183,8 +238,8 @@ int main(int argc, char** argv) {
       error(a[1], a[2]);
       return 0;
     }
-    if (a.size() < 3 || a[0] != "cut") {
-      std::fprintf(stderr, "usage: blend_layers cut PHOTO OUTDIR [options] | blend_layers error BLENDED ORIGINAL\n");
+    if (a.size() < 3 || (a[0] != "cut" && a[0] != "tiles")) {
+      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers error BLENDED ORIGINAL\n");
       return 2;
     }
     Cut o;
@@ -196,11 +251,17 @@ int main(int argc, char** argv) {
       else if (k == "--overlap") o.overlap = std::stod(v);
       else if (k == "--offset") o.offset = std::stod(v) / 255.0;
       else if (k == "--vignette") o.vignette = std::stod(v);
+      else if (k == "--tile") o.tile = std::stoi(v);
       else if (k == "--seed") o.seed = static_cast<unsigned>(std::stoul(v));
       else if (k == "--ghosts") o.ghosts = std::stoi(v);
       else throw std::runtime_error("unknown option " + k);
     }
-    cut(a[1], a[2], o);
+    if (a[0] == "tiles") {
+      if (o.tile < 1) o.tile = 512;
+      tiles(a[1], a[2], o);
+    } else {
+      cut(a[1], a[2], o);
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "blend_layers: %s\n", e.what());
     return 1;

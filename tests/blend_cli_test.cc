@@ -80,6 +80,28 @@ TEST_F(BlendCli, CanvasWithAnOffsetCropsAndGdpBlendIsBlend) {
   EXPECT_EQ(out.info.sample_type, SampleType::UInt16);
 }
 
+// --pin and --weights by layer number, or as images of the canvas's size (as gdp stitch's).
+TEST_F(BlendCli, PinAndWeightsByLayerOrImage) {
+  write_layers();
+  const std::string layers = " " + path("l0.tif") + " " + path("l1.tif");
+  ASSERT_EQ(gdp("blend -q --pin 2 --tolerance 1e-6 --depth float -o " + path("pin.tif") + layers).code, 0);
+  ASSERT_EQ(gdp("blend -q --weights 1e-6,0 --depth float -o " + path("w.tif") + layers).code, 0);
+  const Image pinned = read_image(path("pin.tif")).image, weighted = read_image(path("w.tif")).image;
+  const Image l1 = read_image(path("l1.tif")).image;
+  // Layer 2 (x >= 45 by depth) keeps its values; with weights 1e-6, 0 all take layer 1's level: its
+  // value at x = 10 and layer 2's shifted down by its +0.1 (8-bit: within 1.5/255 of each).
+  for (int x = 50; x < 90; x += 7) EXPECT_NEAR(pinned.at(0, x, 20), l1.at(0, x - 30, 20), 1e-5) << x;
+  EXPECT_NEAR(weighted.at(0, 70, 20), l1.at(0, 40, 20) - 0.1f, 1.5 / 255) << "levelled to layer 1";
+  Image mask(90, 40, 1, 0.0f);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 60; x < 90; ++x) mask.at(0, x, y) = 1.0f;
+  write_image(path("mask.png"), mask, {});
+  ASSERT_EQ(gdp("blend -q --pin " + path("mask.png") + " --tolerance 1e-6 --depth float -o " + path("m.tif") + layers).code, 0);
+  EXPECT_NEAR(read_image(path("m.tif")).image.at(0, 80, 20), l1.at(0, 50, 20), 1e-5);
+  expect_failure("blend --weights 1,2,3 -o " + path("o.tif") + layers, "--weights");
+  expect_failure("blend --pin " + path("l0.tif") + " -o " + path("o.tif") + layers, "l0.tif");  // 60x40, not the canvas
+}
+
 // Under mpirun every rank finds the seams and solves its own columns; rank 0 writes the file.
 TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
   const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
@@ -97,9 +119,10 @@ TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
 TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {
   write_layers();
   expect_failure("blend -o " + path("o.tif"), "no layers");
-  Image grey(20, 20, 1, 0.5f);
+  Image grey(20, 20, 1, 0.5f), five(20, 20, 5, 0.5f);
   write_image(path("grey.png"), grey, {});
-  expect_failure("blend -o " + path("o.tif") + " " + path("l0.tif") + " " + path("grey.png"), "grey.png");
+  write_image(path("five.tif"), five, {});
+  expect_failure("blend -o " + path("o.tif") + " " + path("l0.tif") + " " + path("five.tif"), "five.tif");
   expect_failure("blend -f10x10+500+500 -o " + path("o.tif") + " " + path("l0.tif"), "wholly outside");
   Image small(10, 10, 1, 1.0f);
   write_image(path("small.png"), small, {});

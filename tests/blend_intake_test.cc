@@ -180,7 +180,13 @@ TEST_F(BlendIntake, CanvasRules) {
   BlendOptions f;
   f.canvas = CanvasRect{100, 100, 50, 50};
   EXPECT_THROW(plan_blend({ImageLayer{&grey}}, f), InputError);  // wholly outside -f
-  EXPECT_THROW(plan_blend({ImageLayer{&grey}, ImageLayer{&rgb}}, {}), InputError);  // grey and RGB
+  // A grey layer among RGB ones: promoted, its grey in all three channels, with a note.
+  const BlendPlan mixed = plan_blend({ImageLayer{&rgb}, ImageLayer{&grey, nullptr, 10, 0}}, {});
+  EXPECT_EQ(mixed.colour_channels, 3);
+  ASSERT_EQ(mixed.notes.size(), 1u);
+  EXPECT_NE(mixed.notes[0].find("layer 2"), std::string::npos) << mixed.notes[0];
+  const Image promoted = blend({ImageLayer{&rgb}, ImageLayer{&grey, nullptr, 10, 0}}, {}, {});
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(promoted.at(c, 15, 5), 0.5f, 1e-5);
   EXPECT_THROW(plan_blend(std::vector<ImageLayer>{}, {}), UsageError);
   f.canvas = CanvasRect{5, 0, 50, 50};
   const Image cut = blend({ImageLayer{&grey}}, f, {});  // partly outside: its part inside

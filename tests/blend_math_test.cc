@@ -7,6 +7,7 @@
 #include "blend/seam_files.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
+#include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
 
@@ -93,6 +94,62 @@ TEST(BlendMath, AnchorKeepsOneLayerAndLevelsTheRest) {
   const Image out = blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 40, 0}}, options, accurate());
   for (int y = 0; y < 60; ++y)
     for (int x = 0; x < 100; ++x) EXPECT_NEAR(out.at(0, x, y), img.at(0, x, y) + 0.1f, 1e-4) << x << "," << y;
+}
+
+// --pin by layer: pinned layers keep their values exactly, the free layer between them is levelled
+// to its neighbours (not to its own offset).
+TEST(BlendMath, PinnedLayersKeepTheirValues) {
+  const Image img = scene(150, 40);
+  const Image a = crop(img, 0, 0, 60, 40), b = crop(img, 45, 0, 60, 40, 0.3f), c = crop(img, 90, 0, 60, 40, 0.1f);
+  BlendOptions options;
+  options.pinned = {0, 2};
+  SolverOptions solver = accurate();
+  const Image out = blend({ImageLayer{&a, nullptr, 0, 0}, ImageLayer{&b, nullptr, 45, 0}, ImageLayer{&c, nullptr, 90, 0}},
+                          options, solver);
+  // Depth seams: x < 52 takes a (its offset 0), x >= 98 takes c (0.1); b's pixels in between.
+  double pinned = 0.0, free = 0.0;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 150; ++x) {
+      const double d = out.at(0, x, y) - img.at(0, x, y);
+      if (x < 52) pinned = std::max(pinned, std::abs(d));
+      if (x >= 98) pinned = std::max(pinned, std::abs(d - 0.1));
+      if (x >= 53 && x < 97) free = std::max(free, std::abs(d - 0.3));
+    }
+  EXPECT_LT(pinned, 1e-5);
+  EXPECT_GT(free, 0.15);  // b lost its own +0.3: levelled between 0 and 0.1
+  EXPECT_THROW(blend({ImageLayer{&a, nullptr, 0, 0}}, options, solver), UsageError);  // layer 3 of 1
+}
+
+// --weights by layer: layers differing by constants level to the fidelity-weighted mean of their
+// offsets, sum(w_k N_k o_k) / sum(w_k N_k) (N_k: the pixels taking layer k), as the weights go to
+// 0 (w L^2 << 1 for a canvas L pixels across; larger weights hold each layer near its own values
+// over about 1/sqrt(w) pixels from a seam); a weight image of the same weights gives the same result.
+TEST(BlendMath, WeightedLayersLevelToTheWeightedMean) {
+  const Image img = scene(100, 60);
+  const Image a = crop(img, 0, 0, 60, 60), b = crop(img, 40, 0, 60, 60, 0.1f);
+  const std::vector<ImageLayer> layers{{&a, nullptr, 0, 0}, {&b, nullptr, 40, 0}};
+  for (const auto& [wa, wb] : {std::pair{1.0, 3.0}, std::pair{1.0, 0.0}, std::pair{2.0, 1.0}}) {
+    BlendOptions options;
+    options.weights = {1e-7 * wa, 1e-7 * wb};
+    const Image out = blend(layers, options, accurate());
+    const double level = 0.1 * wb / (wa + wb);  // x < 50 takes a, x >= 50 takes b: N_a = N_b
+    double worst = 0.0;
+    for (int y = 0; y < 60; ++y)
+      for (int x = 0; x < 100; ++x) worst = std::max(worst, std::abs(out.at(0, x, y) - img.at(0, x, y) - level));
+    EXPECT_LT(worst, 3e-5) << wa << ", " << wb;
+  }
+  Image weights(100, 60, 1);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 100; ++x) weights.at(0, x, y) = x < 50 ? 1e-7f : 3e-7f;
+  ImageRowReader weight_rows(weights);
+  BlendOptions by_image, by_layer;
+  by_image.fidelity.weights = &weight_rows;
+  by_layer.weights = {1e-7, 3e-7};
+  EXPECT_LT(test::max_difference(blend(layers, by_image, accurate()), blend(layers, by_layer, accurate())), 1e-6);
+  by_layer.weights = {1.0};
+  EXPECT_THROW(blend(layers, by_layer, accurate()), UsageError);
+  by_layer.weights = {1.0, -1.0};
+  EXPECT_THROW(blend(layers, by_layer, accurate()), UsageError);
 }
 
 // --correction: output minus the composite; here the offsets' removal, -0.05 and +0.05.

@@ -60,6 +60,14 @@ struct BlendOptions {
   // >= 0: the pixels that take this layer (0 = the first) keep its values exactly (pinned) and
   // the others level to it; the V-cycles then converge more slowly (use a tolerance).
   int anchor = -1;
+  // Fidelity as gdp stitch's --pin and --weights (docs/weights.md), by layer: the pixels that take
+  // a layer of `pinned` (0 = the first) keep its values, as `anchor`'s; `weights` (empty, or one
+  // per layer, finite and >= 0) pulls the pixels that take each layer towards its values with that
+  // weight (layers differing by constants level to their weighted mean). `fidelity`'s images, of
+  // the canvas's size, add per-pixel weights and pins to these (weights summed).
+  std::vector<int> pinned;
+  std::vector<double> weights;
+  Fidelity fidelity;
   // Optional: also receives the additive correction, output minus the composite of the layers
   // (colour channels, 0 where no layer covers a pixel; committed with the output). The layers
   // are read once more for it.
@@ -88,6 +96,9 @@ struct BlendPlan {
   std::vector<PlacedLayer> layers;
   std::vector<std::string> notes;  // mixed sample types
   std::optional<GeoReference> geo;  // GeoTIFF layers: the canvas's georeference (write it with the output)
+  // The frame the layers' files name: TIFF canvas tags (PIXAR_IMAGEFULLWIDTH/LENGTH, at 0, 0) or
+  // OpenEXR display windows (their union); none when no file names one.
+  std::optional<CanvasRect> frame;
   // Internal: how each layer is opened.
   std::vector<LayerSource> sources;
   std::vector<ImageLayer> images;
@@ -98,6 +109,10 @@ struct BlendPlan {
 // another size, a layer wholly outside the canvas; UsageError for no layers.
 BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions& options);
 BlendPlan plan_blend(const std::vector<ImageLayer>& layers, const BlendOptions& options);
+
+// Where the canvas lies in the layers' frame (the canvas itself when they name none), for an
+// OpenEXR output's data and display windows; nullopt where OpenEXR's 32-bit coordinates cannot hold it.
+std::optional<FramePlacement> frame_placement(const BlendPlan& plan);
 
 struct BlendReport {
   std::vector<std::string> isolated;  // layers that overlap no other: placed as they are

@@ -39,6 +39,14 @@ struct GeoReference {
   std::string ascii_params;             // GeoAsciiParamsTag (34737)
 };
 
+// Where an image lies in a larger frame (OpenEXR's data window in its display window): its
+// top-left pixel at (x, y) in the frame's pixel coordinates (which may be negative), the frame
+// [frame_x, frame_x + frame_width) x [frame_y, frame_y + frame_height).
+struct FramePlacement {
+  int x = 0, y = 0;
+  int frame_x = 0, frame_y = 0, frame_width = 0, frame_height = 0;
+};
+
 struct WriteOptions {
   std::optional<SampleType> sample_type;  // default: Float for tiff/exr/hdr/fits, else UInt8
   int jpeg_quality = 95;                  // 1..100
@@ -48,6 +56,7 @@ struct WriteOptions {
   int tile_size = 256;                    // tile width and height with `tiled`: a positive multiple of 16
   std::string fits_header = {};           // FITS: header cards (80 characters each) to add, e.g. a WCS
   std::optional<GeoReference> geo = std::nullopt;  // TIFF: written as GeoTIFF tags (other formats: ignored)
+  std::optional<FramePlacement> frame = std::nullopt;  // OpenEXR: data and display windows (others: ignored)
 };
 
 // UsageError when `compression` (WriteOptions::compression, --compression) is not one the codec

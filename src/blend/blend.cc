@@ -1,11 +1,13 @@
 // gdp::blend: depth seams over the layers, then stitching of the composite they make, with alpha on the way out.
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 
 #include <fmt/format.h>
 
 #include "blend/canvas_rows.h"
+#include "blend/layer_fidelity.h"
 #include "blend/seam_files.h"
 #include "blend/graphcut_seams.h"
 #include "blend/seams.h"
@@ -66,6 +68,27 @@ class AlphaWriter final : public RowWriter {
   std::vector<float> row_, difference_;
 };
 
+// Per-layer pins (1 for the anchor and the pinned layers) and weights, checked.
+std::vector<float> layer_pins(const BlendOptions& o, int layers) {
+  std::vector<float> pins(layers, 0.0f);
+  if (o.anchor >= layers) throw UsageError(fmt::format("--anchor {}: there are {} layers", o.anchor + 1, layers));
+  if (o.anchor >= 0) pins[o.anchor] = 1.0f;
+  for (const int k : o.pinned) {
+    if (k < 0 || k >= layers) throw UsageError(fmt::format("--pin {}: there are {} layers", k + 1, layers));
+    pins[k] = 1.0f;
+  }
+  return pins;
+}
+
+std::vector<float> layer_weights(const BlendOptions& o, int layers) {
+  if (o.weights.empty()) return {};
+  if (static_cast<int>(o.weights.size()) != layers)
+    throw UsageError(fmt::format("--weights: {} weight(s) for {} layers", o.weights.size(), layers));
+  for (const double w : o.weights)
+    if (!(w >= 0.0) || !std::isfinite(w)) throw UsageError(fmt::format("--weights: {}; weights are finite and >= 0", w));
+  return {o.weights.begin(), o.weights.end()};
+}
+
 Domain domain_of(Wrap wrap) {
   return wrap == Wrap::None ? Domain::Planar : wrap == Wrap::Horizontal ? Domain::Cylindrical : Domain::Spherical;
 }
@@ -76,8 +99,9 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
            BlendReport* report) {
   BlendReport local;
   BlendReport& r = report ? *report : local;
-  if (options.anchor >= static_cast<int>(plan.layers.size()))
-    throw UsageError(fmt::format("--anchor {}: there are {} layers", options.anchor + 1, plan.layers.size()));
+  const int n = static_cast<int>(plan.layers.size());
+  std::vector<float> pins = layer_pins(options, n), weights = layer_weights(options, n);
+  const bool pinned = options.anchor >= 0 || !options.pinned.empty();
   SolverOptions solver = solver_options;
   solver.domain = domain_of(options.wrap);
   solver.validate();
@@ -121,11 +145,16 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   RowReader& l = sphere ? sphere->input(labels, "labels", true) : labels;
   if (across) stitching.across = sphere ? &sphere->input(across_rows, "across") : &across_rows;
   RowWriter& w = sphere ? sphere->output(alpha, plan.colour_channels) : alpha;
-  blending::LabelReader anchor(*seams.labels, options.anchor);
-  Fidelity fidelity;
-  if (options.anchor >= 0) {
-    fidelity.pins = sphere ? &sphere->input(anchor, "anchor", true) : &anchor;
-    fidelity.pins_name = "the anchor layer";
+  Fidelity fidelity = options.fidelity;
+  std::optional<blending::LayerFidelityReader> pin_rows, weight_rows;
+  if (pinned || options.fidelity.pins) {
+    pin_rows.emplace(*seams.labels, pinned ? std::move(pins) : std::vector<float>{}, options.fidelity.pins,
+                     options.fidelity.pins_name, true);
+    fidelity.pins = sphere ? &sphere->input(*pin_rows, "pins", true) : &*pin_rows;
+  }
+  if (!weights.empty() || options.fidelity.weights) {
+    weight_rows.emplace(*seams.labels, std::move(weights), options.fidelity.weights, options.fidelity.weights_name, false);
+    fidelity.weights = sphere ? &sphere->input(*weight_rows, "weights", true) : &*weight_rows;
   }
   stitch(c, l, stitching, solver, w, &r.solve, fidelity);
   w.commit();

@@ -130,11 +130,7 @@ void SweepReader::read_row(int y, std::span<float> out) {
 void LabelReader::read_row(int y, std::span<float> out) {
   const int b = begin_, e = end_ < 0 ? labels_.width() : end_;
   labels_.read_row(y, row_, b, e);
-  if (pin_ >= 0) {
-    for (int x = b; x < e; ++x) out[x] = row_[x] == pin_ + 1 ? 1.0f : 0.0f;
-  } else {
-    for (int x = b; x < e; ++x) out[x] = row_[x] ? -static_cast<float>(row_[x]) : 1.0f;
-  }
+  for (int x = b; x < e; ++x) out[x] = row_[x] ? -static_cast<float>(row_[x]) : 1.0f;
 }
 
 }  // namespace gdp::blending

@@ -67,12 +67,10 @@ class SweepReader final : public RowReader {
 };
 
 // The label plane as a one-channel label map for stitching: 1.0 (white: unknown) where no layer
-// covers a pixel, -(layer + 1) elsewhere. With `pin_layer` >= 0 instead a pin mask: 1 where
-// that layer is taken, 0 elsewhere.
+// covers a pixel, -(layer + 1) elsewhere.
 class LabelReader final : public RowReader {
  public:
-  explicit LabelReader(const LabelPlane& labels, int pin_layer = -1)
-      : labels_(labels), pin_(pin_layer), row_(labels.width()) {}
+  explicit LabelReader(const LabelPlane& labels) : labels_(labels), row_(labels.width()) {}
   int width() const override { return labels_.width(); }
   int height() const override { return labels_.height(); }
   int channels() const override { return 1; }
@@ -85,7 +83,6 @@ class LabelReader final : public RowReader {
 
  private:
   const LabelPlane& labels_;
-  int pin_;
   std::vector<Label> row_;
   int begin_ = 0, end_ = -1;
 };

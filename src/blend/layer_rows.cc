@@ -40,6 +40,7 @@ LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool 
   }
   channels_ = image_->channels();
   colour_ = plan.colour_channels;
+  own_ = colour_channels_of(channels_);
   // The layer's own columns that are wanted: canvas [begin, end) within the footprint.
   const int a = std::max(begin, where_.x0) - where_.x0 + where_.skip_x;
   const int b = std::min(end, where_.x1) - where_.x0 + where_.skip_x;
@@ -59,10 +60,10 @@ void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> co
     image_->read_row(next_, row_);
     if (mask_) mask_->read_row(next_, mask_row_);
   }
-  const bool alpha = channels_ == colour_ + 1;
+  const bool alpha = channels_ == own_ + 1;
   std::fill(covered.begin(), covered.begin() + w, 1);
   for (int c = 0; c < colour_; ++c) {
-    const float* in = row_.data() + static_cast<std::size_t>(c) * lw + where_.skip_x;
+    const float* in = row_.data() + static_cast<std::size_t>(own_ == 1 ? 0 : c) * lw + where_.skip_x;
     float* out = colour.data() + static_cast<std::size_t>(c) * w;
     for (int i = 0; i < w; ++i) {
       out[i] = in[i] + offset_;
@@ -73,7 +74,7 @@ void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> co
     for (int i = 0; i < w; ++i)
       if (!(in[i] * scale >= kCovered)) covered[i] = 0;
   };
-  if (alpha) cover(row_.data() + static_cast<std::size_t>(colour_) * lw + where_.skip_x, 1.0f);
+  if (alpha) cover(row_.data() + static_cast<std::size_t>(own_) * lw + where_.skip_x, 1.0f);
   if (mask_) cover(mask_row_.data() + where_.skip_x, mask_scale_);
 }
 

@@ -19,6 +19,9 @@ struct Footprint {
 };
 Footprint footprint(const BlendPlan& plan, int index);
 
+// The colour channels of a layer of `channels` channels: 2 and 4 end with alpha.
+inline int colour_channels_of(int channels) { return channels == 2 || channels == 4 ? channels - 1 : channels; }
+
 // Coverage threshold of alpha and mask samples.
 inline constexpr float kCovered = 0.5f;
 
@@ -30,13 +33,15 @@ class LayerRows {
   LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch);
   ~LayerRows();
   const Footprint& where() const { return where_; }
-  // Canvas row y in [y0, y1), in increasing order: colour samples (colour channels x width(),
-  // channel-major) and coverage flags (width()), for the footprint's columns.
+  // Canvas row y in [y0, y1), in increasing order: colour samples (the plan's colour channels x
+  // width(), channel-major; a grey layer among RGB ones gives its grey to all three) and coverage
+  // flags (width()), for the footprint's columns.
   void read(int y, std::span<float> colour, std::span<unsigned char> covered);
 
  private:
   Footprint where_;
   int channels_ = 0, colour_ = 0, next_ = 0;  // next_: the next row of the layer itself
+  int own_ = 0;  // the layer's own colour channels (1: grey, promoted when colour_ is 3)
   float offset_ = 0.0f, mask_scale_ = 1.0f;  // LayerSource's
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;

@@ -1,6 +1,7 @@
 // Planning a blend from the layers' headers: pages, placement, canvas, channels and sample type.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <memory>
 
@@ -10,12 +11,49 @@
 #include "gdp/blend.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
+#include "io/exr_windows.h"
 #include "io/tiff_pages.h"
 
 namespace gdp {
 namespace {
 
-int colour_of(int channels) { return channels == 2 || channels == 4 ? channels - 1 : channels; }
+// A layer's placement as its file says: TIFF XPOSITION/YPOSITION and canvas tags, or OpenEXR's
+// data window (its offset) and display window (the frame).
+struct Page {
+  bool positioned = false;
+  long long x = 0, y = 0;
+  std::optional<CanvasRect> frame;
+  std::optional<GeoReference> geo;
+};
+
+// Every page of a file (one for files that are not multi-page TIFFs).
+std::vector<Page> pages_of(const std::string& path) {
+  std::vector<Page> pages;
+  try {
+    for (const io::TiffPage& t : io::tiff_pages(path)) {
+      Page p{t.positioned, t.x, t.y, std::nullopt, t.geo};
+      if (t.full_width > 0 && t.full_height > 0) p.frame = CanvasRect{0, 0, t.full_width, t.full_height};
+      pages.push_back(p);
+    }
+    if (const auto w = io::exr_windows(path))
+      pages.push_back({true, w->data_x, w->data_y, CanvasRect{w->display_x, w->display_y, w->display_width, w->display_height},
+                       std::nullopt});
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+  if (pages.empty()) pages.emplace_back();
+  return pages;
+}
+
+// The smallest rectangle holding both.
+CanvasRect unite(const std::optional<CanvasRect>& a, const CanvasRect& b) {
+  if (!a) return b;
+  const long long x0 = std::min(a->x, b.x), y0 = std::min(a->y, b.y);
+  const long long x1 = std::max(a->x + a->width, b.x + b.width), y1 = std::max(a->y + a->height, b.y + b.height);
+  if (x1 - x0 > (1LL << 31) - 1 || y1 - y0 > (1LL << 31) - 1)
+    throw InputError(fmt::format("the layers span {}x{} pixels, more than a canvas can hold", x1 - x0, y1 - y0));
+  return {x0, y0, static_cast<int>(x1 - x0), static_cast<int>(y1 - y0)};
+}
 
 int rank(SampleType t) {
   switch (t) {
@@ -28,32 +66,25 @@ int rank(SampleType t) {
 
 // Checks channels and fixes the canvas: a layer wholly outside it is an error, one partly outside
 // it (-f cropping, as Hugin asks) is used where it lies inside.
-void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>& channels, int full_w, int full_h) {
+void finish(BlendPlan& plan, const BlendOptions& options, const std::vector<int>& channels) {
   if (plan.layers.empty()) throw UsageError("no layers to blend");
-  plan.colour_channels = colour_of(channels[0]);
-  for (std::size_t k = 1; k < plan.layers.size(); ++k)
-    if (colour_of(channels[k]) != plan.colour_channels)
-      throw InputError(fmt::format("{}: {} colour channel(s), but {} has {}; layers must agree (grey and RGB are "
-                                   "not mixed)",
-                                   plan.layers[k].name, colour_of(channels[k]), plan.layers[0].name,
-                                   plan.colour_channels));
+  // Grey layers among RGB ones are promoted: their grey in all three channels.
+  plan.colour_channels = 1;
+  for (const int c : channels) plan.colour_channels = std::max(plan.colour_channels, blending::colour_channels_of(c));
+  std::vector<std::string> grey;
+  for (std::size_t k = 0; k < plan.layers.size(); ++k)
+    if (blending::colour_channels_of(channels[k]) < plan.colour_channels) grey.push_back(plan.layers[k].name);
+  if (!grey.empty())
+    plan.notes.push_back(fmt::format("{} grey layer(s) among RGB ones, their grey taken for red, green and blue: {}{}",
+                                     grey.size(), grey[0], grey.size() > 1 ? ", ..." : ""));
   if (options.canvas) {
     plan.canvas = *options.canvas;
     if (plan.canvas.width < 1 || plan.canvas.height < 1)
       throw UsageError(fmt::format("canvas {}x{} is empty", plan.canvas.width, plan.canvas.height));
   } else {
-    long long x0 = 0, y0 = 0, x1 = full_w, y1 = full_h;
-    bool first = full_w == 0 || full_h == 0;
-    for (const PlacedLayer& l : plan.layers) {
-      x0 = first ? l.x : std::min(x0, l.x);
-      y0 = first ? l.y : std::min(y0, l.y);
-      x1 = first ? l.x + l.width : std::max(x1, l.x + l.width);
-      y1 = first ? l.y + l.height : std::max(y1, l.y + l.height);
-      first = false;
-    }
-    if (x1 - x0 > (1LL << 31) - 1 || y1 - y0 > (1LL << 31) - 1)
-      throw InputError(fmt::format("the layers span {}x{} pixels, more than a canvas can hold", x1 - x0, y1 - y0));
-    plan.canvas = {x0, y0, static_cast<int>(x1 - x0), static_cast<int>(y1 - y0)};
+    std::optional<CanvasRect> all = plan.frame;
+    for (const PlacedLayer& l : plan.layers) all = unite(all, {l.x, l.y, l.width, l.height});
+    plan.canvas = *all;
   }
   const CanvasRect& c = plan.canvas;
   for (std::size_t k = 0; k < plan.layers.size(); ++k) {
@@ -102,15 +133,9 @@ BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions
   BlendPlan plan;
   std::vector<int> channels;
   std::vector<std::optional<GeoReference>> geo;
-  int full_w = 0, full_h = 0;
   for (const LayerSource& s : sources) {
-    std::vector<io::TiffPage> pages;
-    try {
-      pages = io::tiff_pages(s.image);
-    } catch (const std::exception& e) {
-      throw InputError(fmt::format("{}: {}", s.image, e.what()));
-    }
-    const int count = std::max<int>(1, static_cast<int>(pages.size()));
+    const std::vector<Page> pages = pages_of(s.image);
+    const int count = static_cast<int>(pages.size());
     for (int p = 0; p < count; ++p) {
       const ImageFileReader reader(s.image, false, ColumnRange{}, p);
       PlacedLayer l;
@@ -120,14 +145,11 @@ BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions
       if (s.placed) {
         l.x = s.x;
         l.y = s.y;
-      } else if (p < static_cast<int>(pages.size()) && pages[p].positioned) {
+      } else if (pages[p].positioned) {
         l.x = pages[p].x;
         l.y = pages[p].y;
       }
-      if (p < static_cast<int>(pages.size())) {
-        full_w = std::max(full_w, pages[p].full_width);
-        full_h = std::max(full_h, pages[p].full_height);
-      }
+      if (pages[p].frame) plan.frame = unite(plan.frame, *pages[p].frame);
       if (!s.mask.empty()) {
         const ImageFileReader mask(s.mask, false);
         if (mask.width() != l.width || mask.height() != l.height)
@@ -141,14 +163,14 @@ BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions
         plan.sample_type = reader.info().sample_type;
       }
       channels.push_back(reader.channels());
-      geo.push_back(p < static_cast<int>(pages.size()) ? pages[p].geo : std::nullopt);
+      geo.push_back(pages[p].geo);
       plan.layers.push_back(l);
       plan.sources.push_back(s);
       plan.pages.push_back(p);
     }
   }
   place_geo(plan, geo);
-  finish(plan, options, channels, full_w, full_h);
+  finish(plan, options, channels);
   if (plan.geo) {
     plan.geo->origin_x += static_cast<double>(plan.canvas.x) * plan.geo->scale_x;
     plan.geo->origin_y -= static_cast<double>(plan.canvas.y) * plan.geo->scale_y;
@@ -170,8 +192,18 @@ BlendPlan plan_blend(const std::vector<ImageLayer>& layers, const BlendOptions& 
     plan.layers.push_back(l);
     plan.images.push_back(in);
   }
-  finish(plan, options, channels, 0, 0);
+  finish(plan, options, channels);
   return plan;
+}
+
+std::optional<FramePlacement> frame_placement(const BlendPlan& plan) {
+  const CanvasRect& c = plan.canvas;
+  const CanvasRect f = plan.frame.value_or(c);
+  const auto fits = [](const CanvasRect& r) {
+    return r.x >= INT32_MIN && r.y >= INT32_MIN && r.x + r.width - 1 <= INT32_MAX && r.y + r.height - 1 <= INT32_MAX;
+  };
+  if (!fits(c) || !fits(f)) return std::nullopt;
+  return FramePlacement{static_cast<int>(c.x), static_cast<int>(c.y), static_cast<int>(f.x), static_cast<int>(f.y), f.width, f.height};
 }
 
 }  // namespace gdp

@@ -47,6 +47,7 @@ struct EncodeSpec {
   bool bigtiff = false;
   std::string fits_header;  // WriteOptions::fits_header
   std::optional<GeoReference> geo;  // TIFF: GeoTIFF tags
+  std::optional<FramePlacement> frame;  // OpenEXR: data window at (x, y) of the display window
 };
 
 // Encodes one image file: chosen by the final name's extension, then opened on the temporary

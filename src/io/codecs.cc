@@ -36,6 +36,7 @@ Kind sniff(const std::string& path) {
 }  // namespace
 
 bool is_tiff_file(const std::string& path) { return sniff(path) == Kind::Tiff; }
+bool is_exr_file(const std::string& path) { return sniff(path) == Kind::Exr; }
 
 std::unique_ptr<Decoder> open_decoder(const std::string& path, int page) {
   std::unique_ptr<Decoder> decoder;

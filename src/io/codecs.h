@@ -18,6 +18,8 @@ std::unique_ptr<Decoder> open_decoder(const std::string& path, int page = 0);
 
 // True when the file starts with a TIFF or BigTIFF signature.
 bool is_tiff_file(const std::string& path);
+// True when the file starts with OpenEXR's magic number.
+bool is_exr_file(const std::string& path);
 
 // .png, .tif/.tiff, .jpg/.jpeg/.jpe/.jfif/.jif/.jfi, .exr and .fits/.fit/.fts are written by gdp's own encoders,
 // the rest through OpenImageIO's module.

@@ -5,7 +5,6 @@
 #include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
-#include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfVersion.h>
 #include <OpenEXR/ImfTiledInputPart.h>
 
@@ -92,13 +91,9 @@ class ExrDecoder final : public Decoder {
   // The first part's header (as OpenImageIO reads it): size, channels, layout. Read on its own,
   // before OpenEXR's file reader reads the table of blocks.
   void read_header(const std::string& path) {
-    Imf::StdIFStream stream(path.c_str());
-    char start[8];  // magic number, version and flags
-    stream.read(start, 8);
-    int version = static_cast<unsigned char>(start[4]) | static_cast<unsigned char>(start[5]) << 8 |
-                        static_cast<unsigned char>(start[6]) << 16 | static_cast<unsigned char>(start[7]) << 24;
-    Imf::Header header;
-    header.readFrom(stream, version);
+    const ExrHeader read = read_exr_header(path);
+    const Imf::Header& header = read.header;
+    const int version = read.version;
     const std::string type = header.hasType()      ? header.type()
                              : Imf::isTiled(version) ? Imf::TILEDIMAGE
                                                      : Imf::SCANLINEIMAGE;

@@ -77,6 +77,14 @@ class ExrEncoder final : public Encoder {
     // Float and Double as 32-bit floats, everything else as half (as OpenImageIO 2.4 did).
     half_ = spec.sample_type != SampleType::Float && spec.sample_type != SampleType::Double;
     Imf::Header header(spec.width, spec.height);
+    if (spec.frame) {  // the data window where it lies in the display window (a cropped layer)
+      const FramePlacement& f = *spec.frame;
+      header.displayWindow() =
+          Imath::Box2i({f.frame_x, f.frame_y}, {f.frame_x + f.frame_width - 1, f.frame_y + f.frame_height - 1});
+      header.dataWindow() = Imath::Box2i({f.x, f.y}, {f.x + spec.width - 1, f.y + spec.height - 1});
+      origin_x_ = f.x;
+      origin_y_ = f.y;
+    }
     set_compression(header, spec.compression);
     names_ = exr_channel_names(spec.channels);
     for (const std::string& name : names_) header.channels().insert(name, Imf::Channel(half_ ? Imf::HALF : Imf::FLOAT));
@@ -107,7 +115,7 @@ class ExrEncoder final : public Encoder {
     const std::size_t sample = half_ ? 2 : 4, xs = sample * channels_, ys = xs * width_;
     Imf::FrameBuffer frame;
     for (int c = 0; c < channels_; ++c)
-      frame.insert(names_[c], Imf::Slice::Make(half_ ? Imf::HALF : Imf::FLOAT, base + c * sample, Imath::V2i(0, y0),
+      frame.insert(names_[c], Imf::Slice::Make(half_ ? Imf::HALF : Imf::FLOAT, base + c * sample, Imath::V2i(origin_x_, origin_y_ + y0),
                                                width_, y1 - y0, xs, ys));
     guarded([&] {
       if (tiles_) {
@@ -149,6 +157,7 @@ class ExrEncoder final : public Encoder {
   std::vector<std::string> names_;
   std::vector<Imath::half> halves_;
   int width_ = 0, channels_ = 0, tile_ = 0;
+  int origin_x_ = 0, origin_y_ = 0;  // the data window's top-left pixel
   bool half_ = true;
 };
 

@@ -1,6 +1,7 @@
 // OpenImageIO's OpenEXR channel order, gdp's channel names and OpenEXR's thread pool.
 #include "io/exr_util.h"
 
+#include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfThreading.h>
 
 #include <algorithm>
@@ -81,6 +82,17 @@ int exr_threads(bool tiled) {
     if (Imf::globalThreadCount() < kThreads) Imf::setGlobalThreadCount(kThreads);
   });
   return tiled ? kThreads : 0;
+}
+
+ExrHeader read_exr_header(const std::string& path) {
+  Imf::StdIFStream stream(path.c_str());
+  char start[8];  // magic number, version and flags
+  stream.read(start, 8);
+  ExrHeader h;
+  h.version = static_cast<unsigned char>(start[4]) | static_cast<unsigned char>(start[5]) << 8 |
+              static_cast<unsigned char>(start[6]) << 16 | static_cast<unsigned char>(start[7]) << 24;
+  h.header.readFrom(stream, h.version);
+  return h;
 }
 
 }  // namespace gdp::io

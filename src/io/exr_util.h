@@ -1,10 +1,20 @@
 // What gdp's OpenEXR decoder and encoder share: OpenImageIO's channel order, channel names, OpenEXR's threads.
 #pragma once
 
+#include <OpenEXR/ImfHeader.h>
+
 #include <string>
 #include <vector>
 
 namespace gdp::io {
+
+// The first part's header of an OpenEXR file, read on its own (before OpenEXR's file reader reads
+// the table of blocks), and the file's version field. Throws what OpenEXR throws.
+struct ExrHeader {
+  Imf::Header header;
+  int version = 0;
+};
+ExrHeader read_exr_header(const std::string& path);
 
 // The order in which OpenImageIO 2.4 presents an OpenEXR file's channels (and gdp did while it
 // read OpenEXR through it): by layer ("diffuse." of "diffuse.R"; no layer first), then R, G, B,

@@ -156,6 +156,7 @@ ImageFileWriter::ImageFileWriter(const fs::path& path, int width, int height, in
   spec.compression = options.compression;
   spec.fits_header = options.fits_header;
   spec.geo = options.geo;
+  spec.frame = options.frame;
   const double bytes = static_cast<double>(width) * height * channels * io::sample_bytes(spec.sample_type);
   spec.bigtiff = format == "tiff" && bytes > io::kBigTiffBytes;
   if (options.tiled) {

@@ -191,7 +191,10 @@ class RankFileWriter final : public RowWriter {
   }
   void write_row(int y, std::span<const float> row) override {
     const int n = end_ - begin_;
-    if (!file_) file_ = std::make_unique<ImageFileWriter>(path_, n, height_, channels_, options_);
+    if (!file_) {
+      if (options_.frame) options_.frame->x += begin_;  // OpenEXR: its columns' place in the frame
+      file_ = std::make_unique<ImageFileWriter>(path_, n, height_, channels_, options_);
+    }
     row_.resize(static_cast<std::size_t>(channels_) * n);
     for (int c = 0; c < channels_; ++c)
       std::copy_n(row.begin() + static_cast<std::ptrdiff_t>(c) * width_ + begin_, n,

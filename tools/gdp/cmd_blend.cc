@@ -1,4 +1,5 @@
 // `gdp blend`: seamless mosaics from N aligned layers, a drop-in for enblend (docs/blend.md).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include "gdp/blend.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
+#include "gdp/strip_files.h"
 
 namespace gdp::cli {
 namespace {
@@ -77,6 +79,27 @@ CanvasRect canvas_argument(const std::string& text) {
   return c;
 }
 
+// "1,0.5,2": numbers separated by commas, into `values`; false for anything else.
+bool number_list(const std::string& text, std::vector<double>& values) {
+  static const std::regex form("[+-]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][+-]?[0-9]+)?");
+  std::vector<double> v;
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!std::regex_match(item, form)) return false;
+    v.push_back(std::stod(item));
+  }
+  if (v.empty() || text.back() == ',') return false;
+  values = v;
+  return true;
+}
+
+// --pin / --weights: a file (an image of the canvas's size, as gdp stitch takes) when one exists
+// by that name or the text is not a list of numbers, else per layer: `values` filled.
+bool per_layer(const std::string& text, std::vector<double>& values) {
+  std::error_code ec;
+  return !text.empty() && !std::filesystem::exists(text, ec) && number_list(text, values);
+}
+
 class Blend final : public Command {
  public:
   explicit Blend(CLI::App& root) {
@@ -101,6 +124,10 @@ class Blend final : public Command {
     app->add_option("--anchor", anchor_, "keep layer K's values (1 = the first layer given) and level the rest to "
                                          "it; add --tolerance 1e-4, pinned problems converge more slowly")
         ->check(CLI::PositiveNumber);
+    app->add_option("--pin", pin_, "keep values: layer numbers (1,3: their pixels keep their values) or a mask "
+                                   "image of the canvas's size (pixels above 0.5), as gdp stitch's --pin");
+    app->add_option("--weights", weights_, "weight of the layers' values: one per layer (1,0,0.5), one for all, or "
+                                           "an image of the canvas's size, as gdp stitch's --weights (added)");
     app->add_option("--correction", correction_, "also write the additive correction (output minus the layers), "
                                                  "float samples (.tif or .exr)");
     app->add_option("--save-seams", save_seams_, "write the seams: a grey image of layer numbers (1 = the first, "
@@ -130,6 +157,8 @@ class Blend final : public Command {
     const ImageFileInfo info{plan.sample_type, "tiff", false};
     WriteOptions write = write_options(common_, info);
     write.geo = plan.geo;  // GeoTIFF layers: the output is georeferenced too
+    write.frame = frame_placement(plan);  // OpenEXR: the canvas as the data window in the layers' frame
+    const auto fidelity = fidelity_images(plan, options);
     const auto out = open_output(output_, W, H, channels, write, common_.quiet);
     std::unique_ptr<RowWriter> correction;
     if (!correction_.empty() && MpiRun::size() > 1)
@@ -187,6 +216,34 @@ class Blend final : public Command {
     return o;
   }
 
+  // --pin and --weights: per-layer numbers into `options`, images opened and size-checked.
+  std::vector<std::unique_ptr<StripFilesReader>> fidelity_images(const BlendPlan& plan, BlendOptions& options) const {
+    std::vector<std::unique_ptr<StripFilesReader>> files;
+    const auto image = [&](const std::string& path, RowReader*& reader, std::string& name) {
+      auto file = std::make_unique<StripFilesReader>(path);
+      if (file->width() != plan.canvas.width || file->height() != plan.canvas.height)
+        throw InputError(fmt::format("{}: {}x{}, but the canvas is {}x{}", path, file->width(), file->height(),
+                                     plan.canvas.width, plan.canvas.height));
+      reader = file.get();
+      name = path;
+      files.push_back(std::move(file));
+    };
+    std::vector<double> values;
+    if (per_layer(pin_, values)) {
+      for (const double v : values) {
+        if (v < 1 || v != std::floor(v)) throw UsageError(fmt::format("--pin {}: layers are numbered from 1", pin_));
+        options.pinned.push_back(static_cast<int>(v) - 1);
+      }
+    } else if (!pin_.empty()) {
+      image(pin_, options.fidelity.pins, options.fidelity.pins_name);
+    }
+    if (per_layer(weights_, values))
+      options.weights = values.size() == 1 ? std::vector<double>(plan.layers.size(), values[0]) : values;
+    else if (!weights_.empty())
+      image(weights_, options.fidelity.weights, options.fidelity.weights_name);
+    return files;
+  }
+
   std::vector<LayerSource> layer_sources() const {
     std::vector<LayerSource> sources;
     for (const std::string& a : layers_) sources.push_back(layer_argument(a));
@@ -197,6 +254,7 @@ class Blend final : public Command {
   }
 
   std::vector<std::string> layers_;
+  std::string pin_, weights_;
   std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", seams_ = "depth", space_ = "values";
   int anchor_ = 0;
   bool version_ = false;
