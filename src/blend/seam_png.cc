@@ -14,33 +14,25 @@
 
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
+#include "io/png_errors.h"
 #include "io/temp_file.h"
 
 namespace gdp::blending {
 namespace {
 
-// libpng reports errors through on_error, which keeps the message and longjmp()s back to the
-// setjmp() of the guarded call that started it; those calls hold no C++ objects.
-struct Png {
+// libpng state (errors: io/png_errors.h, longjmp()ing back to the guarded call that started
+// them; those calls hold no C++ objects).
+struct Png : io::PngErrors {
   png_structp png = nullptr;
   png_infop info = nullptr;
   std::FILE* file = nullptr;
   bool writing = false;
-  char message[256] = {};
   ~Png() {
     if (png && writing) png_destroy_write_struct(&png, info ? &info : nullptr);
     else if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
     if (file) std::fclose(file);
   }
 };
-
-void on_error(png_structp png, png_const_charp message) {
-  auto* p = static_cast<Png*>(png_get_error_ptr(png));
-  std::snprintf(p->message, sizeof p->message, "%s", message ? message : "libpng error");
-  png_longjmp(png, 1);
-}
-
-void on_warning(png_structp, png_const_charp) {}
 
 bool guarded_header(Png* p) {
   if (setjmp(png_jmpbuf(p->png))) return false;
@@ -131,7 +123,8 @@ void write_palette_seams(const LabelPlane& labels, int layers, const std::string
     Png p;
     p.writing = true;
     p.file = std::fopen(temp.c_str(), "wb");
-    p.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &p, on_error, on_warning);
+    p.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(&p),
+                                    io::png_error_callback, io::png_warning_callback);
     p.info = p.png ? png_create_info_struct(p.png) : nullptr;
     if (p.file && p.info) ok = write_png(p, labels);
     if (!ok && !p.message[0]) std::snprintf(p.message, sizeof p.message, "%s", std::strerror(errno));
@@ -154,7 +147,8 @@ PaletteRows::PaletteRows(const std::string& path) : s_(std::make_unique<State>()
   s_->path = path;
   s_->file = std::fopen(path.c_str(), "rb");
   if (!s_->file) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  s_->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, s_.get(), on_error, on_warning);
+  s_->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(s_.get()),
+                                   io::png_error_callback, io::png_warning_callback);
   s_->info = s_->png ? png_create_info_struct(s_->png) : nullptr;
   if (!s_->info || !guarded_header(s_.get()))
     throw InputError(fmt::format("{}: not a readable PNG: {}", path, s_->message));

@@ -11,18 +11,17 @@
 #include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
+#include "io/png_errors.h"
 
 namespace gdp::io {
 namespace {
 
-// libpng reports errors by calling on_error(), which records the message and longjmp()s back to
-// the setjmp() in the guarded call that started it. Only the guarded functions below call
+// The decoder's libpng state (errors: io/png_errors.h). Only the guarded functions below call
 // libpng, and they hold no C++ objects with destructors: nothing is skipped by the longjmp.
-struct PngState {
+struct PngState : PngErrors {
   png_structp png = nullptr;
   png_infop info = nullptr;
   std::FILE* file = nullptr;
-  char message[256] = {};
   PngState() = default;
   PngState(const PngState&) = delete;
   PngState& operator=(const PngState&) = delete;
@@ -31,14 +30,6 @@ struct PngState {
     if (file) std::fclose(file);
   }
 };
-
-void on_error(png_structp png, png_const_charp message) {
-  auto* state = static_cast<PngState*>(png_get_error_ptr(png));
-  std::snprintf(state->message, sizeof state->message, "%s", message ? message : "libpng error");
-  png_longjmp(png, 1);
-}
-
-void on_warning(png_structp, png_const_charp) {}  // benign (unknown chunks, sRGB profile notes)
 
 // Reads the header; false on a libpng error.
 bool guarded_header(PngState* s) {
@@ -86,7 +77,8 @@ class PngDecoder final : public Decoder {
   explicit PngDecoder(const std::string& path) {
     s_.file = std::fopen(path.c_str(), "rb");
     if (!s_.file) throw CodecError("cannot open");
-    s_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s_, on_error, on_warning);
+    s_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<PngErrors*>(&s_), png_error_callback,
+                                   png_warning_callback);
     if (s_.png) s_.info = png_create_info_struct(s_.png);
     if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
     // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.

@@ -9,18 +9,18 @@
 
 #include "io/codecs.h"
 #include "io/output_file.h"
+#include "io/png_errors.h"
 
 namespace gdp::io {
 namespace {
 
-// As in png_decoder.cc: libpng's errors longjmp() back into the guarded functions, which hold no
-// C++ objects with destructors.
-struct PngWriteState {
+// The encoder's libpng state (errors: io/png_errors.h; they longjmp() back into the guarded
+// functions, which hold no C++ objects with destructors).
+struct PngWriteState : PngErrors {
   png_structp png = nullptr;
   png_infop info = nullptr;
   OutputFile* file = nullptr;
   std::int64_t at = 0;
-  char message[256] = {};
   PngWriteState() = default;
   PngWriteState(const PngWriteState&) = delete;
   PngWriteState& operator=(const PngWriteState&) = delete;
@@ -28,14 +28,6 @@ struct PngWriteState {
     if (png) png_destroy_write_struct(&png, info ? &info : nullptr);
   }
 };
-
-void on_error(png_structp png, png_const_charp message) {
-  auto* state = static_cast<PngWriteState*>(png_get_error_ptr(png));
-  std::snprintf(state->message, sizeof state->message, "%s", message ? message : "libpng error");
-  png_longjmp(png, 1);
-}
-
-void on_warning(png_structp, png_const_charp) {}
 
 void on_write(png_structp png, png_bytep data, png_size_t size) {
   auto* state = static_cast<PngWriteState*>(png_get_io_ptr(png));
@@ -78,7 +70,8 @@ class PngEncoder final : public Encoder {
     file_ = std::make_unique<OutputFile>(path);
     check_file();
     s_.file = file_.get();
-    s_.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s_, on_error, on_warning);
+    s_.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, static_cast<PngErrors*>(&s_), png_error_callback,
+                                    png_warning_callback);
     if (s_.png) s_.info = png_create_info_struct(s_.png);
     if (!s_.png || !s_.info) throw CodecError("cannot write: out of memory for the PNG encoder");
     static const int colors[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
