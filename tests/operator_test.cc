@@ -148,7 +148,7 @@ TEST(RhsWindow, WindowedRowsEqualWholeRowsInTheWindow) {
     // whole rows then).
     std::vector<std::pair<int, int>> windows{{11, 29}};
     if (domain == Domain::Planar) windows.insert(windows.end(), {{0, 13}, {27, 40}});
-    for (const auto [begin, end] : windows) {
+    for (const auto& [begin, end] : windows) {
       fem::RhsAssembler whole(x, hier.levels[0].y, 0.3, 1), part(x, hier.levels[0].y, 0.3, 1);
       part.set_columns(begin, end);
       Plane<double> a(w, h), b(w, h);
