@@ -1,4 +1,5 @@
-// The window kernels per sample on a whole row, a 72-column edge tile and a 4096-column interior lane, as ratios.
+// The window kernels per sample on a whole row, a 72-column edge tile, a 4096-column interior lane and a
+// 72-column interior tile, as ratios.
 #include <time.h>
 
 #include <algorithm>
@@ -36,7 +37,8 @@ struct Fixture {
 
 enum Kernel { kRelax, kResidual, kApply, kRestrict, kProlong };
 const char* const kKernels[] = {"relax", "residual", "apply", "restrict", "prolong"};
-constexpr std::pair<int, int> kRangeColumns[] = {{0, kWidth}, {0, 72}, {2048, 6144}};
+constexpr std::pair<int, int> kRangeColumns[] = {{0, kWidth}, {0, 72}, {2048, 6144}, {2048, 2120}};
+constexpr int kRanges = 4;
 
 // One kernel over 60 interior rows, on the columns of range `range`.
 void run(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
@@ -133,7 +135,8 @@ int print_checksums() {
 
 // Prints, per kernel, the minimum over `trials` (argument 1, default 15) of the ns per sample on each range
 // (the ranges interleaved within every trial, so load on the machine falls on all three alike) and the ratios.
-// `check` instead prints bit-level checksums of every kernel. Argument 2, a range (0 whole row, 1 edge tile, 2 interior lane), runs only that one (for a profiler).
+// `check` instead prints bit-level checksums of every kernel. Argument 2, a range (0 whole row, 1 edge
+// tile, 2 interior lane, 3 interior tile), runs only that one (for a profiler).
 int main(int argc, char** argv) {
   using namespace gdp::multigrid;
   if (argc > 1 && std::strcmp(argv[1], "check") == 0) return print_checksums();
@@ -142,20 +145,20 @@ int main(int argc, char** argv) {
   Fixture f;
   Scratch<float> s;
   std::printf("CPU ns per sample, minimum of %d trials; ratios of those minima\n", trials);
-  std::printf("%-9s %9s %9s %9s %11s %11s %11s\n", "kernel", "row", "edge", "interior", "edge/row", "lane/row",
-              "edge/lane");
+  std::printf("%-9s %9s %9s %9s %9s %11s %11s %11s %11s\n", "kernel", "row", "edge", "interior", "tile", "edge/row",
+              "lane/row", "tile/row", "edge/tile");
   double total = 0.0;
   for (int k = 0; k < 5; ++k) {
     const auto kernel = static_cast<Kernel>(k);
-    double best[3] = {1e30, 1e30, 1e30};
+    double best[kRanges] = {1e30, 1e30, 1e30, 1e30};
     const double t0 = cpu_seconds();
-    for (int r = 0; r < 3; ++r) run(f, kernel, r, s);  // warm the scratch and the coefficient cache
+    for (int r = 0; r < kRanges; ++r) run(f, kernel, r, s);  // warm the scratch and the coefficient cache
     for (int t = 0; t < trials; ++t)
-      for (int r = 0; r < 3; ++r)
+      for (int r = 0; r < kRanges; ++r)
         if (only < 0 || r == only) best[r] = std::min(best[r], measure(f, kernel, r, s));
     total += cpu_seconds() - t0;
-    std::printf("%-9s %9.3f %9.3f %9.3f %10.2fx %10.2fx %10.2fx\n", kKernels[k], best[0], best[1], best[2],
-                best[1] / best[0], best[2] / best[0], best[1] / best[2]);
+    std::printf("%-9s %9.3f %9.3f %9.3f %9.3f %10.2fx %10.2fx %10.2fx %10.2fx\n", kKernels[k], best[0], best[1], best[2],
+                best[3], best[1] / best[0], best[2] / best[0], best[3] / best[0], best[1] / best[3]);
   }
   std::printf("CPU seconds in all: %.2f\n", total);
   return 0;
