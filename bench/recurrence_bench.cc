@@ -9,6 +9,7 @@
 #include <vector>
 
 // The loops are compiled for x86-64-v3 (AVX2 + FMA), like the kernels' clone that runs on this machine.
+#if defined(__x86_64__)
 #pragma GCC push_options
 #pragma GCC target("arch=x86-64-v3")
 namespace {
@@ -152,13 +153,13 @@ void run() {
 
 }  // namespace
 #pragma GCC pop_options
+#endif
 
 // The figures where the CPU can run the loops.
 int main() {
-  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) {
-    std::printf("recurrence_bench: needs AVX2 + FMA (x86-64-v3), which this CPU lacks\n");
-    return 0;
-  }
-  run();
+#if defined(__x86_64__)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return run(), 0;
+#endif
+  std::printf("recurrence_bench: needs an x86-64 CPU with AVX2 + FMA (x86-64-v3)\n");
   return 0;
 }
