@@ -7,6 +7,7 @@
 #include <thread>
 
 #include <fmt/format.h>
+#include <wcslib/sph.h>
 
 #include "gdp/errors.h"
 #include "io/staged_directory.h"
@@ -14,6 +15,7 @@
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
 #include "sky/hips_pyramid.h"
+#include "sky/hips_tile_wcs.h"
 #include "sky/plate.h"
 #include "sky/reproject.h"
 #include "sky/toast_output.h"
@@ -58,6 +60,19 @@ Coverage find_coverage(const Image& pq, const PqWindow& window, const HipsGeomet
   return c;
 }
 
+// hips_initial_ra/dec are ICRS whatever the HiPS's frame (HiPS 1.0, 4.4.1): galactic (l, b) turned
+// to ICRS by wcslib's sphx2s with the galactic pole at RA 192.85948, Dec 27.12825 and the
+// celestial pole at l 122.93192 (the Hipparcos/FK5 J2000 definition astropy uses).
+void initial_view_to_icrs(const std::string& frame, double& lon, double& lat) {
+  if (frame != "galactic") return;
+  const double colat = 90.0 - 27.12825;
+  const double eul[5] = {192.85948, colat, 122.93192, std::cos(colat * M_PI / 180.0), std::sin(colat * M_PI / 180.0)};
+  double ra = 0.0, dec = 0.0;
+  sphx2s(eul, 1, 1, 1, 1, &lon, &lat, &ra, &dec);
+  lon = ra < 0.0 ? ra + 360.0 : ra;
+  lat = dec;
+}
+
 std::string hips_frame(const std::string& longitude) {
   if (longitude == "RA") return "equatorial";
   if (longitude == "GLON") return "galactic";
@@ -65,8 +80,9 @@ std::string hips_frame(const std::string& longitude) {
 }
 
 HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeometry& geometry, HipsFormat& format,
-                       const HipsOptions& options, const fs::path& root) {
-  const Coverage coverage = find_coverage(pq, window, geometry);
+                       const HipsOptions& options, const std::string& longitude, const fs::path& root) {
+  Coverage coverage = find_coverage(pq, window, geometry);
+  initial_view_to_icrs(format.frame, coverage.ra, coverage.dec);
   const PqSampler sampler(pq, window);
   std::vector<sphere::Vec3> dirs;
   const int w = format.width, threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, w);
@@ -82,8 +98,10 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
   std::vector<std::int64_t> deepest;
   HipsSummary s;
   s.order = format.order;
+  std::vector<std::unique_ptr<HipsTileWcs>> wcs;  // per order
+  for (int k = 0; k <= format.order; ++k) wcs.push_back(std::make_unique<HipsTileWcs>(k, format.width, longitude));
   const HipsEmit emit = [&](int order, std::int64_t npix, const Image& tile) {
-    write_hips_tile(root, format, order, npix, tile);
+    write_hips_tile(root, format, order, npix, tile, wcs[order]->cards(npix));
     ++s.tiles;
     if (order == format.order) deepest.push_back(npix);
     if (order == allsky.order()) allsky.add(npix, tile);
@@ -92,7 +110,8 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
   allsky.write(root, format);
   s.deepest_tiles = static_cast<long long>(deepest.size());
   const std::vector<std::int64_t> cells = write_moc(root / "Moc.fits", format.order, deepest, format.frame);
-  HipsProperties p{options.title, coverage.ra, coverage.dec, coverage.fov, 2 * s.tiles, 0.0};
+  HipsProperties p{options.title, coverage.ra, coverage.dec, coverage.fov, 2 * s.tiles, 0.0, options.description,
+                   options.progenitor};
   for (const std::int64_t uniq : cells) {
     int k = 0;
     while ((std::int64_t{4} << (2 * (k + 1))) <= uniq) ++k;
@@ -125,7 +144,7 @@ HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::s
   std::tie(format.lo, format.hi) = display_range(pq);
   const HipsGeometry geometry(format.order, format.width);
   HipsSummary s;
-  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, temp); });
+  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, longitude, temp); });
   return s;
 }
 
