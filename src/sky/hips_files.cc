@@ -112,8 +112,7 @@ void write_hips_properties(const fs::path& file, const HipsFormat& f, const Hips
   if (!out.flush()) throw OutputError(file.string() + ": cannot write the HiPS properties");
 }
 
-std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::vector<std::int64_t>& tiles,
-                                    const std::string& frame) {
+std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::vector<std::int64_t>& tiles) {
   std::vector<std::int64_t> uniq = moc_cells(order, tiles);
   std::vector<long long> column(uniq.begin(), uniq.end());
   fitsfile* f = nullptr;
@@ -129,7 +128,7 @@ std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::
   };
   key("PIXTYPE", "HEALPIX", "HEALPix tessellation");
   key("ORDERING", "NUNIQ", "NUNIQ coding: 4 * 4^order + npix");
-  key("COORDSYS", frame == "galactic" ? "G" : "C", "C: equatorial (ICRS), G: galactic");
+  key("COORDSYS", "C", "ICRS (MOC 1.1 and 2.0 space MOCs)");
   int moc_order = order;
   fits_write_key_lng(f, "MOCORDER", moc_order, "MOC resolution (best order)", &status);
   key("MOCVERS", "2.0", "MOC version");

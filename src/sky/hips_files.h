@@ -38,11 +38,10 @@ struct HipsProperties {
 };
 void write_hips_properties(const std::filesystem::path& file, const HipsFormat& format, const HipsProperties& p);
 
-// The coverage `tiles` (indices of order `order`, ascending) as an IVOA MOC in FITS (MOC 1.1 /
-// 2.0: a binary table of NUNIQ = 4 * 4^k + npix cells, complete groups of four merged into
-// their parent). Returns the cells written.
-std::vector<std::int64_t> write_moc(const std::filesystem::path& file, int order, const std::vector<std::int64_t>& tiles,
-                                    const std::string& frame);
+// The coverage `tiles` (indices of order `order`, ascending, in ICRS: hips_icrs.h) as an IVOA MOC
+// in FITS (MOC 1.1 / 2.0: a binary table of NUNIQ = 4 * 4^k + npix cells, complete groups of four
+// merged into their parent; COORDSYS 'C'). Returns the cells written.
+std::vector<std::int64_t> write_moc(const std::filesystem::path& file, int order, const std::vector<std::int64_t>& tiles);
 
 // Tiles of one order (0..3) packed into Norder{k}/Allsky.fits and .png: cols = floor(sqrt(12 *
 // 4^k)) tiles a row, tile npix at column npix % cols, row npix / cols from the top, each tile

@@ -7,13 +7,13 @@
 #include <thread>
 
 #include <fmt/format.h>
-#include <wcslib/sph.h>
 
 #include "gdp/errors.h"
 #include "io/staged_directory.h"
 #include "schedule/parallel.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
+#include "sky/hips_icrs.h"
 #include "sky/hips_pyramid.h"
 #include "sky/hips_tile_wcs.h"
 #include "sky/plate.h"
@@ -60,19 +60,6 @@ Coverage find_coverage(const Image& pq, const PqWindow& window, const HipsGeomet
   return c;
 }
 
-// hips_initial_ra/dec are ICRS whatever the HiPS's frame (HiPS 1.0, 4.4.1): galactic (l, b) turned
-// to ICRS by wcslib's sphx2s with the galactic pole at RA 192.85948, Dec 27.12825 and the
-// celestial pole at l 122.93192 (the Hipparcos/FK5 J2000 definition astropy uses).
-void initial_view_to_icrs(const std::string& frame, double& lon, double& lat) {
-  if (frame != "galactic") return;
-  const double colat = 90.0 - 27.12825;
-  const double eul[5] = {192.85948, colat, 122.93192, std::cos(colat * M_PI / 180.0), std::sin(colat * M_PI / 180.0)};
-  double ra = 0.0, dec = 0.0;
-  sphx2s(eul, 1, 1, 1, 1, &lon, &lat, &ra, &dec);
-  lon = ra < 0.0 ? ra + 360.0 : ra;
-  lat = dec;
-}
-
 std::string hips_frame(const std::string& longitude) {
   if (longitude == "RA") return "equatorial";
   if (longitude == "GLON") return "galactic";
@@ -82,7 +69,7 @@ std::string hips_frame(const std::string& longitude) {
 HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeometry& geometry, HipsFormat& format,
                        const HipsOptions& options, const std::string& longitude, const fs::path& root) {
   Coverage coverage = find_coverage(pq, window, geometry);
-  initial_view_to_icrs(format.frame, coverage.ra, coverage.dec);
+  if (format.frame == "galactic") galactic_to_icrs(coverage.ra, coverage.dec);  // hips_initial_ra/dec are ICRS
   const PqSampler sampler(pq, window);
   std::vector<sphere::Vec3> dirs;
   const int w = format.width, threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, w);
@@ -95,7 +82,7 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
     return std::any_of(tile.data.begin(), tile.data.end(), [](float v) { return std::isfinite(v); });
   };
   HipsAllsky allsky(std::min(3, format.order), format.width);
-  std::vector<std::int64_t> deepest;
+  MocCells moc(geometry, format.frame == "galactic");
   HipsSummary s;
   s.order = format.order;
   std::vector<std::unique_ptr<HipsTileWcs>> wcs;  // per order
@@ -103,13 +90,15 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
   const HipsEmit emit = [&](int order, std::int64_t npix, const Image& tile) {
     write_hips_tile(root, format, order, npix, tile, wcs[order]->cards(npix));
     ++s.tiles;
-    if (order == format.order) deepest.push_back(npix);
+    if (order == format.order) {
+      moc.add(npix, tile);
+      ++s.deepest_tiles;
+    }
     if (order == allsky.order()) allsky.add(npix, tile);
   };
   build_hips_pyramid(format.order, format.min_order, format.width, coverage.tiles, sample, emit);
   allsky.write(root, format);
-  s.deepest_tiles = static_cast<long long>(deepest.size());
-  const std::vector<std::int64_t> cells = write_moc(root / "Moc.fits", format.order, deepest, format.frame);
+  const std::vector<std::int64_t> cells = write_moc(root / "Moc.fits", format.order, moc.cells());
   HipsProperties p{options.title, coverage.ra, coverage.dec, coverage.fov, 2 * s.tiles, 0.0, options.description,
                    options.progenitor};
   for (const std::int64_t uniq : cells) {
