@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gdp/sky.h"
 
@@ -28,6 +29,10 @@ std::string target_header(const SkyTarget& spec);
 // at two corners, each image pixel one HEALPix pixel. `longitude`: the frame's longitude axis
 // ("RA", "GLON", "ELON"). Throws UsageError for other frames or an order above 13.
 std::string hpx_grid_header(int order, const std::string& longitude);
+
+// CTYPE1 and CTYPE2 of an HPX image in the frame of longitude axis `longitude` ("RA" ->
+// "RA---HPX", "DEC--HPX"; "GLON", "ELON" likewise). Throws UsageError for other frames.
+std::pair<std::string, std::string> hpx_ctypes(const std::string& longitude);
 
 // The HEALPix order of an HPX grid whose pixels are at most `scale` degrees (the coarsest).
 int hpx_order_for_scale(double scale);

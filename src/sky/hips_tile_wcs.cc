@@ -2,6 +2,7 @@
 #include "sky/hips_tile_wcs.h"
 
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
@@ -14,21 +15,8 @@
 
 namespace gdp::sky {
 
-namespace {
-
-// "RA" -> "RA---HPX".
-std::string hpx_axis(std::string name) {
-  name.resize(4, '-');
-  return name + "-HPX";
-}
-
-}  // namespace
-
 HipsTileWcs::HipsTileWcs(int order, int width, const std::string& longitude) : order_(order), width_(width) {
-  if (longitude != "RA" && longitude != "GLON")
-    throw UsageError(fmt::format("HiPS tiles in RA/Dec or galactic coordinates, not {}", longitude));
-  lon_axis_ = hpx_axis(longitude);
-  lat_axis_ = hpx_axis(longitude == "RA" ? "DEC" : "GLAT");
+  std::tie(lon_axis_, lat_axis_) = hpx_ctypes(longitude);
   for (int k = 0; k < 2; ++k)
     plane_[k] = std::make_unique<Wcs>(cards_for(180.0 * k, 0.0, 0.0), width, width, "the HiPS tiles' HPX plane");
 }

@@ -9,11 +9,11 @@ namespace gdp::sky {
 
 class Wcs;
 
-// Cards for the tiles of order `order`, `width` pixels (HipsGeometry's convention), in the HiPS
-// frame whose longitude axis is `longitude` ("RA", "GLON"): the standard's form for tile 0/7 for
-// every tile, RA---HPX / DEC--HPX, CD = 45 / (2^order width) (-1, -1; 1, -1), PV2_1 = 4,
-// PV2_2 = 3, CRVAL = 0, 0 (180, 0 for base pixel 6, which the HPX plane cuts at longitude 180
-// otherwise) and CRPIX where the tile lies in that plane. Not thread-safe.
+// Cards for the tiles of order `order`, `width` pixels (HipsGeometry's convention), in the frame
+// whose longitude axis is `longitude` ("RA", "GLON", "ELON"): the standard's form for tile 0/7
+// for every tile, RA---HPX / DEC--HPX (GLON-HPX ...), CD = 45 / (2^order width) (-1, -1; 1, -1),
+// PV2_1 = 4, PV2_2 = 3, CRVAL = 0, 0 (180, 0 for base pixel 6, which the HPX plane cuts at
+// longitude 180 otherwise) and CRPIX where the tile lies in that plane. Not thread-safe.
 class HipsTileWcs {
  public:
   HipsTileWcs(int order, int width, const std::string& longitude);
