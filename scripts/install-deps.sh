@@ -18,6 +18,8 @@ packages=(
   python3-dev pybind11-dev python3-numpy # the Python module (python/)
   python3-pytest python3-venv python3-pip # its tests, and `pip install .` into a virtual environment
   python3-astropy                        # tests: sky positions checked against astropy
+  python3-astropy-healpix                # tests: HiPS tile and HPX pixel positions against an independent HEALPix
+  aladin                                 # tests: Aladin's HiPS builder lints gdp's HiPS (IVOA HiPS 1.0; needs a JRE)
   enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
   montage                                # bench/sky_bench.py: Montage's pipeline beside gdp sky (and --projected)
 )

@@ -18,6 +18,7 @@
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "gdp/sphere.h"
+#include "io/fits_image.h"
 #include "sky/header.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
@@ -127,6 +128,46 @@ TEST_F(SkyHips, Tile0Of7MatchesTheStandardsHpxWcs) {
     }
   EXPECT_LT(worst_angle, 1e-6);  // radians; the pixels are 3.7 degrees
   EXPECT_LT(worst_value, 0.05);  // PQ pixels of 5.6 degrees (0.098 rad), half a step 0.045
+  // The tile's own header carries that WCS (the enabler), CRPIX exactly the standard's.
+  const std::string written = io::FitsImage(path("hips/Norder0/Dir0/Npix7.fits")).header();
+  EXPECT_EQ(sky::header_number(written, "CRPIX1"), crpix);
+  EXPECT_EQ(sky::header_number(written, "CRPIX2"), crpix);
+  EXPECT_EQ(sky::header_number(written, "CD2_1"), cd);
+  EXPECT_EQ(sky::header_number(written, "CD1_1"), -cd);
+}
+
+// Every FITS tile of every order, in both frames, carries an HPX WCS that puts each pixel centre at
+// its HEALPix pixel's direction (1e-10 rad); base pixel 6 too (CRVAL1 180 there: HPX cuts it at 180 otherwise).
+TEST_F(SkyHips, EveryFitsTileCarriesItsHpxWcs) {
+  const int H = 64, w = 16;
+  const Image pq = pq_sky(H, [](const sphere::Vec3&) { return true; });
+  for (const char* frame : {"RA", "GLON"}) {
+    const fs::path dir = path(std::string("hips-") + frame);
+    const auto s = sky::write_sky_hips(pq, sky::whole_pq(H), frame, dir, {w, "test"});
+    ASSERT_EQ(s.order, 2);
+    std::vector<sphere::Vec3> dirs;
+    double worst = 0.0;
+    int tiles = 0;
+    for (int order = 0; order <= 2; ++order) {
+      const sky::HipsGeometry geometry(order, w);
+      for (std::int64_t npix = 0; npix < (12 << (2 * order)); ++npix) {
+        const fs::path file = dir / sky::hips_tile_stem(order, npix).concat(".fits");
+        const sky::Wcs wcs(io::FitsImage(file).header(), w, w, file.string());
+        EXPECT_EQ(wcs.frame(), frame);
+        geometry.tile_directions(npix, dirs);
+        for (int r = 0; r < w; ++r)
+          for (int c = 0; c < w; ++c) {
+            double lon = 0, lat = 0;
+            ASSERT_TRUE(wcs.pixel_to_sky(c + 0.5, r + 0.5, lon, lat)) << file << " pixel " << c << ", " << r;
+            const sphere::Vec3 d = sky::direction(lon, lat), g = dirs[static_cast<std::size_t>(r) * w + c];
+            worst = std::max(worst, std::hypot(d.x - g.x, d.y - g.y, d.z - g.z));  // chord ~ angle
+          }
+        ++tiles;
+      }
+    }
+    EXPECT_EQ(tiles, 252);
+    EXPECT_LT(worst, 1e-10) << frame;  // radians
+  }
 }
 
 // Reads Moc.fits with cfitsio: its keywords and NUNIQ cells.
@@ -213,9 +254,10 @@ TEST_F(SkyHips, OnlyTilesWithDataAreWrittenAndTheMocIsThem) {
     props[trim(line.substr(0, eq))] = trim(line.substr(eq + 1));
   }
   for (const char* k : {"creator_did", "obs_title", "dataproduct_type", "hips_version", "hips_release_date", "hips_status",
-                        "hips_tile_format", "hips_order", "hips_frame", "hips_tile_width", "hips_order_min",
+                        "hips_tile_format", "hips_order", "hips_frame", "hips_tile_width",
                         "hips_pixel_bitpix", "hips_initial_ra", "hips_initial_dec", "hips_initial_fov"})
     EXPECT_TRUE(props.count(k)) << k;
+  EXPECT_FALSE(props.count("hips_order_min")) << "not a HiPS 1.0 keyword (Aladin's LINT: unreferenced); orders start at 0";
   EXPECT_EQ(props["hips_order"], "2");
   EXPECT_EQ(props["hips_frame"], "equatorial");
   EXPECT_EQ(props["dataproduct_type"], "image");

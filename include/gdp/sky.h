@@ -13,7 +13,10 @@
 namespace gdp {
 
 // The output image's grid: a header template (Montage's form, `header`), or a centre, size,
-// pixel scale and projection (equatorial, RA increasing to the left).
+// pixel scale and projection (equatorial, RA increasing to the left), or projection "HPX" with no
+// size: the whole sky on HEALPix pixels (5N x 5N, sky/header.h hpx_grid_header) of the order
+// whose pixels are at most `scale` degrees, or (scale 0) of the HiPS's deepest pixels, in the
+// plates' frame.
 struct SkyTarget {
   std::filesystem::path header;  // non-empty: the template (NAXIS1/2 and the WCS keywords)
   double lon = 0.0, lat = 0.0;   // centre, degrees
@@ -51,7 +54,8 @@ struct SkySummary {
 // mosaic on a PQ sphere, solves the gradient-domain stitch there (solver.domain is set to
 // spherical; the mean over the covered PQ pixels is the seamed mosaic's: docs/sky.md) and
 // writes `out` on the target's grid, the WCS written into FITS headers. Pixels no plate covers
-// are NaN. Throws InputError naming the file (no WCS, a WCS wcslib rejects, a plane out of
+// are NaN. `out` empty: no image and no target (then options.hips or options.toast; the frame
+// is the plates'). Throws InputError naming the file (no WCS, a WCS wcslib rejects, a plane out of
 // range, a target no plate reaches), UsageError for inconsistent options, OutputError.
 void sky_mosaic(const std::vector<std::string>& plates, const SkyOptions& options, SolverOptions solver,
                 const std::filesystem::path& out, WriteOptions write, SkySummary* summary = nullptr);

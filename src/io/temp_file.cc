@@ -91,10 +91,17 @@ int remove_stale_temp_files(const fs::path& path) {
   std::error_code ec;
   std::erase_if(names, [&](const std::string& name) {
     if (!stale(name, prefix, ext)) return false;
-    if (fs::remove(dir / name, ec)) ++removed;
+    if (fs::remove_all(dir / name, ec) > 0) ++removed;
     return true;
   });
   return removed;
+}
+
+fs::path temp_name(const fs::path& path) {
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  static thread_local std::mt19937 random{std::random_device{}()};
+  return dir / fmt::format("{}{}-{:08x}{}", temp_prefix(path, name_max(dir)), static_cast<long>(::getpid()),
+                           static_cast<unsigned>(random()), path.extension().string());
 }
 
 fs::path create_temp_file(const fs::path& path, std::string& why) {
@@ -105,11 +112,8 @@ fs::path create_temp_file(const fs::path& path, std::string& why) {
   else if (!fs::is_directory(status)) why = fmt::format("'{}' is not a directory", dir.string());
   if (!why.empty()) return {};
   remove_stale_temp_files(path);
-  const std::string prefix = temp_prefix(path, name_max(dir));
-  std::random_device random;
   for (int attempt = 0; attempt < 16; ++attempt) {
-    const fs::path temp = dir / fmt::format("{}{}-{:08x}{}", prefix, static_cast<long>(::getpid()),
-                                            static_cast<unsigned>(random()), path.extension().string());
+    const fs::path temp = temp_name(path);
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) {
       ::close(fd);

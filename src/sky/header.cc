@@ -2,6 +2,7 @@
 #include "sky/header.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -82,6 +83,54 @@ std::string target_header(const SkyTarget& s) {
   h += card("CUNIT1", "'deg'");
   h += card("CUNIT2", "'deg'");
   h += card("RADESYS", "'ICRS'");
+  return h;
+}
+
+int hpx_order_for_scale(double scale) {
+  // HEALPix pixels of order k are sqrt(pi / 3) / 2^k radians on a side (58.6 degrees at order 0).
+  const double base = std::sqrt(M_PI / 3.0) * 180.0 / M_PI;
+  int order = 0;
+  while (order < 13 && base / std::ldexp(1.0, order) > scale) ++order;
+  return order;
+}
+
+std::pair<std::string, std::string> hpx_ctypes(const std::string& longitude) {
+  const char* latitude = longitude == "RA" ? "DEC" : longitude == "GLON" ? "GLAT" : longitude == "ELON" ? "ELAT" : nullptr;
+  if (!latitude) throw UsageError(fmt::format("HPX: a longitude axis RA, GLON or ELON, not {}", longitude));
+  const auto axis = [](std::string name) {  // "RA" -> "RA---HPX"
+    name.resize(4, '-');
+    return name + "-HPX";
+  };
+  return {axis(longitude), axis(latitude)};
+}
+
+std::string hpx_grid_header(int order, const std::string& longitude) {
+  const auto [ctype1, ctype2] = hpx_ctypes(longitude);
+  if (order < 0 || order > 13) throw UsageError(fmt::format("an HPX grid of HEALPix order {}: 0 to 13", order));
+  const long long n = 1LL << order;
+  const auto number = [](double v) { return fmt::format("{:.17g}", v); };
+  // The pixel grid turned by 45 degrees: CD = (90 / N) PC with PC = (1/2, 1/2; -1/2, 1/2) and
+  // CDELT = (-90 / N, 90 / N), so a pixel is a HEALPix pixel (a diamond of diagonal 90 / N
+  // degrees in the HPX plane); the image's centre (5N + 1) / 2 is base pixel 4's centre (0, 0).
+  const double cd = 45.0 / double(n);
+  std::string h;
+  h += card("NAXIS1", std::to_string(5 * n));
+  h += card("NAXIS2", std::to_string(5 * n));
+  h += card("CTYPE1", "'" + ctype1 + "'");
+  h += card("CTYPE2", "'" + ctype2 + "'");
+  h += card("CRPIX1", number((5.0 * double(n) + 1.0) / 2.0));
+  h += card("CRPIX2", number((5.0 * double(n) + 1.0) / 2.0));
+  h += card("CRVAL1", "0.0");
+  h += card("CRVAL2", "0.0");
+  h += card("CD1_1", number(-cd));
+  h += card("CD1_2", number(-cd));
+  h += card("CD2_1", number(-cd));
+  h += card("CD2_2", number(cd));
+  h += card("PV2_1", "4");
+  h += card("PV2_2", "3");
+  h += card("CUNIT1", "'deg'");
+  h += card("CUNIT2", "'deg'");
+  if (longitude == "RA") h += card("RADESYS", "'ICRS'");
   return h;
 }
 

@@ -22,10 +22,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// `stem`.fits (the values) and `stem`.png (grey + alpha).
-void write_pair(const fs::path& stem, const Image& values, const HipsFormat& format) {
+// `stem`.fits (the values, `cards` in its header) and `stem`.png (grey + alpha).
+void write_pair(const fs::path& stem, const Image& values, const HipsFormat& format, const std::string& cards = {}) {
   fs::create_directories(stem.parent_path());
-  write_image(fs::path(stem).concat(".fits"), values, WriteOptions{});
+  WriteOptions fits;
+  fits.fits_header = cards;
+  write_image(fs::path(stem).concat(".fits"), values, fits);
   Image png(values.width, values.height, 2);
   const float scale = 1.0f / (format.hi - format.lo);
   for (std::size_t k = 0; k < values.plane_size(); ++k) {
@@ -75,8 +77,9 @@ fs::path hips_tile_stem(int order, std::int64_t npix) {
          fmt::format("Npix{}", npix);
 }
 
-void write_hips_tile(const fs::path& root, const HipsFormat& format, int order, std::int64_t npix, const Image& tile) {
-  write_pair(root / hips_tile_stem(order, npix), tile, format);
+void write_hips_tile(const fs::path& root, const HipsFormat& format, int order, std::int64_t npix, const Image& tile,
+                     const std::string& cards) {
+  write_pair(root / hips_tile_stem(order, npix), tile, format, cards);
 }
 
 void write_hips_properties(const fs::path& file, const HipsFormat& f, const HipsProperties& p) {
@@ -84,8 +87,10 @@ void write_hips_properties(const fs::path& file, const HipsFormat& f, const Hips
   std::ofstream out(file);
   out << "# HiPS made by gdp sky (docs/sky.md)\n"
       << "creator_did          = ivo://gdp/P/sky/" << f.frame << "\n"
-      << "obs_title            = " << p.title << "\n"
-      << "dataproduct_type     = image\n"
+      << "obs_title            = " << p.title << "\n";
+  if (!p.description.empty()) out << "obs_description      = " << p.description << "\n";
+  if (!p.progenitor.empty()) out << "prov_progenitor      = " << p.progenitor << "\n";
+  out << "dataproduct_type     = image\n"
       << "hips_version         = 1.4\n"
       << "hips_builder         = gdp sky\n"
       << "hips_creation_date   = " << now << "\n"
@@ -93,7 +98,6 @@ void write_hips_properties(const fs::path& file, const HipsFormat& f, const Hips
       << "hips_status          = private master unclonable\n"
       << "hips_frame           = " << f.frame << "\n"
       << "hips_order           = " << f.order << "\n"
-      << "hips_order_min       = " << f.min_order << "\n"
       << "hips_tile_width      = " << f.width << "\n"
       << "hips_tile_format     = png fits\n"
       << "hips_pixel_bitpix    = -32\n"
@@ -108,8 +112,7 @@ void write_hips_properties(const fs::path& file, const HipsFormat& f, const Hips
   if (!out.flush()) throw OutputError(file.string() + ": cannot write the HiPS properties");
 }
 
-std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::vector<std::int64_t>& tiles,
-                                    const std::string& frame) {
+std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::vector<std::int64_t>& tiles) {
   std::vector<std::int64_t> uniq = moc_cells(order, tiles);
   std::vector<long long> column(uniq.begin(), uniq.end());
   fitsfile* f = nullptr;
@@ -125,7 +128,7 @@ std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::
   };
   key("PIXTYPE", "HEALPIX", "HEALPix tessellation");
   key("ORDERING", "NUNIQ", "NUNIQ coding: 4 * 4^order + npix");
-  key("COORDSYS", frame == "galactic" ? "G" : "C", "C: equatorial (ICRS), G: galactic");
+  key("COORDSYS", "C", "ICRS (MOC 1.1 and 2.0 space MOCs)");
   int moc_order = order;
   fits_write_key_lng(f, "MOCORDER", moc_order, "MOC resolution (best order)", &status);
   key("MOCVERS", "2.0", "MOC version");

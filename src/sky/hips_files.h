@@ -20,26 +20,28 @@ struct HipsFormat {
 // "Norder{order}/Dir{D}/Npix{npix}" (D = npix / 10000 * 10000), without the extension.
 std::filesystem::path hips_tile_stem(int order, std::int64_t npix);
 
-// Writes the tile as Npix{npix}.fits (float, NaN where no data) and Npix{npix}.png (8-bit grey +
-// alpha, transparent where no data) under `root`, creating directories.
+// Writes the tile as Npix{npix}.fits (float, NaN where no data, `cards` in its header: the tile's
+// WCS, hips_tile_wcs.h) and Npix{npix}.png (8-bit grey + alpha, transparent where no data) under
+// `root`, creating directories.
 void write_hips_tile(const std::filesystem::path& root, const HipsFormat& format, int order, std::int64_t npix,
-                     const Image& tile);
+                     const Image& tile, const std::string& cards);
 
-// The `properties` file (HiPS 1.0, hips_version 1.4). `title`: obs_title; (ra, dec, fov): the
-// initial view, degrees; `tiles`: hips_nb_tiles (per format); `sky_fraction`: moc_sky_fraction.
+// The `properties` file (HiPS 1.0, hips_version 1.4). `title`: obs_title; (ra, dec, fov): the ICRS
+// initial view, degrees; `tiles`: hips_nb_tiles (per format); `sky_fraction`: moc_sky_fraction;
+// `description`, `progenitor`: obs_description, prov_progenitor (left out when empty).
 struct HipsProperties {
   std::string title;
   double ra = 0.0, dec = 0.0, fov = 180.0;
   long long tiles = 0;
   double sky_fraction = 0.0;
+  std::string description, progenitor;
 };
 void write_hips_properties(const std::filesystem::path& file, const HipsFormat& format, const HipsProperties& p);
 
-// The coverage `tiles` (indices of order `order`, ascending) as an IVOA MOC in FITS (MOC 1.1 /
-// 2.0: a binary table of NUNIQ = 4 * 4^k + npix cells, complete groups of four merged into
-// their parent). Returns the cells written.
-std::vector<std::int64_t> write_moc(const std::filesystem::path& file, int order, const std::vector<std::int64_t>& tiles,
-                                    const std::string& frame);
+// The coverage `tiles` (indices of order `order`, ascending, in ICRS: hips_icrs.h) as an IVOA MOC
+// in FITS (MOC 1.1 / 2.0: a binary table of NUNIQ = 4 * 4^k + npix cells, complete groups of four
+// merged into their parent; COORDSYS 'C'). Returns the cells written.
+std::vector<std::int64_t> write_moc(const std::filesystem::path& file, int order, const std::vector<std::int64_t>& tiles);
 
 // Tiles of one order (0..3) packed into Norder{k}/Allsky.fits and .png: cols = floor(sqrt(12 *
 // 4^k)) tiles a row, tile npix at column npix % cols, row npix / cols from the top, each tile

@@ -13,7 +13,9 @@
 #include "schedule/parallel.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
+#include "sky/hips_icrs.h"
 #include "sky/hips_pyramid.h"
+#include "sky/hips_tile_wcs.h"
 #include "sky/plate.h"
 #include "sky/reproject.h"
 #include "sky/toast_output.h"
@@ -65,8 +67,9 @@ std::string hips_frame(const std::string& longitude) {
 }
 
 HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeometry& geometry, HipsFormat& format,
-                       const HipsOptions& options, const fs::path& root) {
-  const Coverage coverage = find_coverage(pq, window, geometry);
+                       const HipsOptions& options, const std::string& longitude, const fs::path& root) {
+  Coverage coverage = find_coverage(pq, window, geometry);
+  if (format.frame == "galactic") galactic_to_icrs(coverage.ra, coverage.dec);  // hips_initial_ra/dec are ICRS
   const PqSampler sampler(pq, window);
   std::vector<sphere::Vec3> dirs;
   const int w = format.width, threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, w);
@@ -79,20 +82,25 @@ HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeomet
     return std::any_of(tile.data.begin(), tile.data.end(), [](float v) { return std::isfinite(v); });
   };
   HipsAllsky allsky(std::min(3, format.order), format.width);
-  std::vector<std::int64_t> deepest;
+  MocCells moc(geometry, format.frame == "galactic");
   HipsSummary s;
   s.order = format.order;
+  std::vector<std::unique_ptr<HipsTileWcs>> wcs;  // per order
+  for (int k = 0; k <= format.order; ++k) wcs.push_back(std::make_unique<HipsTileWcs>(k, format.width, longitude));
   const HipsEmit emit = [&](int order, std::int64_t npix, const Image& tile) {
-    write_hips_tile(root, format, order, npix, tile);
+    write_hips_tile(root, format, order, npix, tile, wcs[order]->cards(npix));
     ++s.tiles;
-    if (order == format.order) deepest.push_back(npix);
+    if (order == format.order) {
+      moc.add(npix, tile);
+      ++s.deepest_tiles;
+    }
     if (order == allsky.order()) allsky.add(npix, tile);
   };
   build_hips_pyramid(format.order, format.min_order, format.width, coverage.tiles, sample, emit);
   allsky.write(root, format);
-  s.deepest_tiles = static_cast<long long>(deepest.size());
-  const std::vector<std::int64_t> cells = write_moc(root / "Moc.fits", format.order, deepest, format.frame);
-  HipsProperties p{options.title, coverage.ra, coverage.dec, coverage.fov, 2 * s.tiles, 0.0};
+  const std::vector<std::int64_t> cells = write_moc(root / "Moc.fits", format.order, moc.cells());
+  HipsProperties p{options.title, coverage.ra, coverage.dec, coverage.fov, 2 * s.tiles, 0.0, options.description,
+                   options.progenitor};
   for (const std::int64_t uniq : cells) {
     int k = 0;
     while ((std::int64_t{4} << (2 * (k + 1))) <= uniq) ++k;
@@ -125,7 +133,7 @@ HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::s
   std::tie(format.lo, format.hi) = display_range(pq);
   const HipsGeometry geometry(format.order, format.width);
   HipsSummary s;
-  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, temp); });
+  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, longitude, temp); });
   return s;
 }
 

@@ -12,6 +12,7 @@ namespace gdp::sky {
 struct HipsOptions {
   int tile_width = 512;  // hips_tile_width: a power of 2, 8 .. 4096
   std::string title = "gdp sky mosaic";
+  std::string description = {}, progenitor = {};  // obs_description, prov_progenitor (none when empty)
 };
 
 struct HipsSummary {

@@ -1,6 +1,8 @@
 // gdp sky: plates -> seamed PQ mosaic -> spherical gradient-domain stitch -> target grid with its WCS.
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -9,6 +11,7 @@
 #include "gdp/image_stream.h"
 #include "gdp/sky.h"
 #include "sky/header.h"
+#include "sky/hips_geometry.h"
 #include "sky/hips_output.h"
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
@@ -29,7 +32,10 @@ struct TargetGrid {
   int width = 0, height = 0;
 };
 
-TargetGrid target_grid(const SkyTarget& t) {
+// The output image's grid: the header template, --center/--size/--scale/--projection, or, for
+// projection HPX without a size, the whole sky on the HEALPix pixels of --scale or of the order
+// the plates support (as the HiPS's deepest pixels), in the plates' frame `longitude`.
+TargetGrid target_grid(const SkyTarget& t, const std::string& longitude, int pq_height) {
   TargetGrid g;
   if (!t.header.empty()) {
     g.name = t.header.string();
@@ -40,8 +46,16 @@ TargetGrid target_grid(const SkyTarget& t) {
     g.height = static_cast<int>(*h);
     return g;
   }
+  if (t.projection == "HPX" && t.width == 0 && t.height == 0) {
+    const int order = t.scale > 0.0 ? sky::hpx_order_for_scale(t.scale) : sky::hips_pixel_order(pq_height);
+    g.name = fmt::format("the whole sky in HPX (HEALPix order {})", order);
+    g.cards = sky::hpx_grid_header(order, longitude);
+    g.width = g.height = 5 << order;
+    return g;
+  }
   if (t.width < 1 || t.height < 1 || !(t.scale > 0.0))
-    throw UsageError("gdp sky needs --header, or --center with --size W,H and --scale (degrees per pixel) > 0");
+    throw UsageError("gdp sky needs --header, --center with --size W,H and --scale (degrees per pixel) > 0, or "
+                     "--projection HPX alone (the whole sky)");
   g.name = "the target (--center, --size, --scale, --projection)";
   g.cards = sky::target_header(t);
   g.width = t.width;
@@ -75,26 +89,8 @@ int pq_height_for(const std::vector<sky::Plate>& plates) {
   return sphere::default_pq_height(static_cast<long long>(pixels));
 }
 
-}  // namespace
-
-void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options, SolverOptions solver,
-                const std::filesystem::path& out, WriteOptions write, SkySummary* summary) {
-  if (paths.empty()) throw UsageError("gdp sky needs at least one plate");
-  const auto note = [&](const std::string& m) { if (options.note) options.note(m); };
-  const TargetGrid grid = target_grid(options.target);
-  const sky::Wcs target(grid.cards, grid.width, grid.height, grid.name);
-  std::vector<sky::Plate> plates;
-  for (const std::string& path : paths) {
-    plates.push_back(sky::load_plate(path, options.plane));
-    const sky::Plate& p = plates.back();
-    if (p.planes > 1)
-      note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, p.planes, options.plane + 1));
-    if (p.wcs->frame() != target.frame())
-      throw InputError(fmt::format("{}: longitude axis {} but the target's is {}; gdp sky does not convert frames",
-                                   path, p.wcs->frame(), target.frame()));
-  }
-  sky::set_fade_levels(plates);
-  if (!target_reached(target, plates)) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
+// The PQ height: --pq-height or the finest plate's scale; for TOAST rounded up to 128 * 2^n.
+int choose_pq_height(const std::vector<sky::Plate>& plates, const SkyOptions& options) {
   int H = options.pq_height > 0 ? options.pq_height : pq_height_for(plates);
   if (!options.toast.empty()) {
     if (options.pq_height > 0 && sky::toast_height(H) != H)
@@ -104,22 +100,16 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
       throw UsageError(options.toast.string() + ": exists and is not an empty directory");
     H = sky::toast_height(H);
   }
-  if (!options.hips.empty()) sky::check_hips_output(options.hips, {options.hips_tile}, target.frame());
   if (H % 2 != 0) throw UsageError(fmt::format("--pq-height {} must be even", H));
-  // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
-  // fold); TOAST output needs the whole sphere.
-  const auto window = options.toast.empty() ? sky::plate_window(plates, H, sky::kExtension) : std::nullopt;
-  const sky::PqWindow win = window ? *window : sky::whole_pq(H);
-  // The PQ image (or window) is held in memory for the output's resampling (docs/sky.md).
-  if (double(win.width) * win.rows > kMaxPqPixels)
-    throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs {} x {} pixels of a PQ sphere of height "
-                                 "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
-                                 "--pq-height",
-                                 finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  return H;
+}
+
+// The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
+Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const SkyOptions& options,
+               SolverOptions solver, const std::vector<std::string>& paths, SkySummary& s) {
   sky::MosaicRows rows(plates, win);
   Image pq(win.width, win.rows, 1);
   ImageRowWriter pq_rows(pq);
-  SkySummary s;
   if (options.blend) {
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
@@ -136,24 +126,94 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   for (std::size_t k = 0; k < pq.data.size(); ++k)
     if (!rows.coverage()[k]) pq.data[k] = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t k = 0; k < plates.size(); ++k)
-    if (rows.chosen()[k] == 0) note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
+    if (rows.chosen()[k] == 0 && options.note)
+      options.note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
+  s.plate_pixels = rows.chosen();
+  return pq;
+}
+
+// The HiPS's tile width and the properties' obs_description and prov_progenitor (the plates' names).
+sky::HipsOptions hips_options(const std::vector<std::string>& paths, const SkyOptions& options) {
+  sky::HipsOptions h;
+  h.tile_width = options.hips_tile;
+  h.description = fmt::format("{} FITS plate(s) reprojected onto a PQ sphere of the sky and blended there in the "
+                              "gradient domain (gdp sky): each plate's structure kept, background differences removed",
+                              paths.size());
+  for (std::size_t k = 0; k < paths.size() && k < 20; ++k)
+    h.progenitor += (k ? ", " : "") + std::filesystem::path(paths[k]).filename().string();
+  if (paths.size() > 20) h.progenitor += fmt::format(" and {} more", paths.size() - 20);
+  return h;
+}
+
+bool target_given(const SkyTarget& t) {
+  return !t.header.empty() || t.lon != 0.0 || t.lat != 0.0 || t.width > 0 || t.height > 0 || t.scale > 0.0 ||
+         t.projection != SkyTarget{}.projection;
+}
+
+}  // namespace
+
+void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options, SolverOptions solver,
+                const std::filesystem::path& out, WriteOptions write, SkySummary* summary) {
+  if (paths.empty()) throw UsageError("gdp sky needs at least one plate");
+  if (out.empty() && options.hips.empty() && options.toast.empty())
+    throw UsageError("gdp sky needs an output: -o IMAGE, --hips DIR or --toast DIR");
+  if (out.empty() && target_given(options.target))
+    throw UsageError("--header, --center, --size, --scale and --projection describe the -o image: give -o");
+  const auto note = [&](const std::string& m) { if (options.note) options.note(m); };
+  std::vector<sky::Plate> plates;
+  for (const std::string& path : paths) {
+    plates.push_back(sky::load_plate(path, options.plane));
+    if (plates.back().planes > 1)
+      note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, plates.back().planes, options.plane + 1));
+  }
+  sky::set_fade_levels(plates);
+  const int H = choose_pq_height(plates, options);
+  // The frame every plate must share: the target's, else the first plate's.
+  std::optional<TargetGrid> grid;
+  std::unique_ptr<sky::Wcs> target;
+  std::string frame = plates.front().wcs->frame(), frame_of = paths.front();
+  if (!out.empty()) {
+    grid = target_grid(options.target, frame, H);
+    target = std::make_unique<sky::Wcs>(grid->cards, grid->width, grid->height, grid->name);
+    frame = target->frame();
+    frame_of = "the target";
+  }
+  for (std::size_t k = 0; k < plates.size(); ++k)
+    if (plates[k].wcs->frame() != frame)
+      throw InputError(fmt::format("{}: longitude axis {} but {}'s is {}; gdp sky does not convert frames", paths[k],
+                                   plates[k].wcs->frame(), frame_of, frame));
+  if (target && !target_reached(*target, plates)) throw InputError(fmt::format("{}: no plate reaches the target", grid->name));
+  if (!options.hips.empty()) sky::check_hips_output(options.hips, hips_options(paths, options), frame);
+  // Plates covering a small part of the sky are solved on their PQ window (planar: it meets no
+  // fold); TOAST output needs the whole sphere.
+  const auto window = options.toast.empty() ? sky::plate_window(plates, H, sky::kExtension) : std::nullopt;
+  const sky::PqWindow win = window ? *window : sky::whole_pq(H);
+  // The PQ image (or window) is held in memory for the output's resampling (docs/sky.md).
+  if (double(win.width) * win.rows > kMaxPqPixels)
+    throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs {} x {} pixels of a PQ sphere of height "
+                                 "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
+                                 "--pq-height",
+                                 finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  SkySummary s;
+  const Image pq = solve_pq(plates, win, options, solver, paths, s);
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {
-    const auto h = sky::write_sky_hips(pq, win, target.frame(), options.hips, {options.hips_tile});
+    const auto h = sky::write_sky_hips(pq, win, frame, options.hips, hips_options(paths, options));
     s.hips_order = h.order;
     s.hips_tiles = h.tiles;
     note(fmt::format("HiPS order {} ({} tiles of {} pixels there, {} in all) -> {}", h.order, h.deepest_tiles,
                      options.hips_tile, h.tiles, options.hips.string()));
   }
-  write.fits_header = grid.cards;
-  ImageFileWriter writer(out, grid.width, grid.height, 1, write);
-  s.covered = sky::reproject_pq(pq, win, target, writer);
-  if (s.covered == 0) throw InputError(fmt::format("{}: no plate reaches the target", grid.name));
-  writer.commit();
+  if (target) {
+    write.fits_header = grid->cards;
+    ImageFileWriter writer(out, grid->width, grid->height, 1, write);
+    s.covered = sky::reproject_pq(pq, win, *target, writer);
+    if (s.covered == 0) throw InputError(fmt::format("{}: no plate reaches the target", grid->name));
+    writer.commit();
+    s.target_pixels = static_cast<long long>(grid->width) * grid->height;
+  }
   s.pq_height = H;
   s.pq_window = {win.i0, win.j0, win.width, win.rows};
-  s.plate_pixels = rows.chosen();
-  s.target_pixels = static_cast<long long>(grid.width) * grid.height;
   if (summary) *summary = std::move(s);
 }
 

@@ -31,12 +31,15 @@ class Sky final : public Command {
   explicit Sky(CLI::App& root) {
     app = root.add_subcommand("sky", "sky mosaic: FITS plates with WCS blended on the sphere, written for a target WCS");
     app->add_option("plates", plates_, "FITS plates with a celestial WCS (--projected: images or directories)")->required();
-    app->add_option("-o,--output", output_, "output image (FITS gets the target's WCS in its header)")->required();
+    app->add_option("-o,--output", output_, "output image on the target grid (FITS gets the target's WCS in its header); "
+                                            "optional with --hips or --toast");
     app->add_option("--header", options_.target.header, "target header template (Montage's form: KEY = value lines)");
     app->add_option("--center", center_, "target centre RA,DEC in degrees (with --size and --scale)");
     app->add_option("--size", size_, "target size W,H in pixels");
     app->add_option("--scale", options_.target.scale, "target pixel scale in degrees");
-    app->add_option("--projection", options_.target.projection, "target projection: TAN, CAR, SIN, ZEA, ... (wcslib's codes)")
+    app->add_option("--projection", options_.target.projection,
+                    "target projection: TAN, CAR, SIN, ZEA, ... (wcslib's codes); HPX without --center/--size: the "
+                    "whole sky on HEALPix pixels (of --scale, else as fine as the plates)")
         ->capture_default_str();
     app->add_option("--toast", options_.toast, "also write a WorldWideTelescope TOAST tile pyramid into this new or empty "
                                                "directory (PQ height rounded up to 128 * 2^n)");
@@ -58,12 +61,10 @@ class Sky final : public Command {
     if (projected_) return run_projected(stats, solver);
     if (!options_.target.header.empty() && !center_.empty())
       throw UsageError("give the target either as --header or as --center/--size/--scale, not both");
-    if (options_.target.header.empty()) {
-      if (center_.empty() || size_.empty())
-        throw UsageError("gdp sky needs --header TEMPLATE.hdr, or --center RA,DEC --size W,H --scale DEG");
-      std::tie(options_.target.lon, options_.target.lat) = pair_of<double>(center_, "--center");
-      std::tie(options_.target.width, options_.target.height) = pair_of<int>(size_, "--size");
-    }
+    if (options_.target.projection == "HPX" && center_.empty() != size_.empty())
+      throw UsageError("--projection HPX takes --center with --size (a region), or neither (the whole sky)");
+    if (!center_.empty()) std::tie(options_.target.lon, options_.target.lat) = pair_of<double>(center_, "--center");
+    if (!size_.empty()) std::tie(options_.target.width, options_.target.height) = pair_of<int>(size_, "--size");
     if (plane_ < 1) throw UsageError(fmt::format("--plane counts from 1, got {}", plane_));
     options_.plane = plane_ - 1;
     options_.pq_height = common_.pq_height;
@@ -74,8 +75,9 @@ class Sky final : public Command {
     if (options_.blend) stats.summary(summary.solve);
     stats.set("pq_height", std::to_string(summary.pq_height));
     stats.set("covered_pixels", std::to_string(summary.covered));
-    note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
-                              plates_.size(), summary.pq_height, summary.covered, summary.target_pixels, output_));
+    if (!output_.empty())
+      note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
+                                plates_.size(), summary.pq_height, summary.covered, summary.target_pixels, output_));
     stats.write(common_.stats_path);
     return 0;
   }
@@ -87,6 +89,7 @@ class Sky final : public Command {
         common_.pq_height > 0 || plane_ != 1)
       throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --hips, "
                        "--no-blend, --pq-height or --plane");
+    if (output_.empty()) throw UsageError("gdp sky --projected needs -o OUTPUT");
     ProjectedOptions options;
     options.header = options_.target.header;
     ProjectedSummary summary;
