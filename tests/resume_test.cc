@@ -118,8 +118,8 @@ TEST_F(Resume, EmptyMissingOrCorruptDirectoriesAreRefused) {
   expect_failure(stitch("r.tif", "--resume " + path("missing")), "no such directory");
   const std::string env = "GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=3";
   ASSERT_EQ(gdp_env(env, stitch("r.tif", "--checkpoint " + path("cp") + " --threads 1")).code, 137);
-  fs::resize_file(path("cp/lane0.state"), 100);
-  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.state is corrupt");
+  fs::resize_file(path("cp/lane0.1.state"), 100);  // the third save's (states alternate between two files)
+  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt");
   std::ofstream(path("cp/manifest")) << "gdp checkpoint 1\nsizes\n";
   expect_failure(stitch("r.tif", "--resume " + path("cp")), "manifest is corrupt");
   std::ofstream(path("cp/manifest")) << "something else\n";

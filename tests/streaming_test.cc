@@ -68,6 +68,29 @@ TEST_P(Schedules, StreamingIsBitIdenticalToInCore) {
     EXPECT_NEAR(s1.relative_residuals[i], s2.relative_residuals[i], 1e-6 * s1.relative_residuals[0]);
 }
 
+// The band schedule with one band is the same plan: in-core's bits too.
+TEST_P(Schedules, OneBandIsBitIdenticalToInCore) {
+  const Case k = GetParam();
+  const Image img = test::random_image(k.width, k.height, k.channels, 5);
+  const Image start = test::random_image(k.width, k.height, k.channels, 9);
+  SolverOptions o;
+  o.domain = k.domain;
+  o.vcycles = k.vcycles;
+  o.precision = k.precision;
+  o.coarsest_size = 5;
+  o.incore_bytes = k.incore_bytes;
+  o.schedule = Schedule::InCore;
+  test::ExactGradients src1(img, k.domain, k.alpha, 1.3);
+  const Image a = solve(src1, o, k.initial ? &start : nullptr, nullptr);
+  o.schedule = Schedule::Bands;
+  o.bands = 1;
+  test::ExactGradients src2(img, k.domain, k.alpha, 1.3);
+  const Image b = solve(src2, o, k.initial ? &start : nullptr, nullptr);
+  ASSERT_EQ(a.data.size(), b.data.size());
+  EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0)
+      << "max difference " << test::max_difference(a, b);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Streaming, Schedules,
     ::testing::Values(Case{Domain::Planar, 97, 53, 1, 0.0, 1, Precision::Float32, 0, false},
