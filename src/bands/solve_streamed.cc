@@ -193,6 +193,20 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
   return s;
 }
 
+// This process's workers: under mpirun opt.bands per rank (one without --bands), else every band
+// of the plan, in channel groups (up to one a channel, two threads left to the codecs).
+Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, int channels) {
+  Team team;
+  team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
+  if (distributed) {
+    team.ranks = std::make_unique<MpiHub>(team.local);
+    team.first = team.ranks->first();
+  } else {
+    team.groups = std::clamp((opt.threads - 2) / team.local, 1, channels);
+  }
+  return team;
+}
+
 // This process's bands and columns: every band, or under mpirun a contiguous share of them,
 // whose own columns [own_begin, own_end) it writes and whose rows it reads (plus margins).
 template <class T>
@@ -299,14 +313,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   summary.streamed_levels = layout.banded_levels();
   auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
 
-  Team team;
-  team.local = setup.distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
-  if (setup.distributed) {
-    team.ranks = std::make_unique<MpiHub>(team.local);
-    team.first = team.ranks->first();
-  } else {  // channel groups: up to one a channel, two threads left to the codecs
-    team.groups = std::clamp((opt.threads - 2) / team.local, 1, channels);
-  }
+  Team team = make_team(opt, layout, setup.distributed, channels);
   share_columns(setup, team, source, out);
   const std::unique_ptr<StreamedCheckpoint> checkpoint =
       open_streamed_checkpoint(opt, ops, channels, layout.bands, team.local, team.first, team.groups, settings.stores);
