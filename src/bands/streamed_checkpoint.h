@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "bands/band_layout.h"
 #include "bands/transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
@@ -54,12 +55,14 @@ class StreamedCheckpoint {
   template <class T, class VCycle>
   int attach(schedule::CycleWorker<T, VCycle>& worker, const VCycle& vcycle, int i, int g, schedule::ResidualLog& log,
              int c0, int channels, int width) {
-    // A unit of the first pass stores about four times what a save writes (the rows held); bands
-    // of one group save at the same rows, so the unit is the one-band plan's, from the image width.
+    // A unit of the first pass stores about four times what a save writes (the rows held). The
+    // bands of a plan must save at the same rows: theirs is a function of the plan, about four
+    // times the rows its levels' rings hold (twice level 0's), not of the band.
+    const BandLayout& plan = vcycle.layout();
     const double row_bytes = 2.0 * channels * width * sizeof(T);
-    const double held = local_ * groups_ == 1 || vcycle.layout().single ? static_cast<double>(vcycle.window_bytes())
-                                                                       : 8.0 * row_bytes * 32;
-    const int rows = static_cast<int>(std::min(1e9, 4.0 * held / row_bytes));
+    const double rows_held = plan.single ? static_cast<double>(vcycle.window_bytes()) / row_bytes
+                                         : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
+    const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
     return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)), log, c0);
   }
 
