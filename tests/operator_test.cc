@@ -144,7 +144,7 @@ TEST(RhsWindow, WindowedRowsEqualWholeRowsInTheWindow) {
     const Image img = test::random_image(w, h, 1, 3);
     test::ExactGradients src(img, domain, 0.3);
     const fem::Axis& x = hier.levels[0].x;
-    // Planar windows may touch the image's edges; periodic ones do not wrap (solve_bands reads
+    // Planar windows may touch the image's edges; periodic ones do not wrap (solve_streamed reads
     // whole rows then).
     std::vector<std::pair<int, int>> windows{{11, 29}};
     if (domain == Domain::Planar) windows.insert(windows.end(), {{0, 13}, {27, 40}});

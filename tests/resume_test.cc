@@ -118,16 +118,32 @@ TEST_F(Resume, EmptyMissingOrCorruptDirectoriesAreRefused) {
   expect_failure(stitch("r.tif", "--resume " + path("missing")), "no such directory");
   const std::string env = "GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=3";
   ASSERT_EQ(gdp_env(env, stitch("r.tif", "--checkpoint " + path("cp") + " --threads 1")).code, 137);
-  fs::resize_file(path("cp/lane0.state"), 100);
-  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.state is corrupt");
+  fs::resize_file(path("cp/lane0.1.state"), 100);  // the third save's (states alternate between two files)
+  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt");
   std::ofstream(path("cp/manifest")) << "gdp checkpoint 1\nsizes\n";
   expect_failure(stitch("r.tif", "--resume " + path("cp")), "manifest is corrupt");
   std::ofstream(path("cp/manifest")) << "something else\n";
   expect_failure(stitch("r.tif", "--resume " + path("cp")), "not a gdp checkpoint");
 }
 
-TEST_F(Resume, BandsAndInCoreDoNotCheckpoint) {
-  expect_failure(stitch("r.tif", "--checkpoint " + path("cp") + " --bands 2"), "--bands");
+// Bands checkpoint too: every band saves at the same rows and waits for the others before going on
+// (StreamedVCycle::saved), so a kill between two bands' saves resumes from the newest save both
+// made, with the same bits. Another band count is refused, naming it.
+TEST_F(Resume, BandsKilledAndResumedGiveTheSameBits) {
+  const std::string two = "--bands 2 --vcycles 2";
+  ASSERT_EQ(gdp(stitch("plain.tif", two)).code, 0);
+  int killed = 0;
+  for (int n = 1; n < 100 && kill_and_resume(n, two); n += 3) ++killed;
+  EXPECT_GE(killed, 6);
+  const std::string env = "GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=5";
+  ASSERT_EQ(gdp_env(env, stitch("r.tif", "--checkpoint " + path("cp") + " " + two)).code, 137);
+  expect_failure(stitch("r.tif", "--resume " + path("cp") + " --bands 3 --vcycles 2"), "--bands");
+  expect_failure(stitch("r.tif", "--resume " + path("cp") + " --vcycles 2"), "--bands");
+  ASSERT_EQ(gdp(stitch("r.tif", "--resume " + path("cp") + " " + two)).code, 0);
+  expect_same_bits(path("plain.tif"), path("r.tif"));
+}
+
+TEST_F(Resume, InCoreDoesNotCheckpoint) {
   expect_failure(stitch("r.tif", "--checkpoint " + path("cp") + " --in-core"), "--in-core");
   expect_failure(stitch("r.tif", "--checkpoint " + path("cp") + " --resume " + path("cq")), "one directory");
 }

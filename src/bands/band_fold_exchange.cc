@@ -1,12 +1,12 @@
 // Band V-cycle across a spherical level's fold: rows shown to mirror partners, restriction sums sent to owners.
 #include <algorithm>
 
-#include "bands/band_vcycle_parts.h"
+#include "bands/streamed_vcycle_parts.h"
 
 namespace gdp::bands {
 
 template <class T>
-T* BandVCycle<T>::fold_row(int l, int c, int row, bool initial) {
+T* StreamedVCycle<T>::fold_row(int l, int c, int row, bool initial) {
   Level& L = *levels_[l];
   const int side = row < 2 ? 0 : 1, r = side == 0 ? row : row - (L.height - 2);
   T* rows = initial ? initial_fold_[side].data() : L.fold[side].rows.data();
@@ -16,7 +16,7 @@ T* BandVCycle<T>::fold_row(int l, int c, int row, bool initial) {
 // Rows 0, 1 (side 0) or h - 2, h - 1 (side 1) of level l as they are now, at the columns across
 // the fold this band reads, into `into` (whole rows): its own copied, the others' from their owners.
 template <class T>
-void BandVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
+void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
   Level& L = *levels_[l];
   const FoldPlan& plan = L.fold[side].reads;
   const int first = side == 0 ? 0 : L.height - 2;
@@ -48,7 +48,7 @@ void BandVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
 // as the settings have them); each goes to the band owning the column, which adds them (its own
 // first, then the others' in band order).
 template <class T>
-void BandVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
+void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
   const FoldPlan& plan = levels_[l]->fold[side].sums;
   const bool tail = gathered(l);
   const int m = ops_.levels[base_ + l + 1].width, channels = set_.channels;
@@ -90,9 +90,9 @@ void BandVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, i
 }
 
 #define GDP_INSTANTIATE(T)                                                                        \
-  template T* BandVCycle<T>::fold_row(int, int, int, bool);                                     \
-  template void BandVCycle<T>::exchange_fold_rows(int, int, std::vector<T>&);                   \
-  template void BandVCycle<T>::add_fold_sums(int, int, const std::vector<T>&, int);
+  template T* StreamedVCycle<T>::fold_row(int, int, int, bool);                                     \
+  template void StreamedVCycle<T>::exchange_fold_rows(int, int, std::vector<T>&);                   \
+  template void StreamedVCycle<T>::add_fold_sums(int, int, const std::vector<T>&, int);
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)
 #undef GDP_INSTANTIATE

@@ -86,4 +86,15 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
                                bands, bands * L.min_band_width(), L.min_band_width(), sweeps, h.levels[0].width()));
 }
 
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int sweeps, int levels) {
+  BandLayout L;
+  L.single = true;
+  L.sweeps = sweeps;
+  L.periodic = periodic;
+  L.halo = 0;
+  L.levels = levels;
+  for (int l = 0; l <= levels; ++l) L.bounds.push_back({0, h.levels[l].width()});
+  return L;
+}
+
 }  // namespace gdp::bands

@@ -26,6 +26,10 @@ struct BandLayout {
   // neighbour's band, so that at the end of every phase each band holds the latest values of its
   // own columns, which it then shows its mirror partners.
   bool folded = false;
+  // The one-band plan (single_band_layout): no neighbour on either side (a periodic level is
+  // closed inside the kernels, not by strips to itself), no halo, whole-row tiles, rows always
+  // forward, G = 1. Its order is plain streaming's pipeline, so it gives in-core's bits.
+  bool single = false;
   // bounds[l][b] .. bounds[l][b + 1]: the columns band b owns on level l (l = 0 .. levels).
   std::vector<std::vector<int>> bounds;
   // Where bands grow too narrow before a level is small enough to gather, they merge: level
@@ -37,8 +41,8 @@ struct BandLayout {
   int end(int l, int b) const { return bounds[l][b + 1]; }
   int origin(int l, int b) const { return begin(l, b) - halo; }              // global column of a row's [0]
   int row_length(int l, int b) const { return end(l, b) - begin(l, b) + 2 * halo; }
-  int left(int b) const { return b > 0 ? b - 1 : periodic ? bands - 1 : -1; }   // -1: none
-  int right(int b) const { return b + 1 < bands ? b + 1 : periodic ? 0 : -1; }
+  int left(int b) const { return single ? -1 : b > 0 ? b - 1 : periodic ? bands - 1 : -1; }  // -1: none
+  int right(int b) const { return single ? -1 : b + 1 < bands ? b + 1 : periodic ? 0 : -1; }
   // 2(k - s): how far sweep s's interior lanes are shifted (section 6.2); s = 1 .. k.
   int shift(int s) const { return 2 * (sweeps - s); }
   // G + k - 1: the (group, sweep) steps u = t - t0 + s - 1 of a phase; tiles move 2 columns a step.
@@ -77,5 +81,7 @@ constexpr int kDefaultPhaseGroups = 16;
 // the finest level is too narrow for G = 1.
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
                             int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
+// The one-band plan (`single`) over levels 0 .. levels - 1, level `levels` held whole.
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int sweeps, int levels);
 
 }  // namespace gdp::bands

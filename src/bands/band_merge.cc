@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "bands/band_vcycle_parts.h"
+#include "bands/streamed_vcycle_parts.h"
 
 namespace gdp::bands {
 namespace {
@@ -32,7 +32,7 @@ std::unique_ptr<Transport> merged_transport(Transport& outer, int bands) {
 // Restriction pass: coarse row `row` of the level below is complete in every band of a group; the
 // group's owner puts its columns together and pushes the row into the merged stage.
 template <class T>
-void BandVCycle<T>::hand_off(int row) {
+void StreamedVCycle<T>::hand_off(int row) {
   const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
   Level& H = *levels_[tl];
   // Band m's columns of the row, piece by piece: f(kind, channel, first column, count) for b of
@@ -79,7 +79,7 @@ void BandVCycle<T>::hand_off(int row) {
 // Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
 // band's row, halo included, from the group's owner to the others), into this band's ring.
 template <class T>
-void BandVCycle<T>::take_back(int row) {
+void StreamedVCycle<T>::take_back(int row) {
   const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
   Level& H = *levels_[tl];
   const BandLayout& M = *layout_.merged;
@@ -106,9 +106,9 @@ void BandVCycle<T>::take_back(int row) {
   }
 }
 
-template void BandVCycle<float>::hand_off(int);
-template void BandVCycle<float>::take_back(int);
-template void BandVCycle<double>::hand_off(int);
-template void BandVCycle<double>::take_back(int);
+template void StreamedVCycle<float>::hand_off(int);
+template void StreamedVCycle<float>::take_back(int);
+template void StreamedVCycle<double>::hand_off(int);
+template void StreamedVCycle<double>::take_back(int);
 
 }  // namespace gdp::bands

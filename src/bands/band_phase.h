@@ -54,6 +54,12 @@ template <class Relax, class Send, class Receive>
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, Relax&& relax, Send&& send,
                 Receive&& receive) {
   const int G = L.phase_groups, k = L.sweeps, t0 = p * G;
+  if (L.single) {  // the one-band plan: whole rows, forward, nothing to exchange
+    for (int t = t0; t < t0 + G; ++t)
+      for (int s = 1; s <= k; ++s)
+        if (t - 2 * s >= 0 && t - 2 * s < height) relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true});
+    return;
+  }
   const bool lead_left = p % 2 == 0;
   const auto each = [&](auto&& f) {  // every (group, sweep) of the phase whose row exists
     for (int t = t0; t < t0 + G; ++t)

@@ -5,8 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -78,9 +80,18 @@ bool is_checkpoint_file(const std::string& name) {
   const auto ends = [&](const std::string& tail) {
     return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
   };
-  return name == "manifest" || name == "manifest.tmp" ||
+  return name == "manifest" || name == "manifest.tmp" || name.rfind("manifest.rank", 0) == 0 ||
          (name.rfind("lane", 0) == 0 && (ends(".state") || ends(".state.tmp") || ends(".store")));
 }
+
+// The lane a file "laneN..." belongs to (-1: not a lane's file).
+int lane_of(const std::string& name) {
+  if (name.rfind("lane", 0) != 0 || name.size() < 5 || name[4] < '0' || name[4] > '9') return -1;
+  return std::atoi(name.c_str() + 4);
+}
+
+// Rank r's manifest: rank 0's is "manifest" (the one gdp::check_resume reads).
+std::string manifest_name(int rank) { return rank == 0 ? "manifest" : fmt::format("manifest.rank{}", rank); }
 
 }  // namespace
 
@@ -100,11 +111,13 @@ void write_atomically(const std::filesystem::path& path, const std::string& byte
     throw OutputError(fmt::format("checkpoint {}: cannot rename: {}", path.string(), system_message()));
 }
 
-Manifest read_manifest(const std::filesystem::path& dir) {
+Manifest read_manifest(const std::filesystem::path& dir, int rank) {
   const std::string where = fmt::format("--resume {}", dir.string());
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) throw UsageError(where + ": no such directory");
-  std::ifstream in(dir / "manifest");
+  std::ifstream in(dir / manifest_name(rank));
+  if (!in && rank > 0)
+    throw UsageError(fmt::format("{}: no checkpoint of rank {} there (it was made with fewer ranks)", where, rank));
   if (!in) throw UsageError(where + ": no checkpoint there (no manifest; start with --checkpoint DIR)");
   std::string line;
   if (!std::getline(in, line) || line != kMagic)
@@ -124,15 +137,25 @@ Manifest read_manifest(const std::filesystem::path& dir) {
   return m;
 }
 
-Checkpoint::Checkpoint(const SolverOptions& options, const std::string& sizes, int& lanes)
+Checkpoint::Checkpoint(const SolverOptions& options, const std::string& sizes, int& lanes, int first_lane, int rank,
+                       int all_lanes)
     : dir_(options.checkpoint_dir), resume_(options.resume), identity_(options.checkpoint_identity), sizes_(sizes),
-      kill_after_(env_int("GDP_CHECKPOINT_KILL_AFTER")) {
+      first_(first_lane), rank_(rank), kill_after_(env_int("GDP_CHECKPOINT_KILL_AFTER")) {
   if (resume_) {
     check_resume(dir_, identity_);
-    const Manifest m = read_manifest(dir_);
-    if (m.sizes != sizes_)
+    const Manifest m = read_manifest(dir_, rank);
+    // "problem | counts": the band and rank counts are named on their own.
+    const auto part = [](const std::string& v, bool second) {
+      const std::size_t bar = v.find(" | ");
+      return bar == std::string::npos ? (second ? std::string() : v) : second ? v.substr(bar + 3) : v.substr(0, bar);
+    };
+    if (part(m.sizes, false) != part(sizes_, false))
       throw UsageError(fmt::format("--resume {}: the problem changed since the checkpoint (sizes {}, now {})",
-                                   dir_.string(), m.sizes, sizes_));
+                                   dir_.string(), part(m.sizes, false), part(sizes_, false)));
+    if (part(m.sizes, true) != part(sizes_, true))
+      throw UsageError(fmt::format("--resume {}: the checkpoint was made with {}, this run has {} (resume with the "
+                                   "same --bands and number of ranks)",
+                                   dir_.string(), part(m.sizes, true), part(sizes_, true)));
     lanes = m.lanes;
     progress_ = m.progress;
   } else {
@@ -140,11 +163,20 @@ Checkpoint::Checkpoint(const SolverOptions& options, const std::string& sizes, i
     std::filesystem::create_directories(dir_, ec);
     if (!std::filesystem::is_directory(dir_, ec))
       throw UsageError(fmt::format("--checkpoint {}: cannot create the directory", dir_.string()));
-    for (const auto& e : std::filesystem::directory_iterator(dir_))
-      if (is_checkpoint_file(e.path().filename().string())) std::filesystem::remove(e.path(), ec);
+    // This rank's files only (ranks share the directory); rank 0 also those of lanes no rank has now.
+    for (const auto& e : std::filesystem::directory_iterator(dir_)) {
+      const std::string name = e.path().filename().string();
+      const int lane = lane_of(name);
+      const bool mine = lane >= 0 ? (lane >= first_ && lane < first_ + lanes) || (rank_ == 0 && lane >= std::max(all_lanes, lanes))
+                                  : name == manifest_name(rank_) || name == manifest_name(rank_) + ".tmp";
+      if (mine && is_checkpoint_file(name)) std::filesystem::remove(e.path(), ec);
+    }
   }
   lanes_ = lanes;
   progress_.resize(lanes_, "not started");
+  generation_.assign(lanes_, 0);
+  if (resume_)  // each lane's newest state, unless the caller chooses (a band plan's lanes agree)
+    for (int l = 0; l < lanes_; ++l) generation_[l] = generations(first_ + l).back();
   write_manifest();
 }
 
@@ -153,18 +185,49 @@ int Checkpoint::unit_rows(int rows) const {
   return forced > 0 ? forced : std::max(rows, 1);
 }
 
-std::optional<std::string> Checkpoint::load(int lane) const {
-  std::ifstream in(dir_ / fmt::format("lane{}.state", lane), std::ios::binary);
+// A state file: "gdp state G\n" (its generation) and the state's bytes.
+std::optional<std::pair<long long, std::string>> Checkpoint::read_slot(int lane, int slot) const {
+  std::ifstream in(dir_ / fmt::format("lane{}.{}.state", lane, slot), std::ios::binary);
   if (!in) return std::nullopt;
+  std::string head;
+  long long generation = 0;
+  if (!std::getline(in, head) || std::sscanf(head.c_str(), "gdp state %lld", &generation) != 1 || generation < 1)
+    return std::nullopt;  // a torn write never lands (written atomically): another program's file
   std::ostringstream s;
   s << in.rdbuf();
-  return s.str();
+  return std::pair{generation, s.str()};
+}
+
+std::vector<long long> Checkpoint::generations(int lane) const {
+  std::vector<long long> g{0};  // 0: no state, a fresh start, is always possible
+  for (int slot : {0, 1})
+    if (const auto state = read_slot(lane, slot); state && state->first % 2 == slot) g.push_back(state->first);
+  std::sort(g.begin(), g.end());
+  return g;
+}
+
+std::string Checkpoint::state_name(int lane) const {
+  return fmt::format("lane{}.{}.state", lane, generation_.at(lane - first_) % 2);
+}
+
+void Checkpoint::choose(int lane, long long generation) { generation_.at(lane - first_) = generation; }
+
+std::optional<std::string> Checkpoint::load(int lane) const {
+  const long long generation = generation_.at(lane - first_);
+  if (generation == 0) return std::nullopt;
+  auto state = read_slot(lane, static_cast<int>(generation % 2));
+  if (!state || state->first != generation)
+    throw UsageError(fmt::format("--resume {}: lane{}'s state {} is missing", dir_.string(), lane, generation));
+  return std::move(state->second);
 }
 
 void Checkpoint::save(int lane, const std::string& state, const std::string& progress) {
-  write_atomically(dir_ / fmt::format("lane{}.state", lane), state);
+  long long& generation = generation_.at(lane - first_);  // this lane's only: no other thread touches it
+  ++generation;
+  write_atomically(dir_ / fmt::format("lane{}.{}.state", lane, generation % 2),
+                   fmt::format("gdp state {}\n", generation) + state);
   const std::lock_guard lock(mutex_);
-  progress_[lane] = progress;
+  progress_[lane - first_] = progress;
   write_manifest();
   if (kill_after_ > 0 && ++saves_ == kill_after_) std::raise(SIGKILL);
 }
@@ -173,8 +236,8 @@ void Checkpoint::write_manifest() {
   std::string text = std::string(kMagic) + "\n";
   text += fmt::format("sizes\t{}\nlanes\t{}\n", sizes_, lanes_);
   for (const auto& [key, value] : identity_) text += fmt::format("identity\t{}\t{}\n", escape(key), escape(value));
-  for (int l = 0; l < lanes_; ++l) text += fmt::format("lane\t{}\t{}\n", l, escape(progress_[l]));
-  write_atomically(dir_ / "manifest", text);
+  for (int l = 0; l < lanes_; ++l) text += fmt::format("lane\t{}\t{}\n", first_ + l, escape(progress_[l]));
+  write_atomically(dir_ / manifest_name(rank_), text);
 }
 
 }  // namespace schedule

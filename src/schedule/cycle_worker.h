@@ -1,4 +1,4 @@
-// One worker thread's V-cycles, shared by the streaming lanes and the bands: rows in, cycles, mean shift, rows out.
+// One worker thread's V-cycles (a band of a streamed solve): rows in, cycles, mean shift, rows out.
 #pragma once
 
 #include <algorithm>
@@ -73,7 +73,7 @@ class BatchPool {
   std::vector<Batch<T>> free_;
 };
 
-// Runs the V-cycles of `vcycle` (a StreamingVCycle or a bands::BandVCycle: begin_cycle, push,
+// Runs the V-cycles of `vcycle` (a bands::StreamedVCycle: begin_cycle, push,
 // pull, probe, initial_norm, final_norm) on rows of `channels` x `length` samples: the first
 // cycle's rows from the batches in `in`, later cycles' from the previous result (a row store),
 // each result shifted to keep the input's mean (alpha == 0), V-cycles until `opt`'s count or
@@ -119,7 +119,7 @@ class CycleWorker {
       log.load(in, c0, channels_);
       if (!in.at_end()) throw CorruptState("it is longer than expected");
     } catch (const CorruptState& e) {
-      throw InputError(fmt::format("--resume {}: lane{}.state is corrupt ({})", cp.dir().string(), lane, e.what()));
+      throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp.dir().string(), cp.state_name(lane), e.what()));
     }
     return mark_.cycle > 0 || mark_.pass > 0 ? height_ : mark_.rows;
   }
@@ -231,6 +231,7 @@ class CycleWorker {
     out.put(carry_ ? carry_->make_durable() : std::size_t{0});
     log_->save(out, c0_, channels_);
     checkpoint_->save(lane_, out.bytes(), m.describe(height_));
+    if constexpr (requires { vcycle_.saved(); }) vcycle_.saved();  // every band of the plan has saved
   }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {

@@ -69,7 +69,5 @@ inline double seconds_since(Clock::time_point t) {
 
 template <class T>
 void solve_incore(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
-template <class T>
-void solve_streaming(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
 
 }  // namespace gdp::schedule

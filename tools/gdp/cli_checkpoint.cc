@@ -57,8 +57,6 @@ void add_checkpoint_options(CLI::App& cmd, std::string& checkpoint, std::string&
 void apply_checkpoint_options(const CLI::App& cmd, const std::string& command, const std::string& checkpoint,
                               const std::string& resume, SolverOptions& solver) {
   if (checkpoint.empty() && resume.empty()) return;
-  if (MpiRun::size() > 1)
-    throw UsageError("--checkpoint and --resume do not run under mpirun yet (band schedules do not checkpoint)");
   if (!checkpoint.empty() && !resume.empty() && std::filesystem::path(checkpoint) != std::filesystem::path(resume))
     throw UsageError(fmt::format("--checkpoint {} and --resume {}: one directory (--resume keeps checkpointing there)",
                                  checkpoint, resume));

@@ -45,11 +45,6 @@ std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr
     const CLI::Option* in_core = c->app->get_option_no_throw("--in-core");
     if (in_core && in_core->count())  // ranks solve bands (one per rank unless --bands says more)
       return "--in-core does not run under mpirun (ranks solve bands, which stream; docs/how-bands-work.md)";
-    for (const char* flag : {"--checkpoint", "--resume"}) {
-      const CLI::Option* o = c->app->get_option_no_throw(flag);
-      if (o && o->count())  // every rank would need its own checkpoint of its columns
-        return std::string(flag) + " does not run under mpirun yet (band schedules do not checkpoint; docs/resume.md)";
-    }
   }
   return "";
 }

@@ -1,4 +1,4 @@
-// One worker's part of a band-parallel streaming V-cycle (paper section 6).
+// The streamed V-cycle: the one-band plan is plain streaming, N bands the paper's section 6.
 #pragma once
 
 #include <array>
@@ -13,31 +13,38 @@
 #include "multigrid/incore_vcycle.h"
 #include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
+#include "schedule/state_io.h"
 
 namespace gdp::bands {
 
-// The streaming V-cycle of schedule::StreamingVCycle (two passes, levels in lockstep) on band
-// `transport.rank()` of every banded level, all workers streaming through the same rows in
-// lockstep (docs/how-bands-work.md):
-//  - rows are relaxed in groups: group g holds sweep s of row g - 2s for s = 1 .. k, which is
-//    k Gauss-Seidel sweeps when groups run in order; groups alternate direction
-//    (boustrophedon). G groups make a phase (band_phase.h): the band relaxes its lead edge
-//    for all of them, sends one strip to the neighbour it leads against, relaxes its interior
-//    group by group, receives one strip from the neighbour it follows and relaxes its follow
-//    edge; a strip is needed a whole phase after it was sent, which hides network latency.
-//  - a row is restricted (and measured) once both halos hold the neighbours' final values
-//    (final_phase); the level that is no longer banded is gathered to worker 0, solved
-//    in-core there and handed back whole.
+// One V-cycle as the paper's two passes over the rows, all levels in lockstep, on band
+// `transport.rank()` of the column plan `layout` (docs/how-streaming-works.md, docs/how-bands-work.md):
+//  - restriction pass: rows of the finest level are pushed in order; rows are relaxed in groups:
+//    group t holds sweep s of row t - 2s for s = 1 .. k, which is k Gauss-Seidel sweeps when
+//    groups run in order. A row whose neighbours are final is restricted (its residual into the
+//    coarser level), and a coarse row whose last contribution arrived is pushed there in turn.
+//    Pre-smoothed u and b go to row stores.
+//  - the first level small enough to hold whole is gathered to worker 0 and solved in-core.
+//  - prolongation pass: rows are pulled in order; a row is read back, gets the prolonged
+//    correction of the coarser level (pulled on demand) and is post-smoothed by the same groups.
+// The one-band plan (BandLayout::single) is plain streaming: whole rows, always forward, one group a
+// phase, nothing exchanged, a ring of 2(k + 2) + 8 rows; every kernel call sees what in-core's
+// sees, so the results are in-core's bits. With N bands, groups alternate direction
+// (boustrophedon) and G groups make a phase (band_phase.h): the band relaxes its lead edge for all
+// of them, sends one strip to the neighbour it leads against, relaxes its interior group by
+// group, receives one strip from the neighbour it follows and relaxes its follow edge; a strip is
+// needed a whole phase after it was sent, which hides network latency. A row is restricted once
+// both halos hold the neighbours' final values (final_phase).
 // Rows handed in and out are a band's columns with `layout.halo` columns of each neighbour
 // on both sides: channels * layout.row_length(0, band) samples (w: one channel).
 template <class T>
-class BandVCycle {
+class StreamedVCycle {
  public:
   using Settings = schedule::CycleSettings;  // its sweeps are the layout's (BandLayout::sweeps)
 
-  BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
+  StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
              const Settings& settings);
-  ~BandVCycle();
+  ~StreamedVCycle();
 
   void begin_cycle();
   // Restriction pass: the next finest row (b and w only in the first cycle; later: empty).
@@ -51,6 +58,18 @@ class BandVCycle {
   double final_norm(int c) const { return std::sqrt(final_rr_[c]); }
   std::size_t store_bytes() const;
   std::size_t window_bytes() const;
+  const BandLayout& layout() const { return layout_; }
+
+  // Checkpoints (stores kept in files: StorePolicy::keep_dir), between two pushes or between
+  // passes: save() makes the row stores durable and writes this worker's whole state (rings,
+  // counters, the whole level below, probes, the stores' lengths; a merged stage's too); load()
+  // puts it back and truncates the stores to those lengths. CorruptState when the blob does not
+  // fit this cycle's shape. Every band of a plan saves at the same row (docs/resume.md).
+  void save(schedule::StateWriter& out);
+  void load(schedule::StateReader& in);
+  // After every band's save: returns once all bands of the plan have saved (so that no band is
+  // ever two saves ahead of another, docs/resume.md). Nothing to wait for with one band.
+  void saved();
 
  private:
   struct Level;
@@ -104,7 +123,7 @@ class BandVCycle {
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   // A merged stage below this one (layout.merged; on the worker owning this band's group).
   std::unique_ptr<Transport> merged_net_;
-  std::unique_ptr<BandVCycle<T>> merged_;
+  std::unique_ptr<StreamedVCycle<T>> merged_;
   std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
   std::array<std::vector<T>, 2> initial_fold_;  // first cycle: level 0's rows across the fold as pushed
   std::vector<multigrid::CycleProbe> probes_;

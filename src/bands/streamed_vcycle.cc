@@ -1,5 +1,5 @@
-// Band V-cycle: phases of tiled sweeps per level, strips once a phase, tail on worker 0 (fold, merging: band_fold_exchange.cc, band_merge.cc).
-#include "bands/band_vcycle.h"
+// Streamed V-cycle: phases of tiled sweeps per level, strips once a phase (the level below: streamed_tail.cc; fold, merging: band_fold_exchange.cc, band_merge.cc).
+#include "bands/streamed_vcycle.h"
 
 #include <algorithm>
 #include <cstring>
@@ -9,7 +9,7 @@
 
 #include "bands/band_fold.h"
 #include "bands/band_phase.h"
-#include "bands/band_vcycle_parts.h"
+#include "bands/streamed_vcycle_parts.h"
 
 namespace gdp::bands {
 
@@ -19,7 +19,7 @@ using multigrid::LevelOperator;
 using multigrid::Plane;
 
 template <class T>
-BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
+StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
                           const Settings& settings)
     : ops_(ops),
       layout_(layout),
@@ -46,8 +46,9 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
       for (int d = 0; d < 5; ++d)
         if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
           throw std::logic_error("bands need every row's neighbours within two rows");
-    // Live rows span at most about 3 phases (check_slot says if not).
-    L->ring = 4 * layout.phase_groups + 2 * k_ + 16;
+    // Live rows span at most about 3 phases (check_slot says if not); the one-band plan's only
+    // the 2k + 5 rows of its pipeline, as streaming's.
+    L->ring = layout.single ? 2 * (k_ + 2) + 8 : 4 * layout.phase_groups + 2 * k_ + 16;
     L->phases = phase_count(layout, op.height);
     const std::size_t slot = static_cast<std::size_t>(channels) * L->len;
     L->u.assign(L->ring * slot, T(0));
@@ -101,7 +102,7 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
       Settings inner = set_;
       inner.measure_initial = inner.measure_final = false;
       inner.inputs_change = true;  // its finest level is this stage's restriction, new every cycle
-      merged_ = std::make_unique<BandVCycle<T>>(ops, *layout.merged, *merged_net_, inner);
+      merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, inner);
     }
   } else {
     tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
@@ -119,41 +120,44 @@ BandVCycle<T>::BandVCycle(const multigrid::Operators<T>& ops, const BandLayout& 
 }
 
 template <class T>
-BandVCycle<T>::~BandVCycle() = default;
+StreamedVCycle<T>::~StreamedVCycle() = default;
 
 template <class T>
-T* BandVCycle<T>::u_row(int l, int c, int j) {
+T* StreamedVCycle<T>::u_row(int l, int c, int j) {
   Level& L = *levels_[l];
   return L.u.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
 }
 template <class T>
-T* BandVCycle<T>::b_row(int l, int c, int j) {
+T* StreamedVCycle<T>::b_row(int l, int c, int j) {
   Level& L = *levels_[l];
   return L.b.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
 }
 template <class T>
-T* BandVCycle<T>::w_row(int l, int j) {
+T* StreamedVCycle<T>::w_row(int l, int j) {
   Level& L = *levels_[l];
   return L.w.data() + static_cast<std::size_t>(j % L.ring) * L.len;
 }
 
 template <class T>
-T* BandVCycle<T>::d_row(int l, int j) {
+T* StreamedVCycle<T>::d_row(int l, int j) {
   Level& L = *levels_[l];
   return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.len;
 }
 template <class T>
-Columns BandVCycle<T>::columns(int l, int begin, int end, bool forward) const {
-  return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
+Columns StreamedVCycle<T>::columns(int l, int begin, int end, bool forward) const {
+  if (!layout_.single) return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
+  Columns whole = Columns::whole(levels_[l]->width, layout_.periodic);  // the one-band plan's only columns
+  whole.forward = forward;
+  return whole;
 }
 template <class T>
-Window<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
+Window<T> StreamedVCycle<T>::window(int l, int c, int j, bool initial) {
   const Level& L = *levels_[l];
   Window<T> w;
   for (int d = 0; d < 5; ++d) {
     const int r = L.op->row_of(j, d);
     if (r < 0) continue;
-    if (L.op->mirror_of(j, d) != fem::Mirror::None) {  // across the fold: the whole row as last exchanged
+    if (layout_.folded && L.op->mirror_of(j, d) != fem::Mirror::None) {  // across the fold: the whole row as last exchanged
       w.rows[d] = fold_row(l, c, r, initial);
       continue;
     }
@@ -164,7 +168,7 @@ Window<T> BandVCycle<T>::window(int l, int c, int j, bool initial) {
   return w;
 }
 template <class T>
-void BandVCycle<T>::begin_cycle() {
+void StreamedVCycle<T>::begin_cycle() {
   ++cycle_;
   prolongation_ = false;
   pulled_ = 0;
@@ -196,7 +200,7 @@ void BandVCycle<T>::begin_cycle() {
 }
 
 template <class T>
-void BandVCycle<T>::check_slot(int l, int row) const {
+void StreamedVCycle<T>::check_slot(int l, int row) const {
   const Level& L = *levels_[l];
   int live = L.finished;  // the strips and tiles of the phases to come read no row below it
   if (prolongation_) live = std::min(live, L.needed_from);
@@ -205,12 +209,12 @@ void BandVCycle<T>::check_slot(int l, int row) const {
 }
 
 template <class T>
-void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
+void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
   Level& L = *levels_[0];
   const int r = L.arrived;
   const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
-  if (prolongation_ || r >= L.height) throw std::logic_error("BandVCycle::push after the last row");
-  if (u.size() != slot) throw std::logic_error("BandVCycle::push: row of the wrong length");
+  if (prolongation_ || r >= L.height) throw std::logic_error("StreamedVCycle::push after the last row");
+  if (u.size() != slot) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
   check_slot(0, r);
   std::copy(u.begin(), u.end(), u_row(0, 0, r));
   if (L.inputs_stored) {
@@ -243,7 +247,7 @@ void BandVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<c
 }
 
 template <class T>
-void BandVCycle<T>::advance(int l) {
+void StreamedVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
   const int G = layout_.phase_groups;
   while (L.next_phase < L.phases && (L.next_phase * G + G - 1 < L.arrived || L.arrived == L.height)) {
@@ -254,7 +258,7 @@ void BandVCycle<T>::advance(int l) {
 }
 
 template <class T>
-void BandVCycle<T>::run_phase(int l, int p) {
+void StreamedVCycle<T>::run_phase(int l, int p) {
   Level& L = *levels_[l];
   // Rows across the fold (G = 1): this phase's sweeps of rows 0, 1, h-2 and h-1 read them as all
   // earlier phases left them, as a whole-row Gauss-Seidel sweep reads its mirror image; the last
@@ -278,7 +282,7 @@ void BandVCycle<T>::run_phase(int l, int p) {
 // channel. One description for both ends: f gets each piece in the same order when sending and receiving.
 template <class T>
 template <class F>
-void BandVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
+void StreamedVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
   Level& L = *levels_[l];
   const StripShape s = strip_shape(layout_, l, band_, L.height, p, left, outgoing);
   const auto n = static_cast<std::size_t>(s.u_cols[1] - s.u_cols[0]);
@@ -295,7 +299,7 @@ void BandVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
 }
 
 template <class T>
-void BandVCycle<T>::send_strips(int l, int p, bool to_left) {
+void StreamedVCycle<T>::send_strips(int l, int p, bool to_left) {
   const int to = to_left ? layout_.left(band_) : layout_.right(band_);
   if (to < 0) return;
   Packer pk;
@@ -304,7 +308,7 @@ void BandVCycle<T>::send_strips(int l, int p, bool to_left) {
 }
 
 template <class T>
-void BandVCycle<T>::receive_strips(int l, int p, bool from_left) {
+void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
   const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
   if (from_worker < 0) return;
   const Bytes bytes = net_.receive(from_worker, l);
@@ -314,7 +318,7 @@ void BandVCycle<T>::receive_strips(int l, int p, bool from_left) {
 }
 
 template <class T>
-void BandVCycle<T>::finish_row(int l, int j) {
+void StreamedVCycle<T>::finish_row(int l, int j) {
   if (!prolongation_) return restrict_row(l, j);
   Level& L = *levels_[l];
   if (l != 0 || !set_.measure_final) return;
@@ -326,7 +330,7 @@ void BandVCycle<T>::finish_row(int l, int j) {
 }
 
 template <class T>
-void BandVCycle<T>::restrict_row(int l, int j) {
+void StreamedVCycle<T>::restrict_row(int l, int j) {
   Level& L = *levels_[l];
   const LevelOperator<T>& op = *L.op;
   const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
@@ -354,7 +358,8 @@ void BandVCycle<T>::restrict_row(int l, int j) {
   if (across) fold.assign(static_cast<std::size_t>(set_.channels + 2) * m, T(0));
   const auto restrict_part = [&](int k, const T* fine, T* coarse0, T* coarse1) {
     if (across) coarse1 = fold.data() + static_cast<std::size_t>(k) * m;
-    multigrid::restrict_rows(g.px, py, fine, L.origin, Columns::range(g.width(), periodic, ca, cb), coarse0, coarse1,
+    const Columns cols = layout_.single ? Columns::whole(g.width(), periodic) : Columns::range(g.width(), periodic, ca, cb);
+    multigrid::restrict_rows(g.px, py, fine, L.origin, cols, coarse0, coarse1,
                              {corigin, across ? 0 : corigin}, L.scratch);
   };
   for (int c = 0; c < set_.channels; ++c) {
@@ -385,7 +390,7 @@ void BandVCycle<T>::restrict_row(int l, int j) {
 }
 
 template <class T>
-void BandVCycle<T>::complete_coarse_row(int l) {
+void StreamedVCycle<T>::complete_coarse_row(int l) {
   Level& L = *levels_[l];
   const int row = L.next_complete++;
   if (l + 1 == layout_.levels) {
@@ -400,108 +405,10 @@ void BandVCycle<T>::complete_coarse_row(int l) {
   advance(l + 1);
 }
 
-// The pieces of the gathered level that `band` contributes: its columns of every row of b (each
-// channel), of w and of d, as (row pointer, count), in one order for sender and receiver.
 template <class T>
-template <class F>
-void BandVCycle<T>::tail_parts(int band, F&& f) {
-  const int tl = layout_.levels, th = ops_.levels[base_ + tl].height;
-  const int a = layout_.begin(tl, band);
-  const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
-  for (int c = 0; c < set_.channels; ++c)
-    for (int row = 0; row < th; ++row) f(tail_b_[c].row(row) + a, n);
-  if (set_.weights)
-    for (int row = 0; row < th; ++row) f(tail_w_.row(row) + a, n);
-  if (set_.diagonal)
-    for (int row = 0; row < th; ++row) f(tail_d_.row(row) + a, n);
-}
-
-// The level below the bands: every worker's columns of b (and w) and its partial sums go to
-// worker 0, which solves in-core and sends the whole correction and the cycle's sums back.
-template <class T>
-void BandVCycle<T>::run_tail() {
-  const int tl = base_ + layout_.levels, channels = set_.channels, banded = layout_.levels;
-  const bool whole = !layout_.merged;  // else the merged stage has solved the level below
-  // This band's partial sums, per channel: the initial residual, then per level rr and dots.
-  std::vector<double> sums;
-  for (int c = 0; c < channels; ++c) {
-    sums.push_back(initial_rr_[c]);
-    for (int l = 0; l < banded; ++l) {
-      sums.push_back(levels_[l]->rr[c]);
-      sums.push_back(levels_[l]->dots[c]);
-    }
-  }
-  if (band_ != 0) {
-    Packer p;
-    if (whole) tail_parts(band_, [&](const T* row, std::size_t n) { p.put(row, n); });
-    p.put(sums.data(), sums.size());
-    net_.send(0, kGather, std::move(p.bytes));
-    const Bytes reply = net_.receive(0, kScatter);
-    Unpacker u(reply);
-    for (int c = 0; c < channels; ++c) {
-      if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
-      auto& probe = probes_[c];
-      probe.dots.resize(static_cast<std::size_t>(u.get()));
-      u.get(probe.dots.data(), probe.dots.size());
-      probe.level_norms.resize(static_cast<std::size_t>(u.get()));
-      u.get(probe.level_norms.data(), probe.level_norms.size());
-      initial_rr_[c] = u.get();
-    }
-    u.finish();
-    return;
-  }
-  // Worker 0: its own part is in place already; the others' added in band order (the same bits
-  // run to run).
-  std::vector<double> total = sums, part(sums.size());
-  for (int b = 1; b < layout_.bands; ++b) {
-    const Bytes bytes = net_.receive(b, kGather);
-    Unpacker u(bytes);
-    if (whole) tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
-    u.get(part.data(), part.size());
-    u.finish();
-    for (std::size_t i = 0; i < total.size(); ++i) total[i] += part[i];
-  }
-  const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
-  const auto rr = [&](int c, int l) { return total[c * per_channel + 1 + 2 * l]; };
-  const auto dots = [&](int c, int l) { return total[c * per_channel + 2 + 2 * l]; };
-  std::vector<Plane<T>> weights;
-  if (whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
-  if (whole && set_.diagonal) {
-    tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
-    tail_->set_diagonal(&tail_diag_);
-  }
-  Packer reply;
-  for (int c = 0; c < channels; ++c) {
-    multigrid::CycleProbe tail;
-    if (whole) {
-      std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
-      tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
-    } else {
-      tail = merged_->probe(c);  // its levels' sums, added over its bands
-    }
-    multigrid::CycleProbe& p = probes_[c];
-    p = {};
-    for (int l = 0; l < banded; ++l) {
-      if (set_.weights) p.dots.push_back(dots(c, l));
-      p.level_norms.push_back(std::sqrt(rr(c, l)));
-    }
-    p.dots.insert(p.dots.end(), tail.dots.begin(), tail.dots.end());
-    p.level_norms.insert(p.level_norms.end(), tail.level_norms.begin(), tail.level_norms.end());
-    initial_rr_[c] = total[c * per_channel];
-    if (whole) reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
-    reply.put(static_cast<double>(p.dots.size()));
-    reply.put(p.dots.data(), p.dots.size());
-    reply.put(static_cast<double>(p.level_norms.size()));
-    reply.put(p.level_norms.data(), p.level_norms.size());
-    reply.put(initial_rr_[c]);
-  }
-  for (int b = 1; b < layout_.bands; ++b) net_.send(b, kScatter, reply.bytes);
-}
-
-template <class T>
-void BandVCycle<T>::pull(std::span<T> u) {
+void StreamedVCycle<T>::pull(std::span<T> u) {
   if (!prolongation_) {
-    if (levels_[0]->arrived != levels_[0]->height) throw std::logic_error("BandVCycle::pull before the last push");
+    if (levels_[0]->arrived != levels_[0]->height) throw std::logic_error("StreamedVCycle::pull before the last push");
     prolongation_ = true;
     levels_[0]->inputs_stored = !set_.inputs_change;
     for (auto& L : levels_) {
@@ -514,7 +421,7 @@ void BandVCycle<T>::pull(std::span<T> u) {
   }
   Level& L = *levels_[0];
   const int j = pulled_;
-  if (j >= L.height) throw std::logic_error("BandVCycle::pull after the last row");
+  if (j >= L.height) throw std::logic_error("StreamedVCycle::pull after the last row");
   L.needed_from = j;
   ensure_final(0, j);
   std::copy_n(u_row(0, 0, j), static_cast<std::size_t>(set_.channels) * L.len, u.begin());
@@ -522,7 +429,7 @@ void BandVCycle<T>::pull(std::span<T> u) {
 }
 
 template <class T>
-void BandVCycle<T>::ensure_final(int l, int row) {
+void StreamedVCycle<T>::ensure_final(int l, int row) {
   Level& L = *levels_[l];
   while (L.finished <= row) {
     const int before = L.next_phase;
@@ -550,7 +457,8 @@ void BandVCycle<T>::ensure_final(int l, int row) {
       for (int c = 0; c < set_.channels; ++c) {
         const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
         const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : coarse(py.index[1]);
-        multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse1, {corigin, across ? 0 : corigin}, tail,
+        multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse1, {corigin, across ? 0 : corigin},
+                                tail || layout_.single,
                                 columns(l, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
       }
       ++L.arrived;
@@ -561,37 +469,7 @@ void BandVCycle<T>::ensure_final(int l, int row) {
   }
 }
 template <class T>
-void BandVCycle<T>::reduce_final() {
-  const int channels = set_.channels;
-  if (band_ != 0) {
-    Packer p;
-    p.put(final_rr_.data(), final_rr_.size());
-    net_.send(0, kFinalUp, std::move(p.bytes));
-    const Bytes reply = net_.receive(0, kFinalDown);
-    Unpacker u(reply);
-    u.get(final_rr_.data(), final_rr_.size());
-    u.finish();
-    return;
-  }
-  std::vector<double> sum(final_rr_);
-  for (int b = 1; b < layout_.bands; ++b) {
-    const Bytes bytes = net_.receive(b, kFinalUp);
-    Unpacker u(bytes);
-    std::vector<double> part(channels);
-    u.get(part.data(), part.size());
-    u.finish();
-    for (int c = 0; c < channels; ++c) sum[c] += part[c];
-  }
-  final_rr_ = sum;
-  for (int b = 1; b < layout_.bands; ++b) {
-    Packer p;
-    p.put(final_rr_.data(), final_rr_.size());
-    net_.send(b, kFinalDown, std::move(p.bytes));
-  }
-}
-
-template <class T>
-std::size_t BandVCycle<T>::store_bytes() const {
+std::size_t StreamedVCycle<T>::store_bytes() const {
   std::size_t n = merged_ ? merged_->store_bytes() : 0;
   for (const auto& L : levels_)
     for (const schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
@@ -600,7 +478,7 @@ std::size_t BandVCycle<T>::store_bytes() const {
 }
 
 template <class T>
-std::size_t BandVCycle<T>::window_bytes() const {
+std::size_t StreamedVCycle<T>::window_bytes() const {
   std::size_t n = (initial_.size() + r_.size() + initial_fold_[0].size() + initial_fold_[1].size()) * sizeof(T) +
                   (merged_ ? merged_->window_bytes() : 0);
   for (const auto& L : levels_)
@@ -610,7 +488,7 @@ std::size_t BandVCycle<T>::window_bytes() const {
   return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }
 
-template class BandVCycle<float>;
-template class BandVCycle<double>;
+template class StreamedVCycle<float>;
+template class StreamedVCycle<double>;
 
 }  // namespace gdp::bands

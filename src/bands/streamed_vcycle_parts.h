@@ -8,15 +8,15 @@
 #include <vector>
 
 #include "bands/band_fold.h"
-#include "bands/band_vcycle.h"
+#include "bands/streamed_vcycle.h"
 
 namespace gdp::bands {
 
 // Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
 // restriction's sums across the fold kFoldSums + l; the collectives use the others.
 constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003, kFoldRows = 1100,
-              kFoldSums = 1200, kHandOff = 1300, kHandBack = 1301;
-// Every stage's tags (and solve_bands' 2000) are below this; a merged stage's are moved past it.
+              kFoldSums = 1200, kHandOff = 1300, kHandBack = 1301, kSaved = 1400, kSavedAll = 1401;
+// Every stage's tags (and solve_streamed' 2000) are below this; a merged stage's are moved past it.
 constexpr int kStageTags = 4000;
 
 // The merged stage's workers over `outer`'s (band_merge.cc): merged band g is worker 2g.
@@ -63,7 +63,7 @@ class Unpacker {
 };
 
 template <class T>
-struct BandVCycle<T>::Level {
+struct StreamedVCycle<T>::Level {
   const multigrid::LevelOperator<T>* op = nullptr;
   int width = 0, height = 0, ring = 0;
   int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin

@@ -16,6 +16,6 @@ namespace gdp::bands {
 // (gdp::MpiRun::gather_writer). Levels too small to band are solved whole on every rank, which
 // then writes whole rows without calling set_columns.
 template <class T>
-void solve_bands(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
+void solve_streamed(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
 
 }  // namespace gdp::bands

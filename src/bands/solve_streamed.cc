@@ -1,0 +1,402 @@
+// The streamed solve (streaming and bands alike): workers (band, channel group) on threads, fed and
+// drained by the caller's thread; under mpirun, every rank reads, solves and writes its share of the columns.
+#include "bands/solve_streamed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <future>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "bands/mpi_agree.h"
+#include "bands/mpi_transport.h"
+#include "bands/streamed_checkpoint.h"
+#include "bands/streamed_vcycle.h"
+#include "bands/thread_transport.h"
+#include "gdp/errors.h"
+#include "gdp/mpi_run.h"
+#include "schedule/cycle_worker.h"
+#include "schedule/input_rows.h"
+
+namespace gdp::bands {
+
+using schedule::Batch;
+using schedule::batch_rows;
+using schedule::Clock;
+using schedule::InputTotals;
+using schedule::seconds_since;
+
+namespace {
+
+constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcycle.cc uses < 2000)
+// Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column
+// reads the guidance of the columns within two of it.
+constexpr int kInputMargin = 4;
+
+// Input sums as one message and back.
+Bytes pack(const std::vector<InputTotals>& totals) {
+  std::vector<double> v;
+  for (const InputTotals& t : totals) {
+    v.insert(v.end(), t.weighted_sums.begin(), t.weighted_sums.end());
+    v.insert(v.end(), t.rhs_norms2.begin(), t.rhs_norms2.end());
+    v.push_back(t.weight_total);
+  }
+  Bytes bytes(v.size() * sizeof(double));
+  if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
+  return bytes;
+}
+
+std::vector<InputTotals> unpack(const Bytes& bytes, int count, int channels) {
+  const std::size_t each = 2 * static_cast<std::size_t>(channels) + 1;
+  if (bytes.size() != count * each * sizeof(double)) throw std::logic_error("input sums message of the wrong size");
+  std::vector<double> v(count * each);
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+  std::vector<InputTotals> totals(count);
+  for (int i = 0; i < count; ++i) {
+    const double* p = v.data() + i * each;
+    totals[i].weighted_sums.assign(p, p + channels);
+    totals[i].rhs_norms2.assign(p + channels, p + 2 * channels);
+    totals[i].weight_total = p[2 * channels];
+  }
+  return totals;
+}
+
+// The workers of this process: bands [first, first + local) of the plan (all of them on threads,
+// or under mpirun this rank's share), each in `groups` channel groups. Channels are independent
+// problems: a group's bands talk among themselves only (a hub each; under mpirun one group).
+struct Team {
+  std::vector<std::unique_ptr<ThreadHub>> threads;  // per channel group
+  std::unique_ptr<MpiHub> ranks;
+  int first = 0, local = 1, groups = 1;
+  Transport& endpoint(int group, int band) { return ranks ? ranks->endpoint(band) : threads[group]->endpoint(band); }
+  void abort(const std::string& why) {
+    if (ranks) return ranks->endpoint(first).abort(why);
+    for (auto& hub : threads) hub->endpoint(0).abort(why);
+  }
+};
+
+// The input sums of all bands, added in band order (the same bits however the bands are spread
+// over processes) from this process's bands' sums: under mpirun the first band of every rank
+// sends its rank's to band 0, whose rank adds them all up and sends the total back.
+InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team, int channels) {
+  const auto add_all = [](const std::vector<InputTotals>& all) {
+    InputTotals total;
+    for (const InputTotals& t : all) total.add(t);
+    return total;
+  };
+  if (!team.ranks) return add_all(local);
+  Transport& me = team.endpoint(0, team.first);
+  if (team.first != 0) {
+    me.send(0, kTotals, pack(local));
+    return unpack(me.receive(0, kTotals), 1, channels)[0];
+  }
+  std::vector<InputTotals> all = local;
+  for (int first = team.local; first < team.ranks->size(); first += team.local) {
+    const auto part = unpack(me.receive(first, kTotals), team.local, channels);
+    all.insert(all.end(), part.begin(), part.end());
+  }
+  const InputTotals total = add_all(all);
+  for (int first = team.local; first < team.ranks->size(); first += team.local) me.send(first, kTotals, pack({total}));
+  return total;
+}
+
+// Columns [origin, origin + length) of a full row of n samples: wrapped on periodic rows,
+// zero outside the row otherwise.
+template <class T>
+void cut(const T* row, int n, bool periodic, int origin, int length, std::vector<T>& out) {
+  const std::size_t at = out.size();
+  out.resize(at + static_cast<std::size_t>(length), T(0));
+  T* dst = out.data() + at;
+  for (int x = 0; x < length;) {  // copied in runs up to the row's end
+    const int i = periodic ? fem::wrap_index(origin + x, n) : origin + x;
+    if (i < 0 || i >= n) {
+      ++x;
+      continue;
+    }
+    const int run = std::min(length - x, n - i);
+    std::copy_n(row + i, run, dst + x);
+    x += run;
+  }
+}
+
+// One worker: channels [c0, c0 + n) of one band, its V-cycles on rows from `in`, its columns of
+// the result to `out`.
+template <class T>
+class Worker {
+ public:
+  Worker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
+         schedule::CycleSettings s, std::shared_future<InputTotals> totals, int c0, int n, schedule::ResidualLog& log)
+      : c0(c0), n(n), band(net.rank()), log_(log), layout_(layout), totals_(std::move(totals)),
+        vcycle(ops, layout, net, (s.channels = n, s)),
+        worker(vcycle, opt, ops.singular, n, layout.row_length(0, band), ops.levels[0].height, s.stores,
+               fmt::format("band{}-c{}-result", band, c0)) {}
+
+  void run() {
+    const int own = layout_.end(0, band) - layout_.begin(0, band);
+    // Every band's input sums, once all are read.
+    if (!worker.run([this]() -> const InputTotals& { return totals_.get(); }, log_, c0, layout_.halo, own))
+      throw TransportStopped("stopped");
+  }
+
+  const int c0, n, band;
+
+ private:
+  schedule::ResidualLog& log_;
+  const BandLayout& layout_;
+  std::shared_future<InputTotals> totals_;
+
+ public:
+  StreamedVCycle<T> vcycle;
+  schedule::CycleWorker<T, StreamedVCycle<T>> worker;
+};
+
+// Everything a streamed solve sets up before its workers start: the problem, the column plan
+// (one band, or opt.bands per process), the team and the columns this process reads and writes.
+template <class T>
+struct Setup {
+  std::unique_ptr<schedule::Problem<T>> problem;
+  std::optional<BandLayout> layout;
+  bool periodic = false, distributed = false;
+  int own_begin = 0, own_end = 0;
+  std::pair<int, int> input_columns;
+};
+
+template <class T>
+Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary) {
+  Setup<T> s;
+  // Under mpirun every rank sets up the same problem; they compare before anyone starts solving.
+  s.distributed = MpiRun::size() > 1;
+  const int per_process = opt.schedule == Schedule::Bands ? opt.bands : 1;
+  const int total_bands = per_process * MpiRun::size();
+  std::string setup_error;
+  try {
+    s.problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
+    const schedule::Problem<T>& p = *s.problem;
+    if (p.ops.count() > 1) {
+      s.periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+      const int whole_from = schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
+      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, s.periodic, opt.sweeps, whole_from)
+                                  : make_band_layout(p.hierarchy, s.periodic, total_bands, opt.sweeps, whole_from);
+    }
+  } catch (const Error& e) {
+    if (!s.distributed) throw;
+    setup_error = e.what();
+  }
+  if (s.distributed)
+    agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
+                                       opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
+                                       static_cast<long long>(sizeof(T)),
+                                       s.problem ? s.problem->ops.count() : -1});
+  return s;
+}
+
+// This process's workers: under mpirun opt.bands per rank (one without --bands), else every band
+// of the plan, in channel groups (up to one a channel, two threads left to the codecs).
+Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, int channels) {
+  Team team;
+  team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
+  if (distributed) {
+    team.ranks = std::make_unique<MpiHub>(team.local);
+    team.first = team.ranks->first();
+  } else {
+    team.groups = std::clamp((opt.threads - 2) / team.local, 1, channels);
+  }
+  return team;
+}
+
+// This process's bands and columns: every band, or under mpirun a contiguous share of them,
+// whose own columns [own_begin, own_end) it writes and whose rows it reads (plus margins).
+template <class T>
+void share_columns(Setup<T>& s, const Team& team, GuidanceSource& source, RowWriter& out) {
+  const BandLayout& layout = *s.layout;
+  const int w = source.width(), last_local = team.first + team.local - 1;
+  s.own_begin = layout.begin(0, team.first), s.own_end = layout.end(0, last_local);
+  s.input_columns = {0, w};  // the columns of the input rows this process computes
+  if (!s.distributed) return;
+  const int rows_from = layout.origin(0, team.first);
+  const int rows_to = layout.origin(0, last_local) + layout.row_length(0, last_local);
+  // Whole rows where the window would wrap around a periodic image's edge, and on the sphere,
+  // where the right-hand side of the first and last rows reads the guidance across the fold, at
+  // the mirror image's columns; a planar image's edges clip it.
+  const bool wraps = s.periodic && (rows_from - kInputMargin < 0 || rows_to + kInputMargin > w);
+  if (!wraps && !layout.folded) {
+    source.set_columns(std::max(0, rows_from - kInputMargin), std::min(w, rows_to + kInputMargin));
+    s.input_columns = {std::max(0, rows_from), std::min(w, rows_to)};
+  }
+  out.set_columns(s.own_begin, s.own_end);
+}
+
+// The caller's thread: every input row cut into the workers' batches (columns of their band with
+// its halo, channels of their group), the sums of all bands to the workers, then this process's
+// columns of every result row, in order, to `out`. Returns the seconds spent reading input.
+template <class T>
+double feed_and_drain(GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
+                      const BandLayout& layout, const Setup<T>& setup, Team& team,
+                      std::vector<std::unique_ptr<Worker<T>>>& workers, const std::vector<int>& skip,
+                      std::promise<InputTotals>& totals, RowWriter& out) {
+  const int w = source.width(), h = source.height(), channels = source.channels();
+  const auto report = [&](double fraction) {
+    if (opt.progress) opt.progress(fraction);
+  };
+  std::vector<std::pair<int, int>> own_columns;
+  for (int band = team.first; band < team.first + team.local; ++band)
+    own_columns.emplace_back(layout.begin(0, band), layout.end(0, band));
+  schedule::InputRows<T> input(source, problem.hierarchy, own_columns, setup.input_columns);
+  const std::size_t n = static_cast<std::size_t>(channels) * w;
+  std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
+  std::vector<Batch<T>> batches(workers.size());
+  double seconds_input = 0.0;
+  for (int j = 0; j < h; ++j) {
+    const auto t = Clock::now();
+    input.next(u, b, wt, d);
+    seconds_input += seconds_since(t);
+    const bool last = j + 1 == h;
+    for (std::size_t k = 0; k < workers.size(); ++k) {
+      if (j < skip[k]) continue;  // resumed: the worker has this row
+      Worker<T>& wk = *workers[k];
+      Batch<T>& batch = batches[k];
+      const int origin = layout.origin(0, wk.band), length = layout.row_length(0, wk.band);
+      if (batch.rows == 0) batch.first = j;
+      for (int c = wk.c0; c < wk.c0 + wk.n; ++c) {
+        cut(u.data() + static_cast<std::size_t>(c) * w, w, setup.periodic, origin, length, batch.u);
+        cut(b.data() + static_cast<std::size_t>(c) * w, w, setup.periodic, origin, length, batch.b);
+      }
+      if (!wt.empty() && problem.ops.singular) cut(wt.data(), w, setup.periodic, origin, length, batch.w);
+      if (!d.empty()) cut(d.data(), w, setup.periodic, origin, length, batch.d);
+      if (++batch.rows < batch_rows(length, wk.n) && !last) continue;
+      if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
+      batch = wk.worker.spent_in.take();
+    }
+    if (j % 64 == 63) report(0.5 * (j + 1) / h);
+  }
+  totals.set_value(exchange_totals(input.range_totals(), team, channels));
+  std::vector<Batch<T>> results(workers.size());
+  std::vector<float> row(n, 0.0f);
+  for (int j = 0; j < h; ++j) {
+    for (std::size_t k = 0; k < workers.size(); ++k) {
+      Worker<T>& wk = *workers[k];
+      Batch<T>& r = results[k];
+      if (r.rows == 0 || j >= r.first + r.rows) {
+        auto next = wk.worker.out.pop();
+        if (!next) throw TransportStopped("stopped");
+        wk.worker.spent_out.give(std::move(r));
+        r = std::move(*next);
+      }
+      const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
+      const T* src = r.u.data() + static_cast<std::size_t>(j - r.first) * wk.n * own;
+      for (int c = 0; c < wk.n; ++c)
+        std::transform(src + static_cast<std::size_t>(c) * own, src + static_cast<std::size_t>(c + 1) * own,
+                       row.begin() + static_cast<std::ptrdiff_t>(wk.c0 + c) * w + a,
+                       [](T v) { return static_cast<float>(v); });
+    }
+    out.write_row(j, row);
+    if (j % 64 == 63 || j + 1 == h) report(0.5 + 0.5 * (j + 1) / h);
+  }
+  return seconds_input;
+}
+
+}  // namespace
+
+template <class T>
+void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
+  Setup<T> setup = set_up<T>(source, opt, summary);
+  const schedule::Problem<T>& problem = *setup.problem;
+  const multigrid::Operators<T>& ops = problem.ops;
+  if (ops.count() == 1) return schedule::solve_incore<T>(source, opt, out, summary);  // nothing to stream
+  const int channels = source.channels();
+  const BandLayout& layout = *setup.layout;
+  const auto t_start = Clock::now();
+  summary.schedule = layout.single ? "streaming" : "bands";
+  summary.streamed_levels = layout.banded_levels();
+  auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
+
+  Team team = make_team(opt, layout, setup.distributed, channels);
+  share_columns(setup, team, source, out);
+  const std::unique_ptr<StreamedCheckpoint> checkpoint =
+      open_streamed_checkpoint(opt, ops, channels, layout.bands, team.local, team.first, team.groups, settings.stores);
+  if (!setup.distributed)
+    for (int g = 0; g < team.groups; ++g) team.threads.push_back(std::make_unique<ThreadHub>(layout.bands));
+
+  std::promise<InputTotals> totals_promise;
+  std::shared_future<InputTotals> totals = totals_promise.get_future().share();
+  std::vector<schedule::ResidualLog> logs;  // per local band, all channels (band 0's lines are kept)
+  for (int i = 0; i < team.local; ++i) logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
+  if (checkpoint) checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
+  std::vector<std::unique_ptr<Worker<T>>> workers;  // band-major: worker i * groups + g
+  std::vector<int> skip;                            // input rows each worker already has (resumed)
+  for (int i = 0; i < team.local; ++i)
+    for (int g = 0; g < team.groups; ++g) {
+      const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups;
+      if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
+      workers.push_back(std::make_unique<Worker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings,
+                                                    totals, c0, c1 - c0, logs[i]));
+      Worker<T>& wk = *workers.back();
+      skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, logs[i], c0, wk.n, source.width()) : 0);
+    }
+
+  std::vector<std::exception_ptr> errors(workers.size());
+  const auto stop_all = [&](const std::string& why) {
+    try {  // workers waiting for the sums stop too
+      totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
+    } catch (const std::future_error&) {
+    }
+    team.abort(why);
+    for (auto& wk : workers) {
+      wk->worker.in.close();
+      wk->worker.out.close();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (std::size_t k = 0; k < workers.size(); ++k)
+    threads.emplace_back([&, k] {
+      try {
+        workers[k]->run();
+      } catch (const std::exception& e) {
+        errors[k] = std::current_exception();
+        stop_all(fmt::format("band {} stopped: {}", workers[k]->band, e.what()));
+      } catch (...) {
+        errors[k] = std::current_exception();
+        stop_all(fmt::format("band {} stopped", workers[k]->band));
+      }
+    });
+  // Joins the workers; rethrows the first that failed for a reason of its own (which explains
+  // more than "stopped"), and with `any` also one that was only stopped.
+  const auto join = [&](bool any) {
+    for (std::thread& th : threads) th.join();
+    for (const auto& e : errors) {
+      if (!e) continue;
+      try {
+        std::rethrow_exception(e);
+      } catch (const TransportStopped&) {
+        continue;
+      }
+    }
+    for (const auto& e : errors)
+      if (e && any) std::rethrow_exception(e);
+  };
+
+  double seconds_input = 0.0;
+  try {
+    seconds_input = feed_and_drain(source, opt, problem, layout, setup, team, workers, skip, totals_promise, out);
+  } catch (const std::exception& e) {
+    stop_all(fmt::format("the input/output thread stopped: {}", e.what()));
+    join(false);
+    throw;
+  }
+  join(true);
+  for (const auto& wk : workers) {
+    summary.scratch_bytes += wk->vcycle.store_bytes() + wk->worker.carry_bytes();
+    summary.window_bytes += wk->vcycle.window_bytes();
+  }
+  summary.seconds_rhs = seconds_input;
+  summary.seconds_solve = seconds_since(t_start) - seconds_input;
+  logs[0].finish(summary, opt);
+}
+
+template void solve_streamed<float>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+template void solve_streamed<double>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);
+
+}  // namespace gdp::bands

@@ -1,0 +1,116 @@
+// The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of this process.
+#pragma once
+
+#include <algorithm>
+#include <cstring>
+#include <iterator>
+#include <vector>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "bands/band_layout.h"
+#include "bands/transport.h"
+#include "gdp/errors.h"
+#include "gdp/mpi_run.h"
+#include "gdp/solver.h"
+#include "multigrid/incore_vcycle.h"
+#include "schedule/checkpoint.h"
+#include "schedule/cycle_worker.h"
+
+namespace gdp::bands {
+
+// Lane numbers are global: band b's channel group g is lane b * groups + g, so that ranks sharing a
+// directory never write the same files (each rank keeps its own manifest, rank 0's named
+// "manifest"). The problem's sizes, the band count and the rank count are in every manifest: a
+// resume with other counts is refused, naming them.
+class StreamedCheckpoint {
+ public:
+  StreamedCheckpoint(const SolverOptions& opt, const std::string& sizes, int local, int first, int& groups)
+      : first_(first), local_(local) {
+    int lanes = local * groups;
+    cp_ = std::make_unique<schedule::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(),
+                                                 lanes * MpiRun::size());
+    if (lanes < 1 || lanes % local != 0)
+      throw InputError(fmt::format("--resume {}: the manifest is corrupt (lanes)", opt.checkpoint_dir.string()));
+    groups = groups_ = lanes / local;
+  }
+  // Resuming: the bands of a plan go back to the newest save they all made (a kill may have come
+  // between two bands' saves; none is two saves ahead, StreamedVCycle::saved). Under mpirun
+  // (`net`: this rank's first band) the ranks' newest common save is agreed on through band 0.
+  void agree(Transport* net) {
+    if (!cp_->resuming()) return;
+    for (int g = 0; g < groups_; ++g) {
+      std::vector<long long> common = cp_->generations(lane(0, g));
+      for (int i = 1; i < local_; ++i) common = intersect(common, cp_->generations(lane(i, g)));
+      if (net) common = across_ranks(*net, common);
+      for (int i = 0; i < local_; ++i) cp_->choose(lane(i, g), common.back());
+    }
+  }
+  // Row stores of local band i's group g are named with this prefix.
+  std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
+  // Local band i's group g (worker, V-cycle, log from channel c0) saves here; when resuming, its
+  // state is restored. Returns the input rows it already has.
+  template <class T, class VCycle>
+  int attach(schedule::CycleWorker<T, VCycle>& worker, const VCycle& vcycle, int i, int g, schedule::ResidualLog& log,
+             int c0, int channels, int width) {
+    // A unit of the first pass stores about four times what a save writes (the rows held). The
+    // bands of a plan must save at the same rows: theirs is a function of the plan, about four
+    // times the rows its levels' rings hold (twice level 0's), not of the band.
+    const BandLayout& plan = vcycle.layout();
+    const double row_bytes = 2.0 * channels * width * sizeof(T);
+    const double rows_held = plan.single ? static_cast<double>(vcycle.window_bytes()) / row_bytes
+                                         : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
+    const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
+    return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)), log, c0);
+  }
+
+ private:
+  int lane(int i, int g) const { return (first_ + i) * groups_ + g; }
+  static std::vector<long long> intersect(const std::vector<long long>& a, const std::vector<long long>& b) {
+    std::vector<long long> out;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+    return out;  // both hold 0
+  }
+  std::vector<long long> across_ranks(Transport& net, std::vector<long long> mine) const {
+    constexpr int kGenerations = 2001, kChosen = 2002;  // below the V-cycle's tags, beside solve's 2000
+    const auto pack = [](const std::vector<long long>& v) {
+      Bytes b(v.size() * sizeof(long long));
+      std::memcpy(b.data(), v.data(), b.size());
+      return b;
+    };
+    const auto unpack = [](const Bytes& b) {
+      std::vector<long long> v(b.size() / sizeof(long long));
+      std::memcpy(v.data(), b.data(), v.size() * sizeof(long long));
+      return v;
+    };
+    if (first_ != 0) {
+      net.send(0, kGenerations, pack(mine));
+      return unpack(net.receive(0, kChosen));
+    }
+    for (int first = local_; first < net.size(); first += local_) mine = intersect(mine, unpack(net.receive(first, kGenerations)));
+    for (int first = local_; first < net.size(); first += local_) net.send(first, kChosen, pack(mine));
+    return mine;
+  }
+  std::unique_ptr<schedule::Checkpoint> cp_;
+  int first_, local_, groups_ = 1;
+};
+
+// With opt.checkpoint_dir: the checkpoint (its group count replaces `groups` when resuming),
+// scratch kept there under each lane's names.
+template <class T>
+std::unique_ptr<StreamedCheckpoint> open_streamed_checkpoint(const SolverOptions& opt,
+                                                             const multigrid::Operators<T>& ops, int channels,
+                                                             int bands, int local, int first, int& groups,
+                                                             schedule::StorePolicy& stores) {
+  if (opt.checkpoint_dir.empty()) return nullptr;
+  const std::string sizes = fmt::format("{} {} {} {} {} {}", ops.levels[0].width, ops.levels[0].height, channels,
+                                        ops.count(), sizeof(T), opt.half_scratch ? "half" : "native");
+  const std::string counts = fmt::format("{} bands on {} ranks", bands, MpiRun::size());
+  auto cp = std::make_unique<StreamedCheckpoint>(opt, sizes + " | " + counts, local, first, groups);
+  stores.keep_dir = opt.checkpoint_dir;
+  return cp;
+}
+
+}  // namespace gdp::bands
