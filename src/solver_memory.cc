@@ -36,8 +36,9 @@ std::size_t parse_memory_size(const std::string& text) {
   if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b')) unit.pop_back();
   if (unit.size() > 1) throw bad();
   const std::string units = "KMGT";
-  const std::size_t power = unit.empty() ? 0 : units.find(static_cast<char>(std::toupper(unit[0]))) + 1;
-  if (power == std::string::npos + 1) throw bad();
+  const std::size_t found = unit.empty() ? 0 : units.find(static_cast<char>(std::toupper(unit[0])));
+  if (found == std::string::npos) throw bad();
+  const std::size_t power = unit.empty() ? 0 : found + 1;
   const double bytes = std::ldexp(value, 10 * static_cast<int>(power));
   if (bytes >= 1.8e19) throw bad();
   return static_cast<std::size_t>(bytes);

@@ -129,10 +129,18 @@ TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
     ASSERT_EQ(out.data.size(), reference.data.size());
     EXPECT_EQ(std::memcmp(out.data.data(), reference.data.data(), out.data.size() * sizeof(float)), 0) << budget;
     EXPECT_LE(s.scratch_memory_peak, budget);
-    if (budget == 0) EXPECT_EQ(s.scratch_memory_peak, 0u);
-    if (budget < s.scratch_bytes) EXPECT_GT(s.scratch_spilled, 0u) << budget;
-    if (budget > 0) EXPECT_GT(s.scratch_memory_peak, 0u) << budget;
-    if (budget >= (std::size_t{1} << 30)) EXPECT_EQ(s.scratch_disk_peak, 0u);
+    if (budget < s.scratch_bytes) {
+      EXPECT_GT(s.scratch_spilled, 0u) << budget;
+    }
+    if (budget == 0) {
+      EXPECT_EQ(s.scratch_memory_peak, 0u);
+    } else {
+      EXPECT_GT(s.scratch_memory_peak, 0u) << budget;
+    }
+    if (budget >= (std::size_t{1} << 30)) {
+      EXPECT_EQ(s.scratch_disk_peak, 0u);
+      EXPECT_EQ(s.scratch_spilled, 0u);
+    }
     EXPECT_EQ(ScratchBudget::process().in_memory(), 0u);  // all given back
   }
 }
