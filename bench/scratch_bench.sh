@@ -1,24 +1,27 @@
 #!/usr/bin/env bash
 # Scratch in memory (--memory: default budget) against scratch in files (--memory 0) on the stitch.
-# Usage: bench/scratch_bench.sh [SIZES="8192 16384"] [BUILD=build] [RUNS=2]
+# Usage: bench/scratch_bench.sh [SIZES="8192 16384"] [BUILD=build] [RUNS=2] [PRECISION=yes]
 # Per size: makes a composite + label map from a real photo (bench/make_composite, uncompressed
 # TIFF), then runs `gdp stitch` RUNS times each way, interleaved, under bench/measure_run.py, and
 # prints wall, CPU (user+sys), minor page faults per Mpix, bytes written towards the disk, scratch
 # in memory / in files and scratch bytes per pixel, with the ratios of the two ways in one run.
-# With a 2048² crop of the first size it also prints scratch_precision (half against float per
-# quantity).
+# First (unless PRECISION=no) it prints scratch_precision on a 2048² composite: half against
+# float per quantity.
 set -euo pipefail
 sizes=${1:-"8192 16384"}
 build=${2:-build}
 runs=${3:-2}
+precision=${4:-yes}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
 photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
 gdp="$here/$build/tools/gdp/gdp"
 work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-scratch-bench.XXXXXX")
 trap 'rm -rf "$work"' EXIT
-"$here/$build/bench/make_composite" "$photo" 2048 2048 "$work/small.tif" "$work/small_labels.tif"
-"$here/$build/bench/scratch_precision" "$work/small.tif" "$work/small_labels.tif"
+if [[ $precision != no ]]; then
+  "$here/$build/bench/make_composite" "$photo" 2048 2048 "$work/small.tif" "$work/small_labels.tif"
+  "$here/$build/bench/scratch_precision" "$work/small.tif" "$work/small_labels.tif"
+fi
 for size in $sizes; do
   "$here/$build/bench/make_composite" "$photo" "$size" "$size" "$work/comp.tif" "$work/labels.tif"
   for run in $(seq "$runs"); do

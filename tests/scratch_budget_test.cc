@@ -108,14 +108,20 @@ TEST(ScratchBudget, MemorySizesParse) {
   EXPECT_GT(default_scratch_memory(), 0u);
 }
 
-// The same streaming solve with every store in files, some and all in memory: the same bits as
-// in-core, and the budget held.
-TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
-  const Image img = test::random_image(160, 120, 3, 4);
+// Two V-cycles with every level but the coarsest streamed (so that every kind of store is made).
+SolverOptions every_level_streamed() {
   SolverOptions o;
   o.coarsest_size = 5;
   o.incore_bytes = 0;
   o.vcycles = 2;
+  return o;
+}
+
+// The same streaming solve with every store in files, some and all in memory: the same bits as
+// in-core, and the budget held.
+TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
+  const Image img = test::random_image(160, 120, 3, 4);
+  SolverOptions o = every_level_streamed();
   o.threads = 3;  // lanes make their stores concurrently
   o.schedule = Schedule::InCore;
   test::ExactGradients reference_source(img, Domain::Cylindrical, 0.0, 1.0);
@@ -145,23 +151,26 @@ TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
   }
 }
 
-// half_scratch is every quantity as half floats, named one by one.
-TEST(ScratchBudget, HalfScratchIsEveryQuantityHalf) {
+// half_scratch is every quantity as half floats, named one by one, but for the finest b when
+// more V-cycles reuse it.
+TEST(ScratchBudget, HalfScratchIsEveryQuantityHalfButTheReusedFinestB) {
   const Image img = test::random_image(90, 70, 1, 8);
-  SolverOptions o;
-  o.coarsest_size = 5;
-  o.incore_bytes = 0;
-  o.vcycles = 2;
-  o.half_scratch = true;
-  test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar), src3(img, Domain::Planar);
-  const Image all = solve(src1, o);
-  o.half_scratch = false;
-  o.half_quantities = {"u", "b", "w", "result"};
-  const Image named = solve(src2, o);
-  EXPECT_EQ(std::memcmp(all.data.data(), named.data.data(), all.data.size() * sizeof(float)), 0);
-  o.half_quantities = {"b"};
-  const Image some = solve(src3, o);
-  EXPECT_NE(std::memcmp(all.data.data(), some.data.data(), all.data.size() * sizeof(float)), 0);
+  for (int cycles : {1, 2}) {
+    SolverOptions o = every_level_streamed();
+    o.vcycles = cycles;
+    o.half_scratch = true;
+    test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar), src3(img, Domain::Planar);
+    const Image all = solve(src1, o);
+    o.half_scratch = false;
+    o.half_quantities = {"u", "w", "result"};
+    for (int l = 1; l < 8; ++l) o.half_quantities.push_back("level" + std::to_string(l) + "-b");
+    if (cycles == 1) o.half_quantities.push_back("level0-b");
+    const Image named = solve(src2, o);
+    EXPECT_EQ(std::memcmp(all.data.data(), named.data.data(), all.data.size() * sizeof(float)), 0) << cycles;
+    o.half_quantities = {"level0-u"};
+    const Image some = solve(src3, o);
+    EXPECT_NE(std::memcmp(all.data.data(), some.data.data(), all.data.size() * sizeof(float)), 0) << cycles;
+  }
 }
 
 }  // namespace

@@ -34,6 +34,9 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   s.stores.dir = opt.temp_dir;
   s.stores.budget = &ScratchBudget::process();
   s.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
+  // The finest b is the problem's data, kept for later V-cycles: as half floats it moves their
+  // answer by 2e-3 of the range (100x one V-cycle's error; docs/how-streaming-works.md).
+  if (opt.half_scratch && s.more_cycles) s.stores.quantity_encoding["level0-b"] = StoreEncoding::Native;
   for (const std::string& q : opt.half_quantities) s.stores.quantity_encoding[q] = StoreEncoding::Half;
   return s;
 }
