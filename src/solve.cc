@@ -6,6 +6,7 @@
 #include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "bands/solve_streamed.h"
+#include "schedule/scratch_budget.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp {
@@ -35,6 +36,8 @@ class WithInitial final : public GuidanceSource {
   const Image& initial_;
 };
 
+void solve_with_schedule(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& s);
+
 }  // namespace
 
 void SolverOptions::validate() const {
@@ -46,7 +49,7 @@ void SolverOptions::validate() const {
   if (coarsest_size < 1) throw UsageError(fmt::format("coarsest size must be positive, got {}", coarsest_size));
   if (bands < 1) throw UsageError(fmt::format("--bands must be at least 1, got {}", bands));
   if (threads < 1) throw UsageError(fmt::format("--threads must be at least 1, got {}", threads));
-  if (half_scratch && precision == Precision::Float64)
+  if ((half_scratch || !half_quantities.empty()) && precision == Precision::Float64)
     throw UsageError("half-float scratch would throw away double precision: use one or the other");
   std::error_code ec;
   if (!temp_dir.empty() && !std::filesystem::is_directory(temp_dir, ec))
@@ -81,13 +84,28 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
   SolveSummary local;
   SolveSummary& s = summary ? *summary : local;
   s = SolveSummary{};
-  const bool streamed = options.schedule != Schedule::InCore;  // streaming is the one-band plan
+  schedule::ScratchBudget& budget = schedule::ScratchBudget::process();
+  budget.set_limit(options.scratch_memory);
+  budget.reset_peaks();
+  solve_with_schedule(source, options, out, s);
+  s.scratch_memory_peak = budget.peak_in_memory();
+  s.scratch_disk_peak = budget.peak_on_disk();
+  s.scratch_spilled = budget.spilled();
+}
+
+namespace {
+
+// The schedule and precision the options ask for; streaming is the one-band plan.
+void solve_with_schedule(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& s) {
+  const bool streamed = options.schedule != Schedule::InCore;
   if (options.precision == Precision::Float64) {
     streamed ? bands::solve_streamed<double>(source, options, out, s) : schedule::solve_incore<double>(source, options, out, s);
   } else {
     streamed ? bands::solve_streamed<float>(source, options, out, s) : schedule::solve_incore<float>(source, options, out, s);
   }
 }
+
+}  // namespace
 
 Image solve(GuidanceSource& source, const SolverOptions& options, const Image* initial, SolveSummary* summary) {
   if (initial && (initial->width != source.width() || initial->height != source.height() ||

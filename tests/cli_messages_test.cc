@@ -45,12 +45,12 @@ TEST_F(CliMessages, AllUnknownLabelMapIsAnError) {
 
 // A scratch disk that fills up (a file-size limit here) is named, so that --temp can move it.
 TEST_F(CliMessages, FullScratchDiskIsNamed) {
-  // Scratch stores above 8 MiB go to files, written (1 MiB at a time) before the first output row.
+  // With --memory 0 every scratch store is a file, written (1 MiB at a time) before the first output row.
   write_image(path("big.png"), test::random_image(1200, 700, 3, 5), {});
   const std::string scratch = path("scratch");
   fs::create_directory(scratch);
   const test::CliRun r = gdp_shell("ulimit -f 8; exec " + std::string(GDP_CLI_PATH) + " sharpen " + path("big.png") +
-                                   " -o " + path("out.png") + " --temp " + scratch);
+                                   " -o " + path("out.png") + " --memory 0 --temp " + scratch);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("scratch"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(scratch), std::string::npos) << r.err;

@@ -44,7 +44,8 @@ TEST_F(Cli, StitchWritesOutputAndStatistics) {
   EXPECT_EQ(out.info.sample_type, SampleType::UInt8);
   std::ifstream f(path("s.json"));
   const std::string json(std::istreambuf_iterator<char>(f), {});
-  for (const char* key : {"\"relative_residuals\"", "\"peak_rss_mb\"", "\"seconds\"", "\"levels\""})
+  for (const char* key : {"\"relative_residuals\"", "\"peak_rss_mb\"", "\"seconds\"", "\"levels\"",
+                          "\"scratch_memory_mb\"", "\"scratch_disk_mb\"", "\"minor_faults_per_mpix\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
@@ -86,6 +87,7 @@ TEST_F(Cli, UnknownOption) {
 TEST_F(Cli, InvalidOptionValue) {
   expect_failure("sharpen " + path("comp.png") + " -o " + path("out.png") + " --beta 0.5", "beta");
   expect_failure("reconstruct " + path("comp.png") + " --vcycles 0", "vcycles");
+  expect_failure("reconstruct " + path("comp.png") + " --memory 4X", "--memory");
 }
 
 TEST_F(Cli, UnwritableOutput) {
@@ -121,10 +123,12 @@ TEST_F(Cli, StreamingAndInCoreWriteTheSameFile) {
   const std::string args = "stitch -c " + path("comp.png") + " -l " + path("labels.png") + " -q --depth float";
   ASSERT_EQ(gdp(args + " -o " + path("s.tif") + " --temp " + dir_.string() + " --coarsest 4").code, 0);
   ASSERT_EQ(gdp(args + " -o " + path("i.tif") + " --in-core --coarsest 4").code, 0);
+  ASSERT_EQ(gdp(args + " -o " + path("m.tif") + " --memory files --coarsest 4").code, 0);  // scratch in files
   ASSERT_EQ(gdp(args + " -o " + path("t.tif") + " --tiled --vcycles 2 --half-scratch").code, 0);
   EXPECT_EQ(read_image(path("s.tif")).image.data, read_image(path("i.tif")).image.data);
+  EXPECT_EQ(read_image(path("m.tif")).image.data, read_image(path("i.tif")).image.data);
   EXPECT_LT(test::max_difference(read_image(path("t.tif")).image, read_image(path("i.tif")).image), 2e-3);
-  EXPECT_EQ(files(), (std::set<std::string>{"comp.png", "labels.png", "s.tif", "i.tif", "t.tif"}));
+  EXPECT_EQ(files(), (std::set<std::string>{"comp.png", "labels.png", "s.tif", "i.tif", "t.tif", "m.tif"}));
 }
 
 TEST_F(Cli, MissingScratchDirectory) {

@@ -196,15 +196,16 @@ TEST_F(FaultCampaign, SignalsAtRandomMoments) {
   }
 }
 
-// A full disk (a file-size limit) for the output and for the scratch files, at several sizes.
+// A full disk (a file-size limit) for the output and for the scratch files (--memory 0: every
+// store a file), at several sizes.
 TEST_F(FaultCampaign, FullDisks) {
   write_image(path("big.tif"), test::random_image(1200, 700, 3, 2), WriteOptions{SampleType::UInt8, 95, false, "none", 256});
   const std::set<std::string> before = files();
   for (int kb : {1, 8, 64, 512}) {
     for (const std::string& run : {"convert " + path("big.tif") + " -o " + path("out.tif"),
-                                   "sharpen " + path("big.tif") + " -o " + path("out.png") + " --temp " + dir_.string(),
+                                   "sharpen " + path("big.tif") + " -o " + path("out.png") + " --memory 0 --temp " + dir_.string(),
                                    "stitch -c " + path("big.tif") + " -l " + path("big.tif") + " -o " + path("out.jpg") +
-                                       " --temp " + dir_.string() + " --unknown label"}) {
+                                       " --memory 0 --temp " + dir_.string() + " --unknown label"}) {
       SCOPED_TRACE(std::to_string(kb) + " KB: " + run);
       ++cases_;
       const test::CliRun r = gdp_shell("ulimit -f " + std::to_string(kb) + "; exec " + GDP_CLI_PATH + " " + run);

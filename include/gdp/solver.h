@@ -17,6 +17,13 @@ namespace gdp {
 
 enum class Precision { Float32, Float64 };
 
+// The default scratch budget (SolverOptions::scratch_memory, --memory): a quarter of the
+// machine's physical memory.
+std::size_t default_scratch_memory();
+// A --memory value: bytes ("1000000"), or with a binary unit K, M, G or T ("512M", "1.5G"), "0"
+// or "files" (always files); UsageError naming the text otherwise.
+std::size_t parse_memory_size(const std::string& text);
+
 // How the V-cycles are carried out (docs/multigrid.md, docs/how-streaming-works.md). Both give
 // bit-identical results.
 enum class Schedule {
@@ -41,6 +48,12 @@ struct SolverOptions {
   int bands = 1;              // Schedule::Bands: bands (worker threads) in this process
   std::filesystem::path temp_dir;  // streaming scratch files (empty: the system's temporary directory)
   bool half_scratch = false;       // keep streamed rows between passes as 16-bit floats
+  // Only these quantities as 16-bit floats ("u", "b", "w", "result", or one level's: "level0-u";
+  // docs/how-streaming-works.md measures each); half_scratch: all of them.
+  std::vector<std::string> half_quantities;
+  // Bytes of scratch rows that all solves of the process together keep in memory; stores beyond it
+  // go to files in temp_dir (0: always files). With checkpoint_dir, stores are files regardless.
+  std::size_t scratch_memory = default_scratch_memory();
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
   // memory and solved in-core; larger ones stream.
   std::size_t incore_bytes = std::size_t{8} << 20;
@@ -83,6 +96,9 @@ struct SolveSummary {
   int streamed_levels = 0;       // levels that streamed (the rest were held in memory)
   std::size_t scratch_bytes = 0; // bytes stored between passes per V-cycle (disk or memory)
   std::size_t window_bytes = 0;  // bytes of rows and small levels held in memory by the solver
+  // Scratch of the whole process during the solve, at most at once: in memory (the budget's
+  // part) and in files; stores that did not fit in the budget.
+  std::size_t scratch_memory_peak = 0, scratch_disk_peak = 0, scratch_spilled = 0;
 };
 
 // Solves for every channel of the source and writes the result's rows, in order, to `out`

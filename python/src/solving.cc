@@ -42,6 +42,7 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("incore_bytes", s.incore_bytes);
   kw.take("temp", s.temp_dir);
   kw.take("half_scratch", s.half_scratch);
+  kw.take("memory", s.scratch_memory);
   bool double_precision = false;
   kw.take("double", double_precision);
   s.precision = double_precision ? Precision::Float64 : Precision::Float32;

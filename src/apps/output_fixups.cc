@@ -11,10 +11,11 @@ constexpr unsigned char kZero = 0x80;  // bits 0..6: channel c not finite
 }
 
 OutputFixups::OutputFixups(RowWriter& out, int width, int height, int channels, const SolverOptions& solver)
-    : out_(out), width_(width), channels_(channels), flag_row_(width), row_(static_cast<std::size_t>(width) * channels) {
-  schedule::StorePolicy policy;
-  policy.dir = solver.temp_dir;
-  flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy, width, height, "flags");
+    : out_(out), width_(width), height_(height), channels_(channels), flag_row_(width),
+      row_(static_cast<std::size_t>(width) * channels) {
+  policy_.dir = solver.temp_dir;
+  policy_.budget = &schedule::ScratchBudget::process();  // one byte a pixel, in memory while it fits
+  policy_.budget->set_limit(solver.scratch_memory);
 }
 
 OutputFixups::~OutputFixups() = default;
@@ -27,11 +28,18 @@ void OutputFixups::record(int, std::span<const float> input, std::span<const uns
     flag_row_[i] = f;
     any_ = any_ || f != 0;
   }
+  // Rows before the first flagged one are not stored (most images have none at all).
+  if (!any_) {
+    ++unflagged_;
+    return;
+  }
+  if (!flags_)
+    flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy_, width_, height_ - unflagged_, "flags");
   flags_->append(flag_row_);
 }
 
 void OutputFixups::write_row(int y, std::span<const float> row) {
-  if (!any_) return out_.write_row(y, row);
+  if (y < unflagged_ || !flags_) return out_.write_row(y, row);
   if (!reading_) {
     flags_->rewind();
     reading_ = true;

@@ -14,7 +14,8 @@ namespace gdp::apps {
 // Records, while the input is read, which output samples must not keep the solved value:
 // channels whose input sample was not finite (FITS blanks: they come out as NaN again) and
 // pixels to output as zero. Then, as a RowWriter in front of the real one, applies them.
-// Flags are kept in a row store (one byte per pixel: in memory or in a scratch file).
+// Flags are kept in a row store (one byte per pixel: in memory or in a scratch file) from the
+// first row with one on.
 class OutputFixups final : public RowWriter {
  public:
   OutputFixups(RowWriter& out, int width, int height, int channels, const SolverOptions& solver);
@@ -28,7 +29,9 @@ class OutputFixups final : public RowWriter {
 
  private:
   RowWriter& out_;
-  int width_, channels_;
+  int width_, height_, channels_;
+  schedule::StorePolicy policy_;
+  int unflagged_ = 0;  // leading rows without flags (not stored)
   std::unique_ptr<schedule::RowStore<unsigned char>> flags_;
   std::vector<unsigned char> flag_row_;
   std::vector<float> row_;

@@ -36,7 +36,8 @@ void tonemap(RowReader& in, const TonemapOptions& options, const SolverOptions& 
   solver.validate();
   schedule::StorePolicy policy;
   policy.dir = solver.temp_dir;
-  policy.memory_limit = solver.incore_bytes;
+  policy.budget = &schedule::ScratchBudget::process();  // the pyramid in memory while it fits
+  policy.budget->set_limit(solver.scratch_memory);
   if (solver.half_scratch) policy.encoding = schedule::StoreEncoding::Half;
   const Domain domain = solver.domain;
 

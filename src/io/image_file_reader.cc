@@ -15,6 +15,7 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "schedule/bounded_queue.h"
+#include "schedule/recycle_pool.h"
 
 namespace gdp {
 namespace {
@@ -56,6 +57,7 @@ struct ImageFileReader::Impl {
   int band_rows = 1;
   std::size_t row_bytes = 0;  // of the window
   Band band;                  // the band read_row serves from
+  schedule::RecyclePool<std::vector<unsigned char>> spent;  // bands' bytes, allocated once
   int next_row = 0;
   std::string failed;  // non-empty: a band failed to decode; read_row() throws this
   std::unique_ptr<schedule::BoundedQueue<Band>> queue;
@@ -103,6 +105,7 @@ struct ImageFileReader::Impl {
     b.y0 = y0;
     b.y1 = std::min(layout.height, y0 + band_rows);
     try {
+      b.bytes = spent.take();
       b.bytes.resize(static_cast<std::size_t>(b.y1 - y0) * row_bytes);
       decoder_used = true;
       decoder->read(y0, b.y1, x0, x1, b.bytes.data());
@@ -142,6 +145,7 @@ struct ImageFileReader::Impl {
 
   void next_band() {
     if (prefetch && !queue) start_decoding();
+    spent.give(std::move(band.bytes));
     if (!prefetch) {
       band = decode(band.y1);
     } else {

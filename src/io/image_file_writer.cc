@@ -15,6 +15,7 @@
 #include "io/codecs.h"
 #include "io/temp_file.h"
 #include "schedule/bounded_queue.h"
+#include "schedule/recycle_pool.h"
 
 namespace gdp {
 namespace {
@@ -50,6 +51,7 @@ struct ImageFileWriter::Impl {
   bool integer_file = false, tiled = false, committed = false, opened = false, write_behind = true;
   Band band;
   schedule::BoundedQueue<Band> queue{1};  // with the band encoded and the band filled: three
+  schedule::RecyclePool<std::vector<unsigned char>> spent;  // encoded bands' bytes, allocated once
   std::thread encoder;
   std::atomic<bool> encoder_failed{false};
   std::string error;  // the encoder's first error, written before encoder_failed is set
@@ -69,6 +71,8 @@ struct ImageFileWriter::Impl {
     while (auto b = queue.pop()) {
       try {
         encode(*b);
+        b->bytes.clear();  // keeps its capacity for a later band
+        spent.give(std::move(b->bytes));
       } catch (const std::exception& e) {
         error = e.what();
         encoder_failed.store(true, std::memory_order_release);
@@ -100,7 +104,7 @@ struct ImageFileWriter::Impl {
       check();
       throw fail("writing stopped");
     }
-    band = Band{y1, y1, {}};
+    band = Band{y1, y1, spent.take()};
   }
 
   // Stops the encoder, closes the writer and removes the temporary file (no-op after commit).

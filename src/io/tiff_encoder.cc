@@ -203,7 +203,7 @@ class TiffEncoder final : public Encoder {
       if ((y + 1) % rows_per_strip_ == 0 || y + 1 == height_) {
         const tstrile_t strip = static_cast<tstrile_t>(y / rows_per_strip_);
         if (compressor_) {
-          std::vector<unsigned char> rows;
+          std::vector<unsigned char> rows = compressor_->buffer();
           rows.reserve(chunk_.capacity());
           rows.swap(chunk_);
           compressor_->submit(static_cast<int>(strip), std::move(rows), sink());
@@ -231,7 +231,8 @@ class TiffEncoder final : public Encoder {
         }
         const ttile_t index = TIFFComputeTile(tif_, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
         if (compressor_) {  // tiles come in index order: row of tiles by row of tiles, left to right
-          std::vector<unsigned char> tile(chunk_);
+          std::vector<unsigned char> tile = compressor_->buffer();
+          tile.assign(chunk_.begin(), chunk_.end());
           compressor_->submit(static_cast<int>(index), std::move(tile), sink());
           continue;
         }

@@ -36,7 +36,7 @@ void StripCompressor::work() {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     lock.unlock();
-    std::vector<unsigned char> out;
+    std::vector<unsigned char> out = spent_.take();
     std::string failure;
     try {
       if (!compressor) throw CodecError("out of memory for a deflate compressor");
@@ -59,6 +59,8 @@ void StripCompressor::work() {
     } catch (const std::exception& e) {
       failure = e.what();
     }
+    job.rows.clear();
+    spent_.give(std::move(job.rows));
     lock.lock();
     if (!failure.empty() && error_.empty()) error_ = failure;
     done_[job.strip] = std::move(out);
@@ -74,6 +76,8 @@ void StripCompressor::sink_ready(std::unique_lock<std::mutex>& lock, const Sink&
     const int strip = next_++;
     lock.unlock();
     sink(strip, data);  // libtiff, on the submitting thread, without the lock
+    data.clear();
+    spent_.give(std::move(data));
     lock.lock();
     --outstanding_;
   }

@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "schedule/recycle_pool.h"
+
 namespace gdp::io {
 
 // How a strip's (or tile's) rows are laid out and predicted.
@@ -35,6 +37,8 @@ class StripCompressor {
   StripCompressor& operator=(const StripCompressor&) = delete;
 
   void submit(int strip, std::vector<unsigned char> rows, const Sink& sink);  // strips 0, 1, 2, ...
+  // An empty buffer of an earlier strip (its capacity kept) to fill and submit.
+  std::vector<unsigned char> buffer() { return spent_.take(); }
   void finish(const Sink& sink);  // waits for every strip and sinks it; throws CodecError on a failure
 
  private:
@@ -50,6 +54,7 @@ class StripCompressor {
   std::condition_variable changed_;
   std::deque<Job> jobs_;
   std::map<int, std::vector<unsigned char>> done_;
+  schedule::RecyclePool<std::vector<unsigned char>> spent_;  // strips' buffers, allocated once
   int next_ = 0;         // next strip to sink
   int outstanding_ = 0;  // submitted, not yet sunk
   int limit_ = 4;

@@ -18,6 +18,7 @@
 #include "schedule/bounded_queue.h"
 #include "schedule/checkpoint.h"
 #include "schedule/input_rows.h"
+#include "schedule/recycle_pool.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
 
@@ -48,29 +49,19 @@ struct Batch {
   std::vector<T> u, b, w, d;
 };
 
-// Batches handed back for reuse: their vectors keep their capacity, so a solve allocates a few
-// batches per worker once instead of one per batch (large buffers allocated and freed in the
-// inner loop cost a page fault per page every time, docs/multigrid.md).
+// Batches handed back for reuse, emptied (their vectors keep their capacity).
 template <class T>
 class BatchPool {
  public:
   void give(Batch<T>&& b) {
     b.first = b.rows = 0;
     for (std::vector<T>* v : {&b.u, &b.b, &b.w, &b.d}) v->clear();
-    const std::lock_guard lock(mutex_);
-    free_.push_back(std::move(b));
+    pool_.give(std::move(b));
   }
-  Batch<T> take() {
-    const std::lock_guard lock(mutex_);
-    if (free_.empty()) return {};
-    Batch<T> b = std::move(free_.back());
-    free_.pop_back();
-    return b;
-  }
+  Batch<T> take() { return pool_.take(); }
 
  private:
-  std::mutex mutex_;
-  std::vector<Batch<T>> free_;
+  RecyclePool<Batch<T>> pool_;
 };
 
 // Runs the V-cycles of `vcycle` (a bands::StreamedVCycle: begin_cycle, push,

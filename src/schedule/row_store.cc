@@ -43,24 +43,65 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
 }
 
 
+StoreEncoding StorePolicy::encoding_of(const std::string& name) const {
+  std::size_t best = 0;
+  StoreEncoding chosen = encoding;
+  for (const auto& [key, value] : quantity_encoding) {
+    const bool ends = name.size() >= key.size() && name.compare(name.size() - key.size(), key.size(), key) == 0;
+    const bool whole = ends && (name.size() == key.size() || name[name.size() - key.size() - 1] == '-');
+    if (whole && key.size() > best) best = key.size(), chosen = value;
+  }
+  return chosen;
+}
+
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
-    : name_(policy.name_prefix + name), row_length_(row_length), encoding_(policy.encoding) {
+    : name_(policy.name_prefix + name), row_length_(row_length), encoding_(policy.encoding_of(name)) {
   const std::size_t total = encoded_bytes() * rows;
+  disk_budget_ = policy.budget ? policy.budget : &ScratchBudget::process();
   if (!policy.keep_dir.empty()) {
     dir_ = policy.keep_dir;
     const std::filesystem::path path = dir_ / (name_ + ".store");
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0)
       throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), system_message()));
-    buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
+    open_file(policy);
+  } else if (policy.budget) {
+    memory_ = ScratchMemory(*policy.budget, total);
+    if (memory_.held()) {
+      buffer_ = memory_.data();
+      capacity_ = total;
+    } else {
+      policy.budget->count_spill();
+      open_file(policy);
+    }
   } else if (total > policy.memory_limit) {
+    open_file(policy);
+  } else {
+    file_buffer_.resize(total);
+    buffer_ = file_buffer_.data();
+    capacity_ = total;
+  }
+}
+
+// An unlinked file in the policy's directory (unless a named one is open already) and its buffer.
+template <class T>
+void RowStore<T>::open_file(const StorePolicy& policy) {
+  if (fd_ < 0) {
     dir_ = policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
     fd_ = open_unlinked(dir_, name_);
-    buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
-  } else {
-    buffer_.resize(total);
   }
+  file_buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
+  buffer_ = file_buffer_.data();
+  capacity_ = file_buffer_.size();
+}
+
+// The file now holds at least `bytes` (what the budget's on-disk count says).
+template <class T>
+void RowStore<T>::count_disk(std::size_t bytes) {
+  if (bytes <= disk_bytes_) return;
+  disk_budget_->add_disk(static_cast<std::ptrdiff_t>(bytes - disk_bytes_));
+  disk_bytes_ = bytes;
 }
 
 template <class T>
@@ -71,6 +112,7 @@ std::string RowStore<T>::where() const {
 template <class T>
 RowStore<T>::~RowStore() {
   if (fd_ >= 0) ::close(fd_);
+  disk_budget_->add_disk(-static_cast<std::ptrdiff_t>(disk_bytes_));
 }
 
 template <class T>
@@ -82,9 +124,9 @@ template <class T>
 void RowStore<T>::append(std::span<const T> row) {
   const std::size_t n = encoded_bytes();
   if (reading_) throw std::logic_error("RowStore::append while reading");
-  if (fd_ >= 0 && buffered_ + n > buffer_.size()) flush();
-  if (fd_ < 0 && buffered_ + n > buffer_.size()) throw std::logic_error("RowStore: more rows than declared");
-  unsigned char* out = buffer_.data() + buffered_;
+  if (fd_ >= 0 && buffered_ + n > capacity_) flush();
+  if (fd_ < 0 && buffered_ + n > capacity_) throw std::logic_error("RowStore: more rows than declared");
+  unsigned char* out = buffer_ + buffered_;
   if (encoding_ == StoreEncoding::Half) {
     to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
   } else {
@@ -98,7 +140,7 @@ template <class T>
 void RowStore<T>::flush() {
   std::size_t done = 0;
   while (done < buffered_) {
-    const ssize_t k = ::write(fd_, buffer_.data() + done, buffered_ - done);
+    const ssize_t k = ::write(fd_, buffer_ + done, buffered_ - done);
     if (k < 0 && errno == EINTR) continue;
     if (k <= 0)
       throw OutputError(fmt::format("{}: cannot write: {} (--temp DIR puts scratch files elsewhere)", where(),
@@ -106,6 +148,7 @@ void RowStore<T>::flush() {
     done += static_cast<std::size_t>(k);
   }
   buffered_ = 0;
+  count_disk(written_);
 }
 
 template <class T>
@@ -123,12 +166,12 @@ void RowStore<T>::rewind() {
 template <class T>
 void RowStore<T>::fill() {
   // Keep the unread tail, then read as much as fits (never past what was written).
-  std::memmove(buffer_.data(), buffer_.data() + cursor_, buffered_ - cursor_);
+  std::memmove(buffer_, buffer_ + cursor_, buffered_ - cursor_);
   buffered_ -= cursor_;
   cursor_ = 0;
-  while (buffered_ < buffer_.size() && file_read_ < written_) {
-    const std::size_t want = std::min(buffer_.size() - buffered_, written_ - file_read_);
-    const ssize_t k = ::read(fd_, buffer_.data() + buffered_, want);
+  while (buffered_ < capacity_ && file_read_ < written_) {
+    const std::size_t want = std::min(capacity_ - buffered_, written_ - file_read_);
+    const ssize_t k = ::read(fd_, buffer_ + buffered_, want);
     if (k < 0 && errno == EINTR) continue;
     if (k <= 0)
       throw OutputError(fmt::format("{}: cannot read back: {}", where(),
@@ -144,7 +187,7 @@ void RowStore<T>::read(std::span<T> row) {
   if (!reading_) throw std::logic_error("RowStore::read before rewind");
   if (fd_ >= 0 && cursor_ + n > buffered_) fill();
   if (cursor_ + n > buffered_) throw std::logic_error("RowStore: read past the end");
-  const unsigned char* in = buffer_.data() + cursor_;
+  const unsigned char* in = buffer_ + cursor_;
   if (encoding_ == StoreEncoding::Half) {
     from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
   } else {
@@ -179,6 +222,7 @@ void RowStore<T>::restore(std::size_t bytes) {
     throw OutputError(fmt::format("{}: {}", where(), system_message()));
   buffered_ = cursor_ = file_read_ = 0;
   written_ = bytes;
+  count_disk(bytes);
   reading_ = false;
 }
 

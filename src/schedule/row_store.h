@@ -3,10 +3,13 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
 
@@ -17,13 +20,18 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name);
 // How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
 enum class StoreEncoding { Native, Half };
 
-// Where rows are kept: in memory when a whole level's stream is small, else in an unlinked
-// file in `dir` (the space returns to the system when the store is destroyed or the process
-// dies, however it dies).
+// Where rows are kept: in memory while `budget` has room for the whole stream (without a budget:
+// when it is at most memory_limit), else in an unlinked file in `dir` (the space returns to the
+// system when the store is destroyed or the process dies, however it dies).
 struct StorePolicy {
   std::filesystem::path dir;
-  std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store
+  std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store (no budget)
+  ScratchBudget* budget = nullptr;                  // shared by many stores (ScratchBudget::process())
   StoreEncoding encoding = StoreEncoding::Native;
+  // Per quantity: stores whose name ends in "-KEY" (or is KEY) take this encoding instead of
+  // `encoding`, the longest key first ("u": every level's u, "level0-u": the finest only).
+  std::map<std::string, StoreEncoding> quantity_encoding;
+  StoreEncoding encoding_of(const std::string& name) const;
   // Non-empty (a checkpoint's directory): every store is a named file `keep_dir/NAME.store`,
   // kept after the process ends, whatever its size (docs/resume.md).
   std::filesystem::path keep_dir;
@@ -48,6 +56,7 @@ class RowStore {
   // Bytes of the stream so far (what it occupies on disk or in memory).
   std::size_t bytes() const { return written_; }
   bool on_disk() const { return fd_ >= 0; }
+  StoreEncoding encoding() const { return encoding_; }
 
   // Checkpoints (kept files only): writes what is buffered, syncs the file and returns the
   // stream's length; restore() makes the stream that long again (truncating what came after),
@@ -58,6 +67,8 @@ class RowStore {
  private:
   void flush();
   void fill();
+  void open_file(const StorePolicy& policy);
+  void count_disk(std::size_t bytes);
   std::size_t encoded_bytes() const;
 
   // "scratch file in DIR (NAME)": messages name the directory (the disk that filled up).
@@ -68,7 +79,12 @@ class RowStore {
   std::size_t row_length_;
   StoreEncoding encoding_;
   int fd_ = -1;
-  std::vector<unsigned char> buffer_;  // the whole stream (memory) or an I/O buffer (file)
+  ScratchMemory memory_;                // the whole stream, in memory (taken from the budget)
+  std::vector<unsigned char> file_buffer_;  // the I/O buffer of a file (or, with no budget, the stream)
+  unsigned char* buffer_ = nullptr;     // one of them
+  std::size_t capacity_ = 0;            // its size
+  ScratchBudget* disk_budget_ = nullptr;  // counts this file's bytes
+  std::size_t disk_bytes_ = 0;            // counted so far
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream
   std::size_t file_read_ = 0;              // bytes of the file consumed by fill()

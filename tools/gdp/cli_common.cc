@@ -71,6 +71,20 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
                    "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
                    "rank's number (a directory per rank, e.g. on each node's own disk)");
     cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
+    cmd.add_option("--memory", o.memory,
+                   fmt::format("scratch rows kept in memory, e.g. 512M, 4G; beyond it they go to files in --temp "
+                               "(0 or 'files': always files; with --checkpoint always files); default a quarter "
+                               "of physical memory, {:.1f}G here", default_scratch_memory() / 1073741824.0))
+        ->check(CLI::Validator(
+            [](const std::string& v) {
+              try {
+                parse_memory_size(v);
+                return std::string();
+              } catch (const std::exception& e) {
+                return std::string(e.what());
+              }
+            },
+            "SIZE"));
     add_checkpoint_options(cmd, o.checkpoint, o.resume);
   }
   o.app = &cmd;
@@ -124,6 +138,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   ScheduleFlags{o.domain, o.sphere, o.pq_height, o.in_core, o.bands}.apply(s);
   if (o.bands != 0) warn_if_bound(o, o.bands);
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
+  if (!o.memory.empty()) s.scratch_memory = parse_memory_size(o.memory);
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   s.progress = progress_line(o, command + ": solving");
@@ -260,6 +275,10 @@ void Stats::summary(const SolveSummary& s) {
   set("streamed_levels", std::to_string(s.streamed_levels));
   set("scratch_mb", fmt::format("{:.1f}", s.scratch_bytes / 1048576.0));
   set("solver_memory_mb", fmt::format("{:.1f}", s.window_bytes / 1048576.0));
+  // The scratch budget (--memory): most held at once in memory and in files, stores that spilled.
+  set("scratch_memory_mb", fmt::format("{:.1f}", s.scratch_memory_peak / 1048576.0));
+  set("scratch_disk_mb", fmt::format("{:.1f}", s.scratch_disk_peak / 1048576.0));
+  set("scratch_spilled_stores", std::to_string(s.scratch_spilled));
   set("level_sizes", "[" + sizes + "]");
   set("vcycles", std::to_string(s.vcycles));
   set("relative_residuals", "[" + residuals + "]");

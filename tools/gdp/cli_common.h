@@ -38,6 +38,7 @@ struct CommonOptions {
   int pq_height = 0;    // --pq-height (0: sphere::default_pq_height)
   long long max_pixels = 0;  // --max-pixels (0: what the free scratch disk and memory allow; size_guard.h)
   std::string checkpoint, resume;  // --checkpoint DIR, --resume DIR (cli_checkpoint.h)
+  std::string memory;              // --memory SIZE (gdp::parse_memory_size; empty: the default)
   const CLI::App* app = nullptr;   // the subcommand these flags were added to
 };
 

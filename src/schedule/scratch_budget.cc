@@ -1,0 +1,88 @@
+// The process-wide scratch budget and budgeted anonymous memory for row stores.
+#include "schedule/scratch_budget.h"
+
+#include <sys/mman.h>
+
+#include <new>
+#include <utility>
+
+namespace gdp::schedule {
+namespace {
+
+void raise_peak(std::atomic<std::size_t>& peak, std::size_t value) {
+  std::size_t seen = peak.load();
+  while (value > seen && !peak.compare_exchange_weak(seen, value)) {
+  }
+}
+
+}  // namespace
+
+ScratchBudget& ScratchBudget::process() {
+  static ScratchBudget budget;
+  return budget;
+}
+
+bool ScratchBudget::reserve(std::size_t bytes) {
+  std::size_t held = memory_.load();
+  do {
+    if (bytes > limit_.load() || held > limit_.load() - bytes) return false;
+  } while (!memory_.compare_exchange_weak(held, held + bytes));
+  raise_peak(memory_peak_, held + bytes);
+  return true;
+}
+
+void ScratchBudget::release(std::size_t bytes) { memory_ -= bytes; }
+
+void ScratchBudget::add_disk(std::ptrdiff_t bytes) {
+  const std::size_t now = disk_ += static_cast<std::size_t>(bytes);
+  raise_peak(disk_peak_, now);
+}
+
+void ScratchBudget::reset_peaks() {
+  memory_peak_ = memory_.load();
+  disk_peak_ = disk_.load();
+  spilled_ = 0;
+}
+
+ScratchMemory::ScratchMemory(ScratchBudget& budget, std::size_t bytes) {
+  if (!budget.reserve(bytes)) return;
+  budget_ = &budget;
+  size_ = bytes;
+  if (bytes == 0) return;
+  // Anonymous pages: the kernel supplies zeroed pages as rows are first written, in 2 MB pages
+  // where it can (far fewer faults than 4 KB ones), and takes them back at munmap.
+  void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (p == MAP_FAILED) {
+    free();
+    throw std::bad_alloc();
+  }
+  ::madvise(p, bytes, MADV_HUGEPAGE);
+  data_ = static_cast<unsigned char*>(p);
+}
+
+ScratchMemory::~ScratchMemory() { free(); }
+
+ScratchMemory::ScratchMemory(ScratchMemory&& other) noexcept
+    : budget_(std::exchange(other.budget_, nullptr)),
+      data_(std::exchange(other.data_, nullptr)),
+      size_(std::exchange(other.size_, 0)) {}
+
+ScratchMemory& ScratchMemory::operator=(ScratchMemory&& other) noexcept {
+  if (this != &other) {
+    free();
+    budget_ = std::exchange(other.budget_, nullptr);
+    data_ = std::exchange(other.data_, nullptr);
+    size_ = std::exchange(other.size_, 0);
+  }
+  return *this;
+}
+
+void ScratchMemory::free() {
+  if (data_) ::munmap(data_, size_);
+  if (budget_) budget_->release(size_);
+  budget_ = nullptr;
+  data_ = nullptr;
+  size_ = 0;
+}
+
+}  // namespace gdp::schedule

@@ -1,0 +1,63 @@
+// One process-wide budget of memory for scratch rows, and the memory that row stores take from it.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+
+namespace gdp::schedule {
+
+// How many bytes of scratch the row stores of the whole process may keep in memory; a store
+// that does not fit goes to a file instead (row_store.h). Thread-safe: lanes and bands create
+// their stores concurrently. Also counts what went where, for --stats.
+class ScratchBudget {
+ public:
+  explicit ScratchBudget(std::size_t limit = 0) : limit_(limit) {}
+  // The budget every solve of this process shares (its limit set from SolverOptions::scratch_memory).
+  static ScratchBudget& process();
+
+  void set_limit(std::size_t bytes) { limit_.store(bytes); }
+  std::size_t limit() const { return limit_.load(); }
+
+  // Takes `bytes` from the budget if they fit (true), else takes nothing (false).
+  bool reserve(std::size_t bytes);
+  void release(std::size_t bytes);
+  // Bytes written to (or dropped from) scratch files.
+  void add_disk(std::ptrdiff_t bytes);
+
+  std::size_t in_memory() const { return memory_.load(); }
+  std::size_t on_disk() const { return disk_.load(); }
+  // The most held at once since reset_peaks(), and the stores that did not fit.
+  std::size_t peak_in_memory() const { return memory_peak_.load(); }
+  std::size_t peak_on_disk() const { return disk_peak_.load(); }
+  std::size_t spilled() const { return spilled_.load(); }
+  void count_spill() { ++spilled_; }
+  void reset_peaks();
+
+ private:
+  std::atomic<std::size_t> limit_;
+  std::atomic<std::size_t> memory_{0}, disk_{0}, memory_peak_{0}, disk_peak_{0}, spilled_{0};
+};
+
+// Scratch memory taken from a budget: `bytes` of anonymous pages, touched only when written
+// (nothing is zero-filled), given back to the system and the budget on destruction.
+class ScratchMemory {
+ public:
+  ScratchMemory() = default;
+  // Not held() when the budget has no room for `bytes`.
+  ScratchMemory(ScratchBudget& budget, std::size_t bytes);
+  ~ScratchMemory();
+  ScratchMemory(ScratchMemory&& other) noexcept;
+  ScratchMemory& operator=(ScratchMemory&& other) noexcept;
+
+  bool held() const { return budget_ != nullptr; }
+  unsigned char* data() const { return data_; }
+  std::size_t size() const { return size_; }
+
+ private:
+  void free();
+  ScratchBudget* budget_ = nullptr;
+  unsigned char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+}  // namespace gdp::schedule

@@ -1,0 +1,177 @@
+// The scratch budget (--memory): stores in memory while it has room, in files beyond, same bits.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "gdp/errors.h"
+#include "gdp/solver.h"
+#include "schedule/row_store.h"
+#include "schedule/scratch_budget.h"
+#include "test_util.h"
+
+namespace gdp {
+namespace {
+
+using schedule::RowStore;
+using schedule::ScratchBudget;
+using schedule::StoreEncoding;
+using schedule::StorePolicy;
+
+TEST(ScratchBudget, ReservesOnlyWhatFits) {
+  ScratchBudget budget(1000);
+  EXPECT_TRUE(budget.reserve(600));
+  EXPECT_FALSE(budget.reserve(401));
+  EXPECT_TRUE(budget.reserve(400));
+  EXPECT_FALSE(budget.reserve(1));
+  EXPECT_EQ(budget.in_memory(), 1000u);
+  budget.release(600);
+  EXPECT_EQ(budget.in_memory(), 400u);
+  EXPECT_EQ(budget.peak_in_memory(), 1000u);
+  EXPECT_FALSE(budget.reserve(std::size_t(-1)));  // no wrap-around
+}
+
+TEST(ScratchBudget, StoresSpillToFilesBeyondTheBudget) {
+  ScratchBudget budget(100000);
+  StorePolicy policy;
+  policy.budget = &budget;
+  policy.memory_limit = 0;  // ignored under a budget
+  const std::size_t n = 100, rows = 200;  // 80000 bytes as float
+  std::vector<float> row(n);
+  {
+    RowStore<float> first(policy, n, rows, "first");
+    EXPECT_FALSE(first.on_disk());
+    EXPECT_EQ(budget.in_memory(), n * rows * sizeof(float));
+    RowStore<float> second(policy, n, rows, "second");  // 80000 more do not fit
+    EXPECT_TRUE(second.on_disk());
+    EXPECT_EQ(budget.spilled(), 1u);
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::fill(row.begin(), row.end(), static_cast<float>(r));
+      first.append(row);
+      second.append(row);
+    }
+    first.rewind();
+    second.rewind();  // flushes: the file holds every row
+    EXPECT_EQ(budget.on_disk(), n * rows * sizeof(float));
+    for (std::size_t r = 0; r < rows; ++r) {
+      first.read(row);
+      ASSERT_EQ(row[n - 1], static_cast<float>(r));
+      second.read(row);
+      ASSERT_EQ(row[0], static_cast<float>(r));
+    }
+  }
+  EXPECT_EQ(budget.in_memory(), 0u);  // given back with the stores
+  EXPECT_EQ(budget.on_disk(), 0u);
+  EXPECT_EQ(budget.peak_on_disk(), n * rows * sizeof(float));
+}
+
+TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gdp-budget-test-keep";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ScratchBudget budget(std::size_t{1} << 30);
+  StorePolicy policy;
+  policy.budget = &budget;
+  policy.keep_dir = dir;
+  {
+    RowStore<float> store(policy, 10, 10, "kept");
+    EXPECT_TRUE(store.on_disk());
+    EXPECT_TRUE(std::filesystem::exists(dir / "kept.store"));
+  }
+  EXPECT_EQ(budget.in_memory(), 0u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ScratchBudget, QuantityEncodingsPickTheLongestMatchingName) {
+  StorePolicy policy;
+  policy.quantity_encoding["u"] = StoreEncoding::Half;
+  policy.quantity_encoding["level0-u"] = StoreEncoding::Native;
+  EXPECT_EQ(policy.encoding_of("level3-u"), StoreEncoding::Half);
+  EXPECT_EQ(policy.encoding_of("level0-u"), StoreEncoding::Native);
+  EXPECT_EQ(policy.encoding_of("u"), StoreEncoding::Half);
+  EXPECT_EQ(policy.encoding_of("level1-mu"), StoreEncoding::Native);  // "-mu" is not "-u"
+  EXPECT_EQ(policy.encoding_of("level1-b"), StoreEncoding::Native);
+  RowStore<float> store(policy, 4, 4, "level2-u");
+  EXPECT_EQ(store.encoding(), StoreEncoding::Half);
+}
+
+TEST(ScratchBudget, MemorySizesParse) {
+  EXPECT_EQ(parse_memory_size("512M"), std::size_t{512} << 20);
+  EXPECT_EQ(parse_memory_size("4G"), std::size_t{4} << 30);
+  EXPECT_EQ(parse_memory_size("4GB"), std::size_t{4} << 30);
+  EXPECT_EQ(parse_memory_size("1.5g"), std::size_t{3} << 29);
+  EXPECT_EQ(parse_memory_size("1000"), 1000u);
+  EXPECT_EQ(parse_memory_size("0"), 0u);
+  EXPECT_EQ(parse_memory_size("files"), 0u);
+  for (const char* bad : {"", "abc", "-1", "5X", "4GiB", "G", " 4G", "1e400"})
+    EXPECT_THROW(parse_memory_size(bad), UsageError) << bad;
+  EXPECT_GT(default_scratch_memory(), 0u);
+}
+
+// Two V-cycles with every level but the coarsest streamed (so that every kind of store is made).
+SolverOptions every_level_streamed() {
+  SolverOptions o;
+  o.coarsest_size = 5;
+  o.incore_bytes = 0;
+  o.vcycles = 2;
+  return o;
+}
+
+// The same streaming solve with every store in files, some and all in memory: the same bits as
+// in-core, and the budget held.
+TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
+  const Image img = test::random_image(160, 120, 3, 4);
+  SolverOptions o = every_level_streamed();
+  o.threads = 3;  // lanes make their stores concurrently
+  o.schedule = Schedule::InCore;
+  test::ExactGradients reference_source(img, Domain::Cylindrical, 0.0, 1.0);
+  const Image reference = solve(reference_source, o);
+  o.schedule = Schedule::Streaming;
+  for (std::size_t budget : {std::size_t{0}, std::size_t{60000}, std::size_t{1} << 30}) {
+    test::ExactGradients src(img, Domain::Cylindrical, 0.0, 1.0);
+    o.scratch_memory = budget;
+    SolveSummary s;
+    const Image out = solve(src, o, nullptr, &s);
+    ASSERT_EQ(out.data.size(), reference.data.size());
+    EXPECT_EQ(std::memcmp(out.data.data(), reference.data.data(), out.data.size() * sizeof(float)), 0) << budget;
+    EXPECT_LE(s.scratch_memory_peak, budget);
+    if (budget < s.scratch_bytes) {
+      EXPECT_GT(s.scratch_spilled, 0u) << budget;
+    }
+    if (budget == 0) {
+      EXPECT_EQ(s.scratch_memory_peak, 0u);
+    } else {
+      EXPECT_GT(s.scratch_memory_peak, 0u) << budget;
+    }
+    if (budget >= (std::size_t{1} << 30)) {
+      EXPECT_EQ(s.scratch_disk_peak, 0u);
+      EXPECT_EQ(s.scratch_spilled, 0u);
+    }
+    EXPECT_EQ(ScratchBudget::process().in_memory(), 0u);  // all given back
+  }
+}
+
+// half_scratch is every quantity as half floats, named one by one, but for the finest b when
+// more V-cycles reuse it.
+TEST(ScratchBudget, HalfScratchIsEveryQuantityHalfButTheReusedFinestB) {
+  const Image img = test::random_image(90, 70, 1, 8);
+  for (int cycles : {1, 2}) {
+    SolverOptions o = every_level_streamed();
+    o.vcycles = cycles;
+    o.half_scratch = true;
+    test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar), src3(img, Domain::Planar);
+    const Image all = solve(src1, o);
+    o.half_scratch = false;
+    o.half_quantities = {"u", "w", "result"};
+    for (int l = 1; l < 8; ++l) o.half_quantities.push_back("level" + std::to_string(l) + "-b");
+    if (cycles == 1) o.half_quantities.push_back("level0-b");
+    const Image named = solve(src2, o);
+    EXPECT_EQ(std::memcmp(all.data.data(), named.data.data(), all.data.size() * sizeof(float)), 0) << cycles;
+    o.half_quantities = {"level0-u"};
+    const Image some = solve(src3, o);
+    EXPECT_NE(std::memcmp(all.data.data(), some.data.data(), all.data.size() * sizeof(float)), 0) << cycles;
+  }
+}
+
+}  // namespace
+}  // namespace gdp
