@@ -85,7 +85,7 @@ void MosaicRows::compute(int j, Row& out) {
       const double x = xy[2 * n], y = xy[2 * n + 1];
       const double margin = kExtension * std::max(p.width, p.height);
       const bool near = ok[n] && x >= -margin && x < p.width + margin && y >= -margin && y < p.height + margin;
-      if (near) hits[pixels[n]].push_back({static_cast<int>(k), x, y, std::isfinite(p.sample(x, y))});
+      if (near) hits[pixels[n]].push_back({static_cast<int>(k), x, y, p.has_value(x, y)});
     }
   }
   out.value.assign(w, std::numeric_limits<float>::quiet_NaN());
