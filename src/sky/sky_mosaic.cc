@@ -124,6 +124,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
     stitch_options.unknown = UnknownMode::Harmonic;
+    stitch_options.across = &rows.across();  // seams: the mean of both plates' gradients
     stitch(rows.composite(), rows.labels(), stitch_options, solver, pq_rows, &s.solve);
   } else {
     std::vector<float> row(pq.width);
