@@ -9,7 +9,11 @@ of `scale` degrees, neighbours overlapping by `overlap` degrees, each the truth 
 its own smooth background (offset + plane + radial term, seeded). Both pipelines make a TAN
 mosaic on the same template header; both and the uncorrected seamed mosaic (gdp --no-blend) are
 compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
-removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step).
+removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step); the sky alone
+through gdp --no-blend (no backgrounds) gives the resampling's own share. With --stars N, every
+pipeline runs again on the plates with N Gaussian stars added (stars/): a star's flux is the box
+sum of that result less the one without stars, against the box sum of the star sampled on the
+target grid (see the comment at the star fluxes below and docs/sky.md).
 With --projected, gdp starts where Montage's background steps do: Montage's projdir (mProjExec's
 images on the template, with their area images) goes to `gdp sky --projected`, beside mOverlaps,
 mDiffExec, mFitExec, mBgModel, mBgExec and mAdd on the same directory, and beside mAdd alone (no
@@ -17,6 +21,7 @@ correction); mProjExec's time is shared and reported apart.
 Needs Debian python3-astropy, python3-numpy and montage.
 """
 import argparse
+import glob
 import os
 import re
 import subprocess
@@ -89,9 +94,10 @@ centres = [(args.ra0 + (i - (args.nx - 1) / 2) * step / np.cos(np.radians(args.d
 # Stars: Gaussian profiles (sigma 1.5 plate pixels) at random places inside the mosaic, fluxes
 # (integrals over the sphere, in value x square degrees) 5..20 plate pixel areas (peaks 0.35..1.4).
 extent_x, extent_y = args.nx * step / 2 - 3 * s, args.ny * step / 2 - 3 * s
-star_ra = args.ra0 + rng.uniform(-extent_x, extent_x, args.stars) / np.cos(np.radians(args.dec0))
-star_dec = args.dec0 + rng.uniform(-extent_y, extent_y, args.stars)
-star_flux = rng.uniform(5.0, 20.0, args.stars) * s * s
+star_rng = np.random.default_rng(args.seed + 1)  # the backgrounds do not depend on --stars
+star_ra = args.ra0 + star_rng.uniform(-extent_x, extent_x, args.stars) / np.cos(np.radians(args.dec0))
+star_dec = args.dec0 + star_rng.uniform(-extent_y, extent_y, args.stars)
+star_flux = star_rng.uniform(5.0, 20.0, args.stars) * s * s
 sigma = 1.5 * s
 
 
@@ -103,6 +109,11 @@ def stars(ra, dec):
     return out
 
 
+# Plate sets: raw/ the sky plus each plate's background (what the figures are measured on),
+# raw_truth/ the sky alone (the resampling's own error), raw_stars/ raw/ plus the stars (--stars).
+sets = {"raw": True, "raw_truth": False} | ({"raw_stars": True} if args.stars else {})
+for d in sets:
+    os.makedirs(os.path.join(out, d), exist_ok=True)
 for k, (ra, dec) in enumerate(centres):
     h = fits.Header()
     for key, v in [("CTYPE1", "RA---TAN"), ("CTYPE2", "DEC--TAN"), ("CRVAL1", ra % 360.0), ("CRVAL2", dec),
@@ -114,12 +125,10 @@ for k, (ra, dec) in enumerate(centres):
     ra_p, dec_p = w.all_pix2world(xx + 1.0, yy + 1.0, 1)
     u, v = (xx - n / 2) / n, (yy - n / 2) / n
     a, b, c, d = rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1)
-    data = sky(ra_p, dec_p) + stars(ra_p, dec_p) + a + b * u + c * v + d * (u * u + v * v)
-    fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(raw, f"plate{k:02d}.fits"), overwrite=True)
-    if args.projected:  # the plates without their backgrounds: the truth through Montage's projection
-        os.makedirs(os.path.join(out, "raw_truth"), exist_ok=True)
-        fits.PrimaryHDU((data - (a + b * u + c * v + d * (u * u + v * v))).astype(np.float32), h).writeto(
-            os.path.join(out, "raw_truth", f"plate{k:02d}.fits"), overwrite=True)
+    background = a + b * u + c * v + d * (u * u + v * v)
+    for name, with_background in sets.items():
+        data = sky(ra_p, dec_p) + (background if with_background else 0.0) + (stars(ra_p, dec_p) if name == "raw_stars" else 0.0)
+        fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(out, name, f"plate{k:02d}.fits"), overwrite=True)
 
 # The template: TAN over the plates' extent.
 mw = int(round((args.nx * step + args.overlap) / s))
@@ -134,34 +143,50 @@ with open(hdr, "w") as f:
 target = WCS(fits.Header.fromtextfile(hdr))
 yy, xx = np.mgrid[0:mh, 0:mw]
 ra_t, dec_t = target.all_pix2world(xx + 1.0, yy + 1.0, 1)
-truth_t = sky(ra_t % 360.0, dec_t) + stars(ra_t, dec_t)
+truth_t = sky(ra_t % 360.0, dec_t)
+np.save(os.path.join(out, "truth_t.npy"), truth_t)  # FITS row order, for looking at error maps
 
-plates = sorted(os.path.join(raw, p) for p in os.listdir(raw))
+
+def pipelines(raw, base):
+    """Runs gdp, the uncorrected mosaic and Montage on the plates in raw/, results and Montage's
+    directories in base/; returns the logs (gdp, seamed, montage, shared mProjExec)."""
+    m = lambda *p: os.path.join(base, *p)
+    for d in ("proj", "diff", "corr"):
+        os.makedirs(m(d), exist_ok=True)
+    plates = sorted(os.path.join(raw, p) for p in os.listdir(raw))
+    project = [["mImgtbl", raw, m("images.tbl")],
+               ["mProjExec", "-q", "-p", raw, m("images.tbl"), hdr, m("proj"), m("stats.tbl")]]
+    background = [["mImgtbl", m("proj"), m("pimages.tbl")],
+                  ["mOverlaps", m("pimages.tbl"), m("diffs.tbl")],
+                  ["mDiffExec", "-p", m("proj"), m("diffs.tbl"), hdr, m("diff")],
+                  ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
+                  ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
+                  ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
+                  # mImgtbl writes absolute file names when given an absolute directory, and mAdd then
+                  # reads those, not -p's: the corrected images need a table of their own.
+                  ["mImgtbl", m("corr"), m("cimages.tbl")],
+                  ["mAdd", "-e", "-p", m("corr"), m("cimages.tbl"), hdr, m("montage.fits")]]
+    gdp_log, seamed_log, montage_log, project_log = [], [], [], []
+    if args.projected:
+        # Both start from mProjExec's directory; "mAdd only" co-adds it uncorrected.
+        for cmd in project:
+            run(cmd, project_log)
+        run([args.gdp, "sky", "--projected", m("proj"), "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
+             "--quiet"], gdp_log)
+        for cmd in background:
+            run(cmd, montage_log)
+        run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
+    else:
+        run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4", "--quiet"], gdp_log)
+        run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("seamed.fits"), "--no-blend", "--quiet"], seamed_log)
+        for cmd in project + background:
+            run(cmd, montage_log)
+    return gdp_log, seamed_log, montage_log, project_log
+
+
 m = lambda *p: os.path.join(out, *p)
-for d in ("proj", "diff", "corr"):
-    os.makedirs(m(d), exist_ok=True)
-project = [["mImgtbl", raw, m("images.tbl")],
-           ["mProjExec", "-q", "-p", raw, m("images.tbl"), hdr, m("proj"), m("stats.tbl")]]
-background = [["mImgtbl", m("proj"), m("pimages.tbl")],
-              ["mOverlaps", m("pimages.tbl"), m("diffs.tbl")],
-              ["mDiffExec", "-p", m("proj"), m("diffs.tbl"), hdr, m("diff")],
-              ["mFitExec", m("diffs.tbl"), m("fits.tbl"), m("diff")],
-              ["mBgModel", m("pimages.tbl"), m("fits.tbl"), m("corrections.tbl")],
-              ["mBgExec", "-p", m("proj"), m("pimages.tbl"), m("corrections.tbl"), m("corr")],
-              # mImgtbl writes absolute file names when given an absolute directory, and mAdd then
-              # reads those, not -p's: the corrected images need a table of their own.
-              ["mImgtbl", m("corr"), m("cimages.tbl")],
-              ["mAdd", "-e", "-p", m("corr"), m("cimages.tbl"), hdr, m("montage.fits")]]
-gdp_log, seamed_log, montage_log, project_log = [], [], [], []
+gdp_log, seamed_log, montage_log, project_log = pipelines(m("raw"), out)
 if args.projected:
-    # Both start from mProjExec's directory; "mAdd only" co-adds it uncorrected.
-    for cmd in project:
-        run(cmd, project_log)
-    run([args.gdp, "sky", "--projected", m("proj"), "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
-         "--quiet"], gdp_log)
-    for cmd in background:
-        run(cmd, montage_log)
-    run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
     os.makedirs(m("proj_truth"), exist_ok=True)
     for cmd in (["mImgtbl", m("raw_truth"), m("timages.tbl")],
                 ["mProjExec", "-q", "-p", m("raw_truth"), m("timages.tbl"), hdr, m("proj_truth"), m("tstats.tbl")],
@@ -172,11 +197,13 @@ if args.projected:
         run(cmd, [])
     names = {"gdp": "gdp --projected", "montage": "Montage bg+add", "seamed": "mAdd only"}
 else:
-    run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4", "--quiet"], gdp_log)
-    run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("seamed.fits"), "--no-blend", "--quiet"], seamed_log)
-    for cmd in project + background:
-        run(cmd, montage_log)
-    names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend"}
+    # The sky alone through gdp's resampling (plate -> PQ -> target): the seam measure's floor.
+    run([args.gdp, "sky", *sorted(glob.glob(m("raw_truth", "*.fits"))), "--header", hdr, "-o", m("floor.fits"),
+         "--no-blend", "--quiet"], [])
+    names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend", "floor": "sky alone, gdp --no-blend"}
+if args.stars:
+    os.makedirs(m("stars"), exist_ok=True)
+    pipelines(m("raw_stars"), m("stars"))
 
 
 def median3(a):
@@ -193,11 +220,11 @@ def rows_top_down(path):
     return fits.getdata(path).astype(np.float64)[::-1]
 
 
-results = {name: rows_top_down(m(name + ".fits")) for name in ("gdp", "montage", "seamed")}
+results = {name: rows_top_down(m(name + ".fits")) for name in names}
 valid = np.isfinite(truth_t[::-1])
 for r in results.values():
     valid &= np.isfinite(r)
-print(f"{len(plates)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} TAN; "
+print(f"{len(centres)} plates of {n}x{n} at {s} deg, {args.overlap} deg overlaps; mosaic {mw}x{mh} TAN; "
       f"{valid.mean():.1%} of it compared")
 # --projected: also against the truth as Montage's projection and each pipeline's co-addition
 # give it (gdp's seams on the truth's projdir; mAdd's mean of overlapping images): the same
@@ -216,8 +243,15 @@ for label, truth_of in truths:
         steps = np.concatenate([np.abs(np.diff(e, axis=1)).ravel(), np.abs(np.diff(e, axis=0)).ravel()])
         steps = steps[np.isfinite(steps)]
         print(f"  {names[name]:54s} {np.sqrt(np.nanmean(e * e)):9.4f} {np.percentile(steps, 99.9):11.4f}")
-# Star fluxes: sums over a 13 x 13 pixel box around each star minus the box's border median, in
-# the result and in the truth on the same grid (the star's own flux there, as sampled).
+# Star fluxes. Each pipeline also ran on the plates with stars added (stars/); its image of the
+# stars is that result less the one without them, so neither the sky's structure under a star nor
+# the background correction's error enters the flux (the pipelines are linear in the data, up to
+# what the stars move Montage's plane fits and gdp's plate levels). Flux: the sum over a 13 x 13
+# target pixel box (+-4 sigma) around the star, less the box border's median; the truth: the same
+# sum of the stars alone sampled at the target pixel centres (a box sum of a sampled Gaussian of
+# sigma >= 1 pixel is its integral to 1e-8; an interpolation kernel that sums to 1 keeps it).
+# Against the truth: resampling and correction together; gdp against gdp --no-blend: the solve's
+# own change to the star (the same resampling on both sides).
 sx, sy = target.all_world2pix(star_ra % 360.0, star_dec, 0)
 sx, sy = np.round(sx).astype(int), np.round(sy).astype(int)
 
@@ -225,7 +259,7 @@ sx, sy = np.round(sx).astype(int), np.round(sy).astype(int)
 def fluxes(img):  # img in FITS order (row 0 at the bottom), as the world2pix positions
     f = []
     for x, y in zip(sx, sy):
-        box = img[y - 6:y + 7, x - 6:x + 7]
+        box = img[y - 6:y + 7, x - 6:x + 7] if y >= 6 and x >= 6 else np.zeros((0, 0))
         if box.shape != (13, 13) or not np.all(np.isfinite(box)):
             f.append(np.nan)
             continue
@@ -234,13 +268,21 @@ def fluxes(img):  # img in FITS order (row 0 at the bottom), as the world2pix po
     return np.array(f)
 
 
-truth_flux = fluxes(truth_t) if args.stars else []
+def star_image(name):  # FITS order
+    return (rows_top_down(m("stars", name + ".fits")) - results[name])[::-1]
+
+
 if args.stars:
-    print(f"star fluxes (box sums against the truth's, {args.stars} stars): median |relative error|, worst")
-for name in results if args.stars else []:
-    rel = np.abs(fluxes(results[name][::-1]) / truth_flux - 1.0)
-    rel = rel[np.isfinite(rel)]
-    print(f"{names[name]:16s} {np.median(rel):.2e} {np.max(rel):.2e} ({len(rel)} stars)")
+    truth_flux = fluxes(stars(ra_t, dec_t))
+    print(f"star fluxes ({args.stars} stars): relative error of the box flux: median, median |.|, worst |.|")
+    compared = [(names[k], fluxes(star_image(k)), truth_flux) for k in ("gdp", "montage", "seamed")]
+    if not args.projected:
+        compared.append(("gdp sky against gdp --no-blend", fluxes(star_image("gdp")), fluxes(star_image("seamed"))))
+    for label, f, ref in compared:
+        rel = f / ref - 1.0
+        rel = rel[np.isfinite(rel)]
+        print(f"  {label:32s} {np.median(rel):+.2e} {np.median(np.abs(rel)):.2e} {np.max(np.abs(rel)):.2e} "
+              f"({len(rel)} stars)")
 logs = [(names["gdp"], gdp_log), (names["seamed"], seamed_log), (names["montage"], montage_log)]
 for name, log in logs + ([("mProjExec (shared)", project_log)] if args.projected else []):
     wall, cpu, rss = sum(x[1] for x in log), sum(x[2] for x in log), max(x[3] for x in log)

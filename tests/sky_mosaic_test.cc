@@ -108,15 +108,17 @@ TEST_F(SkyMosaic, AConstantBackgroundDifferenceIsRemovedExactly) {
   const Image blended = run(plates, target, true);
   ASSERT_GT(summary_.plate_pixels[0], 0);
   ASSERT_GT(summary_.plate_pixels[1], 0);
-  double lo = 1e9, hi = -1e9, seamed_lo = 1e9, seamed_hi = -1e9;
+  double lo = 1e9, hi = -1e9;
+  int at_a = 0, at_b = 0;  // seamed pixels of either plate's level (the cubic rings at the step)
   for (std::size_t k = 0; k < blended.data.size(); ++k) {
     if (std::isnan(blended.data[k])) continue;
     lo = std::min(lo, double(blended.data[k]));
     hi = std::max(hi, double(blended.data[k]));
-    seamed_lo = std::min(seamed_lo, double(seamed.data[k]));
-    seamed_hi = std::max(seamed_hi, double(seamed.data[k]));
+    at_a += std::abs(seamed.data[k] - 2.0) < 1e-5;
+    at_b += std::abs(seamed.data[k] - 2.5) < 1e-5;
   }
-  EXPECT_NEAR(seamed_hi - seamed_lo, 0.5, 1e-5) << "both plates are in the seamed mosaic";
+  EXPECT_GT(at_a, 500) << "both plates are in the seamed mosaic";
+  EXPECT_GT(at_b, 500) << "both plates are in the seamed mosaic";
   EXPECT_LE(hi - lo, 1e-5) << "the blend is constant";
   EXPECT_GT(lo, 2.0);
   EXPECT_LT(hi, 2.5);
@@ -124,7 +126,8 @@ TEST_F(SkyMosaic, AConstantBackgroundDifferenceIsRemovedExactly) {
 
 TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
   // The smooth sky with plates 0.5 apart: the blend differs from the sky by nearly a constant
-  // (the seam's own gradient is lost, a small error), the seamed mosaic by the step.
+  // (seams take the mean of both plates' gradients: 0.0036, what the extensions and the
+  // resampling leave; 0.0066 with zero guidance across the seam), the seamed mosaic by the step.
   const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, smooth_sky, 0.0),
                                            write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, smooth_sky, 0.5)};
   const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
@@ -141,7 +144,7 @@ TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
       hi = std::max(hi, e);
     }
   std::printf("smooth sky: blend - sky varies by %.4f\n", hi - lo);
-  EXPECT_LE(hi - lo, 0.03) << "of a 0.5 step";
+  EXPECT_LE(hi - lo, 0.005) << "of a 0.5 step";
 }
 
 TEST_F(SkyMosaic, ThePlatesWindowAndTheWholeSphereAgree) {

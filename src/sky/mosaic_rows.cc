@@ -5,31 +5,33 @@
 #include <cmath>
 #include <limits>
 
-#include "sky/seams.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
 namespace {
 
-constexpr std::size_t kCachedRows = 4;
+constexpr std::size_t kCachedRows = 6;  // across_row(j) needs rows j - 1 .. j + 1
 
-// One of the two views of the shared rows.
+enum class Kind { Value, Label, Across };
+
+// One of the three views of the shared rows.
 class View final : public RowReader {
  public:
-  View(MosaicRows& rows, bool labels) : rows_(rows), labels_(labels) {}
+  View(MosaicRows& rows, Kind kind) : rows_(rows), kind_(kind) {}
   int width() const override { return rows_.window().width; }
   int height() const override { return rows_.window().rows; }
   int channels() const override { return 1; }
   void read_row(int y, std::span<float> out) override {
-    const MosaicRows::Row& r = rows_.row(y);
-    const std::vector<float>& v = labels_ ? r.label : r.value;
+    const std::vector<float>& v = kind_ == Kind::Across ? rows_.across_row(y)
+                                  : kind_ == Kind::Label  ? rows_.row(y).label
+                                                          : rows_.row(y).value;
     std::copy(v.begin(), v.end(), out.begin());
   }
   void rewind() override {}
 
  private:
   MosaicRows& rows_;
-  bool labels_;
+  Kind kind_;
 };
 
 }  // namespace
@@ -41,19 +43,50 @@ MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window)
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
   }
-  composite_ = std::make_unique<View>(*this, false);
-  labels_ = std::make_unique<View>(*this, true);
+  composite_ = std::make_unique<View>(*this, Kind::Value);
+  labels_ = std::make_unique<View>(*this, Kind::Label);
+  across_ = std::make_unique<View>(*this, Kind::Across);
 }
 
 MosaicRows::~MosaicRows() = default;
 
-const MosaicRows::Row& MosaicRows::row(int j) {
+MosaicRows::Row& MosaicRows::fetch(int j) {
   auto it = cache_.find(j);
   if (it != cache_.end()) return it->second;
   if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
   Row& r = cache_[j];
   compute(j, r);
   return r;
+}
+
+const std::vector<float>& MosaicRows::across_row(int j) {
+  if (const auto it = cache_.find(j); it != cache_.end() && !it->second.across.empty()) return it->second.across;
+  const int w = window_.width;
+  // Copies: fetching a row may evict another.
+  const std::vector<float> up = j > 0 ? row(j - 1).label : std::vector<float>(w, kNoPlate);
+  const std::vector<float> down = j + 1 < window_.rows ? row(j + 1).label : std::vector<float>(w, kNoPlate);
+  Row& r = fetch(j);
+  r.across.assign(w, std::numeric_limits<float>::quiet_NaN());
+  for (int i = 0; i < w; ++i) {
+    const float own = r.label[i];
+    if (own == kNoPlate) continue;
+    // The whole PQ image's rows are periodic (the stitch's right neighbour of the last column is column 0).
+    const int left = i > 0 ? i - 1 : (window_.whole() ? w - 1 : i), right = i + 1 < w ? i + 1 : (window_.whole() ? 0 : i);
+    float other = kNoPlate;
+    bool single = true;
+    for (const float n : {r.label[left], r.label[right], up[i], down[i]}) {
+      if (n == own || n == kNoPlate) continue;
+      single = single && (other == kNoPlate || other == n);
+      other = n;
+    }
+    if (other == kNoPlate || !single) continue;
+    for (const PlateHit& h : r.hits[i])
+      if (h.plate + 2 == static_cast<int>(other)) {
+        const Plate& p = plates_[h.plate];
+        r.across[i] = p.extended(h.x, h.y, kExtension * std::max(p.width, p.height));
+      }
+  }
+  return r.across;
 }
 
 void MosaicRows::compute(int j, Row& out) {
@@ -66,7 +99,8 @@ void MosaicRows::compute(int j, Row& out) {
       dirs[i] = sphere::pq_pixel_direction(sphere::SquareMap::Toast, window_.height, window_.i0 + i, window_.j0 + j);
   }
   // Every plate whose footprint reaches a pixel: that pixel's coordinates in the plate.
-  std::vector<std::vector<PlateHit>> hits(w);
+  std::vector<std::vector<PlateHit>>& hits = out.hits;
+  hits.assign(w, {});
   std::vector<int> pixels;
   std::vector<double> sky, xy;
   std::vector<unsigned char> ok;
@@ -85,12 +119,13 @@ void MosaicRows::compute(int j, Row& out) {
       const double x = xy[2 * n], y = xy[2 * n + 1];
       const double margin = kExtension * std::max(p.width, p.height);
       const bool near = ok[n] && x >= -margin && x < p.width + margin && y >= -margin && y < p.height + margin;
-      if (near) hits[pixels[n]].push_back({static_cast<int>(k), x, y, std::isfinite(p.sample(x, y))});
+      if (near) hits[pixels[n]].push_back({static_cast<int>(k), x, y, p.has_value(x, y)});
     }
   }
   out.value.assign(w, std::numeric_limits<float>::quiet_NaN());
   out.label.assign(w, kNoPlate);
   out.covered.assign(w, 0);
+  out.across.clear();
   const bool count = !counted_[j];
   counted_[j] = 1;
   for (int i = 0; i < w; ++i) {

@@ -9,6 +9,7 @@
 #include "gdp/sphere.h"
 #include "sky/plate.h"
 #include "sky/pq_window.h"
+#include "sky/seams.h"
 
 namespace gdp::sky {
 
@@ -19,9 +20,9 @@ inline constexpr float kNoPlate = 1.0f;
 // bilinear value) and the label map (which plate). Around the plates, up to half a plate's size
 // beyond its edges, pixels take the nearest plate's edge values (its extension, its label), so
 // that the solve's unknown region (farther out: NaN, label kNoPlate) meets the plates only
-// there (docs/sky.md); coverage() tells the plates from their extensions. Two RowReaders
-// share the rows (the stitch reads the composite and the labels in step); a few recent rows are
-// kept, older ones are computed again if asked for.
+// there (docs/sky.md); coverage() tells the plates from their extensions. Three RowReaders
+// share the rows (the stitch reads the composite, the labels and `across` in step); a few recent
+// rows are kept, older ones are computed again if asked for.
 class MosaicRows {
  public:
   // Rows of `window` (its columns only); the views are window.width x window.rows.
@@ -29,6 +30,11 @@ class MosaicRows {
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
+  // Stitch's `across` image: at a pixel whose 4-neighbours in the row and the rows above and
+  // below that belong to another plate all belong to one plate M, M's (extended) value there;
+  // NaN elsewhere (no neighbour of another plate, or two: a three-plate junction). A seam edge
+  // then gets the mean of both plates' differences as guidance, zero only at junctions.
+  RowReader& across() { return *across_; }
   const PqWindow& window() const { return window_; }
   // Pixels (over all rows computed so far) each plate was chosen for.
   const std::vector<long long>& chosen() const { return chosen_; }
@@ -38,10 +44,15 @@ class MosaicRows {
   struct Row {
     std::vector<float> value, label;
     std::vector<unsigned char> covered;  // inside a plate (else an extension, or no plate)
+    std::vector<std::vector<PlateHit>> hits;  // per pixel, the plates reaching it
+    std::vector<float> across;                // across_row(): empty until asked for
   };
-  const Row& row(int j);
+  const Row& row(int j) { return fetch(j); }
+  // Row j's across values (see across()).
+  const std::vector<float>& across_row(int j);
 
  private:
+  Row& fetch(int j);
   void compute(int j, Row& out);
 
   const std::vector<Plate>& plates_;
@@ -51,7 +62,7 @@ class MosaicRows {
   std::vector<unsigned char> counted_;  // rows already counted in chosen_
   std::vector<unsigned char> coverage_;
   std::map<int, Row> cache_;
-  std::unique_ptr<RowReader> composite_, labels_;
+  std::unique_ptr<RowReader> composite_, labels_, across_;
 };
 
 }  // namespace gdp::sky

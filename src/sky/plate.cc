@@ -1,4 +1,4 @@
-// Loading a sky plate (FITS pixels and WCS), its footprint on the sphere, and bilinear samples of it.
+// Loading a sky plate (FITS pixels and WCS), its footprint on the sphere, and interpolated samples of it.
 #include "sky/plate.h"
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 
 #include "gdp/errors.h"
 #include "io/fits_image.h"
-#include "sky/bilinear.h"
+#include "sky/interpolate.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -28,8 +28,10 @@ void lon_lat(const sphere::Vec3& d, double& lon, double& lat) {
   lat = std::atan2(d.z, std::hypot(d.x, d.y)) / kDeg;
 }
 
-float Plate::sample(double x, double y) const {
-  return bilinear_clamped(pixels.data(), width, height, x, y);
+float Plate::sample(double x, double y) const { return interpolate_clamped(pixels.data(), width, height, x, y); }
+
+bool Plate::has_value(double x, double y) const {
+  return std::isfinite(bilinear_clamped(pixels.data(), width, height, x, y));
 }
 
 float Plate::extended(double x, double y, double margin) const {

@@ -32,9 +32,12 @@ struct Plate {
   // margin): an extension whose far boundary is one constant (docs/sky.md).
   float extended(double x, double y, double margin) const;
 
-  // Value at gdp pixel coordinates (x, y): bilinear between the finite pixel centres around it
-  // (indices clamped to the plate); NaN where all of them are blank.
+  // Value at gdp pixel coordinates (x, y): Catmull-Rom cubic where the 4 x 4 pixel centres
+  // around it are finite, else bilinear between the finite ones (interpolate.h; indices clamped
+  // to the plate); NaN where all four nearest are blank.
   float sample(double x, double y) const;
+  // Whether sample(x, y) is finite (cheaper).
+  bool has_value(double x, double y) const;
 };
 
 // Reads plane `plane` (0-based) of the first image HDU of `path` and its WCS. Throws InputError

@@ -1,4 +1,4 @@
-// PQ -> target WCS: target pixel -> (lon, lat) -> PQ coordinates -> bilinear among finite PQ pixels.
+// PQ -> target WCS: target pixel -> (lon, lat) -> PQ coordinates -> cubic (bilinear near blanks) among finite PQ pixels.
 #include "sky/reproject.h"
 
 #include <algorithm>
@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "sky/bilinear.h"
+#include "sky/interpolate.h"
 #include "sky/plate.h"
 #include "sphere/source.h"
 
@@ -32,8 +32,8 @@ float PqSampler::at(const sphere::Vec3& d) const {
   // Finite: the nearest pixel is. The whole sphere wraps across its folds; a window (which
   // meets none) clamps.
   return window_.whole()
-             ? bilinear_finite(p.x, p.y, [&](int i, int j) { return pq_.data[grid_->offset(i, j, hx, hy)]; })
-             : bilinear_clamped(pq_.data.data(), pq_.width, pq_.height, p.x - window_.i0, p.y - window_.j0);
+             ? interpolate_finite(p.x, p.y, [&](int i, int j) { return pq_.data[grid_->offset(i, j, hx, hy)]; })
+             : interpolate_clamped(pq_.data.data(), pq_.width, pq_.height, p.x - window_.i0, p.y - window_.j0);
 }
 
 long long reproject_pq(const Image& pq, const PqWindow& window, const Wcs& target, RowWriter& out) {

@@ -1,4 +1,4 @@
-// A PQ image of the sky onto a target image with its own WCS (bilinear; blanks stay blank).
+// A PQ image of the sky onto a target image with its own WCS (Catmull-Rom cubic, bilinear next to blanks; blanks stay blank).
 #pragma once
 
 #include <memory>
@@ -14,8 +14,8 @@ class SourceGrid;
 
 namespace gdp::sky {
 
-// Values of `pq` (`window` of a TOAST PQ image, one channel) at directions: bilinear between its
-// finite pixels (across the folds on the whole sphere; a window clamps); NaN where the nearest
+// Values of `pq` (`window` of a TOAST PQ image, one channel) at directions: Catmull-Rom cubic where
+// its 4 x 4 pixels are finite, else bilinear between its finite pixels (interpolate.h; across the folds on the whole sphere; a window clamps); NaN where the nearest
 // PQ pixel is NaN (no plate there) or outside the window. at() may run on several threads.
 class PqSampler {
  public:
@@ -30,7 +30,7 @@ class PqSampler {
 };
 
 // Writes target.height() rows of target.width() samples (one channel): at each pixel centre's
-// direction, the bilinear value of `pq` (`window` of a TOAST PQ image, one channel) between its
+// direction, PqSampler's value of `pq` (`window` of a TOAST PQ image, one channel) between its
 // finite pixels; NaN where the nearest PQ pixel is NaN (no plate there) or outside the window,
 // or where the pixel has no sky position. Returns how many target pixels got a value.
 // commit() is left to the caller.

@@ -82,10 +82,13 @@ double finest_scale(const std::vector<sky::Plate>& plates) {
   return finest;
 }
 
-// The PQ height whose mean pixel is as fine as the finest plate (H = m * 2^k, even).
+// The PQ height whose mean pixel has half the area of the finest plate's pixel (H = m * 2^k,
+// even): TOAST pixels differ in area by up to 2.1 (docs/sphere.md), so the largest are about as
+// fine as the plate and the two resamplings (plate -> PQ -> target) lose no more than one does
+// (docs/sky.md: seam measure and star fluxes against the PQ's size).
 int pq_height_for(const std::vector<sky::Plate>& plates) {
   const double finest = finest_scale(plates);
-  const double pixels = std::min(4e18, std::ceil(kSkySquareDegrees / (finest * finest)));
+  const double pixels = std::min(4e18, std::ceil(2.0 * kSkySquareDegrees / (finest * finest)));
   return sphere::default_pq_height(static_cast<long long>(pixels));
 }
 
@@ -114,6 +117,7 @@ Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const 
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
     stitch_options.unknown = UnknownMode::Harmonic;
+    stitch_options.across = &rows.across();  // seams: the mean of both plates' gradients
     stitch(rows.composite(), rows.labels(), stitch_options, solver, pq_rows, &s.solve);
   } else {
     std::vector<float> row(pq.width);
