@@ -256,10 +256,13 @@ void LabelPlane::want_columns(int begin, int end) const {
 }
 
 void LabelPlane::fill() const {
-  if (!fill_) return;
+  if (filled_.load(std::memory_order_acquire)) return;
+  const std::lock_guard<std::mutex> lock(fill_mutex_);
+  if (filled_.load(std::memory_order_relaxed) || !fill_) return;
   const Fill f = std::move(fill_);
   fill_ = nullptr;
   f(const_cast<LabelPlane&>(*this), want_end_ > 0 ? want_begin_ : 0, want_end_ > 0 ? want_end_ : width_);
+  filled_.store(true, std::memory_order_release);
 }
 
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,

@@ -1,10 +1,12 @@
 // Seams by depth: each canvas pixel takes the layer it lies deepest inside (a two-pass distance transform).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -31,7 +33,10 @@ class LabelPlane {
   // Columns [begin, end) of row y into row[begin, end).
   void read_row(int y, std::span<Label> row, int begin = 0, int end = -1) const;
   std::size_t bytes() const { return scratch_.bytes(); }
-  void defer(Fill fill) { fill_ = std::move(fill); }
+  void defer(Fill fill) {
+    fill_ = std::move(fill);
+    filled_ = false;
+  }
   void want_columns(int begin, int end) const;
   // Fills a deferred plane now (no-op otherwise).
   void fill() const;
@@ -41,6 +46,8 @@ class LabelPlane {
   Scratch scratch_;
   mutable Fill fill_;
   mutable int want_begin_ = 0, want_end_ = 0;  // want_end_ == 0: nothing asked for yet
+  mutable std::atomic<bool> filled_{true};     // nothing (left) to fill
+  mutable std::mutex fill_mutex_;              // readers on several threads fill it once
 };
 
 struct SeamResult {
