@@ -12,7 +12,8 @@
 #   big:    65536x40000 (past 2^31 pixels) of 4096-pixel layers to BigTIFF
 # Layers are cut from PHOTO (default: NASA's Blue Marble in ../shared/data) repeated mirrored at its
 # own resolution, each with an exposure offset (up to +-20/255) and a 10 % falloff to its corners.
-# Needs build/ (scripts/build.sh). Work files: ${GDP_BENCH_DIR:-/tmp/gdp-blend-scale} (removed as it goes).
+# Needs build/ (scripts/build.sh), or GDP_BIN=DIR holding copies of gdp and blend_layers (so a rebuild
+# cannot replace them mid-run). Work files: ${GDP_BENCH_DIR:-/tmp/gdp-blend-scale} (removed as it goes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 what=${1:-all}
@@ -23,8 +24,10 @@ if [ ! -f "$photo" ]; then
 fi
 dir=${GDP_BENCH_DIR:-/tmp/gdp-blend-scale}
 mkdir -p "$dir"
-gdp=build/tools/gdp/gdp
-cutter=build/bench/blend_layers
+gdp=${GDP_BIN:+$GDP_BIN/gdp}
+gdp=${gdp:-build/tools/gdp/gdp}
+cutter=${GDP_BIN:+$GDP_BIN/blend_layers}
+cutter=${cutter:-build/bench/blend_layers}
 
 # run NAME LIST [gdp blend options...]: one blend, one line of figures (also appended to $dir/results).
 run() {

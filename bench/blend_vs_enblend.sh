@@ -5,6 +5,8 @@
 #
 #   bench/blend_vs_enblend.sh [SIZE (8192)] [GRID (4x4)] [PHOTO] [OVERLAP (0.2)]
 #
+# VIGNETTE=V sets the layers' vignetting (0.3 unless set: a 30 % falloff at their corners);
+# GRAPHCUT=1 adds a run with --seams graphcut. Ratios to enblend's figures close the output.
 # Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
 set -euo pipefail
@@ -13,14 +15,15 @@ size=${1:-8192}
 grid=${2:-4x4}
 photo=${3:-../shared/data/equirect/three-globe-npm/earth-blue-marble.jpg}
 overlap=${4:-0.2}
-dir=${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}/${size}_${grid}
+vignette=${VIGNETTE:-0.3}
+dir=${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}/${size}_${grid}_v${vignette}
 mkdir -p "$dir"
 if [ ! -f "$dir/original.tif" ]; then
   build/bench/blend_layers cut "$photo" "$dir" --size "${size}x${size}" --grid "$grid" --overlap "$overlap" \
-    --offset 40 --vignette 0.3 --seed 7
+    --offset 40 --vignette "$vignette" --seed 7
 fi
 layers=("$dir"/layer_*.tif)
-echo "canvas ${size}x${size}, ${#layers[@]} layers ($grid, overlap $overlap), photo $(basename "$photo")"
+echo "canvas ${size}x${size}, ${#layers[@]} layers ($grid, overlap $overlap, vignetting $vignette), photo $(basename "$photo")"
 run() {  # name, command...
   local name=$1
   shift
@@ -29,8 +32,17 @@ run() {  # name, command...
   local err
   err=$(build/bench/blend_layers error "$dir/out_$name.tif" "$dir/original.tif")
   printf "%-14s wall %7.1f s  cpu %7.1f s  peak %7.0f MB  %s\n" "$name" "$wall" "$(echo "$user + $sys" | bc)" \
-    "$(echo "$kb / 1024" | bc)" "$err"
+    "$(echo "$kb / 1024" | bc)" "$err" | tee -a "$dir/results"
 }
+: > "$dir/results"
 run gdp build/tools/gdp/gdp blend -o "$dir/out_gdp.tif" --temp "$dir" -- "${layers[@]}"
 run gdp-zero build/tools/gdp/gdp blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
+if [ "${GRAPHCUT:-0}" = 1 ]; then
+  run gdp-graphcut build/tools/gdp/gdp blend --seams graphcut -o "$dir/out_gdp-graphcut.tif" --temp "$dir" -- "${layers[@]}"
+fi
 run enblend enblend -o "$dir/out_enblend.tif" -- "${layers[@]}"
+# Each run's wall, CPU, memory and error over enblend's (the error: the first number blend_layers prints).
+awk '{v[NR] = $0; name[NR] = $1; wall[NR] = $3; cpu[NR] = $6; mb[NR] = $9; err[NR] = $12}
+     END {for (i = 1; i < NR; ++i)
+            printf "%-14s / enblend: wall %.3f  cpu %.3f  memory %.3f  error %.3f\n", name[i], wall[i] / wall[NR],
+                   cpu[i] / cpu[NR], mb[i] / mb[NR], err[i] / err[NR]}' "$dir/results"

@@ -54,7 +54,8 @@ struct StitchOptions {
   // Optional: at each pixel next to a label change, the value there of the source across it (the
   // composite's size and channels; non-finite where unknown). Gradients across a label change
   // are then the mean of the composite's and this image's differences where both ends have
-  // finite values (the mean of both sources' gradients), zero elsewhere (gdp blend).
+  // finite values (the mean of both sources' gradients), the one source's gradient that is known
+  // where only one end has (that source covers both pixels), zero where neither has (gdp blend).
   RowReader* across = nullptr;
   std::string labels_name = "the label map";  // in messages
   std::string composite_name;                 // in messages (a file's name; empty: none)

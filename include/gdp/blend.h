@@ -4,6 +4,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gdp/apps.h"
@@ -118,6 +119,10 @@ struct BlendReport {
   std::vector<std::string> isolated;  // layers that overlap no other: placed as they are
   double seconds_seams = 0.0, seconds_solve = 0.0;
   std::size_t scratch_bytes = 0;  // distance and label planes
+  // The layers the seams read and the columns they were found for: all, unless this process
+  // solves only some columns (mpirun), when only the layers meeting them are read.
+  int seam_layers_read = 0;
+  std::pair<int, int> seam_columns{0, 0};
   double seam_cost_depth = 0, seam_cost = 0;  // SeamMethod::Graphcut: the depth seams' cost and the result's
   SolveSummary solve;
 };

@@ -95,22 +95,27 @@ class StitchGuidance final : public apps::ImageGuidance {
     const int last = j + 1 < height() ? j + 1 : j;
     for (int i = 0; i < w; ++i) {
       const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
-      right[i] = joined(a, here[r]) || across_both(i, j, r, j);
-      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_both(i, j, d, last)));
+      right[i] = joined(a, here[r]) || across_either(i, j, r, j);
+      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last)));
     }
     for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
   bool has_offsets() const override { return !ramp_.empty() || across_; }
-  // Across a label change (with `across`): the composite's difference less the mean of its and
-  // the across image's, leaving that mean. Inside a label: its ramp (--deramp).
+  // Across a label change (with `across`) from p (source A) to q (source B), the composite's
+  // difference B(q) - A(p) less the guidance kept: the mean of A's and B's differences where the
+  // across values A(q) and B(p) are both finite, else the one source's difference that is known
+  // (A's where only A(q) is: B does not reach p; B's where only B(p) is). Inside a label: its
+  // ramp (--deramp).
   double offset(int c, int i, int j, bool horizontal) const override {
     const int a = id(i, j), i2 = horizontal ? (i + 1 < width() ? i + 1 : 0) : i, j2 = horizontal ? j : j + 1;
     const int b = id(i2, j2);
     if (a != b && a != kUnknown && b != kUnknown) {
       const std::size_t p = static_cast<std::size_t>(c) * width() + i, q = static_cast<std::size_t>(c) * width() + i2;
-      const double composite = double(source_row(j2)[q]) - source_row(j)[p];
-      const double other = double(across_rows_[j2 % 2][q]) - across_rows_[j % 2][p];
-      return 0.5 * (composite - other);
+      const double a_p = source_row(j)[p], b_q = source_row(j2)[q];
+      const double b_p = across_rows_[j % 2][p], a_q = across_rows_[j2 % 2][q];
+      if (!std::isfinite(b_p)) return b_q - a_q;  // keeps A(q) - A(p)
+      if (!std::isfinite(a_q)) return b_p - a_p;  // keeps B(q) - B(p)
+      return 0.5 * ((b_q - a_p) - (a_q - b_p));
     }
     if (ramp_.empty() || a == kUnknown || a != b) return 0.0;
     return ramp_[(static_cast<std::size_t>(a) * channels() + c) * 2 + (horizontal ? 0 : 1)];
@@ -120,12 +125,12 @@ class StitchGuidance final : public apps::ImageGuidance {
   int id(int i, int j) const { return row_ids_[j % 2][i]; }
   // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
   bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
-  // With `across`, a label change whose across values are finite at both ends (first channel).
-  bool across_both(int i, int j, int i2, int j2) const {
+  // With `across`, a label change whose across values are finite at either end (first channel).
+  bool across_either(int i, int j, int i2, int j2) const {
     if (!across_) return false;
     const int a = id(i, j), b = id(i2, j2);
-    return a != b && a != kUnknown && b != kUnknown && std::isfinite(across_rows_[j % 2][i]) &&
-           std::isfinite(across_rows_[j2 % 2][i2]);
+    return a != b && a != kUnknown && b != kUnknown &&
+           (std::isfinite(across_rows_[j % 2][i]) || std::isfinite(across_rows_[j2 % 2][i2]));
   }
 
   // A first pass over both inputs: the mean horizontal and vertical difference inside each

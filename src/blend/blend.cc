@@ -1,4 +1,5 @@
 // gdp::blend: depth seams over the layers, then stitching of the composite they make, with alpha on the way out.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -53,6 +54,7 @@ class AlphaWriter final : public RowWriter {
     if (correction_) correction_->commit();
   }
   void set_columns(int begin, int end) override {
+    labels_.want_columns(begin, end);
     out_.set_columns(begin, end);
     if (sweep_) sweep_->set_columns(begin, end);
     if (correction_) correction_->set_columns(begin, end);
@@ -93,6 +95,56 @@ Domain domain_of(Wrap wrap) {
   return wrap == Wrap::None ? Domain::Planar : wrap == Wrap::Horizontal ? Domain::Cylindrical : Domain::Spherical;
 }
 
+// The seams: loaded, graph-cut, or by depth. Depth seams are deferred until the solve first reads
+// labels, by then knowing the columns this process solves (mpirun): only the layers meeting them
+// (and a column either side, for the seams' neighbours) are read. Their time goes to the report.
+// `seams` outlives the solve (deferred seams fill it then).
+void find_seams(const BlendPlan& plan, const BlendOptions& options, const std::filesystem::path& temp, BlendReport& r,
+                blending::SeamResult& seams) {
+  const bool wrap = options.wrap != Wrap::None;
+  if (!options.load_seams.empty()) {
+    seams = blending::load_seams(plan, options.load_seams, temp);
+    return;
+  }
+  if (options.seams == SeamMethod::Graphcut || !options.save_seams.empty()) {
+    seams = options.seams == SeamMethod::Graphcut ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress)
+                                                  : blending::compute_seams(plan, wrap, temp, options.progress);
+    if (!options.save_seams.empty())
+      blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
+    return;
+  }
+  seams.labels = std::make_unique<blending::LabelPlane>(temp, plan.canvas.width, plan.canvas.height);
+  seams.overlaps.assign(plan.layers.size(), -1);
+  seams.labels->defer([&plan, &options, &seams, &r, temp, wrap](blending::LabelPlane& labels, int begin, int end) {
+    const auto start = Clock::now();
+    const int W = plan.canvas.width;
+    begin = std::max(0, begin - 1);
+    end = std::min(W, end + 1);
+    if (wrap && (begin == 0 || end == W)) begin = 0, end = W;  // the neighbours wrap around
+    const blending::SeamColumns done = blending::compute_seam_columns(plan, wrap, temp, options.progress, begin, end,
+                                                                      labels, seams.overlaps);
+    r.seam_layers_read = done.layers_read;
+    r.seam_columns = {begin, end};
+    r.scratch_bytes = done.distance_bytes + labels.bytes();
+    r.seconds_seams += since(start);
+  });
+}
+
+// What the seams found: layers read, scratch, costs, layers known to overlap no other.
+void report_seams(const BlendPlan& plan, const blending::SeamResult& seams, BlendReport& r) {
+  if (seams.labels) seams.labels->fill();  // a solve that never read labels (none: kept for safety)
+  if (r.seam_layers_read == 0) {
+    r.seam_layers_read = seams.layers_read ? seams.layers_read : static_cast<int>(plan.layers.size());
+    r.seam_columns = {0, plan.canvas.width};
+    r.scratch_bytes = seams.scratch_bytes;
+  }
+  r.seam_cost_depth = seams.depth_cost;
+  r.seam_cost = seams.cost;
+  if (plan.layers.size() > 1)
+    for (std::size_t k = 0; k < plan.layers.size(); ++k)
+      if (seams.overlaps[k] == 0) r.isolated.push_back(plan.layers[k].name);
+}
+
 }  // namespace
 
 void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver_options, RowWriter& out,
@@ -110,21 +162,9 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   if (options.wrap == Wrap::Both) sphere.emplace(W, H, "the canvas", options.pq_height);
 
   auto start = Clock::now();
-  blending::SeamResult seams =
-      options.load_seams.empty()
-          ? options.seams == SeamMethod::Graphcut
-                ? blending::compute_graphcut_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
-                : blending::compute_seams(plan, options.wrap != Wrap::None, solver.temp_dir, options.progress)
-          : blending::load_seams(plan, options.load_seams, solver.temp_dir);
-  if (!options.save_seams.empty())
-    blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
+  blending::SeamResult seams;
+  find_seams(plan, options, solver.temp_dir, r, seams);
   r.seconds_seams = since(start);
-  r.scratch_bytes = seams.scratch_bytes;
-  r.seam_cost_depth = seams.depth_cost;
-  r.seam_cost = seams.cost;
-  if (plan.layers.size() > 1)
-    for (std::size_t k = 0; k < plan.layers.size(); ++k)
-      if (!seams.overlaps[k]) r.isolated.push_back(plan.layers[k].name);
 
   // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN
   // around them): resampled spheres take zero guidance across seams.
@@ -141,6 +181,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   stitching.unknown = UnknownMode::Extend;
   stitching.space = options.space;
   start = Clock::now();
+  const double seconds_before = r.seconds_seams;
   RowReader& c = sphere ? sphere->input(composite, "composite") : composite;
   RowReader& l = sphere ? sphere->input(labels, "labels", true) : labels;
   if (across) stitching.across = sphere ? &sphere->input(across_rows, "across") : &across_rows;
@@ -158,7 +199,8 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   }
   stitch(c, l, stitching, solver, w, &r.solve, fidelity);
   w.commit();
-  r.seconds_solve = since(start);
+  r.seconds_solve = since(start) - (r.seconds_seams - seconds_before);  // less deferred seams' time
+  report_seams(plan, seams, r);
 }
 
 Image blend(const std::vector<ImageLayer>& layers, const BlendOptions& options, const SolverOptions& solver,

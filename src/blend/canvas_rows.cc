@@ -33,6 +33,7 @@ void CanvasSweep::set_columns(int begin, int end) {
     begin = std::min(begin, begin_);
     end = std::max(end, end_);
   }
+  labels_.want_columns(begin, end);
   if (columns_set_ && begin == begin_ && end == end_) return;
   begin_ = begin;
   end_ = end;

@@ -79,6 +79,7 @@ class LabelReader final : public RowReader {
   void set_columns(int begin, int end) override {
     begin_ = begin;
     end_ = end;
+    labels_.want_columns(begin, end);
   }
 
  private:

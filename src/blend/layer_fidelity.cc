@@ -19,6 +19,7 @@ LayerFidelityReader::LayerFidelityReader(const LabelPlane& labels, std::vector<f
 void LayerFidelityReader::set_columns(int begin, int end) {
   begin_ = begin;
   end_ = end;
+  labels_.want_columns(begin, end);
   if (image_) image_->set_columns(begin, end);
 }
 

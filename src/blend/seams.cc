@@ -101,19 +101,24 @@ struct Active {
 // The two passes over the canvas, sharing the layers' footprints and the distance scratch.
 class SeamPasses {
  public:
+  // Only the layers whose footprints meet columns [begin, end) take part.
   SeamPasses(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-             const std::function<void(double)>& progress)
+             const std::function<void(double)>& progress, int begin, int end)
       : plan_(plan), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
         W_(plan.canvas.width), H_(plan.canvas.height), where_(n_), base_(n_ + 1, 0) {
     for (int k = 0; k < n_; ++k) {
       where_[k] = footprint(plan, k);
-      base_[k + 1] = base_[k] + static_cast<std::size_t>(where_[k].width()) * (where_[k].y1 - where_[k].y0) * sizeof(float);
+      const bool meets = where_[k].x0 < end && where_[k].x1 > begin;
+      if (meets) taking_part_.push_back(k);
+      const std::size_t rows = meets ? where_[k].y1 - where_[k].y0 : 0;
+      base_[k + 1] = base_[k] + static_cast<std::size_t>(where_[k].width()) * rows * sizeof(float);
     }
     distances_ = std::make_unique<Scratch>(temp_dir, base_[n_], "distances");
   }
   std::size_t scratch_bytes() const { return distances_->bytes(); }
+  const std::vector<int>& taking_part() const { return taking_part_; }
   void forward();
-  void backward(LabelPlane& labels, std::vector<char>& overlaps);
+  void backward(LabelPlane& labels, std::vector<signed char>& overlaps);
 
  private:
   // Layer k's state for a pass that starts beyond its top (forward) or bottom row.
@@ -128,10 +133,9 @@ class SeamPasses {
     a->start.resize(where_[k].width());
     return a;
   }
-  // Layers by the row a pass meets them first.
+  // Layers taking part by the row a pass meets them first.
   std::vector<int> order(bool top) const {
-    std::vector<int> o(n_);
-    std::iota(o.begin(), o.end(), 0);
+    std::vector<int> o = taking_part_;
     std::stable_sort(o.begin(), o.end(),
                      [&](int a, int b) { return top ? where_[a].y0 < where_[b].y0 : where_[a].y1 > where_[b].y1; });
     return o;
@@ -146,6 +150,7 @@ class SeamPasses {
   int n_, W_, H_;
   std::vector<Footprint> where_;
   std::vector<std::size_t> base_;
+  std::vector<int> taking_part_;
   std::unique_ptr<Scratch> distances_;
 };
 
@@ -179,7 +184,7 @@ void SeamPasses::forward() {
 
 // Bottom to top: final distances, the deepest layer per pixel into `labels`; `overlaps` marks
 // layers some of whose pixels another layer covers too.
-void SeamPasses::backward(LabelPlane& labels, std::vector<char>& overlaps) {
+void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps) {
   const std::vector<int> by_bottom = order(false);
   std::vector<std::unique_ptr<Active>> active;  // by layer index: ties go to the earlier layer
   std::size_t next = 0;
@@ -234,22 +239,59 @@ void LabelPlane::write_row(int y, std::span<const Label> row) {
 }
 
 void LabelPlane::read_row(int y, std::span<Label> row, int begin, int end) const {
+  fill();
   if (end < 0) end = width_;
   scratch_.read((static_cast<std::size_t>(y) * width_ + begin) * sizeof(Label), row.data() + begin,
                 static_cast<std::size_t>(end - begin) * sizeof(Label));
 }
 
-SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-                         const std::function<void(double)>& progress) {
+void LabelPlane::want_columns(int begin, int end) const {
+  if (end < 0) end = width_;
+  if (want_end_ == 0) {
+    want_begin_ = begin;
+    want_end_ = end;
+  }
+  want_begin_ = std::min(want_begin_, begin);
+  want_end_ = std::max(want_end_, end);
+}
+
+void LabelPlane::fill() const {
+  if (filled_.load(std::memory_order_acquire)) return;
+  const std::lock_guard<std::mutex> lock(fill_mutex_);
+  if (filled_.load(std::memory_order_relaxed) || !fill_) return;
+  const Fill f = std::move(fill_);
+  fill_ = nullptr;
+  f(const_cast<LabelPlane&>(*this), want_end_ > 0 ? want_begin_ : 0, want_end_ > 0 ? want_end_ : width_);
+  filled_.store(true, std::memory_order_release);
+}
+
+SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
+                                 const std::function<void(double)>& progress, int begin, int end, LabelPlane& labels,
+                                 std::vector<signed char>& overlaps) {
   const int n = static_cast<int>(plan.layers.size());
   if (n > kMaxLayers) throw UsageError(fmt::format("{} layers; gdp blend takes at most {}", n, kMaxLayers));
-  SeamPasses passes(plan, wrap_x, temp_dir, progress);
+  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end);
+  overlaps.assign(n, 0);
+  passes.forward();
+  passes.backward(labels, overlaps);
+  // A layer reaching outside the columns may overlap layers that did not take part there.
+  std::vector<char> part(n, 0);
+  for (const int k : passes.taking_part()) part[k] = 1;
+  for (int k = 0; k < n; ++k) {
+    const Footprint f = footprint(plan, k);
+    if (!part[k] || (!overlaps[k] && (f.x0 < begin || f.x1 > end))) overlaps[k] = -1;
+  }
+  return {static_cast<int>(passes.taking_part().size()), passes.scratch_bytes()};
+}
+
+SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
+                         const std::function<void(double)>& progress) {
   SeamResult result;
   result.labels = std::make_unique<LabelPlane>(temp_dir, plan.canvas.width, plan.canvas.height);
-  result.overlaps.assign(n, 0);
-  result.scratch_bytes = passes.scratch_bytes() + result.labels->bytes();
-  passes.forward();
-  passes.backward(*result.labels, result.overlaps);
+  const SeamColumns done =
+      compute_seam_columns(plan, wrap_x, temp_dir, progress, 0, plan.canvas.width, *result.labels, result.overlaps);
+  result.layers_read = done.layers_read;
+  result.scratch_bytes = done.distance_bytes + result.labels->bytes();
   return result;
 }
 

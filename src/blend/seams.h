@@ -1,10 +1,12 @@
 // Seams by depth: each canvas pixel takes the layer it lies deepest inside (a two-pass distance transform).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -17,9 +19,13 @@ namespace gdp::blending {
 using Label = std::uint16_t;
 inline constexpr int kMaxLayers = 65535;
 
-// The canvas's labels, a row at a time, in any order (in memory or a scratch file).
+// The canvas's labels, a row at a time, in any order (in memory or a scratch file). They may be
+// filled on demand: defer() names what fills them, want_columns() (from readers' set_columns)
+// gathers the columns needed, and the first read_row fills the plane for their union, once (for
+// every column when none was asked for). Outside those columns the labels are then undefined.
 class LabelPlane {
  public:
+  using Fill = std::function<void(LabelPlane& plane, int begin, int end)>;
   LabelPlane(const std::filesystem::path& dir, int width, int height);
   int width() const { return width_; }
   int height() const { return height_; }
@@ -27,15 +33,29 @@ class LabelPlane {
   // Columns [begin, end) of row y into row[begin, end).
   void read_row(int y, std::span<Label> row, int begin = 0, int end = -1) const;
   std::size_t bytes() const { return scratch_.bytes(); }
+  void defer(Fill fill) {
+    fill_ = std::move(fill);
+    filled_ = false;
+  }
+  void want_columns(int begin, int end) const;
+  // Fills a deferred plane now (no-op otherwise).
+  void fill() const;
 
  private:
   int width_, height_;
   Scratch scratch_;
+  mutable Fill fill_;
+  mutable int want_begin_ = 0, want_end_ = 0;  // want_end_ == 0: nothing asked for yet
+  mutable std::atomic<bool> filled_{true};     // nothing (left) to fill
+  mutable std::mutex fill_mutex_;              // readers on several threads fill it once
 };
 
 struct SeamResult {
   std::unique_ptr<LabelPlane> labels;
-  std::vector<char> overlaps;     // per layer: some pixel it covers is covered by another layer too
+  // Per layer: some pixel it covers is covered by another layer too; -1 where not known (a
+  // layer reaching outside the columns computed).
+  std::vector<signed char> overlaps;
+  int layers_read = 0;            // layers that took part (all, unless columns were given)
   std::size_t scratch_bytes = 0;  // distances and labels kept between the passes
   // Graph-cut seams: the seam cost of the depth seams and of those returned (graphcut_seams.h).
   double depth_cost = 0, cost = 0;
@@ -48,5 +68,17 @@ struct SeamResult {
 // the second pass runs bottom to top and writes the label plane.
 SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                          const std::function<void(double)>& progress);
+
+// The depth seams of columns [begin, end) only, into `labels` (the canvas's size): only the layers
+// whose footprints meet those columns are read, each whole (a pixel's depth in a layer depends on
+// all of it), so labels there are exactly compute_seams'. `overlaps` as SeamResult's. For a
+// process that solves only some columns (mpirun).
+struct SeamColumns {
+  int layers_read = 0;
+  std::size_t distance_bytes = 0;  // the first pass's scratch
+};
+SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
+                                 const std::function<void(double)>& progress, int begin, int end,
+                                 LabelPlane& labels, std::vector<signed char>& overlaps);
 
 }  // namespace gdp::blending

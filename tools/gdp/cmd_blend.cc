@@ -188,6 +188,8 @@ class Blend final : public Command {
       stats.set("seam_cost_depth", fmt::format("{:.6g}", report.seam_cost_depth));
     }
     stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
+    stats.set("seam_layers_read", std::to_string(report.seam_layers_read));
+    stats.set("seam_columns", fmt::format("[{}, {}]", report.seam_columns.first, report.seam_columns.second));
     note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
                               "residual {:.2e} -> {}",
                               plan.layers.size(), W, H, plan.canvas.x, plan.canvas.y, report.seconds_seams, report.seconds_solve,
