@@ -14,10 +14,7 @@ size=${1:-8192}
 build=${2:-build}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
-photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-gdp="$here/$build/tools/gdp/gdp"
-work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-scaling.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+stitch_bench_setup scaling "$build"
 oiiotool "$photo" --resize "${size}x${size}" \
   -d float --compression none -o "$work/in.tif"
 args=(sharpen "$work/in.tif" -o "$work/out.tif" --compression none -q --beta 1.5)

@@ -11,10 +11,7 @@ build=${2:-build}
 ext=${3:-png}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
-photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-gdp="$here/$build/tools/gdp/gdp"
-work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-e2e.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+stitch_bench_setup e2e "$build"
 "$here/$build/bench/make_composite" "$photo" \
   "$size" "$size" "$work/composite.$ext" "$work/labels.$ext"
 "$gdp" convert "$work/composite.$ext" -o "$work/copy.tif" --stats "$work/convert.json" -q

@@ -15,10 +15,7 @@ rounds=${2:-2}
 build=${3:-build}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
-photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-gdp="$here/$build/tools/gdp/gdp"
-work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-one-schedule.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+stitch_bench_setup one-schedule "$build"
 "$here/$build/bench/make_composite" "$photo" "$size" "$size" "$work/composite.tif" "$work/labels.tif"
 stitch=(stitch -c "$work/composite.tif" -l "$work/labels.tif" --compression none -q)
 mpi=(mpirun --oversubscribe --allow-run-as-root ${GDP_MPIRUN_ARGS:---bind-to none})

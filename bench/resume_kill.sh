@@ -11,10 +11,7 @@ ext=${4:-tif}
 RANDOM=${5:-1}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
-photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-gdp="$here/$build/tools/gdp/gdp"
-work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-resume.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+stitch_bench_setup resume "$build"
 "$here/$build/bench/make_composite" "$photo" "$size" "$size" "$work/composite.$ext" "$work/labels.$ext"
 args=(stitch -c "$work/composite.$ext" -l "$work/labels.$ext" -q)
 

@@ -14,10 +14,7 @@ runs=${3:-2}
 precision=${4:-yes}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
-photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-gdp="$here/$build/tools/gdp/gdp"
-work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-scratch-bench.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+stitch_bench_setup scratch-bench "$build"
 if [[ $precision != no ]]; then
   "$here/$build/bench/make_composite" "$photo" 2048 2048 "$work/small.tif" "$work/small_labels.tif"
   "$here/$build/bench/scratch_precision" "$work/small.tif" "$work/small_labels.tif"

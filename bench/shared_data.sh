@@ -9,3 +9,13 @@ shared_data() {
   fi
   printf '%s\n' "$dir/$1"
 }
+
+# `stitch_bench_setup NAME BUILD` sets what the stitch benchmarks share: $photo (the real photo
+# their composites are cut from), $gdp (the binary of build folder BUILD under $here) and $work
+# (a new scratch folder gdp-NAME.* removed on exit).
+stitch_bench_setup() {
+  photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
+  gdp="$here/$2/tools/gdp/gdp"
+  work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-$1.XXXXXX")
+  trap 'rm -rf "$work"' EXIT
+}
