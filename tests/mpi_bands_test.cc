@@ -205,6 +205,15 @@ TEST_F(MpiBands, SphereOnRanksGivesTheThreadResult) {
   }
 }
 
+// A cylindrical image: the bands at both ends of the rows are neighbours across the wrap, on
+// other ranks; ranks give the thread result.
+TEST_F(MpiBands, CylinderOnRanksGivesTheThreadResult) {
+  const test::CliRun r = sharpen("mpi.tif", 1, 2, "--domain cylindrical");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(sharpen("threads.tif", 2, 0, "--domain cylindrical").code, 0);
+  EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+}
+
 // 4 ranks whose bands grow too narrow for the coarser levels: they merge in pairs across ranks
 // (4 -> 2 -> 1 bands on levels 0-1, 2, 3) down to a small in-core level, with the bits of the
 // same bands on threads.
