@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "bands/mpi_wait.h"
 #include "gdp/mpi_run.h"
 
 namespace gdp {
@@ -99,7 +100,12 @@ class ColumnGather final : public RowWriter {
   }
 
   void wait_oldest() {
-    MPI_Wait(&sending_.front().request, MPI_STATUS_IGNORE);
+    MPI_Request& request = sending_.front().request;
+    bands::wait_until([&] {
+      int done = 0;
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      return done != 0;
+    });
     sending_.pop_front();
   }
 
@@ -109,7 +115,11 @@ class ColumnGather final : public RowWriter {
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
       MPI_Message message;
       MPI_Status status;
-      MPI_Mprobe(r, kTag, MPI_COMM_WORLD, &message, &status);
+      bands::wait_until([&] {
+        int found = 0;
+        MPI_Improbe(r, kTag, MPI_COMM_WORLD, &found, &message, &status);
+        return found != 0;
+      });
       int bytes = 0;
       MPI_Get_count(&status, MPI_BYTE, &bytes);
       std::vector<unsigned char> buffer(static_cast<std::size_t>(bytes));

@@ -28,6 +28,9 @@ bool MpiRun::launched() {
 
 MpiRun::MpiRun(int& argc, char**& argv) {
   if (!launched()) return;
+  // Open MPI's blocking calls left (the collective check, MPI_Finalize) yield the core while they
+  // wait instead of spinning on it; a value the user set stays (docs/how-bands-work.md).
+  setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
   started = true;

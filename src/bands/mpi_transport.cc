@@ -3,14 +3,13 @@
 
 #include <mpi.h>
 
-#include <chrono>
 #include <cstdio>
 #include <deque>
 #include <mutex>
-#include <thread>
 
 #include <fmt/format.h>
 
+#include "bands/mpi_wait.h"
 #include "bands/thread_transport.h"
 #include "gdp/cleanup.h"
 
@@ -63,26 +62,23 @@ struct MpiHub::Impl {
 
   Bytes receive(int from, int to, int tag) {
     const int source = from / local, t = mpi_tag(tag, from, to);
-    for (int polls = 0;; ++polls) {
-      int found = 0;
-      MPI_Message message;
-      MPI_Status status;
-      MPI_Improbe(source, t, comm, &found, &message, &status);
-      if (found) {
-        int count = 0;
-        MPI_Get_count(&status, MPI_BYTE, &count);
-        Bytes data(static_cast<std::size_t>(count));
-        MPI_Mrecv(data.data(), count, MPI_BYTE, &message, MPI_STATUS_IGNORE);
-        return data;
-      }
-      if (polls % 64 == 63) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        reap();
-      }
-      // Spin briefly for low latency, then stop burning the core the other threads need.
-      if (polls < 256) std::this_thread::yield();
-      else std::this_thread::sleep_for(std::chrono::microseconds(20));
-    }
+    MPI_Message message;
+    MPI_Status status;
+    wait_until(
+        [&] {
+          int found = 0;
+          MPI_Improbe(source, t, comm, &found, &message, &status);
+          return found != 0;
+        },
+        [&] {
+          const std::lock_guard<std::mutex> lock(mutex);
+          reap();
+        });
+    int count = 0;
+    MPI_Get_count(&status, MPI_BYTE, &count);
+    Bytes data(static_cast<std::size_t>(count));
+    MPI_Mrecv(data.data(), count, MPI_BYTE, &message, MPI_STATUS_IGNORE);
+    return data;
   }
 };
 
