@@ -7,6 +7,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/solver.h"
+#include "image_compare.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -70,10 +71,7 @@ Image solve_with(const Case& k, const Image& img, Schedule schedule, int bands, 
   return solve(src, o, &start, s);
 }
 
-double range_of(const Image& img) {
-  const auto [lo, hi] = std::minmax_element(img.data.begin(), img.data.end());
-  return double(*hi) - *lo;
-}
+using test::range_of;
 
 class Bands : public ::testing::TestWithParam<Case> {};
 

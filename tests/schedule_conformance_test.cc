@@ -6,6 +6,7 @@
 #include <string>
 
 #include "gdp/solver.h"
+#include "image_compare.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -76,15 +77,8 @@ Image solve_as(const Conformance& k, const Image& img, const Config& r, SolveSum
   return solve(src, o, &start, s);
 }
 
-bool same_bits(const Image& a, const Image& b) {
-  return a.data.size() == b.data.size() &&
-         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
-}
-
-double range_of(const Image& img) {
-  const auto [lo, hi] = std::minmax_element(img.data.begin(), img.data.end());
-  return double(*hi) - *lo;
-}
+using test::range_of;
+using test::same_bits;
 
 class ScheduleConformance : public ::testing::TestWithParam<Conformance> {};
 
