@@ -6,10 +6,15 @@
 //       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size);
 //       --ghosts: N moving objects per layer (discs of one colour) near its edges, in the overlaps
 //   blend_layers tiles PHOTO OUTDIR [--tile T] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
+//                      [--upscale N]
 //       writes OUTDIR/tile_NNNNN.tif (T x T layers with XPOSITION/YPOSITION but no canvas tags, no
 //       wavy edges: a microscopy slide's tiles)
 //       and OUTDIR/tiles.txt (a --layers list: file x y); the photo is repeated mirrored at its own
-//       resolution, so any canvas size is cut without holding it
+//       resolution (--upscale N: the photo enlarged N times, bilinear, first), so any canvas size is cut
+//       without holding it
+//   blend_layers tiles-error BLENDED PHOTO [--upscale N]
+//       as error, against the mirrored photo that tiles cut (a canvas of any size, streamed), and the
+//       spread of 1024x1024 blocks' mean errors (a level step between layers shows there)
 //   blend_layers error BLENDED ORIGINAL
 //       prints the RMS colour error (per value, 0..1) over the blend's covered pixels, each channel's
 //       mean difference removed, and the largest such error
@@ -38,6 +43,7 @@ struct Cut {
   unsigned seed = 1;
   int ghosts = 0;
   int tile = 0;  // tiles: the tile size (the canvas follows from grid and overlap)
+  int upscale = 1;  // tiles: the photo enlarged this many times before it is repeated
 };
 
 // A tile's exposure: a brightness offset and a falloff towards its corners.
@@ -107,6 +113,7 @@ void write_layer(const std::string& path, const std::vector<unsigned char>& rgba
   TIFFSetField(t, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
   TIFFSetField(t, TIFFTAG_EXTRASAMPLES, 1, extra);
   TIFFSetField(t, TIFFTAG_COMPRESSION, COMPRESSION_LZW);
+  TIFFSetField(t, TIFFTAG_PREDICTOR, PREDICTOR_HORIZONTAL);
   TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, 32);
   TIFFSetField(t, TIFFTAG_RESOLUTIONUNIT, RESUNIT_INCH);
   TIFFSetField(t, TIFFTAG_XRESOLUTION, resolution);
@@ -172,6 +179,17 @@ float mirrored(const Image& img, int c, long long x, long long y) {
   return img.at(c, fold(x, img.width), fold(y, img.height));
 }
 
+// The same of the photo enlarged n times (bilinear between the mirrored pixels): the scene tiles cuts.
+float scene(const Image& img, int c, long long x, long long y, int n) {
+  if (n == 1) return mirrored(img, c, x, y);
+  const double fx = (x + 0.5) / n - 0.5, fy = (y + 0.5) / n - 0.5;
+  const long long x0 = static_cast<long long>(std::floor(fx)), y0 = static_cast<long long>(std::floor(fy));
+  const double ax = fx - x0, ay = fy - y0;
+  const auto at = [&](long long u, long long v) { return mirrored(img, c, std::max(u, 0LL), std::max(v, 0LL)); };
+  return static_cast<float>((1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
+                            ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1)));
+}
+
 void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
   const Image img = gdp::read_image(photo).image;
   check(img.channels >= 3, "the photo must be RGB");
@@ -192,7 +210,7 @@ void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
           unsigned char* p = rgba.data() + (static_cast<std::size_t>(y) * t + x) * 4;
           for (int ch = 0; ch < 3; ++ch)
             p[ch] = static_cast<unsigned char>(
-                std::clamp(e.at(mirrored(img, ch, x0 + x, y0 + y), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
+                std::clamp(e.at(scene(img, ch, x0 + x, y0 + y, o.upscale), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
           p[3] = 255;
         }
       const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
@@ -229,6 +247,51 @@ void error(const std::string& blended, const std::string& original) {
   std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels\n", std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n);
 }
 
+// RMS error of a blend against the scene tiles cut (mean removed), streamed; and how far apart the
+// mean errors of 1024x1024 blocks lie (the largest minus the smallest, per channel, worst channel).
+void tiles_error(const std::string& blended, const std::string& photo, int upscale) {
+  const Image img = gdp::read_image(photo).image;
+  gdp::ImageFileReader a(blended);
+  const int w = a.width(), ch = 3, block = 1024, bw = (w + block - 1) / block;
+  const bool alpha = a.channels() == 4;
+  std::vector<float> row(static_cast<std::size_t>(a.channels()) * w);
+  std::vector<double> sum(ch, 0.0), sum2(ch, 0.0), bsum(static_cast<std::size_t>(bw) * ch), bn(bw);
+  std::vector<double> lo(ch, 1e9), hi(ch, -1e9);
+  double n = 0.0;
+  const auto close_blocks = [&] {
+    for (int b = 0; b < bw; ++b)
+      for (int c = 0; c < ch && bn[b] > 0; ++c) {
+        const double m = bsum[static_cast<std::size_t>(b) * ch + c] / bn[b];
+        lo[c] = std::min(lo[c], m);
+        hi[c] = std::max(hi[c], m);
+      }
+    std::fill(bsum.begin(), bsum.end(), 0.0);
+    std::fill(bn.begin(), bn.end(), 0.0);
+  };
+  for (int y = 0; y < a.height(); ++y) {
+    a.read_row(y, row);
+    for (int x = 0; x < w; ++x) {
+      if (alpha && row[static_cast<std::size_t>(3) * w + x] < 0.5f) continue;
+      n += 1.0;
+      bn[x / block] += 1.0;
+      for (int c = 0; c < ch; ++c) {
+        const double d = double(row[static_cast<std::size_t>(c) * w + x]) - scene(img, c, x, y, upscale);
+        sum[c] += d;
+        sum2[c] += d * d;
+        bsum[static_cast<std::size_t>(x / block) * ch + c] += d;
+      }
+    }
+    if ((y + 1) % block == 0 || y + 1 == a.height()) close_blocks();
+  }
+  double total = 0.0, spread = 0.0;
+  for (int c = 0; c < ch; ++c) {
+    total += sum2[c] / n - (sum[c] / n) * (sum[c] / n);
+    spread = std::max(spread, hi[c] - lo[c]);
+  }
+  std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels; block mean errors spread %.3f x255\n",
+              std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n, 255.0 * spread);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -238,8 +301,8 @@ int main(int argc, char** argv) {
       error(a[1], a[2]);
       return 0;
     }
-    if (a.size() < 3 || (a[0] != "cut" && a[0] != "tiles")) {
-      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers error BLENDED ORIGINAL\n");
+    if (a.size() < 3 || (a[0] != "cut" && a[0] != "tiles" && a[0] != "tiles-error")) {
+      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers tiles-error BLENDED PHOTO [--upscale N] | blend_layers error BLENDED ORIGINAL\n");
       return 2;
     }
     Cut o;
@@ -254,9 +317,12 @@ int main(int argc, char** argv) {
       else if (k == "--tile") o.tile = std::stoi(v);
       else if (k == "--seed") o.seed = static_cast<unsigned>(std::stoul(v));
       else if (k == "--ghosts") o.ghosts = std::stoi(v);
+      else if (k == "--upscale") o.upscale = std::max(1, std::stoi(v));
       else throw std::runtime_error("unknown option " + k);
     }
-    if (a[0] == "tiles") {
+    if (a[0] == "tiles-error") {
+      tiles_error(a[1], a[2], o.upscale);
+    } else if (a[0] == "tiles") {
       if (o.tile < 1) o.tile = 512;
       tiles(a[1], a[2], o);
     } else {

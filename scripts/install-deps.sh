@@ -22,6 +22,7 @@ packages=(
   aladin                                 # tests: Aladin's HiPS builder lints gdp's HiPS (IVOA HiPS 1.0; needs a JRE)
   enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
   montage                                # bench/sky_bench.py: Montage's pipeline beside gdp sky (and --projected)
+  libtiff-tools                          # bench/blend_huge.sh: tiffdump/tiffinfo check the BigTIFF it writes
 )
 
 missing=()

@@ -160,5 +160,15 @@ TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {
   expect_failure("blend -o " + path("o.tif") + " " + path("big.png") + " " + path("cut.png"), "cut.png");
 }
 
+// The canvas is read from no file header: its size is checked as an image's would be, before any output.
+TEST_F(BlendCli, ACanvasTooLargeIsRefusedUpFront) {
+  write_layers();
+  const std::string huge = "blend -f 2000000000x2000000000 -o " + path("o.tif") + " " + path("l0.tif");
+  expect_failure(huge + " --max-pixels 100000000", "canvas of 1 layer(s): 2000000000x2000000000");
+  EXPECT_NE(gdp(huge + " --max-pixels 100000000").err.find("--max-pixels"), std::string::npos);
+  if (!std::filesystem::is_directory("/dev/shm")) GTEST_SKIP() << "no /dev/shm";
+  expect_failure(huge + " --temp /dev/shm", "canvas of 1 layer(s)");  // scratch space (or memory) it lacks
+}
+
 }  // namespace
 }  // namespace gdp

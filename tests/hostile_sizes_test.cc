@@ -102,6 +102,15 @@ TEST_F(HostileSizes, ByDefaultTheScratchSpaceNeededIsSaid) {
     expect_failure("sharpen " + f + " -o " + path("out.tif"), f + ": ");
 }
 
+// Scratch rows up to --memory stay in memory: they are counted against the memory available, not the disk.
+TEST_F(HostileSizes, TheScratchMemoryBudgetCountsAsMemory) {
+  if (!fs::is_directory("/dev/shm")) GTEST_SKIP() << "no /dev/shm";
+  const std::string file = jpeg(65500, 65500);
+  const std::string run = "stitch -c " + file + " -l " + file + " -o " + path("out.tif") + " --temp /dev/shm";
+  expect_failure(run + " --memory 100000G", "of scratch rows: --memory");
+  EXPECT_NE(gdp(run + " --memory files").err.find("of scratch space in /dev/shm"), std::string::npos);
+}
+
 TEST_F(HostileSizes, SidesBeyondAnIntAreSaidSo) {
   const std::string file = tiff(3000000000u, 16);
   expect_failure("convert " + file + " -o " + path("out.tif"), "beyond gdp's largest side");

@@ -14,6 +14,7 @@
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "gdp/strip_files.h"
+#include "size_guard.h"
 
 namespace gdp::cli {
 namespace {
@@ -154,6 +155,9 @@ class Blend final : public Command {
     options.alpha = !is_lossy_extension(output_);  // JPEG and the like store no alpha
     for (const std::string& n : plan.notes) note(common_, "gdp blend: " + n);
     const int W = plan.canvas.width, H = plan.canvas.height, channels = plan.colour_channels + (options.alpha ? 1 : 0);
+    // The canvas is solved but read from no file header: checked here, with the label planes (2 bytes a pixel each).
+    check_canvas_size(fmt::format("canvas of {} layer(s)", plan.layers.size()), common_, solver, W, H,
+                      plan.colour_channels, seams_ == "graphcut" ? 4.0 : 2.0);
     const ImageFileInfo info{plan.sample_type, "tiff", false};
     WriteOptions write = write_options(common_, info);
     write.geo = plan.geo;  // GeoTIFF layers: the output is georeferenced too

@@ -4,6 +4,7 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -42,38 +43,73 @@ std::string gb(double bytes) { return fmt::format("{:.1f} GB", bytes / 1e9); }
 
 }  // namespace
 
-void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_memory) {
-  const long long max_pixels = o.max_pixels;
-  const double scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
-  const bool in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
-  const bool scratch = solver && !in_core;
-  const double disk_per_sample = kScratchPerSample * scale * (solver && solver->half_scratch ? 0.5 : 1.0);
+namespace {
+
+// What guard_sizes and check_canvas_size need to know of the command: its limits and estimates.
+struct Limits {
+  long long max_pixels = 0;
+  double scale = 1.0, disk_per_sample = 0.0, memory_budget = 0.0;
+  bool in_core = false, scratch = false;
   std::filesystem::path dir;
-  if (scratch) dir = solver->temp_dir.empty() ? std::filesystem::temp_directory_path() : solver->temp_dir;
-  set_size_check([=](long long width, long long height, int channels) {
-    const double pixels = static_cast<double>(width) * static_cast<double>(height);
-    const std::string size = fmt::format("{}x{} ({:.2f} gigapixels)", width, height, pixels / 1e9);
-    if (max_pixels > 0) {
-      if (pixels > static_cast<double>(max_pixels))
-        throw UsageError(fmt::format("{} is more than --max-pixels {}", size, max_pixels));
-      return;
-    }
-    const std::string allow = fmt::format("--max-pixels {:.0f} to try anyway", pixels);
-    const double samples = pixels * channels;
-    const double memory = in_core ? samples * kInCorePerSample * scale
-                                  : static_cast<double>(width) * channels * kRowsInMemory * 4.0 * scale;
-    const double have_memory = available_memory();
-    if (memory > have_memory)
-      throw UsageError(fmt::format("{} would need about {} of memory, and {} is available ({})", size, gb(memory),
-                                   gb(have_memory), allow));
-    if (!scratch) return;
-    // Under mpirun every rank keeps the scratch of its own columns.
-    const double disk = samples * disk_per_sample / MpiRun::size(), have_disk = free_disk(dir);
-    if (disk > have_disk)
-      throw UsageError(fmt::format("{} would need about {} of scratch space in {}, which has {} free (--temp DIR "
-                                   "elsewhere, or {})",
-                                   size, gb(disk), dir.string(), gb(have_disk), allow));
-  });
+};
+
+Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_memory) {
+  Limits l;
+  l.max_pixels = o.max_pixels;
+  l.scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
+  l.in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
+  l.scratch = solver && !l.in_core;
+  l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->half_scratch ? 0.5 : 1.0);
+  // Scratch rows up to the budget (--memory) stay in memory, in each process: only the rest goes to disk.
+  if (l.scratch) l.memory_budget = static_cast<double>(solver->scratch_memory);
+  if (l.scratch) l.dir = solver->temp_dir.empty() ? std::filesystem::temp_directory_path() : solver->temp_dir;
+  return l;
+}
+
+// Throws UsageError when width x height x channels exceeds the limits; `extra_disk_per_pixel`: the
+// command's own scratch (bytes per pixel) beside the solver's.
+void check(const Limits& l, long long width, long long height, int channels, double extra_disk_per_pixel) {
+  const double pixels = static_cast<double>(width) * static_cast<double>(height);
+  const std::string size = fmt::format("{}x{} ({:.2f} gigapixels)", width, height, pixels / 1e9);
+  if (l.max_pixels > 0) {
+    if (pixels > static_cast<double>(l.max_pixels))
+      throw UsageError(fmt::format("{} is more than --max-pixels {}", size, l.max_pixels));
+    return;
+  }
+  const std::string allow = fmt::format("--max-pixels {:.0f} to try anyway", pixels);
+  const double samples = pixels * channels;
+  // Under mpirun every rank keeps the scratch of its own columns, each with its own budget.
+  const double scratch = l.scratch ? samples * l.disk_per_sample / MpiRun::size() : 0.0;
+  const double in_memory = std::min(scratch, l.memory_budget);
+  const double memory = l.in_core ? samples * kInCorePerSample * l.scale
+                                  : static_cast<double>(width) * channels * kRowsInMemory * 4.0 * l.scale + in_memory;
+  const double have_memory = available_memory();
+  if (memory > have_memory)
+    throw UsageError(fmt::format("{} would need about {} of memory{}, and {} is available ({})", size, gb(memory),
+                                 in_memory > 0 ? fmt::format(" ({} of scratch rows: --memory)", gb(in_memory)) : "",
+                                 gb(have_memory), allow));
+  if (!l.scratch) return;
+  const double disk = scratch - in_memory + pixels * extra_disk_per_pixel / MpiRun::size(), have_disk = free_disk(l.dir);
+  if (disk > have_disk)
+    throw UsageError(fmt::format("{} would need about {} of scratch space in {}, which has {} free (--temp DIR "
+                                 "elsewhere, --memory, --half-scratch, or {})",
+                                 size, gb(disk), l.dir.string(), gb(have_disk), allow));
+}
+
+}  // namespace
+
+void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_memory) {
+  const Limits limits = limits_of(o, solver, in_memory);
+  set_size_check([=](long long width, long long height, int channels) { check(limits, width, height, channels, 0.0); });
+}
+
+void check_canvas_size(const std::string& what, const CommonOptions& o, const SolverOptions& solver, long long width,
+                       long long height, int channels, double extra_disk_per_pixel) {
+  try {
+    check(limits_of(o, &solver, false), width, height, channels, extra_disk_per_pixel);
+  } catch (const UsageError& e) {
+    throw UsageError(fmt::format("{}: {}", what, e.what()));
+  }
 }
 
 }  // namespace gdp::cli
