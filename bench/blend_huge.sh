@@ -56,9 +56,10 @@ sample_disk() {
   local peak=0 now pid
   while sleep 10; do
     now=$(du -sB1 "$dir" | cut -f1)
-    for pid in $(pgrep -f "gdp blend .*$dir" || true); do
-      now=$((now + $(find -L /proc/"$pid"/fd -maxdepth 1 -type f -printf '%l %b\n' 2>/dev/null |
-        awk -v d="$dir" 'index($1, d) == 1 {b += $2} END {printf "%d", b * 512}')))
+    for fd in $(pgrep -f "gdp blend .*$dir" | sed 's|.*|/proc/&/fd/*|'); do
+      case $(readlink "$fd" 2>/dev/null) in
+        "$dir"/*) now=$((now + $(stat -L -c '%b * %B' "$fd" 2>/dev/null || echo 0))) ;;
+      esac
     done
     [ "$now" -gt "$peak" ] && peak=$now && echo "$peak" > "$dir/disk_peak"
   done

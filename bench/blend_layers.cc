@@ -170,24 +170,31 @@ void cut(const std::string& photo, const std::string& dir, const Cut& o) {
     }
 }
 
-// Mirrored repetition of the photo: canvas pixel (x, y) of an unbounded canvas.
-float mirrored(const Image& img, int c, long long x, long long y) {
-  const auto fold = [](long long v, int n) {
-    const long long m = v % (2LL * n);
-    return static_cast<int>(m < n ? m : 2LL * n - 1 - m);
+// Mirrored repetition of the photo enlarged n times (bilinear): the unbounded scene tiles cuts. A tap
+// is one canvas coordinate's two photo pixels and the weight of the second, found once per row or column.
+struct Tap {
+  int i0, i1;
+  float a;
+};
+
+std::vector<Tap> taps(long long from, int count, int pixels, int n) {
+  const auto fold = [pixels](long long v) {
+    const long long m = std::max(v, 0LL) % (2LL * pixels);
+    return static_cast<int>(m < pixels ? m : 2LL * pixels - 1 - m);
   };
-  return img.at(c, fold(x, img.width), fold(y, img.height));
+  std::vector<Tap> t(count);
+  for (int k = 0; k < count; ++k) {
+    const double f = (from + k + 0.5) / n - 0.5;
+    const long long i = static_cast<long long>(std::floor(f));
+    t[k] = {fold(i), fold(i + 1), static_cast<float>(f - i)};
+  }
+  return t;
 }
 
-// The same of the photo enlarged n times (bilinear between the mirrored pixels): the scene tiles cuts.
-float scene(const Image& img, int c, long long x, long long y, int n) {
-  if (n == 1) return mirrored(img, c, x, y);
-  const double fx = (x + 0.5) / n - 0.5, fy = (y + 0.5) / n - 0.5;
-  const long long x0 = static_cast<long long>(std::floor(fx)), y0 = static_cast<long long>(std::floor(fy));
-  const double ax = fx - x0, ay = fy - y0;
-  const auto at = [&](long long u, long long v) { return mirrored(img, c, std::max(u, 0LL), std::max(v, 0LL)); };
-  return static_cast<float>((1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
-                            ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1)));
+float scene(const Image& img, int c, const Tap& x, const Tap& y) {
+  const float top = (1 - x.a) * img.at(c, x.i0, y.i0) + x.a * img.at(c, x.i1, y.i0);
+  const float bottom = (1 - x.a) * img.at(c, x.i0, y.i1) + x.a * img.at(c, x.i1, y.i1);
+  return (1 - y.a) * top + y.a * bottom;
 }
 
 void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
@@ -205,12 +212,13 @@ void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
     for (int c = 0; c < o.cols; ++c, ++n) {
       const int x0 = static_cast<int>(std::lround(c * step)), y0 = static_cast<int>(std::lround(r * step));
       const Exposure e{o.offset * uniform(rng), o.vignette};
+      const std::vector<Tap> tx = taps(x0, t, img.width, o.upscale), ty = taps(y0, t, img.height, o.upscale);
       for (int y = 0; y < t; ++y)
         for (int x = 0; x < t; ++x) {
           unsigned char* p = rgba.data() + (static_cast<std::size_t>(y) * t + x) * 4;
           for (int ch = 0; ch < 3; ++ch)
             p[ch] = static_cast<unsigned char>(
-                std::clamp(e.at(scene(img, ch, x0 + x, y0 + y, o.upscale), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
+                std::clamp(e.at(scene(img, ch, tx[x], ty[y]), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
           p[3] = 255;
         }
       const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
@@ -257,6 +265,7 @@ void tiles_error(const std::string& blended, const std::string& photo, int upsca
   std::vector<float> row(static_cast<std::size_t>(a.channels()) * w);
   std::vector<double> sum(ch, 0.0), sum2(ch, 0.0), bsum(static_cast<std::size_t>(bw) * ch), bn(bw);
   std::vector<double> lo(ch, 1e9), hi(ch, -1e9);
+  const std::vector<Tap> tx = taps(0, w, img.width, upscale);
   double n = 0.0;
   const auto close_blocks = [&] {
     for (int b = 0; b < bw; ++b)
@@ -270,12 +279,13 @@ void tiles_error(const std::string& blended, const std::string& photo, int upsca
   };
   for (int y = 0; y < a.height(); ++y) {
     a.read_row(y, row);
+    const Tap ty = taps(y, 1, img.height, upscale)[0];
     for (int x = 0; x < w; ++x) {
       if (alpha && row[static_cast<std::size_t>(3) * w + x] < 0.5f) continue;
       n += 1.0;
       bn[x / block] += 1.0;
       for (int c = 0; c < ch; ++c) {
-        const double d = double(row[static_cast<std::size_t>(c) * w + x]) - scene(img, c, x, y, upscale);
+        const double d = double(row[static_cast<std::size_t>(c) * w + x]) - scene(img, c, tx[x], ty);
         sum[c] += d;
         sum2[c] += d * d;
         bsum[static_cast<std::size_t>(x / block) * ch + c] += d;

@@ -2,14 +2,14 @@
 # gdp blend at scale: peak memory against the canvas height, and thousands of small tiles (time per
 # tile, memory bounded). Wall and CPU seconds and peak RSS from /usr/bin/time -v. docs/blend.md has the figures.
 #
-#   bench/blend_scale.sh [height|tiles|big|all (height tiles)] [PHOTO]
+#   bench/blend_scale.sh [height|tiles|all (height tiles)] [PHOTO]
 #
 #   height: a WIDTH-wide canvas (-f; WIDTH=8192 unless set) WIDTH and 4 x WIDTH rows tall, 4 layers
 #           across (WIDTH x 5/16 pixels, 25 % overlap)
 #   tiles:  TILE x TILE tiles (TILE=512 unless set), 10 % overlap, 25 across and 10, 20, 40, 80 down
 #           (250 ... 2000 tiles), given as a --layers list as a microscope's stage positions would
 #           be (no canvas tags: each subset is a canvas of its own); least-squares slope
-#   big:    65536x40000 (past 2^31 pixels) of 4096-pixel layers to BigTIFF
+#   (a canvas past 2^31 pixels to BigTIFF: bench/blend_huge.sh)
 # Layers are cut from PHOTO (default: NASA's Blue Marble in ../shared/data) repeated mirrored at its
 # own resolution, each with an exposure offset (up to +-20/255) and a 10 % falloff to its corners.
 # Needs build/ (scripts/build.sh), or GDP_BIN=DIR holding copies of gdp and blend_layers (so a rebuild
@@ -74,18 +74,9 @@ tiles() {
   rm -rf "$d"
 }
 
-big() {
-  local d=$dir/big
-  mkdir -p "$d"
-  [ -f "$d/tiles.txt" ] || "$cutter" tiles "$photo" "$d" --tile 4608 --grid 17x10 --overlap 0.125 --offset 20 --vignette 0.1 --seed 9
-  run big "$d/tiles.txt" -f 65536x40000
-  rm -rf "$d"
-}
-
 case $what in
   height) height ;;
   tiles) tiles ;;
-  big) big ;;
   all) height; tiles ;;
-  *) echo "usage: bench/blend_scale.sh [height|tiles|big|all] [PHOTO]" >&2; exit 2 ;;
+  *) echo "usage: bench/blend_scale.sh [height|tiles|all] [PHOTO]" >&2; exit 2 ;;
 esac
