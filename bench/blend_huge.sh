@@ -12,8 +12,8 @@
 # measured by bench/measure_run.py (wall, user + sys, peak RSS); this script's own disk use (files in
 # the work directory and the unlinked scratch files gdp holds open there) is sampled every 10 s.
 # Checks: tiffdump says BigTIFF, tiffinfo the size and 4 samples (alpha); `blend_layers tiles-error`
-# streams the output against the scene: RMS error (mean removed) and the spread of 1024x1024 blocks'
-# mean errors (a level step left between layers would show there). Work directory:
+# streams the output against the scene: RMS error (mean removed) and the largest step between
+# neighbouring 256x256 blocks' mean errors (a level step left between layers, a seam, shows there). Work directory:
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-huge}, removed at the end unless KEEP=1. Needs build/ or GDP_BIN=DIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -14,7 +14,7 @@
 //       without holding it
 //   blend_layers tiles-error BLENDED PHOTO [--upscale N]
 //       as error, against the mirrored photo that tiles cut (a canvas of any size, streamed), and the
-//       spread of 1024x1024 blocks' mean errors (a level step between layers shows there)
+//       largest step between neighbouring 256x256 blocks' mean errors (a level step between layers)
 //   blend_layers error BLENDED ORIGINAL
 //       prints the RMS colour error (per value, 0..1) over the blend's covered pixels, each channel's
 //       mean difference removed, and the largest such error
@@ -255,25 +255,27 @@ void error(const std::string& blended, const std::string& original) {
   std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels\n", std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n);
 }
 
-// RMS error of a blend against the scene tiles cut (mean removed), streamed; and how far apart the
-// mean errors of 1024x1024 blocks lie (the largest minus the smallest, per channel, worst channel).
+// RMS error of a blend against the scene tiles cut (mean removed), streamed; and the largest step
+// between the mean errors of neighbouring 256x256 blocks (per channel): a level step left between
+// layers shows there, a smooth drift of the level does not.
 void tiles_error(const std::string& blended, const std::string& photo, int upscale) {
   const Image img = gdp::read_image(photo).image;
   gdp::ImageFileReader a(blended);
-  const int w = a.width(), ch = 3, block = 1024, bw = (w + block - 1) / block;
+  const int w = a.width(), ch = 3, block = 256, bw = (w + block - 1) / block;
   const bool alpha = a.channels() == 4;
   std::vector<float> row(static_cast<std::size_t>(a.channels()) * w);
   std::vector<double> sum(ch, 0.0), sum2(ch, 0.0), bsum(static_cast<std::size_t>(bw) * ch), bn(bw);
-  std::vector<double> lo(ch, 1e9), hi(ch, -1e9);
+  std::vector<double> above(bsum.size(), NAN), mean(bsum.size());
   const std::vector<Tap> tx = taps(0, w, img.width, upscale);
-  double n = 0.0;
+  double n = 0.0, step = 0.0;
   const auto close_blocks = [&] {
-    for (int b = 0; b < bw; ++b)
-      for (int c = 0; c < ch && bn[b] > 0; ++c) {
-        const double m = bsum[static_cast<std::size_t>(b) * ch + c] / bn[b];
-        lo[c] = std::min(lo[c], m);
-        hi[c] = std::max(hi[c], m);
-      }
+    for (std::size_t i = 0; i < mean.size(); ++i) mean[i] = bn[i / ch] > 0 ? bsum[i] / bn[i / ch] : NAN;
+    for (std::size_t i = 0; i < mean.size(); ++i) {
+      const double left = i >= static_cast<std::size_t>(ch) ? mean[i - ch] : NAN;
+      for (const double other : {left, above[i]})  // NaN (no neighbour, or an empty block) never counts
+        if (std::abs(mean[i] - other) > step) step = std::abs(mean[i] - other);
+    }
+    above = mean;
     std::fill(bsum.begin(), bsum.end(), 0.0);
     std::fill(bn.begin(), bn.end(), 0.0);
   };
@@ -293,13 +295,11 @@ void tiles_error(const std::string& blended, const std::string& photo, int upsca
     }
     if ((y + 1) % block == 0 || y + 1 == a.height()) close_blocks();
   }
-  double total = 0.0, spread = 0.0;
-  for (int c = 0; c < ch; ++c) {
-    total += sum2[c] / n - (sum[c] / n) * (sum[c] / n);
-    spread = std::max(spread, hi[c] - lo[c]);
-  }
-  std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels; block mean errors spread %.3f x255\n",
-              std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n, 255.0 * spread);
+  double total = 0.0;
+  for (int c = 0; c < ch; ++c) total += sum2[c] / n - (sum[c] / n) * (sum[c] / n);
+  std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels; largest step between neighbouring %dx%d blocks' mean "
+              "errors %.3f x255\n",
+              std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n, block, block, 255.0 * step);
 }
 
 }  // namespace
