@@ -6,8 +6,9 @@
 # Layers: TILE x TILE (TILE=4608) nona-style 8-bit RGBA TIFFs (XPOSITION/YPOSITION, LZW), 12.5 % overlap,
 # cut by `blend_layers tiles` from PHOTO (default: NASA's Blue Marble in ../shared/data) enlarged
 # UPSCALE times (UPSCALE=4: smooth enough to compress, so the layers take a few GB) and repeated
-# mirrored, each with an exposure offset up to +-20/255 (no vignetting: the error check below then
-# measures the blend alone). The grid covers the canvas; `-f` crops it. Then, under `nice -n 5`:
+# mirrored, its values mapped to [0.1, 0.9], each with an exposure offset up to +-20/255 (so nothing
+# clips) and no vignetting: the error check below then measures the blend alone. The grid covers the
+# canvas; `-f` crops it. Then, under `nice -n 5`:
 #   gdp blend -f WxH --stats ... $GDP_BLEND_OPTS (default: --half-scratch) -o out.tif tile_*.tif
 # measured by bench/measure_run.py (wall, user + sys, peak RSS); this script's own disk use (files in
 # the work directory and the unlinked scratch files gdp holds open there) is sampled every 10 s.
@@ -48,7 +49,7 @@ df -h "$dir" | tail -1
 
 start=$(date +%s.%N)
 "$cutter" tiles "$photo" "$dir" --tile "$tile" --grid "${cols}x$rows" --overlap 0.125 --offset 20 --vignette 0 \
-  --seed 9 --upscale "$up" > /dev/null
+  --seed 9 --upscale "$up" --headroom 0.1 > /dev/null
 echo "layers: $(ls "$dir"/tile_*.tif | wc -l) files, $(du -sh "$dir" | cut -f1), $(echo "$(date +%s.%N) - $start" | bc | cut -c1-6) s to make"
 
 # Disk held by this run: the work directory plus the unlinked scratch files gdp keeps open in it.
@@ -95,5 +96,5 @@ tiffinfo "$dir/out.tif" 2>/dev/null | grep -E "Image Width|Samples/Pixel|Extra S
 tiffinfo "$dir/out.tif" 2>/dev/null | grep -q "Image Width: $W Image Length: $H" || { echo "blend_huge: wrong size" >&2; exit 1; }
 tiffinfo "$dir/out.tif" 2>/dev/null | grep -q "Samples/Pixel: 4" || { echo "blend_huge: no alpha" >&2; exit 1; }
 start=$(date +%s.%N)
-"$cutter" tiles-error "$dir/out.tif" "$photo" --upscale "$up"
+"$cutter" tiles-error "$dir/out.tif" "$photo" --upscale "$up" --headroom 0.1
 echo "check: $(echo "$(date +%s.%N) - $start" | bc | cut -c1-6) s"

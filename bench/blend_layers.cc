@@ -6,13 +6,14 @@
 //       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size);
 //       --ghosts: N moving objects per layer (discs of one colour) near its edges, in the overlaps
 //   blend_layers tiles PHOTO OUTDIR [--tile T] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
-//                      [--upscale N]
+//                      [--upscale N] [--headroom H]
 //       writes OUTDIR/tile_NNNNN.tif (T x T layers with XPOSITION/YPOSITION but no canvas tags, no
 //       wavy edges: a microscopy slide's tiles)
 //       and OUTDIR/tiles.txt (a --layers list: file x y); the photo is repeated mirrored at its own
-//       resolution (--upscale N: the photo enlarged N times, bilinear, first), so any canvas size is cut
+//       resolution (--upscale N: the photo enlarged N times, bilinear, first; --headroom H: its values
+//       mapped to [H, 1 - H], so that offsets up to H do not clip), so any canvas size is cut
 //       without holding it
-//   blend_layers tiles-error BLENDED PHOTO [--upscale N]
+//   blend_layers tiles-error BLENDED PHOTO [--upscale N] [--headroom H]
 //       as error, against the mirrored photo that tiles cut (a canvas of any size, streamed), and the
 //       largest step between neighbouring 256x256 blocks' mean errors (a level step between layers)
 //   blend_layers error BLENDED ORIGINAL
@@ -44,6 +45,7 @@ struct Cut {
   int ghosts = 0;
   int tile = 0;  // tiles: the tile size (the canvas follows from grid and overlap)
   int upscale = 1;  // tiles: the photo enlarged this many times before it is repeated
+  double headroom = 0.0;  // tiles: the photo's values mapped to [headroom, 1 - headroom]
 };
 
 // A tile's exposure: a brightness offset and a falloff towards its corners.
@@ -191,6 +193,14 @@ std::vector<Tap> taps(long long from, int count, int pixels, int n) {
   return t;
 }
 
+// The photo tiles repeats, its values mapped to [headroom, 1 - headroom].
+Image scene_photo(const std::string& photo, double headroom) {
+  Image img = gdp::read_image(photo).image;
+  check(img.channels >= 3, "the photo must be RGB");
+  for (float& v : img.data) v = static_cast<float>(headroom + (1.0 - 2.0 * headroom) * v);
+  return img;
+}
+
 float scene(const Image& img, int c, const Tap& x, const Tap& y) {
   const float top = (1 - x.a) * img.at(c, x.i0, y.i0) + x.a * img.at(c, x.i1, y.i0);
   const float bottom = (1 - x.a) * img.at(c, x.i0, y.i1) + x.a * img.at(c, x.i1, y.i1);
@@ -198,8 +208,7 @@ float scene(const Image& img, int c, const Tap& x, const Tap& y) {
 }
 
 void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
-  const Image img = gdp::read_image(photo).image;
-  check(img.channels >= 3, "the photo must be RGB");
+  const Image img = scene_photo(photo, o.headroom);
   const int t = o.tile;
   const double step = t * (1.0 - o.overlap);
   const int W = static_cast<int>(std::lround((o.cols - 1) * step)) + t, H = static_cast<int>(std::lround((o.rows - 1) * step)) + t;
@@ -258,8 +267,9 @@ void error(const std::string& blended, const std::string& original) {
 // RMS error of a blend against the scene tiles cut (mean removed), streamed; and the largest step
 // between the mean errors of neighbouring 256x256 blocks (per channel): a level step left between
 // layers shows there, a smooth drift of the level does not.
-void tiles_error(const std::string& blended, const std::string& photo, int upscale) {
-  const Image img = gdp::read_image(photo).image;
+void tiles_error(const std::string& blended, const std::string& photo, const Cut& o) {
+  const Image img = scene_photo(photo, o.headroom);
+  const int upscale = o.upscale;
   gdp::ImageFileReader a(blended);
   const int w = a.width(), ch = 3, block = 256, bw = (w + block - 1) / block;
   const bool alpha = a.channels() == 4;
@@ -312,7 +322,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (a.size() < 3 || (a[0] != "cut" && a[0] != "tiles" && a[0] != "tiles-error")) {
-      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers tiles-error BLENDED PHOTO [--upscale N] | blend_layers error BLENDED ORIGINAL\n");
+      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers tiles-error BLENDED PHOTO [--upscale N] [--headroom H] | blend_layers error BLENDED ORIGINAL\n");
       return 2;
     }
     Cut o;
@@ -328,10 +338,11 @@ int main(int argc, char** argv) {
       else if (k == "--seed") o.seed = static_cast<unsigned>(std::stoul(v));
       else if (k == "--ghosts") o.ghosts = std::stoi(v);
       else if (k == "--upscale") o.upscale = std::max(1, std::stoi(v));
+      else if (k == "--headroom") o.headroom = std::stod(v);
       else throw std::runtime_error("unknown option " + k);
     }
     if (a[0] == "tiles-error") {
-      tiles_error(a[1], a[2], o.upscale);
+      tiles_error(a[1], a[2], o);
     } else if (a[0] == "tiles") {
       if (o.tile < 1) o.tile = 512;
       tiles(a[1], a[2], o);
