@@ -50,11 +50,11 @@ df -h "$dir" | tail -1
 start=$(date +%s.%N)
 "$cutter" tiles "$photo" "$dir" --tile "$tile" --grid "${cols}x$rows" --overlap 0.125 --offset 20 --vignette 0 \
   --seed 9 --upscale "$up" --headroom 0.1 > /dev/null
-echo "layers: $(ls "$dir"/tile_*.tif | wc -l) files, $(du -sh "$dir" | cut -f1), $(echo "$(date +%s.%N) - $start" | bc | cut -c1-6) s to make"
+echo "layers: $(find "$dir" -name "tile_*.tif" | wc -l) files, $(du -sh "$dir" | cut -f1), $(echo "$(date +%s.%N) - $start" | bc | cut -c1-6) s to make"
 
 # Disk held by this run: the work directory plus the unlinked scratch files gdp keeps open in it.
 sample_disk() {
-  local peak=0 now pid
+  local peak=0 now fd
   while sleep 10; do
     now=$(du -sB1 "$dir" | cut -f1)
     for fd in $(pgrep -f "gdp blend .*$dir" | sed 's|.*|/proc/&/fd/*|'); do
