@@ -84,8 +84,8 @@ TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {
 
 TEST(ScratchBudget, QuantityEncodingsPickTheLongestMatchingName) {
   StorePolicy policy;
-  policy.quantity_encoding["u"] = StoreEncoding::Half;
-  policy.quantity_encoding["level0-u"] = StoreEncoding::Native;
+  policy.half.named["u"] = true;
+  policy.half.named["level0-u"] = false;
   EXPECT_EQ(policy.encoding_of("level3-u"), StoreEncoding::Half);
   EXPECT_EQ(policy.encoding_of("level0-u"), StoreEncoding::Native);
   EXPECT_EQ(policy.encoding_of("u"), StoreEncoding::Half);
@@ -158,10 +158,10 @@ TEST(ScratchBudget, HalfScratchIsEveryQuantityHalfButTheReusedFinestB) {
   for (int cycles : {1, 2}) {
     SolverOptions o = every_level_streamed();
     o.vcycles = cycles;
-    o.half_scratch = true;
+    o.scratch = ScratchPrecision::Narrow;
     test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar), src3(img, Domain::Planar);
     const Image all = solve(src1, o);
-    o.half_scratch = false;
+    o.scratch = ScratchPrecision::Float;
     o.half_quantities = {"u", "w", "result"};
     for (int l = 1; l < 8; ++l) o.half_quantities.push_back("level" + std::to_string(l) + "-b");
     if (cycles == 1) o.half_quantities.push_back("level0-b");

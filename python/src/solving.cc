@@ -41,7 +41,9 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("coarsest", s.coarsest_size);
   kw.take("incore_bytes", s.incore_bytes);
   kw.take("temp", s.temp_dir);
-  kw.take("half_scratch", s.half_scratch);
+  bool half_scratch = false;  // the library's default is float scratch (gdp/solver.h)
+  kw.take("half_scratch", half_scratch);
+  if (half_scratch) s.scratch = ScratchPrecision::Narrow;
   kw.take("memory", s.scratch_memory);
   bool double_precision = false;
   kw.take("double", double_precision);

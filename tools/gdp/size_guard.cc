@@ -47,7 +47,7 @@ void guard_sizes(const CommonOptions& o, const SolverOptions* solver, bool in_me
   const double scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
   const bool in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
   const bool scratch = solver && !in_core;
-  const double disk_per_sample = kScratchPerSample * scale * (solver && solver->half_scratch ? 0.5 : 1.0);
+  const double disk_per_sample = kScratchPerSample * scale * (solver && solver->scratch == ScratchPrecision::Narrow ? 0.5 : 1.0);
   std::filesystem::path dir;
   if (scratch) dir = solver->temp_dir.empty() ? std::filesystem::temp_directory_path() : solver->temp_dir;
   set_size_check([=](long long width, long long height, int channels) {
