@@ -23,8 +23,8 @@ enum class Precision { Float32, Float64 };
 // "Which quantities can be half floats").
 enum class ScratchPrecision {
   Float,   // the kernel's own precision: the exact solver (the library's default)
-  Narrow,  // 16-bit floats but for the finest b when more V-cycles reuse it and the carried result
-           // when iterating to a tolerance: half the scratch at no measurable cost (the CLI's default)
+  Narrow,  // 16-bit floats but for the finest b and u when more V-cycles may run and the carried
+           // result when iterating to a tolerance: half the scratch of one V-cycle (the CLI's default)
 };
 // "float" or "narrow"; UsageError naming the text otherwise.
 ScratchPrecision parse_scratch_precision(const std::string& text);

@@ -31,7 +31,10 @@ HalfPolicy half_policy(const SolverOptions& opt) {
     p.all = true;
     // The finest b is the problem's data, kept for later V-cycles: as half floats it moves their
     // answer by 2e-3 of the range (100x one V-cycle's error; docs/how-streaming-works.md).
-    if (opt.cycle_cap() > 1) p.named["level0-b"] = false;
+    // The finest u as half floats caps later cycles' error at about one cycle's (2.5e-5 of the
+    // range against 6e-6) and stalls --tolerance near a relative residual of 2e-5: more V-cycles
+    // are asked for accuracy, so both stay float then.
+    if (opt.cycle_cap() > 1) p.named["level0-b"] = p.named["level0-u"] = false;
     // Iterating to a tolerance, the carried result is the answer when the next cycle is not run.
     if (opt.tolerance > 0.0) p.named["result"] = false;
   }

@@ -25,9 +25,10 @@ struct HalfPolicy {
   bool any() const;
 };
 
-// The policy `opt` asks for: ScratchPrecision::Narrow is every quantity but the finest b when
-// more than one V-cycle may run (then later cycles would solve a rounded problem) and the carried
-// result when iterating to a tolerance (then it may be the answer); half_quantities add to it.
+// The policy `opt` asks for: ScratchPrecision::Narrow is every quantity but the finest b and u
+// when more than one V-cycle may run (later cycles would solve a rounded problem, and be no more
+// accurate than one) and the carried result when iterating to a tolerance (then it may be the
+// answer); half_quantities add to it.
 HalfPolicy half_policy(const SolverOptions& opt);
 
 // Samples to and from 16-bit floats (round to nearest even) and both in place: the one
