@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/scratch_flags.h"
 #include "gdp/solver.h"
 #include "bands/solve_streamed.h"
 #include "schedule/scratch_budget.h"
@@ -63,6 +64,13 @@ ScratchPrecision parse_scratch_precision(const std::string& text) {
   if (text == "float") return ScratchPrecision::Float;
   if (text == "narrow") return ScratchPrecision::Narrow;
   throw UsageError(fmt::format("--scratch must be float or narrow, got '{}'", text));
+}
+
+ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scratch, bool double_precision) {
+  if (half_scratch && scratch == "float") throw UsageError("--half-scratch is --scratch narrow, not float");
+  if (half_scratch) return ScratchPrecision::Narrow;
+  if (!scratch.empty()) return parse_scratch_precision(scratch);
+  return double_precision ? ScratchPrecision::Float : ScratchPrecision::Narrow;
 }
 
 void ScheduleFlags::apply(SolverOptions& options) const {

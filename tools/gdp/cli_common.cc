@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/scratch_flags.h"
 #include "gdp/size_check.h"
 #include "cli_checkpoint.h"
 #include "size_guard.h"
@@ -145,13 +146,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
   if (!o.memory.empty()) s.scratch_memory = parse_memory_size(o.memory);
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
-  if (o.half_scratch && o.scratch == "float") throw UsageError("--half-scratch is --scratch narrow, not float");
-  // Images written to files take narrow scratch unless told (docs/how-streaming-works.md); double
-  // precision asks for the exact solver.
-  s.scratch = o.half_scratch ? ScratchPrecision::Narrow
-              : !o.scratch.empty() ? parse_scratch_precision(o.scratch)
-              : o.double_precision ? ScratchPrecision::Float
-                                   : ScratchPrecision::Narrow;
+  s.scratch = app_scratch_precision(o.scratch, o.half_scratch, o.double_precision);
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   s.progress = progress_line(o, command + ": solving");
   if (o.app) apply_checkpoint_options(*o.app, command, o.checkpoint, o.resume, s);
