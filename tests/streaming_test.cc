@@ -132,15 +132,16 @@ TEST(Streaming, IteratingToAToleranceMatchesInCore) {
   expect_same_iterations(o);
 }
 
-// Narrow scratch iterating to a tolerance: the same cycles and bits (the carried result stays
-// float, it may be the answer; with "result" named half it is rounded alike).
+// Narrow scratch iterating to a tolerance: the same cycles and bits (the finest u and b and the
+// carried result stay float; named half, they are rounded alike). 1e-5: float32 scratch or not,
+// this problem's relative residual levels off near 2.7e-6.
 TEST(Streaming, NarrowScratchToAToleranceMatchesInCore) {
   for (const bool half_result : {false, true}) {
-    SCOPED_TRACE(half_result ? "result half" : "result float");
+    SCOPED_TRACE(half_result ? "result half" : "narrow");
     SolverOptions o;
     o.scratch = ScratchPrecision::Narrow;
-    if (half_result) o.half_quantities = {"result"};
-    o.tolerance = 1e-6;
+    if (half_result) o.half_quantities = {"result", "level1-u", "level1-b"};
+    o.tolerance = half_result ? 1e-4 : 1e-5;
     expect_same_iterations(o);
   }
 }
