@@ -74,7 +74,7 @@ int main(int argc, char** argv) try {
       run(half.empty() ? "(none)" : name, o);
     }
     SolverOptions o;
-    o.half_scratch = true;
+    o.scratch = ScratchPrecision::Narrow;
     run("--half-scratch", o);
   }
   return 0;

@@ -15,7 +15,8 @@
 # Per SIZE, bench/make_composite cuts a SIZE x SIZE composite and label map (PNG, 8-bit) from a real
 # photo (../shared/data, named in one line when missing) and the photo without the exposure offsets
 # (the held-out truth). Runs alternate gdp, DMG, gdp, DMG ... N times each:
-#   gdp: gdp stitch --threads 2 (streaming, its defaults: 3 sweeps, 1 V-cycle, float scratch)
+#   gdp: gdp stitch --threads 2 (streaming, its defaults: 3 sweeps, 1 V-cycle, narrow scratch;
+#        the tables in docs/vs-dmg.md before it became the default: GDP_ARGS="--scratch float")
 #   DMG: ServerSocket --count 1 --verbose + ClientSocket --threads 2 on 127.0.0.1 (streaming, no --inCore;
 #        its defaults: 5 Gauss-Seidel iterations, 1 V-cycle, half-float scratch, inCoreRes 1024)
 # both writing a 16-bit uncompressed TIFF, scratch in the same directory. Costs come from

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/scratch_flags.h"
 #include "gdp/solver.h"
 #include "bands/solve_streamed.h"
 #include "schedule/scratch_budget.h"
@@ -49,7 +50,7 @@ void SolverOptions::validate() const {
   if (coarsest_size < 1) throw UsageError(fmt::format("coarsest size must be positive, got {}", coarsest_size));
   if (bands < 1) throw UsageError(fmt::format("--bands must be at least 1, got {}", bands));
   if (threads < 1) throw UsageError(fmt::format("--threads must be at least 1, got {}", threads));
-  if ((half_scratch || !half_quantities.empty()) && precision == Precision::Float64)
+  if ((scratch != ScratchPrecision::Float || !half_quantities.empty()) && precision == Precision::Float64)
     throw UsageError("half-float scratch would throw away double precision: use one or the other");
   std::error_code ec;
   if (!temp_dir.empty() && !std::filesystem::is_directory(temp_dir, ec))
@@ -57,6 +58,19 @@ void SolverOptions::validate() const {
   if (resume && checkpoint_dir.empty()) throw UsageError("resuming needs the checkpoint's directory");
   if (!checkpoint_dir.empty() && schedule == Schedule::InCore)
     throw UsageError("--checkpoint and --resume need the streaming schedule: they do not combine with --in-core");
+}
+
+ScratchPrecision parse_scratch_precision(const std::string& text) {
+  if (text == "float") return ScratchPrecision::Float;
+  if (text == "narrow") return ScratchPrecision::Narrow;
+  throw UsageError(fmt::format("--scratch must be float or narrow, got '{}'", text));
+}
+
+ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scratch, bool double_precision) {
+  if (half_scratch && scratch == "float") throw UsageError("--half-scratch is --scratch narrow, not float");
+  if (half_scratch) return ScratchPrecision::Narrow;
+  if (!scratch.empty()) return parse_scratch_precision(scratch);
+  return double_precision ? ScratchPrecision::Float : ScratchPrecision::Narrow;
 }
 
 void ScheduleFlags::apply(SolverOptions& options) const {

@@ -47,6 +47,15 @@ TEST_F(BandsCli, OneBandIsTheDefaultByteForByte) {
     const std::string a = file_bytes(path("default.tif")), b = file_bytes(path("one.tif"));
     EXPECT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << "--bands 1 differs from the default";
+    // The default's narrow scratch is rounded alike in-core; --scratch float: one band is the default too.
+    r = gdp(common + path("in_core.tif") + " --in-core");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(a == file_bytes(path("in_core.tif"))) << "--in-core differs from the default";
+    r = gdp(common + path("float.tif") + " --scratch float");
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = gdp(common + path("float1.tif") + " --scratch float --bands 1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(file_bytes(path("float.tif")) == file_bytes(path("float1.tif"))) << "--scratch float, --bands 1";
   }
 }
 

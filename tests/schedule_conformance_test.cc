@@ -18,11 +18,13 @@ struct Conformance {
   Domain domain;
   int width, height;
   Precision precision;
+  ScratchPrecision scratch = ScratchPrecision::Float;  // Narrow: half floats rounded alike by every schedule
 };
 
 void PrintTo(const Conformance& k, std::ostream* os) {
   *os << (k.domain == Domain::Planar ? "planar " : k.domain == Domain::Cylindrical ? "cylindrical " : "spherical ")
-      << k.width << "x" << k.height << (k.precision == Precision::Float64 ? " double" : " float");
+      << k.width << "x" << k.height << (k.precision == Precision::Float64 ? " double" : " float")
+      << (k.scratch == ScratchPrecision::Narrow ? " narrow scratch" : "");
 }
 
 constexpr int kChannels = 3;
@@ -66,6 +68,7 @@ Image solve_as(const Conformance& k, const Image& img, const Config& r, SolveSum
   SolverOptions o;
   o.domain = k.domain;
   o.precision = k.precision;
+  o.scratch = k.scratch;
   o.vcycles = 2;
   o.coarsest_size = 8;
   o.incore_bytes = 4096;  // several streamed levels even on these small images
@@ -122,7 +125,10 @@ INSTANTIATE_TEST_SUITE_P(
                       Conformance{Domain::Cylindrical, 160, 64, Precision::Float32},
                       Conformance{Domain::Cylindrical, 160, 64, Precision::Float64},
                       Conformance{Domain::Spherical, 256, 64, Precision::Float32},
-                      Conformance{Domain::Spherical, 256, 64, Precision::Float64}));
+                      Conformance{Domain::Spherical, 256, 64, Precision::Float64},
+                      Conformance{Domain::Planar, 150, 70, Precision::Float32, ScratchPrecision::Narrow},
+                      Conformance{Domain::Cylindrical, 160, 64, Precision::Float32, ScratchPrecision::Narrow},
+                      Conformance{Domain::Spherical, 256, 64, Precision::Float32, ScratchPrecision::Narrow}));
 
 }  // namespace
 }  // namespace gdp

@@ -84,8 +84,8 @@ TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {
 
 TEST(ScratchBudget, QuantityEncodingsPickTheLongestMatchingName) {
   StorePolicy policy;
-  policy.quantity_encoding["u"] = StoreEncoding::Half;
-  policy.quantity_encoding["level0-u"] = StoreEncoding::Native;
+  policy.half.named["u"] = true;
+  policy.half.named["level0-u"] = false;
   EXPECT_EQ(policy.encoding_of("level3-u"), StoreEncoding::Half);
   EXPECT_EQ(policy.encoding_of("level0-u"), StoreEncoding::Native);
   EXPECT_EQ(policy.encoding_of("u"), StoreEncoding::Half);
@@ -151,20 +151,21 @@ TEST(ScratchBudget, EveryBudgetGivesTheSameBits) {
   }
 }
 
-// half_scratch is every quantity as half floats, named one by one, but for the finest b when
-// more V-cycles reuse it.
-TEST(ScratchBudget, HalfScratchIsEveryQuantityHalfButTheReusedFinestB) {
+// Narrow scratch is every quantity as half floats, named one by one, but for the finest b and u
+// when more V-cycles may run.
+TEST(ScratchBudget, NarrowScratchIsEveryQuantityHalfButTheFinestWhenMoreCyclesRun) {
   const Image img = test::random_image(90, 70, 1, 8);
   for (int cycles : {1, 2}) {
     SolverOptions o = every_level_streamed();
     o.vcycles = cycles;
-    o.half_scratch = true;
+    o.scratch = ScratchPrecision::Narrow;
     test::ExactGradients src1(img, Domain::Planar), src2(img, Domain::Planar), src3(img, Domain::Planar);
     const Image all = solve(src1, o);
-    o.half_scratch = false;
-    o.half_quantities = {"u", "w", "result"};
-    for (int l = 1; l < 8; ++l) o.half_quantities.push_back("level" + std::to_string(l) + "-b");
-    if (cycles == 1) o.half_quantities.push_back("level0-b");
+    o.scratch = ScratchPrecision::Float;
+    o.half_quantities = {"w", "result"};
+    for (int l = 1; l < 8; ++l)
+      for (const char* q : {"-u", "-b"}) o.half_quantities.push_back("level" + std::to_string(l) + q);
+    if (cycles == 1) o.half_quantities.insert(o.half_quantities.end(), {"level0-u", "level0-b"});
     const Image named = solve(src2, o);
     EXPECT_EQ(std::memcmp(all.data.data(), named.data.data(), all.data.size() * sizeof(float)), 0) << cycles;
     o.half_quantities = {"level0-u"};

@@ -132,7 +132,7 @@ TEST(Weights, StreamingIsBitIdenticalToInCore) {
     EXPECT_EQ(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)), 0)
         << "domain " << int(domain) << ": max difference " << test::max_difference(a, b);
     // Half-float scratch: the diagonal is kept exact (pinned entries exceed half's range).
-    o.half_scratch = true;
+    o.scratch = ScratchPrecision::Narrow;
     WeightedGuidance c_src(f, g, mixed_weight);
     const Image c = solve(c_src, o);
     EXPECT_LT(test::max_difference(a, c), 2e-3);

@@ -17,6 +17,18 @@ namespace gdp {
 
 enum class Precision { Float32, Float64 };
 
+// How a V-cycle keeps what its second pass reads back (u and b of every level, the finest
+// weights, the result carried between V-cycles). Part of the numerics: every schedule rounds the
+// same quantities at the same points, so they agree bit for bit (docs/how-streaming-works.md,
+// "Which quantities can be half floats").
+enum class ScratchPrecision {
+  Float,   // the kernel's own precision: the exact solver (the library's default)
+  Narrow,  // 16-bit floats but for the finest b and u when more V-cycles may run and the carried
+           // result when iterating to a tolerance: half the scratch of one V-cycle (the CLI's default)
+};
+// "float" or "narrow"; UsageError naming the text otherwise.
+ScratchPrecision parse_scratch_precision(const std::string& text);
+
 // The default scratch budget (SolverOptions::scratch_memory, --memory): a quarter of the
 // machine's physical memory.
 std::size_t default_scratch_memory();
@@ -47,9 +59,12 @@ struct SolverOptions {
   Schedule schedule = Schedule::Streaming;
   int bands = 1;              // Schedule::Bands: bands (worker threads) in this process
   std::filesystem::path temp_dir;  // streaming scratch files (empty: the system's temporary directory)
-  bool half_scratch = false;       // keep streamed rows between passes as 16-bit floats
-  // Only these quantities as 16-bit floats ("u", "b", "w", "result", or one level's: "level0-u";
-  // docs/how-streaming-works.md measures each); half_scratch: all of them.
+  // Float keeps the library an exact solver (callers with manufactured solutions, double
+  // precision, or data that is not an image get float's answer); applications writing images opt
+  // into Narrow (docs/how-streaming-works.md). Float64 allows Float only.
+  ScratchPrecision scratch = ScratchPrecision::Float;
+  // These quantities as 16-bit floats too ("u", "b", "w", "result", or one level's: "level0-u";
+  // docs/how-streaming-works.md measures each).
   std::vector<std::string> half_quantities;
   // Bytes of scratch rows that all solves of the process together keep in memory; stores beyond it
   // go to files in temp_dir (0: always files). With checkpoint_dir, stores are files regardless.

@@ -8,7 +8,7 @@ namespace gdp::python::docs {
   "(> 0: V-cycles until the relative residual is below it), threads (default: all cores), coarsest=64, "          \
   "domain='planar'|'cylindrical'|'spherical', sphere=False (a 2:1 equirectangular input is resampled to PQ, "      \
   "solved there and resampled back; a 4:1 PQ input is solved in place), pq_height=0, double=False, "              \
-  "in_core=False, incore_bytes=8 MiB, bands=0, temp=None (scratch directory), half_scratch=False, "  \
+  "in_core=False, incore_bytes=8 MiB, bands=0, temp=None (scratch directory), scratch='float' ('narrow': the CLI's default), half_scratch=False, "  \
   "memory=bytes (scratch kept in memory by the process, default a quarter of physical memory; 0: files), "              \
   "verbose=False (residuals per level and V-cycle on sys.stderr), log=callable(line), "                          \
   "progress=callable(fraction) (called with increasing fractions up to 1.0; raising in it stops the solve), "      \

@@ -8,6 +8,8 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "gdp/scratch_flags.h"
+
 namespace py = pybind11;
 
 namespace gdp::python {
@@ -41,11 +43,18 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("coarsest", s.coarsest_size);
   kw.take("incore_bytes", s.incore_bytes);
   kw.take("temp", s.temp_dir);
-  kw.take("half_scratch", s.half_scratch);
+  // The library's float scratch unless scratch="narrow" or half_scratch=True (the CLI's default is
+  // narrow: docs/how-streaming-works.md, "Who gets which").
+  std::string scratch;
+  bool half_scratch = false;
+  kw.take("scratch", scratch);
+  kw.take("half_scratch", half_scratch);
+  if (scratch.empty() && !half_scratch) scratch = "float";
   kw.take("memory", s.scratch_memory);
   bool double_precision = false;
   kw.take("double", double_precision);
   s.precision = double_precision ? Precision::Float64 : Precision::Float32;
+  s.scratch = app_scratch_precision(scratch, half_scratch, double_precision);
   kw.take("domain", a.flags.domain);
   kw.take("sphere", a.flags.sphere);
   kw.take("pq_height", a.flags.pq_height);

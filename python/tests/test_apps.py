@@ -32,7 +32,7 @@ def test_smooth_reduces_detail_and_sharpen_adds_it():
 def test_sharpen_array_equals_cli(tmp_path, cli):
     image = (scene(90, 110, 3) * 65535).astype(np.uint16)
     gdp.write_image(tmp_path / "in.tif", image)
-    code, err = cli("sharpen", tmp_path / "in.tif", "-o", tmp_path / "cli.tif", "--depth", "float", "--beta", "1.7",
+    code, err = cli("sharpen", "--scratch", "float", tmp_path / "in.tif", "-o", tmp_path / "cli.tif", "--depth", "float", "--beta", "1.7",
                     "--scale", "12", "-q")
     assert code == 0, err
     assert np.array_equal(gdp.sharpen(image, beta=1.7, scale=12), gdp.read_image(tmp_path / "cli.tif"))
@@ -92,7 +92,7 @@ def test_sphere_solve_on_equirect_arrays():
 def test_sphere_arrays_equal_cli(tmp_path, cli):
     image = (scene(64, 128, 3) * 255).astype(np.uint8)  # equirectangular 2:1
     gdp.write_image(tmp_path / "in.png", image)
-    code, err = cli("smooth", tmp_path / "in.png", "-o", tmp_path / "cli.tif", "--sphere", "--depth", "float", "-q")
+    code, err = cli("smooth", "--scratch", "float", tmp_path / "in.png", "-o", tmp_path / "cli.tif", "--sphere", "--depth", "float", "-q")
     assert code == 0, err
     assert np.array_equal(gdp.smooth(image, sphere=True), gdp.read_image(tmp_path / "cli.tif"))
     code, err = cli("sphere", "to-pq", tmp_path / "in.png", "-o", tmp_path / "pq.tif", "--depth", "float",

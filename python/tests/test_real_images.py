@@ -18,7 +18,7 @@ def test_stitch_of_a_photo_equals_cli(tmp_path, cli):
     composite = np.clip(np.round(photo * gain), 0, 255).astype(np.uint8)
     gdp.write_image(tmp_path / "c.png", composite)
     gdp.write_image(tmp_path / "l.png", labels)
-    code, err = cli("stitch", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
+    code, err = cli("stitch", "--scratch", "float", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
                     "--depth", "float", "--vcycles", "2", "-q")
     assert code == 0, err
     assert np.array_equal(gdp.stitch(composite, labels, vcycles=2), gdp.read_image(tmp_path / "cli.tif"))
@@ -26,7 +26,7 @@ def test_stitch_of_a_photo_equals_cli(tmp_path, cli):
 
 def test_clone_of_photos_equals_cli(tmp_path, cli):
     files = [DATA / "dip2018" / n for n in ("test2_target_crop.png", "test2_src.png", "test2_mask.png")]
-    code, err = cli("clone", "-t", files[0], "-s", files[1], "-m", files[2], "--offset", "4,14", "-o",
+    code, err = cli("clone", "--scratch", "float", "-t", files[0], "-s", files[1], "-m", files[2], "--offset", "4,14", "-o",
                     tmp_path / "cli.tif", "--depth", "float", "-q")
     assert code == 0, err
     target, source, mask = (gdp.read_image(f) for f in files)

@@ -8,7 +8,7 @@ def test_stitch_array_equals_cli_bit_for_bit(tmp_path, cli, composite):
     image, labels = composite
     gdp.write_image(tmp_path / "c.png", image)
     gdp.write_image(tmp_path / "l.png", labels)
-    code, err = cli("stitch", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
+    code, err = cli("stitch", "--scratch", "float", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
                     "--depth", "float", "-q")
     assert code == 0, err
     expected = gdp.read_image(tmp_path / "cli.tif")
@@ -26,7 +26,7 @@ def test_stitch_options_match_cli(tmp_path, cli, composite):
     gdp.write_image(tmp_path / "c.png", image)
     gdp.write_image(tmp_path / "l.png", labels)
     flags = ["--unknown", "black", "--deramp", "--vcycles", "2", "--iters", "2", "--in-core", "--double"]
-    code, err = cli("stitch", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
+    code, err = cli("stitch", "--scratch", "float", "-c", tmp_path / "c.png", "-l", tmp_path / "l.png", "-o", tmp_path / "cli.tif",
                     "--depth", "float", "-q", *flags)
     assert code == 0, err
     result = gdp.stitch(image, labels, unknown="black", deramp=True, vcycles=2, iters=2, in_core=True, double=True)

@@ -38,7 +38,8 @@ void tonemap(RowReader& in, const TonemapOptions& options, const SolverOptions& 
   policy.dir = solver.temp_dir;
   policy.budget = &schedule::ScratchBudget::process();  // the pyramid in memory while it fits
   policy.budget->set_limit(solver.scratch_memory);
-  if (solver.half_scratch) policy.encoding = schedule::StoreEncoding::Half;
+  // Its own stores (the log-luminance pyramid, the solved rows) keep floats: outside the
+  // V-cycle, their rounding was never measured (solver.scratch is the V-cycle's).
   const Domain domain = solver.domain;
 
   // Pass 1: the pyramid of log luminance and each level's mean gradient; then Phi of levels >= 1.

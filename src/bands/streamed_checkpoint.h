@@ -106,7 +106,7 @@ std::unique_ptr<StreamedCheckpoint> open_streamed_checkpoint(const SolverOptions
                                                              schedule::StorePolicy& stores) {
   if (opt.checkpoint_dir.empty()) return nullptr;
   const std::string sizes = fmt::format("{} {} {} {} {} {}", ops.levels[0].width, ops.levels[0].height, channels,
-                                        ops.count(), sizeof(T), opt.half_scratch ? "half" : "native");
+                                        ops.count(), sizeof(T), stores.half.any() ? "half" : "native");
   const std::string counts = fmt::format("{} bands on {} ranks", bands, MpiRun::size());
   auto cp = std::make_unique<StreamedCheckpoint>(opt, sizes + " | " + counts, local, first, groups);
   stores.keep_dir = opt.checkpoint_dir;

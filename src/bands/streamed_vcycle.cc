@@ -73,7 +73,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
     if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
       schedule::StorePolicy exact = set_.stores;
-      exact.encoding = schedule::StoreEncoding::Native;
+      exact.half = {};
       L->d_store = std::make_unique<schedule::RowStore<T>>(exact, L->len, op.height, name + "-d");
     }
     levels_.push_back(std::move(L));
@@ -109,8 +109,10 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
     if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
     if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
-    if (band_ == 0)
+    if (band_ == 0) {
       tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, base_ + layout.levels);
+      tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
+    }
   }
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(channels);

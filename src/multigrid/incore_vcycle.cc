@@ -58,11 +58,10 @@ InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse
 }
 
 template <class T>
-void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Plane<T>>* weights,
-                          CycleProbe* probe) {
+void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
   const int levels = ops_.count();
   auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
-  auto B = [&](int l) -> const Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
+  auto B = [&](int l) -> Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
 
@@ -74,6 +73,8 @@ void InCoreVCycle<T>::run(Plane<T>& u0, const Plane<T>& b0, const std::vector<Pl
     const double rr = descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots);
     if (weights && probe) probe->dots.push_back(dots);
     if (probe) probe->level_norms.push_back(std::sqrt(rr));
+    if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
+    if (!half_b_.empty() && half_b_[l - first_]) round_to_half(B(l).data.data(), B(l).data.size());
   }
 
   {  // Coarsest level: conjugate gradients in double precision.
@@ -157,6 +158,17 @@ void InCoreVCycle<T>::set_diagonal(const std::vector<Plane<T>>* diag) {
   coarse_diag_ = Plane<double>(coarsest.width, coarsest.height);
   std::copy(coarsest.data.begin(), coarsest.data.end(), coarse_diag_.data.begin());
   coarse_inverse_ = inverse_diagonal(ops_.coarsest, coarse_diag_);
+}
+
+template <class T>
+void InCoreVCycle<T>::set_half(const HalfPolicy* half) {
+  half_u_.clear();
+  half_b_.clear();
+  if (!half || !half->any()) return;
+  for (int l = first_; l < ops_.count(); ++l) {
+    half_u_.push_back(half->rounds(l, "u"));
+    half_b_.push_back(half->rounds(l, "b"));
+  }
 }
 
 template <class T>

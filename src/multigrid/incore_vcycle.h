@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "multigrid/half_policy.h"
 #include "multigrid/hierarchy.h"
 #include "multigrid/plane.h"
 #include "multigrid/window_ops.h"
@@ -46,14 +47,17 @@ class InCoreVCycle {
  public:
   InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first = 0);
   // One V-cycle for A u = b on level `first`, updating u. `weights` (restrict_weights(), may be
-  // null) and `probe` (may be null) as described at CycleProbe.
-  void run(Plane<T>& u, const Plane<T>& b, const std::vector<Plane<T>>* weights = nullptr,
-           CycleProbe* probe = nullptr);
+  // null) and `probe` (may be null) as described at CycleProbe. b is rounded in place where the
+  // half policy says (the streamed V-cycle's stored b is what later cycles read).
+  void run(Plane<T>& u, Plane<T>& b, const std::vector<Plane<T>>* weights = nullptr, CycleProbe* probe = nullptr);
   // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
   // A per-pixel diagonal term (window_ops.h) on every level: (*diag)[l - first] for level l
   // (restrict_weights() of the finest level's), or null for none. Not owned.
   void set_diagonal(const std::vector<Plane<T>>* diag);
+  // Rounds each level's u and b to half floats after its restriction where `half` says
+  // (half_policy.h), as the streamed V-cycle's stores do. Not owned; null: none.
+  void set_half(const HalfPolicy* half);
 
  private:
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
@@ -65,6 +69,7 @@ class InCoreVCycle {
   double coarse_tolerance_;
   int first_;
   const std::vector<Plane<T>>* diag_ = nullptr;
+  std::vector<char> half_u_, half_b_;  // per level from `first`: rounded after restriction
   Plane<double> coarse_diag_;           // the coarsest level's diagonal term in double ...
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "gdp/solver.h"
+#include "multigrid/half_policy.h"
 #include "schedule/row_store.h"
 
 namespace gdp::schedule {
@@ -21,7 +22,7 @@ struct CycleSettings {
 
 // The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
 // singular problems, scratch in the process's budget and then in opt.temp_dir (half floats with
-// opt.half_scratch, or for opt.half_quantities).
+// multigrid::half_policy(opt), which the in-core V-cycle applies alike).
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s;
   s.channels = channels;
@@ -33,11 +34,7 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   s.more_cycles = opt.cycle_cap() > 1;
   s.stores.dir = opt.temp_dir;
   s.stores.budget = &ScratchBudget::process();
-  s.stores.encoding = opt.half_scratch ? StoreEncoding::Half : StoreEncoding::Native;
-  // The finest b is the problem's data, kept for later V-cycles: as half floats it moves their
-  // answer by 2e-3 of the range (100x one V-cycle's error; docs/how-streaming-works.md).
-  if (opt.half_scratch && s.more_cycles) s.stores.quantity_encoding["level0-b"] = StoreEncoding::Native;
-  for (const std::string& q : opt.half_quantities) s.stores.quantity_encoding[q] = StoreEncoding::Half;
+  s.stores.half = multigrid::half_policy(opt);
   return s;
 }
 

@@ -18,17 +18,6 @@ namespace {
 
 constexpr std::size_t kFileBuffer = std::size_t{1} << 20;
 
-#define GDP_CONVERT __attribute__((target_clones("arch=x86-64-v3", "default")))
-
-template <class T>
-GDP_CONVERT void to_half(const T* in, _Float16* out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<_Float16>(in[i]);
-}
-template <class T>
-GDP_CONVERT void from_half(const _Float16* in, T* out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<T>(in[i]);
-}
-
 std::string system_message() { return std::generic_category().message(errno); }
 
 }  // namespace
@@ -42,17 +31,6 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
   return fd;
 }
 
-
-StoreEncoding StorePolicy::encoding_of(const std::string& name) const {
-  std::size_t best = 0;
-  StoreEncoding chosen = encoding;
-  for (const auto& [key, value] : quantity_encoding) {
-    const bool ends = name.size() >= key.size() && name.compare(name.size() - key.size(), key.size(), key) == 0;
-    const bool whole = ends && (name.size() == key.size() || name[name.size() - key.size() - 1] == '-');
-    if (whole && key.size() > best) best = key.size(), chosen = value;
-  }
-  return chosen;
-}
 
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
@@ -128,7 +106,7 @@ void RowStore<T>::append(std::span<const T> row) {
   if (fd_ < 0 && buffered_ + n > capacity_) throw std::logic_error("RowStore: more rows than declared");
   unsigned char* out = buffer_ + buffered_;
   if (encoding_ == StoreEncoding::Half) {
-    to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
+    multigrid::to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
   } else {
     std::memcpy(out, row.data(), n);
   }
@@ -189,7 +167,7 @@ void RowStore<T>::read(std::span<T> row) {
   if (cursor_ + n > buffered_) throw std::logic_error("RowStore: read past the end");
   const unsigned char* in = buffer_ + cursor_;
   if (encoding_ == StoreEncoding::Half) {
-    from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
+    multigrid::from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
   } else {
     std::memcpy(row.data(), in, n);
   }

@@ -3,12 +3,12 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "multigrid/half_policy.h"
 #include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
@@ -27,11 +27,12 @@ struct StorePolicy {
   std::filesystem::path dir;
   std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store (no budget)
   ScratchBudget* budget = nullptr;                  // shared by many stores (ScratchBudget::process())
-  StoreEncoding encoding = StoreEncoding::Native;
-  // Per quantity: stores whose name ends in "-KEY" (or is KEY) take this encoding instead of
-  // `encoding`, the longest key first ("u": every level's u, "level0-u": the finest only).
-  std::map<std::string, StoreEncoding> quantity_encoding;
-  StoreEncoding encoding_of(const std::string& name) const;
+  // Which stores keep half floats, by name (multigrid::HalfPolicy: "u" every level's u,
+  // "level0-u" the finest only); the rest keep the kernel's precision.
+  multigrid::HalfPolicy half;
+  StoreEncoding encoding_of(const std::string& name) const {
+    return half.rounds(name) ? StoreEncoding::Half : StoreEncoding::Native;
+  }
   // Non-empty (a checkpoint's directory): every store is a named file `keep_dir/NAME.store`,
   // kept after the process ends, whatever its size (docs/resume.md).
   std::filesystem::path keep_dir;

@@ -19,6 +19,8 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const std::size_t n = static_cast<std::size_t>(channels) * w;
   summary.schedule = "in-core";
 
+  const int cycles = opt.cycle_cap();
+  const multigrid::HalfPolicy half = multigrid::half_policy(opt);
   const auto t_rhs = Clock::now();
   std::vector<Plane<T>> u(channels, Plane<T>(w, h)), b(channels, Plane<T>(w, h));
   std::vector<Plane<T>> weights, diagonal;
@@ -34,6 +36,9 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
         std::copy_n(br.begin() + static_cast<std::ptrdiff_t>(c) * w, w, b[c].row(j));
       }
     }
+    // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
+    // exact in half floats; rounded here all the same so that both read the same values).
+    if (half.rounds(0, "w") && cycles > 1) multigrid::round_to_half(wt.data.data(), wt.data.size());
     if (ops.singular) weights = multigrid::restrict_weights(ops, 0, std::move(wt));
     if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
@@ -42,7 +47,6 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   summary.window_bytes = 2 * n * h * sizeof(T);
 
   const auto t_solve = Clock::now();
-  const int cycles = opt.cycle_cap();
   ResidualLog log(channels, static_cast<bool>(opt.log));
   std::mutex progress_mutex;
   int cycles_done = 0;
@@ -61,6 +65,8 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
       const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probe.dots);
       if (shift != 0.0)
         for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
+      // The streamed schedule carries the result to the next cycle in a store ("result").
+      if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u[c].data.data(), u[c].data.size());
       report();
       if (opt.tolerance > 0.0 && log.last(c) <= opt.tolerance) break;
     }
@@ -69,6 +75,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const auto worker = [&](int t) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     if (!diagonal.empty()) vc.set_diagonal(&diagonal);
+    vc.set_half(&half);
     for (int c = t; c < channels; c += threads) solve_channel(c, vc);
   };
   run_workers(threads, worker);

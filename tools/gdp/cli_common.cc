@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "gdp/scratch_flags.h"
 #include "gdp/size_check.h"
 #include "cli_checkpoint.h"
 #include "size_guard.h"
@@ -70,7 +71,12 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--temp", o.solver.temp_dir,
                    "directory for scratch files (default: the system's); under mpirun, {rank} in it becomes the "
                    "rank's number (a directory per rank, e.g. on each node's own disk)");
-    cmd.add_flag("--half-scratch", o.solver.half_scratch, "keep scratch rows as 16-bit floats (half the disk)");
+    cmd.add_option("--scratch", o.scratch,
+                   "precision of what the V-cycle keeps between its passes: narrow (16-bit floats but the data "
+                   "later V-cycles reuse: half the scratch, every schedule the same bits; the default) or float "
+                   "(the exact solver; the default with --double)")
+        ->check(CLI::IsMember({"float", "narrow"}));
+    cmd.add_flag("--half-scratch", o.half_scratch, "the same as --scratch narrow");
     cmd.add_option("--memory", o.memory,
                    fmt::format("scratch rows kept in memory, e.g. 512M, 4G; beyond it they go to files in --temp "
                                "(0 or 'files': always files; with --checkpoint always files); default a quarter "
@@ -140,6 +146,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
   if (!o.memory.empty()) s.scratch_memory = parse_memory_size(o.memory);
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
+  s.scratch = app_scratch_precision(o.scratch, o.half_scratch, o.double_precision);
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   s.progress = progress_line(o, command + ": solving");
   if (o.app) apply_checkpoint_options(*o.app, command, o.checkpoint, o.resume, s);
@@ -274,6 +281,8 @@ void Stats::summary(const SolveSummary& s) {
   set("schedule", fmt::format("\"{}\"", s.schedule));
   set("streamed_levels", std::to_string(s.streamed_levels));
   set("scratch_mb", fmt::format("{:.1f}", s.scratch_bytes / 1048576.0));
+  const double pixels = static_cast<double>(s.width) * s.height;
+  set("scratch_bytes_per_pixel", fmt::format("{:.3f}", pixels > 0 ? s.scratch_bytes / pixels : 0.0));
   set("solver_memory_mb", fmt::format("{:.1f}", s.window_bytes / 1048576.0));
   // The scratch budget (--memory): most held at once in memory and in files, stores that spilled.
   set("scratch_memory_mb", fmt::format("{:.1f}", s.scratch_memory_peak / 1048576.0));

@@ -39,6 +39,8 @@ struct CommonOptions {
   long long max_pixels = 0;  // --max-pixels (0: what the free scratch disk and memory allow; size_guard.h)
   std::string checkpoint, resume;  // --checkpoint DIR, --resume DIR (cli_checkpoint.h)
   std::string memory;              // --memory SIZE (gdp::parse_memory_size; empty: the default)
+  std::string scratch;             // --scratch float|narrow (empty: narrow, float with --double)
+  bool half_scratch = false;       // --half-scratch: --scratch narrow (kept for older scripts)
   const CLI::App* app = nullptr;   // the subcommand these flags were added to
 };
 

@@ -59,7 +59,7 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
   l.scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
   l.in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
   l.scratch = solver && !l.in_core;
-  l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->half_scratch ? 0.5 : 1.0);
+  l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->scratch == ScratchPrecision::Narrow ? 0.5 : 1.0);
   // Scratch rows up to the budget (--memory) stay in memory, in each process: only the rest goes to disk.
   if (l.scratch) l.memory_budget = static_cast<double>(solver->scratch_memory);
   if (l.scratch) l.dir = solver->temp_dir.empty() ? std::filesystem::temp_directory_path() : solver->temp_dir;
