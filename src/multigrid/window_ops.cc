@@ -2,6 +2,7 @@
 #include "multigrid/window_ops.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace gdp::multigrid {
 namespace {
@@ -196,6 +197,92 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
   }
 }
 
+// The same recurrence on blocks of eight samples with constant coefficients (the level's interior):
+// each block's in-block part as a vector, the matrix M's eight columns times t (M: Coefficients::block,
+// then the responses B, C to the corrections carried in); the chain from block to block is two scalar
+// multiply-adds, the outputs two vector multiply-adds off it. Blocks [lo, hi) of t, in the sweep's
+// direction (backward: lanes in memory order, the sweep running from lane 7 down). Changes the rounding
+// against blocks of four; every schedule uses it alike.
+template <class T> struct Lanes8;
+template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
+template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
+
+template <bool Add, class T>
+GDP_INLINE void recur8(const T* t, const T* M, int lo, int hi, bool forward, T* out, T& d1, T& d2) {
+  using V = typename Lanes8<T>::type;
+  V H[8], B, C;
+  for (int k = 0; k < 8; ++k) std::memcpy(&H[k], M + 8 * k, sizeof(V));
+  std::memcpy(&B, M + 64, sizeof(V)), std::memcpy(&C, M + 72, sizeof(V));
+  const int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
+  for (int n = 0; n < (hi - lo) / 8; ++n) {
+    const int x = forward ? lo + 8 * n : hi - 8 * (n + 1);
+    V A = H[0] * t[x];
+    for (int k = 1; k < 8; ++k) A += H[k] * t[x + k];
+    const T n1 = A[last] + B[last] * d1 + C[last] * d2, n2 = A[before] + B[before] * d1 + C[before] * d2;
+    V o = A + B * d1 + C * d2;
+    if constexpr (Add) {
+      V u;
+      std::memcpy(&u, out + x, sizeof(V));
+      o += u;
+    }
+    std::memcpy(out + x, &o, sizeof(V));
+    d1 = n1, d2 = n2;
+  }
+}
+
+// The recurrence over t[0, count) (table columns g0 .., K's at `at` ..) in the sweep's direction: blocks of
+// eight on the level's interior where K has them, blocks of four (recur) before and after.
+template <bool Add, class T>
+GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>::Coefficients& K, int at, int g0,
+                          const T* t, int count, bool fwd, T* out, T& d1, T& d2) {
+  if (count <= 0) return;
+  const std::vector<T>& M = K.block[fwd ? 0 : 1];
+  int v0 = count, v1 = count;  // [v0, v1): whole blocks of eight in the interior
+  if (!M.empty()) {
+    const int ib = std::clamp(op.interior_begin - g0, 0, count), ie = std::clamp(op.interior_end - g0, ib, count);
+    const int span = (ie - ib) / 8 * 8;
+    if (span > 0) v0 = fwd ? ib : ie - span, v1 = v0 + span;
+  }
+  const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
+    if (hi <= lo) return;
+    const int a = at + lo, top = hi - 1 - lo;
+    if (fwd)
+      recur<1, Add>(t + lo, K.k[1].data() + a, K.k[0].data() + a, K.fb.data() + a, K.fc.data() + a, hi - lo,
+                    (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
+    else
+      recur<-1, Add>(t + lo + top, K.k[3].data() + a + top, K.k[4].data() + a + top, K.bb.data() + a + top,
+                     K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
+  };
+  four(fwd ? 0 : v1, fwd ? v0 : count);
+  if (v1 > v0) recur8<Add>(t, M.data(), v0, v1, fwd, out, d1, d2);
+  four(fwd ? v1 : 0, fwd ? count : v0);
+}
+
+// Coefficients::block of a level whose interior (one constant stencil) is eight columns or more.
+template <class T>
+void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& K) {
+  for (int dir = 0; dir < 2; ++dir) K.block[dir].clear();
+  if (op.interior_end - op.interior_begin < 8) return;
+  for (int dir = 0; dir < 2; ++dir) {
+    const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
+    T h[8], B[8], C[8];  // sample r of a block: h from t, B and C from the two corrections before it
+    h[0] = T(1), h[1] = -kn;
+    B[0] = -kn, C[0] = -kf, B[1] = -kn * B[0] - kf, C[1] = -kn * C[0];
+    for (int r = 2; r < 8; ++r) {
+      h[r] = -kn * h[r - 1] - kf * h[r - 2];
+      B[r] = -kn * B[r - 1] - kf * B[r - 2], C[r] = -kn * C[r - 1] - kf * C[r - 2];
+    }
+    std::vector<T>& M = K.block[dir];
+    M.assign(80, T(0));
+    for (int k = 0; k < 8; ++k)  // lane p of column k: sample p takes h[steps from sample k to it]
+      for (int p = 0; p < 8; ++p) {
+        const int r = dir ? k - p : p - k;
+        M[8 * k + p] = r >= 0 ? h[r] : T(0);
+      }
+    for (int p = 0; p < 8; ++p) M[64 + p] = B[dir ? 7 - p : p], M[72 + p] = C[dir ? 7 - p : p];
+  }
+}
+
 }  // namespace
 
 Columns Columns::whole(int n, bool periodic) {
@@ -218,6 +305,7 @@ const typename Scratch<T>::Coefficients& Scratch<T>::coefficients(const LevelOpe
   Coefficients& k = cached.back();
   k.op = &op, k.m0 = m0, k.c0 = c0;
   for (bool forward : {true, false}) fill(op, m0, c0, static_cast<const T*>(nullptr), 0, op.width, forward, k);
+  fill_blocks(op, k);
   return k;
 }
 
@@ -272,16 +360,10 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     inv = K->inv.data() + at;
     T* t = q + x0;
     for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
-    const int lead = (4 - g0 % 4) % 4, top = count - 1;
     if (wrap)  // corrections kept for the last two samples, added below
-      recur<1, false>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at,
-                      std::min(count, swept - x0), lead, dx + x0, d1, d2);
-    else if (fwd)
-      recur<1, true>(t, K->k[1].data() + at, K->k[0].data() + at, K->fb.data() + at, K->fc.data() + at, count, lead,
-                     u + o + x0, d1, d2);
+      recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
-      recur<-1, true>(t + top, K->k[3].data() + at + top, K->k[4].data() + at + top, K->bb.data() + at + top,
-                      K->bc.data() + at + top, count, ((g0 + top) % 4 + 1) % 4, u + o + x0 + top, d1, d2);
+      recur_run<true>(op, *K, at, g0, t, count, fwd, u + o + x0, d1, d2);
     done += count;
   }
   for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)

@@ -38,9 +38,13 @@ template <class T>
 struct Scratch {
   // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): k[d] =
   // K_{d-2} / K_0; per block of four, the terms of the corrections carried in (forward, backward).
+  // Where the level's interior is eight columns or more, blocks of eight there: `block` holds per direction
+  // (forward, backward) the in-block matrix's eight columns, then the responses to the two corrections
+  // carried in (80 values each; empty otherwise).
   struct Coefficients {
     const void* op = nullptr; T m0{}, c0{};
     std::vector<T> inv, k[5], fb, fc, bb, bc;
+    std::vector<T> block[2];
   };
   std::vector<T> a, c, q, dx, line;
   std::array<std::vector<T>, 5> mirrored;

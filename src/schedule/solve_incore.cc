@@ -6,6 +6,7 @@
 #include "multigrid/incore_vcycle.h"
 #include "schedule/input_rows.h"
 #include "schedule/parallel.h"
+#include "schedule/prefaulted_plane.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp::schedule {
@@ -22,14 +23,18 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const int cycles = opt.cycle_cap();
   const multigrid::HalfPolicy half = multigrid::half_policy(opt);
   const auto t_rhs = Clock::now();
-  std::vector<Plane<T>> u(channels, Plane<T>(w, h)), b(channels, Plane<T>(w, h));
-  std::vector<Plane<T>> weights, diagonal;
+  // Each plane made once, in place (not copies of one), its pages mapped in one call.
+  std::vector<Plane<T>> u, b, weights, diagonal;
+  for (int c = 0; c < channels; ++c) u.push_back(prefaulted_plane<T>(w, h)), b.push_back(prefaulted_plane<T>(w, h));
   InputRows<T> input(source, problem.hierarchy);
   {
-    Plane<T> wt(w, h), d(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
+    // The mean weights only where the mean is fixed by them (alpha == 0), else one row reused.
+    const bool keep_weights = ops.singular;
+    Plane<T> wt = prefaulted_plane<T>(w, keep_weights ? h : 1);
+    Plane<T> d = prefaulted_plane<T>(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
     std::vector<T> ur(n), br(n);
     for (int j = 0; j < h; ++j) {
-      input.next(ur, br, {wt.row(j), static_cast<std::size_t>(w)},
+      input.next(ur, br, {wt.row(keep_weights ? j : 0), static_cast<std::size_t>(w)},
                  {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)});
       for (int c = 0; c < channels; ++c) {
         std::copy_n(ur.begin() + static_cast<std::ptrdiff_t>(c) * w, w, u[c].row(j));
@@ -38,8 +43,10 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     }
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
-    if (half.rounds(0, "w") && cycles > 1) multigrid::round_to_half(wt.data.data(), wt.data.size());
-    if (ops.singular) weights = multigrid::restrict_weights(ops, 0, std::move(wt));
+    if (keep_weights) {
+      if (half.rounds(0, "w") && cycles > 1) multigrid::round_to_half(wt.data.data(), wt.data.size());
+      weights = multigrid::restrict_weights(ops, 0, std::move(wt));
+    }
     if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
   summary.seconds_rhs = seconds_since(t_rhs);
