@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# One schedule (issue 17): CPU seconds and wall of one stitch as the default, --bands 1, --bands 2
-# and mpirun -np 2 without --bands (one band per rank), interleaved, in one run.
+# One schedule (issue 17): CPU seconds and wall of one stitch as the default, --bands 1, --bands 2,
+# mpirun -np 2 without --bands (one band per rank) and mpirun -np 1 (one rank against the plain
+# process), interleaved, in one run.
 # Usage: bench/one_schedule.sh [SIZE=4096] [ROUNDS=2] [BUILD=build]
 # Makes a SIZE x SIZE composite + label map (uncompressed TIFF, so decoding is cheap) from a real
-# photo with bench/make_composite, then runs the four commands ROUNDS times in turn under
+# photo with bench/make_composite, then runs the five commands ROUNDS times in turn under
 # bench/measure_run.py (user + sys of the command and its children, mpirun's ranks included) and
 # prints each run and the median of each command against the default's. The default and --bands 1
 # are the same plan (the outputs are compared byte for byte). mpirun gets --bind-to none
@@ -25,13 +26,17 @@ for r in $(seq 1 "$rounds"); do
   measure bands1 "$r" "$gdp" "${stitch[@]}" -o "$work/bands1.tif" --bands 1
   measure bands2 "$r" "$gdp" "${stitch[@]}" -o "$work/bands2.tif" --bands 2
   measure mpi2 "$r" "${mpi[@]}" -np 2 "$gdp" "${stitch[@]}" -o "$work/mpi2.tif"
+  measure mpi1 "$r" "${mpi[@]}" -np 1 "$gdp" "${stitch[@]}" -o "$work/mpi1.tif"
 done
 cmp -s "$work/default.tif" "$work/bands1.tif" && echo "--bands 1 output == default output (cmp)" ||
   echo "--bands 1 output DIFFERS from the default"
+cmp -s "$work/default.tif" "$work/mpi1.tif" && echo "mpirun -np 1 output == default output (cmp)" ||
+  echo "mpirun -np 1 output DIFFERS from the default"
 python3 - "$work" "$size" "$rounds" <<'PY'
 import json, statistics, sys
 work, size, rounds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-names = {"default": "default", "bands1": "--bands 1", "bands2": "--bands 2", "mpi2": "mpirun -np 2"}
+names = {"default": "default", "bands1": "--bands 1", "bands2": "--bands 2", "mpi2": "mpirun -np 2",
+         "mpi1": "mpirun -np 1"}
 runs = {n: [json.load(open(f"{work}/{n}-{r}.json")) for r in range(1, rounds + 1)] for n in names}
 med = {}
 for n, label in names.items():
