@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # One schedule (issue 17): CPU seconds and wall of one stitch as the default, --bands 1, --bands 2,
-# mpirun -np 2 without --bands (one band per rank) and --in-core, interleaved, in one run.
-# Usage: bench/one_schedule.sh [SIZE=4096] [ROUNDS=2] [BUILD=build] [RUNS="default bands1 bands2 mpi2 incore"]
+# mpirun -np 2 without --bands (one band per rank), mpirun -np 1 (one rank against the plain process)
+# and --in-core, interleaved, in one run.
+# Usage: bench/one_schedule.sh [SIZE=4096] [ROUNDS=2] [BUILD=build] [RUNS="default bands1 bands2 mpi2 mpi1 incore"]
 # Makes a SIZE x SIZE composite + label map (uncompressed TIFF, so decoding is cheap) from a real
-# photo with bench/make_composite, then runs the five commands ROUNDS times in turn under
+# photo with bench/make_composite, then runs the six commands ROUNDS times in turn under
 # bench/measure_run.py (user + sys of the command and its children, mpirun's ranks included) and
 # prints each run and the median of each command against the default's. The default and --bands 1
 # are the same plan, and --in-core the reference (the outputs are compared byte for byte); RUNS picks
@@ -14,7 +15,7 @@ set -euo pipefail
 size=${1:-4096}
 rounds=${2:-2}
 build=${3:-build}
-runs=" default ${4:-bands1 bands2 mpi2 incore} "
+runs=" default ${4:-bands1 bands2 mpi2 mpi1 incore} "
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
 stitch_bench_setup one-schedule "$build"
@@ -29,9 +30,10 @@ for r in $(seq 1 "$rounds"); do
   measure bands1 "$r" "$gdp" "${stitch[@]}" -o "$work/bands1.tif" --bands 1
   measure bands2 "$r" "$gdp" "${stitch[@]}" -o "$work/bands2.tif" --bands 2
   measure mpi2 "$r" "${mpi[@]}" -np 2 "$gdp" "${stitch[@]}" -o "$work/mpi2.tif"
+  measure mpi1 "$r" "${mpi[@]}" -np 1 "$gdp" "${stitch[@]}" -o "$work/mpi1.tif"
   measure incore "$r" "$gdp" "${stitch[@]}" -o "$work/incore.tif" --in-core
 done
-for n in bands1 incore; do
+for n in bands1 mpi1 incore; do
   [[ -f $work/$n.tif ]] || continue
   cmp -s "$work/default.tif" "$work/$n.tif" && echo "$n output == default output (cmp)" ||
     echo "$n output DIFFERS from the default"
@@ -40,7 +42,7 @@ python3 - "$work" "$size" "$rounds" "$runs" <<'PY'
 import json, statistics, sys
 work, size, rounds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 names = {"default": "default", "bands1": "--bands 1", "bands2": "--bands 2", "mpi2": "mpirun -np 2",
-         "incore": "--in-core"}
+         "mpi1": "mpirun -np 1", "incore": "--in-core"}
 names = {n: label for n, label in names.items() if n in sys.argv[4].split()}
 runs = {n: [json.load(open(f"{work}/{n}-{r}.json")) for r in range(1, rounds + 1)] for n in names}
 med = {}

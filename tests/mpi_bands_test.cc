@@ -2,12 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <thread>
 #include <tuple>
 
 #include "cli_fixture.h"
+#include "image_compare.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
 
@@ -168,6 +170,47 @@ TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {
   EXPECT_NE(bad.code, 124) << "timed out: a rank hung";
   EXPECT_NE(bad.err.find("tmp_1"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(path("x.tif")));
+}
+
+// Each rank computes labels, kept edges and output fixups for its own columns only: label
+// stripes (black among them) whose seams cross the rank boundary, unknown (white) blobs and blank
+// (NaN) composite samples on both sides of it give the bits of two bands on threads, blanks and
+// blacked-out pixels where they were.
+TEST_F(MpiBands, StitchSeamsAcrossTheRankBoundaryGiveTheThreadResult) {
+  constexpr int w = 300, h = 80;
+  const Image wave = test::cosine_image(w, h, 3, 2);
+  Image comp(w, h, 3), labels(w, h, 1);
+  const auto unknown = [](int x, int y) { return (x - 150) * (x - 150) + (y - 40) * (y - 40) < 64 || (x > 60 && x < 66); };
+  const auto blank = [](int x, int y) { return y % 9 == 4 && x % 37 == 11; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int region = (x + y / 2) / 23 % 5;  // region 0 is black
+      labels.at(0, x, y) = unknown(x, y) ? 1.0f : static_cast<float>(region) / 8.0f;
+      for (int c = 0; c < 3; ++c)
+        comp.at(c, x, y) = blank(x, y) && c == 1 ? std::nanf("")
+                                                 : 0.4f + 0.2f * wave.at(0, x, y) + 0.05f * static_cast<float>(region * (c + 1));
+    }
+  write_image(path("comp.tif"), comp, {});
+  write_image(path("labels.png"), labels, {});
+  const std::string stitch = std::string(GDP_CLI_PATH) + " stitch -c " + path("comp.tif") + " -l " +
+                             path("labels.png") + " --depth float -q ";
+  for (const std::string mode : {"--unknown black", "--unknown extend --deramp"}) {
+    SCOPED_TRACE(mode);
+    const test::CliRun r = mpi("-np 2 " + stitch + mode + " -o " + path("mpi.tif"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(gdp_raw(stitch + mode + " --bands 2 -o " + path("threads.tif")).code, 0);
+    const Image m = result("mpi.tif");
+    EXPECT_TRUE(test::same_bits(m, result("threads.tif")));
+    int blanks = 0, unknowns = 0, black = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        blanks += blank(x, y) && std::isnan(m.at(1, x, y)) && !std::isnan(m.at(0, x, y));
+        unknowns += unknown(x, y);
+        black += unknown(x, y) && m.at(0, x, y) == 0.0f && m.at(2, x, y) == 0.0f;
+      }
+    EXPECT_EQ(blanks, 9 * 8) << "blank samples (channel 1) come out blank, and only those channels";
+    if (mode == "--unknown black") EXPECT_EQ(black, unknowns) << "unknown pixels come out black";
+  }
 }
 
 // Seamless cloning (pinned pixels outside the mask, V-cycles to a tolerance) on ranks.

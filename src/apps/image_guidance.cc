@@ -7,7 +7,8 @@
 namespace gdp::apps {
 
 ImageGuidance::ImageGuidance(RowReader& source, double alpha, double beta, bool start_from_source)
-    : src_(source), alpha_(alpha), beta_(beta), start_(start_from_source) {
+    : src_(source), width_(source.width()), height_(source.height()), channels_(source.channels()), alpha_(alpha),
+      beta_(beta), start_(start_from_source) {
   for (auto& r : rows_) r.assign(static_cast<std::size_t>(source.channels()) * source.width(), 0.0f);
 }
 
@@ -34,8 +35,7 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   const bool offsets = has_offsets();
   const std::span<const float> here = source_row(j);
   // The columns computed: [x0, x1) of values and vertical edges, [x0, ex) of horizontal ones.
-  const bool whole = end_ < 0;
-  const int x0 = whole ? 0 : begin_, x1 = whole ? w : end_, ex = whole ? e : std::min(e, end_ - 1);
+  const int x0 = column_begin(), x1 = column_end(), ex = end_ < 0 ? e : std::min(e, end_ - 1);
   for (int c = 0; c < channels(); ++c) {
     const float* row = here.data() + static_cast<std::size_t>(c) * w;
     double* gx = out.gx.data() + static_cast<std::size_t>(c) * e;
@@ -67,8 +67,8 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
     if (fold_top) fold(out.gy_above.data() + static_cast<std::size_t>(c) * w, above_, [&](int i) { return above(i); }, true);
     if (alpha_ != 0.0)
       for (int i = x0; i < x1; ++i) out.value[c * w + i] = std::isfinite(row[i]) ? row[i] : 0.0;
+    std::copy(row + x0, row + x1, out.initial.begin() + static_cast<std::ptrdiff_t>(c) * w + x0);
   }
-  std::copy(here.begin(), here.end(), out.initial.begin());
 }
 
 }  // namespace gdp::apps

@@ -17,9 +17,10 @@ namespace gdp::apps {
 class ImageGuidance : public GuidanceSource {
  public:
   ImageGuidance(RowReader& source, double alpha, double beta, bool start_from_source = true);
-  int width() const override { return src_.width(); }
-  int height() const override { return src_.height(); }
-  int channels() const override { return src_.channels(); }
+  // The source's, kept: per-pixel loops ask (through the readers' virtual calls otherwise).
+  int width() const override { return width_; }
+  int height() const override { return height_; }
+  int channels() const override { return channels_; }
   double alpha() const override { return alpha_; }
   bool has_initial() const override { return true; }
   bool start_from_initial() const override { return start_; }
@@ -29,10 +30,15 @@ class ImageGuidance : public GuidanceSource {
   void set_columns(int begin, int end) override;
 
  protected:
+  // The columns computed: [column_begin(), column_end()) of values and vertical edges, the same
+  // less the last of horizontal ones; the whole row until set_columns.
+  int column_begin() const { return end_ < 0 ? 0 : begin_; }
+  int column_end() const { return end_ < 0 ? width() : end_; }
+  bool windowed() const { return end_ >= 0 && (begin_ > 0 || end_ < width()); }
   // Row j's edges that keep their gradient: right[i] from (i, j) to (i + 1, j) (wrapping to
   // column 0 on a periodic row), down[i] from (i, j) to below(i, j), above[i] (row 0 of a
   // spherical domain only, else empty) from (i, 0) to above(i). All arrive set to 1, except
-  // down on the last row of a non-spherical domain.
+  // down on the last row of a non-spherical domain; only the computed columns' are read.
   virtual void keep_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/,
                           std::span<unsigned char> /*above*/) const {}
   // The column of the pixel below (i, j): i in row j + 1, or on the last row of a spherical
@@ -54,6 +60,7 @@ class ImageGuidance : public GuidanceSource {
   void read_source(int y);
 
   RowReader& src_;
+  int width_, height_, channels_;
   double alpha_, beta_;
   bool start_;
   std::vector<float> rows_[2];

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace gdp::apps {
 namespace {
@@ -11,7 +12,7 @@ constexpr unsigned char kZero = 0x80;  // bits 0..6: channel c not finite
 }
 
 OutputFixups::OutputFixups(RowWriter& out, int width, int height, int channels, const SolverOptions& solver)
-    : out_(out), width_(width), height_(height), channels_(channels), flag_row_(width),
+    : out_(out), width_(width), height_(height), channels_(channels), end_(width), flag_row_(width),
       row_(static_cast<std::size_t>(width) * channels) {
   policy_.dir = solver.temp_dir;
   policy_.budget = &schedule::ScratchBudget::process();  // one byte a pixel, in memory while it fits
@@ -20,21 +21,37 @@ OutputFixups::OutputFixups(RowWriter& out, int width, int height, int channels, 
 
 OutputFixups::~OutputFixups() = default;
 
+void OutputFixups::set_columns(int begin, int end) {
+  if (unflagged_ > 0 || flags_) throw std::logic_error("OutputFixups::set_columns after the first record");
+  begin_ = begin;
+  end_ = end;
+  flag_row_.resize(end - begin);
+  out_.set_columns(begin, end);
+}
+
 void OutputFixups::record(int, std::span<const float> input, std::span<const unsigned char> zero) {
-  for (int i = 0; i < width_; ++i) {
-    unsigned char f = !zero.empty() && zero[i] ? kZero : 0;
-    for (int c = 0; c < channels_ && c < 7; ++c)
-      if (!std::isfinite(input[static_cast<std::size_t>(c) * width_ + i])) f |= static_cast<unsigned char>(1u << c);
-    flag_row_[i] = f;
-    any_ = any_ || f != 0;
+  const int n = end_ - begin_;
+  unsigned char* flags = flag_row_.data();
+  if (zero.empty())
+    std::fill(flag_row_.begin(), flag_row_.end(), 0);
+  else
+    for (int i = 0; i < n; ++i) flags[i] = zero[begin_ + i] ? kZero : 0;
+  for (int c = 0; c < channels_ && c < 7; ++c) {
+    const float* in = input.data() + static_cast<std::size_t>(c) * width_ + begin_;
+    const auto bit = static_cast<unsigned char>(1u << c);
+    // v - v != 0 exactly when v is not finite: a test the compiler vectorises (std::isfinite is not).
+    for (int i = 0; i < n; ++i) flags[i] |= in[i] - in[i] != 0.0f ? bit : 0;
   }
+  unsigned char any = 0;
+  for (int i = 0; i < n; ++i) any |= flags[i];
+  any_ = any_ || any != 0;
   // Rows before the first flagged one are not stored (most images have none at all).
   if (!any_) {
     ++unflagged_;
     return;
   }
   if (!flags_)
-    flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy_, width_, height_ - unflagged_, "flags");
+    flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy_, end_ - begin_, height_ - unflagged_, "flags");
   flags_->append(flag_row_);
 }
 
@@ -46,8 +63,8 @@ void OutputFixups::write_row(int y, std::span<const float> row) {
   }
   flags_->read(flag_row_);
   std::copy(row.begin(), row.end(), row_.begin());
-  for (int i = 0; i < width_; ++i) {
-    const unsigned char f = flag_row_[i];
+  for (int i = begin_; i < end_; ++i) {
+    const unsigned char f = flag_row_[i - begin_];
     if (f == 0) continue;
     for (int c = 0; c < channels_; ++c) {
       float& v = row_[static_cast<std::size_t>(c) * width_ + i];

@@ -25,19 +25,24 @@ class LabelIds {
  public:
   LabelIds(int width, int channels, bool white_is_label)
       : width_(width), channels_(channels), white_is_label_(white_is_label), key_(channels * sizeof(float), '\0') {}
-  void assign(std::span<const float> labels, std::vector<int>& ids) {
+  // ids[i] for the columns [begin, end) of a label row (the others are left as they are).
+  void assign(std::span<const float> labels, std::vector<int>& ids, int begin, int end) {
     ids.resize(width_);
-    for (int i = 0; i < width_; ++i) {
-      bool same = i > 0, white = true;
+    for (int i = begin; i < end; ++i) {
+      bool same = i > begin;
+      for (int c = 0; c < channels_ && same; ++c)
+        same = labels[static_cast<std::size_t>(c) * width_ + i] == labels[static_cast<std::size_t>(c) * width_ + i - 1];
+      if (same) {  // most pixels share their left neighbour's label
+        ids[i] = ids[i - 1];
+        continue;
+      }
+      bool white = true;
       for (int c = 0; c < channels_; ++c) {
         const float v = labels[static_cast<std::size_t>(c) * width_ + i];
-        same = same && v == labels[static_cast<std::size_t>(c) * width_ + i - 1];
         white = white && v == 1.0f;
         std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
       }
-      if (same) {  // most pixels share their left neighbour's label
-        ids[i] = ids[i - 1];
-      } else if (white && !white_is_label_) {
+      if (white && !white_is_label_) {
         ids[i] = kUnknown;
       } else {
         ids[i] = ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
@@ -66,8 +71,9 @@ class StitchGuidance final : public apps::ImageGuidance {
       for (auto& r : across_rows_) r.assign(static_cast<std::size_t>(channels()) * width(), 0.0f);
     if (options.deramp) compute_ramps(composite);
   }
-  // Known labels met so far (columns outside a window this process does not read count as one).
-  int labels_seen() const { return ids_.count(); }
+  // Whether a known label was met (in a window narrower than the image, other processes see
+  // the other columns: true).
+  bool label_seen() const { return ids_.count() > 0 || windowed(); }
   void set_columns(int begin, int end) override {
     ImageGuidance::set_columns(begin, end);
     labels_.set_columns(begin, std::min(end + 1, width()));
@@ -76,15 +82,18 @@ class StitchGuidance final : public apps::ImageGuidance {
   void read_row(int j, GuidanceRow& out) override {
     ImageGuidance::read_row(j, out);
     const std::vector<int>& id = row_ids_[j % 2];
-    for (int i = 0; i < width(); ++i) out.counted[i] = id[i] != kUnknown;
+    for (int i = column_begin(); i < column_end(); ++i) out.counted[i] = id[i] != kUnknown;
   }
 
  protected:
   void on_source_row(int y, std::span<const float> row) override {
+    // The label columns read: the computed ones and the one beyond, whose label the last
+    // horizontal edge needs.
+    const int a = column_begin(), b = std::min(column_end() + 1, width());
     labels_.read_row(y, label_row_);
-    ids_.assign(label_row_, row_ids_[y % 2]);
+    ids_.assign(label_row_, row_ids_[y % 2], a, b);
     if (across_) across_->read_row(y, across_rows_[y % 2]);
-    for (int i = 0; i < width(); ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
+    for (int i = a; i < b; ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
     fixups_.record(y, row, zero_);
   }
   void keep_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down,
@@ -93,7 +102,7 @@ class StitchGuidance final : public apps::ImageGuidance {
     const std::vector<int>& here = row_ids_[j % 2];
     const std::vector<int>& next = j + 1 < height() ? row_ids_[(j + 1) % 2] : here;  // spherical: folded
     const int last = j + 1 < height() ? j + 1 : j;
-    for (int i = 0; i < w; ++i) {
+    for (int i = column_begin(); i < column_end(); ++i) {
       const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
       right[i] = joined(a, here[r]) || across_either(i, j, r, j);
       down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last)));
@@ -144,7 +153,7 @@ class StitchGuidance final : public apps::ImageGuidance {
     for (int y = 0; y < h; ++y) {
       composite.read_row(y, rows[y % 2]);
       labels_.read_row(y, label_row_);
-      ids_.assign(label_row_, ids[y % 2]);
+      ids_.assign(label_row_, ids[y % 2], 0, w);
       sum.resize(static_cast<std::size_t>(ids_.count()) * ch * 2, 0.0);
       count.resize(static_cast<std::size_t>(ids_.count()) * 2, 0.0);
       const auto add = [&](int a, int dir, int i0, int y0, int i1, int y1) {
@@ -208,7 +217,7 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
   StitchGuidance guidance(in_space, labels, across_space ? &*across_space : nullptr, options, fixups);
   apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);
-  if (guidance.labels_seen() == 0)
+  if (!guidance.label_seen())
     throw InputError(fmt::format("{}: every pixel is white (unknown), so no pixel has a source and there is nothing "
                                  "to stitch (--unknown label takes white for a label)",
                                  options.labels_name));

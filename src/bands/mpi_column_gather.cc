@@ -70,23 +70,27 @@ class ColumnGather final : public RowWriter {
   };
   struct Received {
     Header h;
-    std::vector<float> samples;
+    std::vector<unsigned char> bytes;  // the message: the header, then the samples
   };
 
   void send(int y, std::span<const float> row) {
-    const int n = end_ - begin_;
-    if (batch_.empty()) first_ = y;
-    for (int c = 0; c < channels_; ++c) {
-      const float* p = row.data() + static_cast<std::size_t>(c) * width_ + begin_;
-      batch_.insert(batch_.end(), p, p + n);
+    // The message is built in place (the header written last): no copy but the row's columns.
+    const std::size_t row_bytes = static_cast<std::size_t>(end_ - begin_) * sizeof(float);
+    if (batch_.empty()) {
+      first_ = y;
+      batch_.swap(spare_);  // the bytes of the last completed send: no allocation per message
+      batch_.resize(sizeof(Header));
     }
-    if (batch_.size() < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
+    for (int c = 0; c < channels_; ++c) {
+      const auto* p = reinterpret_cast<const unsigned char*>(row.data() + static_cast<std::size_t>(c) * width_ + begin_);
+      batch_.insert(batch_.end(), p, p + row_bytes);
+    }
+    const std::size_t samples = (batch_.size() - sizeof(Header)) / sizeof(float);
+    if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
     const Header h{first_, y + 1 - first_, begin_, end_};
+    std::memcpy(batch_.data(), &h, sizeof h);
     Sending s;
-    s.bytes.resize(sizeof h + batch_.size() * sizeof(float));
-    std::memcpy(s.bytes.data(), &h, sizeof h);
-    std::memcpy(s.bytes.data() + sizeof h, batch_.data(), batch_.size() * sizeof(float));
-    batch_.clear();
+    s.bytes.swap(batch_);
     sending_.push_back(std::move(s));
     MPI_Isend(sending_.back().bytes.data(), static_cast<int>(sending_.back().bytes.size()), MPI_BYTE, 0, kTag,
               MPI_COMM_WORLD, &sending_.back().request);
@@ -100,12 +104,9 @@ class ColumnGather final : public RowWriter {
   }
 
   void wait_oldest() {
-    MPI_Request& request = sending_.front().request;
-    bands::wait_until([&] {
-      int done = 0;
-      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-      return done != 0;
-    });
+    bands::wait_request(sending_.front().request);
+    spare_.swap(sending_.front().bytes);
+    spare_.clear();
     sending_.pop_front();
   }
 
@@ -113,17 +114,8 @@ class ColumnGather final : public RowWriter {
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
-      MPI_Message message;
-      MPI_Status status;
-      bands::wait_until([&] {
-        int found = 0;
-        MPI_Improbe(r, kTag, MPI_COMM_WORLD, &found, &message, &status);
-        return found != 0;
-      });
-      int bytes = 0;
-      MPI_Get_count(&status, MPI_BYTE, &bytes);
-      std::vector<unsigned char> buffer(static_cast<std::size_t>(bytes));
-      MPI_Mrecv(buffer.data(), bytes, MPI_BYTE, &message, MPI_STATUS_IGNORE);
+      bands::receive_message(r, kTag, MPI_COMM_WORLD, m.bytes);  // into the last message's bytes
+      const std::vector<unsigned char>& buffer = m.bytes;
       if (buffer.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
       std::memcpy(&m.h, buffer.data(), sizeof(Header));
       const std::size_t count = (buffer.size() - sizeof(Header)) / sizeof(float);
@@ -131,14 +123,12 @@ class ColumnGather final : public RowWriter {
           count != static_cast<std::size_t>(m.h.rows) * channels_ * (m.h.end - m.h.begin))
         throw std::logic_error(fmt::format("ColumnGather: rank {} sent rows {}.. columns {}..{}, row {} expected", r,
                                            m.h.first, m.h.begin, m.h.end, y));
-      m.samples.resize(count);
-      std::memcpy(m.samples.data(), buffer.data() + sizeof(Header), count * sizeof(float));
     }
     const int n = m.h.end - m.h.begin;
-    const float* src = m.samples.data() + static_cast<std::size_t>(y - m.h.first) * channels_ * n;
+    const std::size_t row_bytes = static_cast<std::size_t>(n) * sizeof(float);
+    const unsigned char* src = m.bytes.data() + sizeof(Header) + static_cast<std::size_t>(y - m.h.first) * channels_ * row_bytes;
     for (int c = 0; c < channels_; ++c)
-      std::memcpy(row_.data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + static_cast<std::size_t>(c) * n,
-                  n * sizeof(float));
+      std::memcpy(row_.data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * row_bytes, row_bytes);
   }
 
   MpiRun::OpenFile open_file_;
@@ -146,7 +136,8 @@ class ColumnGather final : public RowWriter {
   int width_, height_, channels_, rank_;
   bool split_ = false;
   int begin_ = 0, end_ = 0, first_ = 0;
-  std::vector<float> batch_, row_;
+  std::vector<unsigned char> batch_, spare_;  // the message being filled, the bytes of a sent one
+  std::vector<float> row_;
   std::deque<Sending> sending_;
   std::vector<Received> from_;
 };

@@ -8,6 +8,7 @@
 
 #include "bands/mpi_agree.h"
 #include "bands/mpi_transport.h"
+#include "bands/mpi_wait.h"
 #include "gdp/errors.h"
 
 namespace gdp {
@@ -28,8 +29,9 @@ bool MpiRun::launched() {
 
 MpiRun::MpiRun(int& argc, char**& argv) {
   if (!launched()) return;
-  // Open MPI's blocking calls left (the collective check, MPI_Finalize) yield the core while they
-  // wait instead of spinning on it; a value the user set stays (docs/how-bands-work.md).
+  // Open MPI's blocking calls left (the collective check, MPI_Finalize after every rank has
+  // arrived) yield the core while they wait instead of spinning on it; a value the user set stays
+  // (docs/how-bands-work.md).
   setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
@@ -41,7 +43,15 @@ MpiRun::MpiRun(int& argc, char**& argv) {
 }
 
 MpiRun::~MpiRun() {
-  if (started) MPI_Finalize();
+  if (!started) return;
+  // Ranks end at different times (rank 0 writes the rows the others sent): the first to finish
+  // waits for the others here, without spinning, rather than in MPI_Finalize's fence, which
+  // would hold a core for as long. Every rank that ends normally comes here (a failing one calls
+  // MPI_Abort, which ends all).
+  MPI_Request request;
+  MPI_Ibarrier(MPI_COMM_WORLD, &request);
+  bands::wait_request(request);
+  MPI_Finalize();
 }
 
 int MpiRun::rank() { return the_rank; }

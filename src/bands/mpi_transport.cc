@@ -61,23 +61,11 @@ struct MpiHub::Impl {
   }
 
   Bytes receive(int from, int to, int tag) {
-    const int source = from / local, t = mpi_tag(tag, from, to);
-    MPI_Message message;
-    MPI_Status status;
-    wait_until(
-        [&] {
-          int found = 0;
-          MPI_Improbe(source, t, comm, &found, &message, &status);
-          return found != 0;
-        },
-        [&] {
-          const std::lock_guard<std::mutex> lock(mutex);
-          reap();
-        });
-    int count = 0;
-    MPI_Get_count(&status, MPI_BYTE, &count);
-    Bytes data(static_cast<std::size_t>(count));
-    MPI_Mrecv(data.data(), count, MPI_BYTE, &message, MPI_STATUS_IGNORE);
+    Bytes data;
+    receive_message(from / local, mpi_tag(tag, from, to), comm, data, [&] {
+      const std::lock_guard<std::mutex> lock(mutex);
+      reap();
+    });
     return data;
   }
 };
@@ -115,7 +103,7 @@ MpiHub::MpiHub(int local) : impl_(std::make_unique<Impl>(local)) {
 MpiHub::~MpiHub() {
   {
     const std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (auto& p : impl_->sends) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    for (auto& p : impl_->sends) wait_request(p.request);
     impl_->sends.clear();
   }
   MPI_Comm_free(&impl_->comm);

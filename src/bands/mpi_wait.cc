@@ -1,4 +1,4 @@
-// Polls with a growing sleep: the MPI waits of the band transport and the column gather.
+// Polls with a growing sleep: the MPI waits of the band transport, the column gather and the end of a run.
 #include "bands/mpi_wait.h"
 
 #include <algorithm>
@@ -8,8 +8,8 @@
 namespace gdp::bands {
 
 void wait_until(const std::function<bool()>& ready, const std::function<void()>& between) {
-  constexpr int kYields = 64;
-  constexpr auto kFirstSleep = std::chrono::microseconds(20), kLongestSleep = std::chrono::microseconds(320);
+  constexpr int kYields = 8;
+  constexpr auto kFirstSleep = std::chrono::microseconds(20), kLongestSleep = std::chrono::microseconds(640);
   auto sleep = kFirstSleep;
   for (int polls = 0; !ready(); ++polls) {
     if (between && polls % 16 == 15) between();
@@ -20,6 +20,35 @@ void wait_until(const std::function<bool()>& ready, const std::function<void()>&
       sleep = std::min(sleep * 2, kLongestSleep);
     }
   }
+}
+
+void wait_request(MPI_Request& request, const std::function<void()>& between) {
+  wait_until(
+      [&] {
+        int done = 0;
+        MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+        return done != 0;
+      },
+      between);
+}
+
+void receive_message(int source, int tag, MPI_Comm comm, std::vector<unsigned char>& data,
+                     const std::function<void()>& between) {
+  MPI_Message message;
+  MPI_Status status;
+  wait_until(
+      [&] {
+        int found = 0;
+        MPI_Improbe(source, tag, comm, &found, &message, &status);
+        return found != 0;
+      },
+      between);
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  data.resize(static_cast<std::size_t>(count));
+  MPI_Request request;
+  MPI_Imrecv(data.data(), count, MPI_BYTE, &message, &request);
+  wait_request(request, between);
 }
 
 }  // namespace gdp::bands

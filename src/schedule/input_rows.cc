@@ -63,8 +63,9 @@ void InputRows<T>::read_guidance() {
   const int j = read_++;
   std::fill(row_.counted.begin(), row_.counted.end(), 1);
   source_.read_row(j, row_);
-  if (source_.has_initial()) initial_[j % kRing] = row_.initial;
-  counted_[j % kRing] = row_.counted;
+  // Swapped, not copied: a source with a column window fills only its columns of them.
+  if (source_.has_initial()) initial_[j % kRing].swap(row_.initial);
+  counted_[j % kRing].swap(row_.counted);
   if (source_.has_weights()) {
     std::vector<double>&d = d_[j % kRing], &dv = dv_[j % kRing];
     for (int i = begin_; i < end_; ++i) {
