@@ -15,6 +15,7 @@
 #include "sky/hips_output.h"
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
+#include "sky/plate_backgrounds.h"
 #include "sky/plate_offsets.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
@@ -169,6 +170,13 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     plates.push_back(sky::load_plate(path, options.plane));
     if (plates.back().planes > 1)
       note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, plates.back().planes, options.plane + 1));
+  }
+  if (options.fit_backgrounds && options.blend) {
+    const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
+    sky::subtract_smooth_backgrounds(plates, b);
+    for (std::size_t k = 0; k < plates.size(); ++k)
+      note(fmt::format("{}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial {:.6g}", paths[k],
+                       b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial));
   }
   sky::set_fade_levels(plates);
   const int H = choose_pq_height(plates, options);
