@@ -175,7 +175,8 @@ struct ThreePlates {
       truth[k] = b;
       const auto background = [b](double x, double y) {
         const double u = (x - 20.0) / 40.0, v = (y - 20.0) / 40.0;
-        return b.slope_u * u + b.slope_v * v + b.radial * (u * u + v * v);
+        const double mean = 2.0 * (40.0 * 40.0 - 1.0) / (12.0 * 40.0 * 40.0);  // of u^2 + v^2 over the pixels
+        return b.slope_u * u + b.slope_v * v + b.radial * (u * u + v * v - mean);
       };
       const std::string name = std::string(1, char('a' + k)) + ".fits";
       plates.push_back(sky::load_plate(
