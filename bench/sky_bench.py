@@ -24,6 +24,7 @@ import argparse
 import glob
 import os
 import re
+import shlex
 import subprocess
 import sys
 import time
@@ -46,6 +47,7 @@ ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA
 ap.add_argument("--dec0", type=float, default=0.0)
 ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
 ap.add_argument("--projected", action="store_true", help="gdp sky --projected on Montage's projdir (mProjExec output)")
+ap.add_argument("--gdp-args", default="", help="more options for gdp sky (e.g. '--fit-backgrounds')")
 args = ap.parse_args()
 out = args.out
 raw = os.path.join(out, "raw")
@@ -111,6 +113,7 @@ def stars(ra, dec):
 
 # Plate sets: raw/ the sky plus each plate's background (what the figures are measured on),
 # raw_truth/ the sky alone (the resampling's own error), raw_stars/ raw/ plus the stars (--stars).
+true_backgrounds = []
 sets = {"raw": True, "raw_truth": False} | ({"raw_stars": True} if args.stars else {})
 for d in sets:
     os.makedirs(os.path.join(out, d), exist_ok=True)
@@ -126,6 +129,7 @@ for k, (ra, dec) in enumerate(centres):
     u, v = (xx - n / 2) / n, (yy - n / 2) / n
     a, b, c, d = rng.uniform(-0.1, 0.1), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.1, 0.1)
     background = a + b * u + c * v + d * (u * u + v * v)
+    true_backgrounds.append((a, b, c, d))
     for name, with_background in sets.items():
         data = sky(ra_p, dec_p) + (background if with_background else 0.0) + (stars(ra_p, dec_p) if name == "raw_stars" else 0.0)
         fits.PrimaryHDU(data.astype(np.float32), h).writeto(os.path.join(out, name, f"plate{k:02d}.fits"), overwrite=True)
@@ -177,13 +181,16 @@ def pipelines(raw, base):
             run(cmd, montage_log)
         run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
     else:
-        run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4", "--quiet"], gdp_log)
+        r = run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
+                 *shlex.split(args.gdp_args)], gdp_log)
+        fitted.setdefault(raw, r.stderr)
         run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("seamed.fits"), "--no-blend", "--quiet"], seamed_log)
         for cmd in project + background:
             run(cmd, montage_log)
     return gdp_log, seamed_log, montage_log, project_log
 
 
+fitted = {}  # gdp's notes (its fitted backgrounds with --fit-backgrounds) per plate set
 m = lambda *p: os.path.join(out, *p)
 gdp_log, seamed_log, montage_log, project_log = pipelines(m("raw"), out)
 if args.projected:
@@ -201,6 +208,21 @@ else:
     run([args.gdp, "sky", *sorted(glob.glob(m("raw_truth", "*.fits"))), "--header", hdr, "-o", m("floor.fits"),
          "--no-blend", "--quiet"], [])
     names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend", "floor": "sky alone, gdp --no-blend"}
+# gdp's fitted backgrounds (--fit-backgrounds) against the true ones, on each plate's pixels, each
+# model's mean over the plate removed: what the fit got wrong, plate by plate (a part common to
+# all plates is what overlaps cannot see).
+notes = re.findall(r"plate(\d+)\.fits: background fitted: offset \S+, slope u (\S+), slope v (\S+), radial (\S+)",
+                   fitted.get(m("raw"), ""))
+if notes:
+    yy, xx = np.mgrid[0:n, 0:n]
+    u, v = (xx - n / 2) / n, (yy - n / 2) / n
+    ug, vg = u + 0.5 / n, -v - 0.5 / n  # gdp's pixel coordinates: rows top down, pixel centres at +0.5
+    print("plate  true: plane u, v, radial   fitted (same axes): plane u, v, radial   rms(fitted - true)")
+    for k, su, sv, rad in notes:
+        a, b, c, d = true_backgrounds[int(k)]
+        su, sv, rad = float(su), float(sv), float(rad)
+        diff = (su * ug + sv * vg + rad * (ug * ug + vg * vg)) - (b * u + c * v + d * (u * u + v * v))
+        print(f"  {int(k):3d}  {b:+.4f} {c:+.4f} {d:+.4f}   {su:+.4f} {-sv:+.4f} {rad:+.4f}   {np.std(diff):.4f}")
 if args.stars:
     os.makedirs(m("stars"), exist_ok=True)
     pipelines(m("raw_stars"), m("stars"))

@@ -13,6 +13,8 @@
 #include "gdp/sky.h"
 #include "image_stream_util.h"
 #include "sky/header.h"
+#include "sky/overlap_samples.h"
+#include "sky/plate_backgrounds.h"
 #include "sky/plate.h"
 #include "sky/wcs.h"
 
@@ -26,9 +28,11 @@ using SkyFunction = std::function<double(const sphere::Vec3&)>;
 double smooth_sky(const sphere::Vec3& d) { return 1.0 + 0.3 * d.x + 0.2 * d.y * d.z + 0.1 * std::sin(3.0 * d.z); }
 
 // Writes a TAN plate of `size` x `size` pixels of `scale` degrees centred at (lon, lat): the
-// sky function at each pixel centre plus `offset`; returns its path.
+// sky function at each pixel centre plus `offset` (plus `background` of the pixel coordinates);
+// returns its path.
 std::string write_plate(const fs::path& dir, const std::string& name, double lon, double lat, int size, double scale,
-                        const SkyFunction& sky, double offset) {
+                        const SkyFunction& sky, double offset,
+                        const std::function<double(double, double)>& background = {}) {
   SkyTarget grid{{}, lon, lat, size, size, scale, "TAN"};
   const std::string cards = sky::target_header(grid);
   const sky::Wcs wcs(cards, size, size, name);
@@ -37,7 +41,8 @@ std::string write_plate(const fs::path& dir, const std::string& name, double lon
     for (int x = 0; x < size; ++x) {
       double a = 0, b = 0;
       EXPECT_TRUE(wcs.pixel_to_sky(x + 0.5, y + 0.5, a, b));
-      image.at(0, x, y) = static_cast<float>(sky(sky::direction(a, b)) + offset);
+      image.at(0, x, y) = static_cast<float>(sky(sky::direction(a, b)) + offset +
+                                             (background ? background(x + 0.5, y + 0.5) : 0.0));
     }
   WriteOptions options;
   options.fits_header = cards;
@@ -53,6 +58,7 @@ class SkyMosaic : public test::TempDirTest {
     SkyOptions options;
     options.target = target;
     options.blend = blend;
+    options.fit_backgrounds = fit_;
     options.pq_height = pq_height_;
     if (whole) options.toast = dir_ / "toast";
     fs::remove_all(dir_ / "toast");
@@ -65,6 +71,7 @@ class SkyMosaic : public test::TempDirTest {
   }
   SkySummary summary_;
   int pq_height_ = 0;
+  bool fit_ = false;  // --fit-backgrounds
 };
 
 TEST_F(SkyMosaic, OnePlateIsThatPlateReprojected) {
@@ -104,24 +111,28 @@ TEST_F(SkyMosaic, AConstantBackgroundDifferenceIsRemovedExactly) {
   const std::vector<std::string> plates = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, flat, 0.0),
                                            write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, flat, 0.5)};
   const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
-  const Image seamed = run(plates, target, false);
-  const Image blended = run(plates, target, true);
-  ASSERT_GT(summary_.plate_pixels[0], 0);
-  ASSERT_GT(summary_.plate_pixels[1], 0);
-  double lo = 1e9, hi = -1e9;
-  int at_a = 0, at_b = 0;  // seamed pixels of either plate's level (the cubic rings at the step)
-  for (std::size_t k = 0; k < blended.data.size(); ++k) {
-    if (std::isnan(blended.data[k])) continue;
-    lo = std::min(lo, double(blended.data[k]));
-    hi = std::max(hi, double(blended.data[k]));
-    at_a += std::abs(seamed.data[k] - 2.0) < 1e-5;
-    at_b += std::abs(seamed.data[k] - 2.5) < 1e-5;
+  for (const bool fit : {false, true}) {
+    SCOPED_TRACE(fit ? "with fitted backgrounds" : "offsets only");
+    fit_ = fit;
+    const Image seamed = run(plates, target, false);
+    const Image blended = run(plates, target, true);
+    ASSERT_GT(summary_.plate_pixels[0], 0);
+    ASSERT_GT(summary_.plate_pixels[1], 0);
+    double lo = 1e9, hi = -1e9;
+    int at_a = 0, at_b = 0;  // seamed pixels of either plate's level (the cubic rings at the step)
+    for (std::size_t k = 0; k < blended.data.size(); ++k) {
+      if (std::isnan(blended.data[k])) continue;
+      lo = std::min(lo, double(blended.data[k]));
+      hi = std::max(hi, double(blended.data[k]));
+      at_a += std::abs(seamed.data[k] - 2.0) < 1e-5;
+      at_b += std::abs(seamed.data[k] - 2.5) < 1e-5;
+    }
+    EXPECT_GT(at_a, 500) << "both plates are in the seamed mosaic";
+    EXPECT_GT(at_b, 500) << "both plates are in the seamed mosaic";
+    EXPECT_LE(hi - lo, 1e-5) << "the blend is constant";
+    EXPECT_GT(lo, 2.0);
+    EXPECT_LT(hi, 2.5);
   }
-  EXPECT_GT(at_a, 500) << "both plates are in the seamed mosaic";
-  EXPECT_GT(at_b, 500) << "both plates are in the seamed mosaic";
-  EXPECT_LE(hi - lo, 1e-5) << "the blend is constant";
-  EXPECT_GT(lo, 2.0);
-  EXPECT_LT(hi, 2.5);
 }
 
 TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
@@ -145,6 +156,74 @@ TEST_F(SkyMosaic, ASmoothSkyKeepsItsShapeAcrossTheSeam) {
     }
   std::printf("smooth sky: blend - sky varies by %.4f\n", hi - lo);
   EXPECT_LE(hi - lo, 0.005) << "of a 0.5 step";
+}
+
+// Three overlapping plates of the smooth sky, each with its own background in its pixel
+// coordinates (x, y) of a 40-pixel plate; `scale` 0: no backgrounds, offsets only.
+struct ThreePlates {
+  std::array<sky::PlateBackground, 3> truth;
+  std::vector<sky::Plate> plates;
+
+  ThreePlates(const fs::path& dir, double scale) {
+    truth = {{{0.0, 0.05, -0.03, 0.08}, {0.5, -0.04, 0.02, -0.06}, {-0.2, 0.03, 0.05, 0.1}}};
+    const std::array<std::array<double, 2>, 3> centres = {{{30.0, 10.0}, {42.0, 12.0}, {36.0, 24.0}}};
+    for (int k = 0; k < 3; ++k) {
+      sky::PlateBackground b = truth[k];
+      b.slope_u *= scale;
+      b.slope_v *= scale;
+      b.radial *= scale;
+      truth[k] = b;
+      const auto background = [b](double x, double y) {
+        const double u = (x - 20.0) / 40.0, v = (y - 20.0) / 40.0;
+        const double mean = 2.0 * (40.0 * 40.0 - 1.0) / (12.0 * 40.0 * 40.0);  // of u^2 + v^2 over the pixels
+        return b.slope_u * u + b.slope_v * v + b.radial * (u * u + v * v - mean);
+      };
+      const std::string name = std::string(1, char('a' + k)) + ".fits";
+      plates.push_back(sky::load_plate(
+          write_plate(dir, name, centres[k][0], centres[k][1], 40, 0.5, smooth_sky, b.offset, background)));
+    }
+  }
+};
+
+double model(const sky::Plate& p, const sky::PlateBackground& b, double x, double y) {
+  const auto f = sky::background_basis(p, x, y);
+  return b.offset * f[0] + b.slope_u * f[1] + b.slope_v * f[2] + b.radial * f[3];
+}
+
+// The fitted backgrounds' differences against the true ones over every pair's overlap: rms of
+// the error and of the true differences' smooth part (offsets left out of both).
+std::array<double, 2> difference_errors(const ThreePlates& t, const std::vector<sky::PlateBackground>& fitted) {
+  double error = 0.0, size = 0.0;
+  long long n = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = a + 1; b < 3; ++b)
+      for (const sky::OverlapSample& s : sky::overlap_samples(t.plates[a], t.plates[b])) {
+        const double truth = model(t.plates[a], t.truth[a], s.ax, s.ay) - model(t.plates[b], t.truth[b], s.bx, s.by);
+        const double fit = model(t.plates[a], fitted[a], s.ax, s.ay) - model(t.plates[b], fitted[b], s.bx, s.by);
+        const double offsets = (t.truth[a].offset - t.truth[b].offset);
+        error += (fit - truth) * (fit - truth);
+        size += (truth - offsets) * (truth - offsets);
+        ++n;
+      }
+  return {std::sqrt(error / n), std::sqrt(size / n)};
+}
+
+TEST_F(SkyMosaic, FittedBackgroundsRecoverTheDifferences) {
+  const ThreePlates t(dir_, 1.0);
+  const std::vector<sky::PlateBackground> fitted = sky::plate_backgrounds(t.plates, 1e-3);
+  const auto [error, size] = difference_errors(t, fitted);
+  std::printf("fitted background differences: rms error %.2e of %.2e\n", error, size);
+  EXPECT_GT(size, 0.01);
+  EXPECT_LE(error, 0.02 * size) << "the fit recovers the plates' background differences";
+}
+
+TEST_F(SkyMosaic, NoBackgroundFitsNearlyZero) {
+  const ThreePlates t(dir_, 0.0);
+  const std::vector<sky::PlateBackground> fitted = sky::plate_backgrounds(t.plates, 1e-3);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LE(std::abs(fitted[k].slope_u) + std::abs(fitted[k].slope_v) + std::abs(fitted[k].radial), 1e-3) << k;
+    EXPECT_NEAR(fitted[k].offset - fitted[0].offset, t.truth[k].offset - t.truth[0].offset, 1e-3) << k;
+  }
 }
 
 TEST_F(SkyMosaic, ThePlatesWindowAndTheWholeSphereAgree) {

@@ -30,6 +30,11 @@ struct SkyOptions {
   long plane = 0;      // 0-based plane of cube plates
   int pq_height = 0;   // 0: from the finest plate scale
   bool blend = true;   // false: the seamed mosaic only (each point from the plate it lies deepest inside)
+  // Before the solve, fit each plate's smooth background (plane + radial term in its own pixel
+  // coordinates) to the overlaps and subtract it (docs/sky.md); the damping picks the smallest
+  // fit where the overlaps cannot tell (relative to the data's mean diagonal).
+  bool fit_backgrounds = true;
+  double background_damping = 1e-3;
   // Non-empty: also a WorldWideTelescope TOAST pyramid there (new or empty directory; PNG grey +
   // alpha, 0.5-99.5 percentile stretch); the PQ height is then rounded up to 128 * 2^n.
   std::filesystem::path toast;

@@ -4,50 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sphere/vec3.h"
+#include "sky/overlap_samples.h"
 
 namespace gdp::sky {
-namespace {
-
-struct Overlap {
-  double sum = 0.0;  // of (a - b)
-  long long n = 0;
-};
-
-// Mean difference of plate a minus plate b over a's sample points inside b.
-Overlap overlap(const Plate& a, const Plate& b) {
-  Overlap o;
-  const int stride = std::max(1, std::max(a.width, a.height) / 64);
-  std::vector<double> xy, sky, bxy;
-  std::vector<unsigned char> ok, bok;
-  std::vector<float> values;
-  for (int y = 0; y < a.height; y += stride)
-    for (int x = 0; x < a.width; x += stride) {
-      const float v = a.pixels[static_cast<std::size_t>(y) * a.width + x];
-      if (!std::isfinite(v)) continue;
-      xy.push_back(x + 0.5);
-      xy.push_back(y + 0.5);
-      values.push_back(v);
-    }
-  const std::size_t n = values.size();
-  sky.resize(2 * n);
-  bxy.resize(2 * n);
-  ok.resize(n);
-  bok.resize(n);
-  a.wcs->pixel_to_sky(xy, sky, ok);
-  b.wcs->sky_to_pixel(sky, bxy, bok);
-  for (std::size_t k = 0; k < n; ++k) {
-    const double x = bxy[2 * k], y = bxy[2 * k + 1];
-    if (!ok[k] || !bok[k] || x < 0.0 || y < 0.0 || x >= b.width || y >= b.height) continue;
-    const float w = b.sample(x, y);
-    if (!std::isfinite(w)) continue;
-    o.sum += double(values[k]) - w;
-    ++o.n;
-  }
-  return o;
-}
-
-}  // namespace
 
 std::vector<double> offsets_from_overlaps(std::size_t count, const std::vector<OverlapSum>& pairs) {
   // L o = r: L the Laplacian weighted by n_ab, r_a = sum over a's pairs of sum(a - b). Each
@@ -103,11 +62,13 @@ std::vector<double> plate_offsets(const std::vector<Plate>& plates) {
   std::vector<OverlapSum> pairs;
   for (std::size_t a = 0; a < m; ++a)
     for (std::size_t b = a + 1; b < m; ++b) {
-      const double reach = std::acos(std::clamp(plates[a].cos_radius, -1.0, 1.0)) +
-                           std::acos(std::clamp(plates[b].cos_radius, -1.0, 1.0));
-      if (sphere::angle(plates[a].centre, plates[b].centre) > reach) continue;
-      const Overlap o = overlap(plates[a], plates[b]);
-      if (o.n > 0) pairs.push_back({static_cast<int>(a), static_cast<int>(b), o.sum, o.n});
+      if (!cones_meet(plates[a], plates[b])) continue;
+      OverlapSum o{static_cast<int>(a), static_cast<int>(b), 0.0, 0};
+      for (const OverlapSample& p : overlap_samples(plates[a], plates[b])) {
+        o.sum += p.difference;
+        ++o.n;
+      }
+      if (o.n > 0) pairs.push_back(o);
     }
   return offsets_from_overlaps(m, pairs);
 }

@@ -15,6 +15,7 @@
 #include "sky/hips_output.h"
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
+#include "sky/plate_backgrounds.h"
 #include "sky/plate_offsets.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
@@ -170,7 +171,6 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     if (plates.back().planes > 1)
       note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, plates.back().planes, options.plane + 1));
   }
-  sky::set_fade_levels(plates);
   const int H = choose_pq_height(plates, options);
   // The frame every plate must share: the target's, else the first plate's.
   std::optional<TargetGrid> grid;
@@ -198,6 +198,15 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
                                  "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
                                  "--pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
+  if (options.fit_backgrounds && options.blend) {
+    const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
+    sky::subtract_smooth_backgrounds(plates, b);
+    for (std::size_t k = 0; k < plates.size(); ++k)
+      note(fmt::format("{}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial {:.6g}", paths[k],
+                       b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial));
+  }
+  sky::set_fade_levels(plates);
   SkySummary s;
   const Image pq = solve_pq(plates, win, options, solver, paths, s);
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);

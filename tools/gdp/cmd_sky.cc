@@ -49,6 +49,12 @@ class Sky final : public Command {
     app->add_option("--plane", plane_, "plane of cube plates (1-based)")->capture_default_str();
     app->add_flag("!--no-blend", options_.blend,
                   "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
+    app->add_flag("--fit-backgrounds,!--no-fit-backgrounds", options_.fit_backgrounds,
+                  "fit each plate's plane and radial term to the overlaps and take them off before the solve "
+                  "(default; --no-fit-backgrounds: offsets only)");
+    app->add_option("--background-damping", options_.background_damping,
+                    "--fit-backgrounds: damping of the smooth terms, relative to the overlaps' weight")
+        ->capture_default_str();
     app->add_flag("--projected", projected_,
                   "the images are already reprojected onto the --header template (Montage's mProjExec output, a "
                   "directory such as its projdir too; NAME_area.fits give coverage): blend them planar on it");

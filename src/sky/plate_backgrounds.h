@@ -1,0 +1,52 @@
+// Smooth plate backgrounds from the overlaps: offset + plane + radial term per plate, the minimum-norm fit where overlaps cannot tell.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "sky/plate.h"
+
+namespace gdp::sky {
+
+// A plate's background: offset + u * slope_u + v * slope_v + radial * (u^2 + v^2 - mean), u and v
+// the plate's pixel coordinates about its centre in units of its longer side (background_basis).
+struct PlateBackground {
+  double offset = 0, slope_u = 0, slope_v = 0, radial = 0;
+};
+
+// The model's four basis functions at pixel (x, y) of `plate` (gdp pixel coordinates): 1, u, v,
+// u^2 + v^2 less its mean over the plate's rectangle, with u = (x - width/2) / L, v = (y -
+// height/2) / L, L = max(width, height). The last three have mean zero over the plate.
+std::array<double, 4> background_basis(const Plate& plate, double x, double y);
+
+// One sample of a difference between two plates: b's basis enters with a minus sign.
+struct BackgroundEquation {
+  int a = 0, b = 0;
+  std::array<double, 4> basis_a{}, basis_b{};
+  double difference = 0;  // a's value minus b's
+};
+
+// The mean square of each basis function over the plate's rectangle (1 for the offset): a
+// background's energy is sum_i energy_i c_i^2 (the basis is orthogonal over the rectangle).
+std::array<double, 4> background_energy(const Plate& plate);
+
+// Backgrounds of the plates (energy: background_energy of each) minimising
+//   sum over equations (B_a(p) - B_b(p) - difference)^2 + lambda sum over plates (energy of the smooth terms),
+// lambda = damping x the equations' normal matrix's smooth diagonal per unit of energy. Differences
+// do not see a background common to all plates (a constant, a plane and a bowl over the whole
+// mosaic fit every plate's model): the damping picks, among the fits, the one whose smooth
+// backgrounds have the least energy, so the common part is left where it was. Offsets are not
+// damped; they come out with mean 0 over the plates in some equation. Conjugate gradients
+// (diagonal preconditioner) on the block-sparse normal equations.
+std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
+                                             const std::vector<BackgroundEquation>& equations, double damping);
+
+// The equations of the plates' overlaps (overlap_samples: about 64 x 64 points per plate) and
+// their fit. Uses the plates' WCS (not thread-safe).
+std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping);
+
+// Subtracts each plate's smooth terms (not its offset: the solve removes constants exactly) from
+// its pixels, and from its mean.
+void subtract_smooth_backgrounds(std::vector<Plate>& plates, const std::vector<PlateBackground>& backgrounds);
+
+}  // namespace gdp::sky
