@@ -13,9 +13,9 @@ int choose_plate(std::span<const PlateHit> hits, std::span<const int> sizes, int
   for (std::size_t k = 0; k < hits.size(); ++k) {
     const PlateHit& hit = hits[k];
     if (!hit.valid) continue;
-    ++valid;
-    if (hit.plate == preferred) wanted = static_cast<int>(k);
     const double d = depth_inside(hit.x, hit.y, sizes[2 * hit.plate], sizes[2 * hit.plate + 1]);
+    ++valid;
+    if (hit.plate == preferred && d > 0.0) wanted = static_cast<int>(k);  // inside it, not its extension
     if (best < 0 || d > deepest) {
       best = static_cast<int>(k);
       deepest = d;
