@@ -55,28 +55,39 @@ bool local_maximum(const Plate& p, int x, int y) {
   return true;
 }
 
-// The median over 8 rays from the peak of where the profile flattens, plus one pixel.
+// The value at (x, y), NaN off the plate.
+double value_at(const Plate& p, int x, int y) {
+  if (x < 0 || y < 0 || x >= p.width || y >= p.height) return NAN;
+  return p.pixels[static_cast<std::size_t>(y) * p.width + x];
+}
+
+// Along 4 lines through the peak (the axes and diagonals), the mean of both sides at distance d
+// (a linear sky cancels) until it stops falling by more than kFlat of its drop from the peak per
+// pixel, or, past its steepest point, falls faster again (the sky's curvature or noise taking
+// over); the median of the 4 distances, plus one pixel, at most `cap`.
 double source_radius(const Plate& p, int x, int y, double cap) {
-  const float peak = p.pixels[static_cast<std::size_t>(y) * p.width + x];
-  double lengths[8];
-  int r = 0;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      if (!dx && !dy) continue;
-      const double step = std::hypot(dx, dy);
-      double prev = peak;
-      int d = 1;
-      for (; d * step < cap; ++d) {
-        const int u = x + d * dx, v = y + d * dy;
-        if (u < 0 || v < 0 || u >= p.width || v >= p.height) break;
-        const double value = p.pixels[static_cast<std::size_t>(v) * p.width + u];
-        if (!std::isfinite(value) || prev - value <= kFlat * (peak - value)) break;
-        prev = value;
-      }
-      lengths[r++] = d * step;
+  const double peak = value_at(p, x, y);
+  const int lines[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  double lengths[4];
+  for (int l = 0; l < 4; ++l) {
+    const int dx = lines[l][0], dy = lines[l][1];
+    const double step = std::hypot(dx, dy);
+    double prev = peak, prev_fall = 0.0;
+    bool shrinking = false;  // past the steepest point
+    int d = 1;
+    for (; d * step < cap; ++d) {
+      const double mean = 0.5 * (value_at(p, x + d * dx, y + d * dy) + value_at(p, x - d * dx, y - d * dy));
+      const double fall = prev - mean;
+      // Flat, or falling faster again: the sky's curvature (or noise) outweighs the star's slope.
+      if (!std::isfinite(mean) || fall <= kFlat * (peak - mean) || (shrinking && fall > prev_fall)) break;
+      shrinking = shrinking || fall < prev_fall;
+      prev = mean;
+      prev_fall = fall;
     }
-  std::sort(lengths, lengths + 8);
-  return std::min(cap, 0.5 * (lengths[3] + lengths[4]) + 1.0);
+    lengths[l] = d * step;
+  }
+  std::sort(lengths, lengths + 4);
+  return std::min(cap, 0.5 * (lengths[1] + lengths[2]) + 1.0);
 }
 
 }  // namespace

@@ -18,9 +18,10 @@ struct PlateSource {
 
 // The sources of a plate: local maxima whose curvature (the value less the mean of its 8
 // neighbours) exceeds `threshold` times the plate's robust spread of that curvature (1.4826 x
-// its median absolute deviation), each with its radius: the median over 8 rays from the peak
-// of the distance where the profile stops falling (by less than 1e-3 of the drop so far per
-// pixel), plus one pixel, at most max(2, min(32, plate size / 8)) pixels.
+// its median absolute deviation), each with its radius: along 4 lines through the peak, where
+// the mean of both sides (a linear sky cancels) stops falling by more than 1e-3 of its drop from
+// the peak per pixel or, past its steepest point, falls faster again (a curved sky, noise); the
+// median of the 4, plus one pixel, at most max(2, min(32, plate size / 8)) pixels.
 std::vector<PlateSource> plate_sources(const Plate& plate, double threshold = 20.0);
 
 // The sources of all plates that lie in overlaps (within their radius of two plates), merged
