@@ -11,9 +11,10 @@ mosaic on the same template header; both and the uncorrected seamed mosaic (gdp 
 compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
 removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step); the sky alone
 through gdp --no-blend (no backgrounds) gives the resampling's own share. With --stars N, every
-pipeline runs again on the plates with N Gaussian stars added (stars/): a star's flux is the box
-sum of that result less the one without stars, against the box sum of the star sampled on the
-target grid (see the comment at the star fluxes below and docs/sky.md).
+pipeline runs again on the plates with N Gaussian stars added (stars/): a star's flux is the aperture
+sum of that result less the one without stars (for gdp on the same seams: --seams-from), against
+the same sum of the star sampled on the target grid (see the comment at the star fluxes below and
+docs/sky.md).
 With --projected, gdp starts where Montage's background steps do: Montage's projdir (mProjExec's
 images on the template, with their area images) goes to `gdp sky --projected`, beside mOverlaps,
 mDiffExec, mFitExec, mBgModel, mBgExec and mAdd on the same directory, and beside mAdd alone (no
