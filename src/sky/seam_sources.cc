@@ -152,9 +152,17 @@ int source_plate(const std::vector<Plate>& plates, const sphere::Vec3& d, double
 SeamSources::SeamSources(const std::vector<Plate>& plates) {
   const std::vector<Detection> all = all_detections(plates);
   if (all.empty()) return;
-  cell_ = all.front().radius * 1.001;  // chords are shorter than angles
+  // Chords are shorter than angles; a kept disk grows to hold the smaller ones inside it, to at
+  // most twice the largest radius.
+  cell_ = 2.0 * all.front().radius * 1.001;
   for (const Detection& s : all) {
-    if (find(s.centre) >= 0) continue;  // inside a larger source already kept (the same star in another plate)
+    if (const int n = find(s.centre); n >= 0) {
+      // The same star in another plate, or a neighbour: the disk grows to hold it whole.
+      Source& kept = sources_[n];
+      const double reach = std::acos(std::min(1.0, sphere::dot(s.centre, kept.centre))) + s.radius;
+      kept.cos_radius = std::min(kept.cos_radius, std::cos(std::min(reach, 2.0 * all.front().radius)));
+      continue;
+    }
     const int plate = source_plate(plates, s.centre, s.radius);
     if (plate >= 0) insert({s.centre, std::cos(s.radius), plate});
   }

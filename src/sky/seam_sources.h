@@ -25,8 +25,9 @@ struct PlateSource {
 std::vector<PlateSource> plate_sources(const Plate& plate, double threshold = 20.0);
 
 // The sources of all plates that lie in overlaps (within their radius of two plates), merged
-// (a source seen by several plates once, the largest), each assigned the plate it lies deepest
-// inside at its centre. plate_at(d) gives the plate of the source whose disk holds d (the
+// (largest first; a source whose centre lies in a kept disk widens that disk to hold it whole:
+// the same star seen by another plate, or a close neighbour), each assigned the plate it lies
+// deepest inside at its centre. plate_at(d) gives the plate of the source whose disk holds d (the
 // nearest centre when several do), or -1; the seam rule then gives the whole disk to that plate,
 // so that a star is never composed of two plates' resamplings (which differ at a star by a few
 // percent of its peak, and the solve would spread that difference around it).
@@ -49,7 +50,7 @@ class SeamSources {
   int find(const sphere::Vec3& d) const;
 
   std::vector<Source> sources_;
-  double cell_ = 1.0;  // of the hash grid over unit vectors: at least every source's chord radius
+  double cell_ = 1.0;  // of the hash grid over unit vectors: at least every disk's chord radius
   std::unordered_map<long long, std::vector<int>> cells_;
 };
 
