@@ -126,8 +126,15 @@ std::vector<Detection> all_detections(const std::vector<Plate>& plates) {
 }
 
 // The plate a source at `d` of angular radius r goes to: the valid plate deepest at d, when at
-// least two plates reach within r of d (else -1: no seam can cut it).
-int source_plate(const std::vector<Plate>& plates, const sphere::Vec3& d, double r) {
+// least two plates reach within r of d (else plate -1: no seam can cut it); `room`: how far the
+// disk may reach and stay inside that plate with 2 of its pixels to spare (its edge pixels are
+// resampled bilinearly and its extension beyond them is no sky), in radians.
+struct Owner {
+  int plate = -1;
+  double room = 0.0;
+};
+
+Owner source_plate(const std::vector<Plate>& plates, const sphere::Vec3& d, double r) {
   double lon = 0, lat = 0;
   lon_lat(d, lon, lat);
   std::vector<PlateHit> hits;
@@ -144,7 +151,10 @@ int source_plate(const std::vector<Plate>& plates, const sphere::Vec3& d, double
     hits.push_back({static_cast<int>(k), x, y, p.has_value(x, y)});
   }
   const int best = reaching >= 2 ? choose_plate(hits, sizes) : -1;
-  return best < 0 ? -1 : hits[best].plate;
+  if (best < 0) return {};
+  const PlateHit& h = hits[best];
+  const Plate& p = plates[h.plate];
+  return {h.plate, (depth_inside(h.x, h.y, p.width, p.height) - 2.0) * p.scale * kDeg};
 }
 
 }  // namespace
@@ -161,10 +171,11 @@ SeamSources::SeamSources(const std::vector<Plate>& plates) {
       Source& kept = sources_[n];
       const double reach = std::acos(std::min(1.0, sphere::dot(s.centre, kept.centre))) + s.radius;
       kept.cos_radius = std::min(kept.cos_radius, std::cos(std::min(reach, 2.0 * all.front().radius)));
+      if (reach > kept.room) kept.plate = -1;  // no longer fits in its plate: the plain rule there
       continue;
     }
-    const int plate = source_plate(plates, s.centre, s.radius);
-    if (plate >= 0) insert({s.centre, std::cos(s.radius), plate});
+    const Owner owner = source_plate(plates, s.centre, s.radius);
+    if (owner.plate >= 0) insert({s.centre, std::cos(s.radius), s.radius <= owner.room ? owner.plate : -1, owner.room});
   }
 }
 
