@@ -126,9 +126,9 @@ std::vector<Detection> all_detections(const std::vector<Plate>& plates) {
 }
 
 // The plate a source at `d` of angular radius r goes to: the valid plate deepest at d, when at
-// least two plates reach within r of d (else plate -1: no seam can cut it); `room`: how far the
-// disk may reach and stay inside that plate with 2 of its pixels to spare (its edge pixels are
-// resampled bilinearly and its extension beyond them is no sky), in radians.
+// least two plates reach within r of d (else plate -1: no seam can cut it); `room`: how far a
+// disk grown for a neighbour may reach and stay inside that plate with 2 of its pixels to spare
+// (its edge pixels are resampled bilinearly and its extension beyond them is no sky), in radians.
 struct Owner {
   int plate = -1;
   double room = 0.0;
@@ -167,15 +167,18 @@ SeamSources::SeamSources(const std::vector<Plate>& plates) {
   cell_ = 2.0 * all.front().radius * 1.001;
   for (const Detection& s : all) {
     if (const int n = find(s.centre); n >= 0) {
-      // The same star in another plate, or a neighbour: the disk grows to hold it whole.
       Source& kept = sources_[n];
-      const double reach = std::acos(std::min(1.0, sphere::dot(s.centre, kept.centre))) + s.radius;
+      const double apart = std::acos(std::min(1.0, sphere::dot(s.centre, kept.centre)));
+      if (apart < 0.3 * s.radius) continue;  // the same star in another plate
+      // A neighbour: the disk grows to hold it whole; where that no longer fits inside its plate,
+      // the pair keeps the plain rule (a seam along the plate's edge would cut the neighbour).
+      const double reach = apart + s.radius;
       kept.cos_radius = std::min(kept.cos_radius, std::cos(std::min(reach, 2.0 * all.front().radius)));
-      if (reach > kept.room) kept.plate = -1;  // no longer fits in its plate: the plain rule there
+      if (reach > kept.room) kept.plate = -1;
       continue;
     }
     const Owner owner = source_plate(plates, s.centre, s.radius);
-    if (owner.plate >= 0) insert({s.centre, std::cos(s.radius), s.radius <= owner.room ? owner.plate : -1, owner.room});
+    if (owner.plate >= 0) insert({s.centre, std::cos(s.radius), owner.plate, owner.room});
   }
 }
 

@@ -27,8 +27,8 @@ std::vector<PlateSource> plate_sources(const Plate& plate, double threshold = 20
 // The sources of all plates that lie in overlaps (within their radius of two plates), merged
 // (largest first; a source whose centre lies in a kept disk widens that disk to hold it whole:
 // the same star seen by another plate, or a close neighbour), each assigned the plate it lies
-// deepest inside at its centre, if the disk fits inside it with 2 pixels to spare (else none:
-// a seam along a plate's edge is worse than one through a star). plate_at(d) gives the plate of the source whose disk holds d (the
+// deepest inside at its centre (a disk widened for a neighbour: only if it still fits inside
+// that plate with 2 pixels to spare, else none). plate_at(d) gives the plate of the source whose disk holds d (the
 // nearest centre when several do), or -1; the seam rule then gives the whole disk to that plate,
 // so that a star is never composed of two plates' resamplings (which differ at a star by a few
 // percent of its peak, and the solve would spread that difference around it).
@@ -42,8 +42,8 @@ class SeamSources {
   struct Source {
     sphere::Vec3 centre;
     double cos_radius = 1.0;
-    int plate = -1;     // -1: the disk does not fit in one plate; the plain rule there
-    double room = 0.0;  // how far it may reach inside its plate (radians)
+    int plate = -1;     // -1: a widened disk that does not fit in its plate; the plain rule there
+    double room = 0.0;  // how far a widened disk may reach inside its plate (radians)
   };
   long long cell_key(long long i, long long j, long long k) const;
   void cell_of(const sphere::Vec3& d, long long c[3]) const;
