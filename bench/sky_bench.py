@@ -11,9 +11,10 @@ mosaic on the same template header; both and the uncorrected seamed mosaic (gdp 
 compared with the truth on that grid after a 3x3 median filter: background rms (error's mean
 removed) and seam visibility (99.9th percentile of the error's pixel-to-pixel step); the sky alone
 through gdp --no-blend (no backgrounds) gives the resampling's own share. With --stars N, every
-pipeline runs again on the plates with N Gaussian stars added (stars/): a star's flux is the box
-sum of that result less the one without stars, against the box sum of the star sampled on the
-target grid (see the comment at the star fluxes below and docs/sky.md).
+pipeline runs again on the plates with N Gaussian stars added (stars/): a star's flux is the aperture
+sum of that result less the one without stars (for gdp on the same seams: --seams-from), against
+the same sum of the star sampled on the target grid (see the comment at the star fluxes below and
+docs/sky.md).
 With --projected, gdp starts where Montage's background steps do: Montage's projdir (mProjExec's
 images on the template, with their area images) goes to `gdp sky --projected`, beside mOverlaps,
 mDiffExec, mFitExec, mBgModel, mBgExec and mAdd on the same directory, and beside mAdd alone (no
@@ -226,6 +227,13 @@ if notes:
 if args.stars:
     os.makedirs(m("stars"), exist_ok=True)
     pipelines(m("raw_stars"), m("stars"))
+    if not args.projected:
+        # gdp's seams go around the stars: its star-free reference takes the seams of the plates with
+        # stars (--seams-from), so that the difference is the stars, not a moved seam.
+        star_plates = sorted(glob.glob(m("raw_stars", "*.fits")))
+        for name, extra in (("gdp", ["--tolerance", "1e-4"]), ("seamed", ["--no-blend"])):
+            run([args.gdp, "sky", *sorted(glob.glob(m("raw", "*.fits"))), "--header", hdr, "-o", m("stars", name + "_ref.fits"),
+                 *extra, "--quiet", "--seams-from", *star_plates], [])
 
 
 def median3(a):
@@ -268,35 +276,40 @@ for label, truth_of in truths:
 # Star fluxes. Each pipeline also ran on the plates with stars added (stars/); its image of the
 # stars is that result less the one without them, so neither the sky's structure under a star nor
 # the background correction's error enters the flux (the pipelines are linear in the data, up to
-# what the stars move Montage's plane fits and gdp's plate levels). Flux: the sum over a 13 x 13
-# target pixel box (+-4 sigma) around the star, less the box border's median; the truth: the same
-# sum of the stars alone sampled at the target pixel centres (a box sum of a sampled Gaussian of
-# sigma >= 1 pixel is its integral to 1e-8; an interpolation kernel that sums to 1 keeps it).
+# what the stars move Montage's plane fits and gdp's plate levels). Flux: the sum over the target
+# pixels within 6.5 pixels (4.3 sigma) of the star, less the median of the pixels 9 or more (6 sigma) pixels
+# out (beyond the star: a border at 4 sigma sits on its wings, which resampling widens: +8e-4); the
+# truth: the same sum of the stars alone sampled at the target pixel centres (a sum of a sampled
+# Gaussian of sigma >= 1 pixel is its integral to 1e-8; an interpolation kernel that sums to 1 keeps it).
 # Against the truth: resampling and correction together; gdp against gdp --no-blend: the solve's
 # own change to the star (the same resampling on both sides).
 sx, sy = target.all_world2pix(star_ra % 360.0, star_dec, 0)
 sx, sy = np.round(sx).astype(int), np.round(sy).astype(int)
 
 
+ry, rx = np.mgrid[-12:13, -12:13]
+radius = np.hypot(rx, ry)
+
+
 def fluxes(img):  # img in FITS order (row 0 at the bottom), as the world2pix positions
     f = []
     for x, y in zip(sx, sy):
-        box = img[y - 6:y + 7, x - 6:x + 7] if y >= 6 and x >= 6 else np.zeros((0, 0))
-        if box.shape != (13, 13) or not np.all(np.isfinite(box)):
+        box = img[y - 12:y + 13, x - 12:x + 13] if y >= 12 and x >= 12 else np.zeros((0, 0))
+        if box.shape != (25, 25) or not np.all(np.isfinite(box)):
             f.append(np.nan)
             continue
-        border = np.concatenate([box[0], box[-1], box[1:-1, 0], box[1:-1, -1]])
-        f.append(np.sum(box - np.median(border)))
+        f.append(np.sum(box[radius <= 6.5] - np.median(box[radius >= 9])))
     return np.array(f)
 
 
 def star_image(name):  # FITS order
-    return (rows_top_down(m("stars", name + ".fits")) - results[name])[::-1]
+    ref = m("stars", name + "_ref.fits")
+    return (rows_top_down(m("stars", name + ".fits")) - (rows_top_down(ref) if os.path.exists(ref) else results[name]))[::-1]
 
 
 if args.stars:
     truth_flux = fluxes(stars(ra_t, dec_t))
-    print(f"star fluxes ({args.stars} stars): relative error of the box flux: median, median |.|, worst |.|")
+    print(f"star fluxes ({args.stars} stars): relative error of the aperture flux: median, median |.|, worst |.|")
     compared = [(names[k], fluxes(star_image(k)), truth_flux) for k in ("gdp", "montage", "seamed")]
     if not args.projected:
         compared.append(("gdp sky against gdp --no-blend", fluxes(star_image("gdp")), fluxes(star_image("seamed"))))

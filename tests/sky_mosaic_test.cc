@@ -1,6 +1,7 @@
-// gdp sky against mathematics: one plate is that plate reprojected, constant background differences vanish, errors.
+// gdp sky against mathematics: one plate is that plate reprojected, constant background differences vanish, stars keep their flux, errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <array>
@@ -17,6 +18,7 @@
 #include "sky/plate_backgrounds.h"
 #include "sky/plate.h"
 #include "sky/wcs.h"
+#include "sphere/vec3.h"
 
 namespace gdp {
 namespace {
@@ -60,6 +62,8 @@ class SkyMosaic : public test::TempDirTest {
     options.blend = blend;
     options.fit_backgrounds = fit_;
     options.pq_height = pq_height_;
+    options.star_seams = star_seams_;
+    options.seam_plates = seam_plates_;
     if (whole) options.toast = dir_ / "toast";
     fs::remove_all(dir_ / "toast");
     SolverOptions solver;
@@ -72,6 +76,8 @@ class SkyMosaic : public test::TempDirTest {
   SkySummary summary_;
   int pq_height_ = 0;
   bool fit_ = false;  // --fit-backgrounds
+  bool star_seams_ = true;
+  std::vector<std::string> seam_plates_;
 };
 
 TEST_F(SkyMosaic, OnePlateIsThatPlateReprojected) {
@@ -243,6 +249,71 @@ TEST_F(SkyMosaic, ThePlatesWindowAndTheWholeSphereAgree) {
   }
   std::printf("window vs whole sphere: %.2e\n", worst);
   EXPECT_LE(worst, 1e-3);
+}
+
+// A Gaussian star of `flux` (value x square degrees) and sigma `sigma` degrees at `centre`.
+SkyFunction star(const sphere::Vec3& centre, double flux, double sigma) {
+  return [=](const sphere::Vec3& d) {
+    const double theta = sphere::angle(d, centre) * 180.0 / M_PI;
+    return flux / (2.0 * M_PI * sigma * sigma) * std::exp(-theta * theta / (2.0 * sigma * sigma));
+  };
+}
+
+// The sum over the pixels within 6.5 pixels of (x, y) of `image` less the median of those 9 to
+// 12 pixels away (the bench's aperture flux).
+double aperture_flux(const Image& image, int x, int y) {
+  double sum = 0.0;
+  std::vector<double> outer;
+  int inner = 0;
+  for (int dy = -12; dy <= 12; ++dy)
+    for (int dx = -12; dx <= 12; ++dx) {
+      const double r = std::hypot(dx, dy), v = image.at(0, x + dx, y + dy);
+      EXPECT_TRUE(std::isfinite(v)) << x + dx << " " << y + dy;
+      if (r <= 6.5) sum += v, ++inner;
+      if (r >= 9.0) outer.push_back(v);
+    }
+  std::nth_element(outer.begin(), outer.begin() + outer.size() / 2, outer.end());
+  return sum - inner * outer[outer.size() / 2];
+}
+
+TEST_F(SkyMosaic, AStarOnTheSeamKeepsItsFlux) {
+  // Two plates 0.5 apart on the smooth sky, a star (sigma 1.5 plate pixels, peak 1) on the
+  // medial line of their overlap, where the plain seam rule cuts it. The star image: the blend
+  // with the star less the blend without it on the same seams (the star's plates place them).
+  const double sigma = 0.75;
+  const sphere::Vec3 centre = sky::direction(36.0, 11.0);
+  const SkyFunction bright = star(centre, 2.0 * M_PI * sigma * sigma, sigma);
+  const SkyFunction starry = [&](const sphere::Vec3& d) { return smooth_sky(d) + bright(d); };
+  const std::vector<std::string> plain = {write_plate(dir_, "a.fits", 30.0, 10.0, 40, 0.5, smooth_sky, 0.0),
+                                          write_plate(dir_, "b.fits", 42.0, 12.0, 40, 0.5, smooth_sky, 0.5)};
+  const std::vector<std::string> stars = {write_plate(dir_, "as.fits", 30.0, 10.0, 40, 0.5, starry, 0.0),
+                                          write_plate(dir_, "bs.fits", 42.0, 12.0, 40, 0.5, starry, 0.5)};
+  const SkyTarget target{{}, 36.0, 11.0, 70, 50, 0.5, "CAR"};
+  const sky::Wcs wcs(sky::target_header(target), 70, 50, "target");
+  double px = 0, py = 0;
+  ASSERT_TRUE(wcs.sky_to_pixel(36.0, 11.0, px, py));
+  const int x = static_cast<int>(px), y = static_cast<int>(py);
+  Image truth(70, 50, 1);
+  for (int j = 0; j < 50; ++j)
+    for (int i = 0; i < 70; ++i) {
+      double a = 0, b = 0;
+      ASSERT_TRUE(wcs.pixel_to_sky(i + 0.5, j + 0.5, a, b));
+      truth.at(0, i, j) = static_cast<float>(bright(sky::direction(a, b)));
+    }
+  const double expected = aperture_flux(truth, x, y);
+  const auto relative_error = [&](bool star_seams) {
+    star_seams_ = star_seams;
+    Image with = run(stars, target, true);
+    seam_plates_ = star_seams ? stars : std::vector<std::string>{};
+    const Image without = run(plain, target, true);
+    seam_plates_.clear();
+    for (std::size_t k = 0; k < with.data.size(); ++k) with.data[k] -= without.data[k];
+    return aperture_flux(with, x, y) / expected - 1.0;
+  };
+  const double kept = relative_error(true), cut = relative_error(false);
+  std::printf("star on the seam: flux error %.2e around it, %.2e through it\n", kept, cut);
+  EXPECT_LE(std::abs(kept), 1e-3);
+  EXPECT_GT(std::abs(cut), 2.0 * std::abs(kept)) << "the plain rule cuts the star: it is what this test sees";
 }
 
 TEST_F(SkyMosaic, BadInputIsAnInputErrorNamingTheFile) {

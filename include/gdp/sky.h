@@ -35,6 +35,12 @@ struct SkyOptions {
   // fit where the overlaps cannot tell (relative to the data's mean diagonal).
   bool fit_backgrounds = true;
   double background_damping = 1e-3;
+  // Seams go around the stars in the overlaps (each star from one plate: docs/sky.md, "Seams
+  // around stars"); false: the plain rule, each point from the plate it lies deepest inside.
+  bool star_seams = true;
+  // Non-empty: the stars that place the seams are found in these plates (one per plate, in the
+  // same order, on the same grids: e.g. another band of the same plates), not in the plates.
+  std::vector<std::string> seam_plates;
   // Non-empty: also a WorldWideTelescope TOAST pyramid there (new or empty directory; PNG grey +
   // alpha, 0.5-99.5 percentile stretch); the PQ height is then rounded up to 128 * 2^n.
   std::filesystem::path toast;

@@ -36,8 +36,8 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window)
-    : plates_(plates), window_(window), chosen_(plates.size(), 0), counted_(window.rows, 0),
+MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources)
+    : plates_(plates), window_(window), sources_(sources), chosen_(plates.size(), 0), counted_(window.rows, 0),
       coverage_(static_cast<std::size_t>(window.width) * window.rows, 0) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
@@ -129,7 +129,8 @@ void MosaicRows::compute(int j, Row& out) {
   const bool count = !counted_[j];
   counted_[j] = 1;
   for (int i = 0; i < w; ++i) {
-    const int best = choose_plate(hits[i], sizes_);
+    const int preferred = sources_ && hits[i].size() >= 2 ? sources_->plate_at(dirs[i]) : -1;
+    const int best = choose_plate(hits[i], sizes_, preferred);
     if (best < 0) continue;
     const PlateHit& h = hits[i][best];
     const Plate& p = plates_[h.plate];

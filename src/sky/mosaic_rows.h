@@ -1,4 +1,4 @@
-// PQ rows of a plate mosaic: each pixel's value from the plate it lies deepest inside, and that plate's label.
+// PQ rows of a plate mosaic: each pixel's value from the plate it lies deepest inside (stars from one plate), and that plate's label.
 #pragma once
 
 #include <map>
@@ -9,6 +9,7 @@
 #include "gdp/sphere.h"
 #include "sky/plate.h"
 #include "sky/pq_window.h"
+#include "sky/seam_sources.h"
 #include "sky/seams.h"
 
 namespace gdp::sky {
@@ -25,8 +26,9 @@ inline constexpr float kNoPlate = 1.0f;
 // rows are kept, older ones are computed again if asked for.
 class MosaicRows {
  public:
-  // Rows of `window` (its columns only); the views are window.width x window.rows.
-  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window);
+  // Rows of `window` (its columns only); the views are window.width x window.rows. `sources`:
+  // the stars the seams go around (none: each point from the plate it lies deepest inside).
+  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
@@ -58,6 +60,7 @@ class MosaicRows {
   const std::vector<Plate>& plates_;
   PqWindow window_;
   std::vector<int> sizes_;
+  const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
   std::vector<long long> chosen_;
   std::vector<unsigned char> counted_;  // rows already counted in chosen_
   std::vector<unsigned char> coverage_;

@@ -21,7 +21,10 @@ double depth_inside(double x, double y, int w, int h);
 // The index into `hits` of the plate the point takes (the valid hit of greatest depth, which
 // is negative outside every plate: the nearest plate's extension; the earlier plate on ties),
 // or -1 when no hit is valid. `sizes` gives each plate's
-// width and height as {w0, h0, w1, h1, ...} indexed by PlateHit::plate.
-int choose_plate(std::span<const PlateHit> hits, std::span<const int> sizes);
+// width and height as {w0, h0, w1, h1, ...} indexed by PlateHit::plate. `preferred` (a plate
+// index, or -1): where the point lies inside that plate (not its extension) and another plate's
+// hit is valid too, it is taken (a star's
+// disk given to one plate, seam_sources.h).
+int choose_plate(std::span<const PlateHit> hits, std::span<const int> sizes, int preferred = -1);
 
 }  // namespace gdp::sky

@@ -19,6 +19,7 @@
 #include "sky/plate_offsets.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
+#include "sky/seam_sources.h"
 #include "sky/toast_output.h"
 #include "sphere/vec3.h"
 
@@ -108,10 +109,33 @@ int choose_pq_height(const std::vector<sky::Plate>& plates, const SkyOptions& op
   return H;
 }
 
+// --seams-from: the plates whose stars place the seams, one per plate and on its grid.
+std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const std::vector<std::string>& paths,
+                                    const SkyOptions& options) {
+  if (options.seam_plates.size() != plates.size())
+    throw UsageError(fmt::format("--seams-from takes one plate per plate: {} for {}", options.seam_plates.size(),
+                                 plates.size()));
+  std::vector<sky::Plate> out;
+  for (std::size_t k = 0; k < plates.size(); ++k) {
+    out.push_back(sky::load_plate(options.seam_plates[k], options.plane));
+    if (out[k].width != plates[k].width || out[k].height != plates[k].height)
+      throw InputError(fmt::format("{}: {} x {} pixels, but {} is {} x {}; --seams-from takes plates on the same grids",
+                                   options.seam_plates[k], out[k].width, out[k].height, paths[k], plates[k].width,
+                                   plates[k].height));
+  }
+  return out;
+}
+
 // The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
 Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const SkyOptions& options,
                SolverOptions solver, const std::vector<std::string>& paths, SkySummary& s) {
-  sky::MosaicRows rows(plates, win);
+  std::optional<sky::SeamSources> stars;
+  if (options.star_seams) {
+    if (options.seam_plates.empty()) stars.emplace(plates);
+    else stars.emplace(seam_plates(plates, paths, options));
+    if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
+  }
+  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr);
   Image pq(win.width, win.rows, 1);
   ImageRowWriter pq_rows(pq);
   if (options.blend) {

@@ -55,6 +55,13 @@ class Sky final : public Command {
     app->add_option("--background-damping", options_.background_damping,
                     "--fit-backgrounds: damping of the smooth terms, relative to the overlaps' weight")
         ->capture_default_str();
+    app->add_option("--seams", seams_, "stars: seams go around the stars in the overlaps (each star from one plate); "
+                                       "deepest: each point from the plate it lies deepest inside")
+        ->check(CLI::IsMember({"stars", "deepest"}))
+        ->capture_default_str();
+    app->add_option("--seams-from", options_.seam_plates,
+                    "find the stars that place the seams in these plates (one per plate, same order and grids: e.g. "
+                    "another band), not in the plates");
     app->add_flag("--projected", projected_,
                   "the images are already reprojected onto the --header template (Montage's mProjExec output, a "
                   "directory such as its projdir too; NAME_area.fits give coverage): blend them planar on it");
@@ -73,6 +80,8 @@ class Sky final : public Command {
     if (!size_.empty()) std::tie(options_.target.width, options_.target.height) = pair_of<int>(size_, "--size");
     if (plane_ < 1) throw UsageError(fmt::format("--plane counts from 1, got {}", plane_));
     options_.plane = plane_ - 1;
+    options_.star_seams = seams_ == "stars";
+    if (!options_.star_seams && !options_.seam_plates.empty()) throw UsageError("--seams-from needs --seams stars");
     options_.pq_height = common_.pq_height;
     options_.note = [this](const std::string& m) { note(common_, "gdp sky: " + m); };
     ImageFileInfo info;  // plates are read as floats: the output defaults to float
@@ -92,9 +101,9 @@ class Sky final : public Command {
   // --projected: images on the template, blended planar (gdp/sky_projected.h).
   int run_projected(Stats& stats, const SolverOptions& solver) {
     if (!center_.empty() || !options_.toast.empty() || !options_.hips.empty() || !options_.blend ||
-        common_.pq_height > 0 || plane_ != 1)
+        common_.pq_height > 0 || plane_ != 1 || seams_ != "stars" || !options_.seam_plates.empty())
       throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --hips, "
-                       "--no-blend, --pq-height or --plane");
+                       "--no-blend, --pq-height, --plane, --seams or --seams-from");
     if (output_.empty()) throw UsageError("gdp sky --projected needs -o OUTPUT");
     ProjectedOptions options;
     options.header = options_.target.header;
@@ -113,7 +122,7 @@ class Sky final : public Command {
 
   bool projected_ = false;
   std::vector<std::string> plates_;
-  std::string output_, center_, size_;
+  std::string output_, center_, size_, seams_ = "stars";
   long plane_ = 1;
   SkyOptions options_;
   CommonOptions common_;
