@@ -6,6 +6,7 @@
 #include "blend/photometric.h"
 #include "cli_fixture.h"
 #include "gdp/blend.h"
+#include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
 

@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include <fmt/format.h>
 
 #include "blend/layer_rows.h"
-#include "blend/layer_window.h"
 #include "gdp/errors.h"
 
 namespace gdp::blending {
@@ -30,39 +30,63 @@ std::vector<VignettingCentre> vignetting_centres(const BlendPlan& plan, const Ph
   return out;
 }
 
+namespace {
+
+// A layer open in the sampling sweep: its rows and the last sampled row's values.
+struct Sampled {
+  int index;
+  std::unique_ptr<LayerRows> rows;
+  std::vector<float> colour;
+  std::vector<unsigned char> covered;
+};
+
+// The layers' observations of canvas point (x, y) (row y read into `open`) when two or more see it.
+void sample_point(const std::vector<VignettingCentre>& centres, const std::vector<Sampled>& open, int x, int y,
+                  OverlapSamples& s) {
+  const std::size_t first = s.obs.size();
+  for (const Sampled& o : open) {
+    const Footprint& f = o.rows->where();
+    if (x < f.x0 || x >= f.x1 || !o.covered[x - f.x0]) continue;
+    const VignettingCentre& c = centres[o.index];
+    const double dx = x - f.x0 + f.skip_x - c.x, dy = y - f.y0 + f.skip_y - c.y;
+    OverlapObservation q;
+    q.layer = o.index;
+    q.t = static_cast<float>((dx * dx + dy * dy) / (c.radius * c.radius));
+    for (int ch = 0; ch < s.channels; ++ch) q.value[ch] = o.colour[static_cast<std::size_t>(ch) * f.width() + (x - f.x0)];
+    s.obs.push_back(q);
+  }
+  if (s.obs.size() - first >= 2) s.start.push_back(static_cast<std::uint32_t>(s.obs.size()));
+  else s.obs.resize(first);
+}
+
+}  // namespace
+
 OverlapSamples sample_overlaps(const BlendPlan& plan, const std::vector<VignettingCentre>& centres, int grid_points) {
-  const int W = plan.canvas.width, H = plan.canvas.height, C = plan.colour_channels;
+  const int W = plan.canvas.width, H = plan.canvas.height;
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(W) * H / std::max(1, grid_points)))));
   const int n = static_cast<int>(plan.layers.size());
   std::vector<Footprint> where(n);
-  for (int k = 0; k < n; ++k) where[k] = footprint(plan, k);
+  std::vector<int> by_top(n);
+  for (int k = 0; k < n; ++k) where[k] = footprint(plan, k), by_top[k] = k;
+  std::stable_sort(by_top.begin(), by_top.end(), [&](int a, int b) { return where[a].y0 < where[b].y0; });
   OverlapSamples s;
   s.layers = n;
-  s.channels = C;
-  LayerWindow window(plan);
-  std::vector<int> crossing;
+  s.channels = plan.colour_channels;
+  std::vector<Sampled> open;
+  std::size_t next = 0;
   for (int y = step / 2; y < H; y += step) {
-    window.slide(y, y + 1);
-    crossing.clear();
-    for (int k = 0; k < n; ++k)
-      if (window.layers()[k] && window.layers()[k]->h > 0) crossing.push_back(k);
-    if (crossing.size() < 2) continue;
-    for (int x = step / 2; x < W; x += step) {
-      const std::size_t first = s.obs.size();
-      for (const int k : crossing) {
-        const Patch& p = *window.layers()[k];
-        if (!p.has(x, y)) continue;
-        const VignettingCentre& c = centres[k];
-        const double dx = x - where[k].x0 + where[k].skip_x - c.x, dy = y - where[k].y0 + where[k].skip_y - c.y;
-        OverlapObservation o;
-        o.layer = k;
-        o.t = static_cast<float>((dx * dx + dy * dy) / (c.radius * c.radius));
-        std::copy_n(p.at(x, y, C), C, o.value);
-        s.obs.push_back(o);
-      }
-      if (s.obs.size() - first >= 2) s.start.push_back(static_cast<std::uint32_t>(s.obs.size()));
-      else s.obs.resize(first);
+    std::erase_if(open, [&](const Sampled& o) { return o.rows->where().y1 <= y; });  // closed after their last row
+    for (; next < by_top.size() && where[by_top[next]].y0 <= y; ++next) {
+      const int k = by_top[next];
+      if (where[k].y1 <= y || where[k].width() <= 0) continue;
+      Sampled o{k, std::make_unique<LayerRows>(plan, k, 0, W, false), {}, {}};
+      o.colour.resize(static_cast<std::size_t>(s.channels) * where[k].width());
+      o.covered.resize(where[k].width());
+      open.push_back(std::move(o));
     }
+    if (open.size() < 2) continue;
+    for (Sampled& o : open) o.rows->read(y, o.colour, o.covered);  // rows between are decoded, not kept
+    for (int x = step / 2; x < W; x += step) sample_point(centres, open, x, y, s);
   }
   return s;
 }

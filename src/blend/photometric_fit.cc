@@ -224,7 +224,7 @@ PhotometricResult fit_photometry(const OverlapSamples& s, int terms, const Photo
       }
       largest *= 0.5;
     }
-    if (largest < 1e-7) break;
+    if (largest < f.converged) break;
   }
   sweep(s, m, res, nullptr);
   out.rms_after = robust_sigma(res);

@@ -24,10 +24,12 @@ struct OverlapSamples {
 };
 
 struct PhotometricFit {
-  double gain_prior = 1e-3;       // ridge on each gain's distance from 1, per sample (relative)
-  double vignetting_prior = 1e-3;  // ridge on the vignetting coefficients, per sample (relative)
+  // Ridges, per usable residual: on each gain's distance from 1 and on the vignetting
+  // coefficients. Weak: they only decide directions the overlaps leave open (docs/blend.md).
+  double gain_prior = 1e-5, vignetting_prior = 1e-7;
   double low = 1.5 / 255.0, high = 1.0 - 1.5 / 255.0;  // values outside (low, high) are clipped: unused
   int iterations = 20;
+  double converged = 1e-6;  // stop when no parameter moves by more
 };
 
 struct PhotometricResult {
