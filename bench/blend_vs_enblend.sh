@@ -7,7 +7,7 @@
 #
 # VIGNETTE=V sets the layers' vignetting (0.3 unless set: a 30 % falloff at their corners);
 # GRAPHCUT=1 adds a run with --seams graphcut; ZERO=0 leaves out the --seam-guidance zero run;
-# PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
+# ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
 # Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
 set -euo pipefail
@@ -48,6 +48,7 @@ fi
 if [ "${GRAPHCUT:-0}" = 1 ]; then
   run gdp-graphcut "$gdp" blend --seams graphcut -o "$dir/out_gdp-graphcut.tif" --temp "$dir" -- "${layers[@]}"
 fi
+[ "${ENBLEND:-1}" = 1 ] || exit 0
 run enblend enblend -o "$dir/out_enblend.tif" -- "${layers[@]}"
 # Each run's wall, CPU, memory and error over enblend's (the error: the first number blend_layers prints).
 awk '{v[NR] = $0; name[NR] = $1; wall[NR] = $3; cpu[NR] = $6; mb[NR] = $9; err[NR] = $12}
