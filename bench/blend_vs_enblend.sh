@@ -6,7 +6,8 @@
 #   bench/blend_vs_enblend.sh [SIZE (8192)] [GRID (4x4)] [PHOTO] [OVERLAP (0.2)]
 #
 # VIGNETTE=V sets the layers' vignetting (0.3 unless set: a 30 % falloff at their corners);
-# GRAPHCUT=1 adds a run with --seams graphcut. Ratios to enblend's figures close the output.
+# GRAPHCUT=1 adds a run with --seams graphcut; ZERO=0 leaves out the --seam-guidance zero run;
+# ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
 # Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
 set -euo pipefail
@@ -16,6 +17,7 @@ grid=${2:-4x4}
 photo=${3:-../shared/data/equirect/three-globe-npm/earth-blue-marble.jpg}
 overlap=${4:-0.2}
 vignette=${VIGNETTE:-0.3}
+gdp=${GDP_BIN:-build/tools/gdp/gdp}  # GDP_BIN: a copy, so that a rebuild cannot replace it mid-run
 dir=${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}/${size}_${grid}_v${vignette}
 mkdir -p "$dir"
 if [ ! -f "$dir/original.tif" ]; then
@@ -35,11 +37,18 @@ run() {  # name, command...
     "$(echo "$kb / 1024" | bc)" "$err" | tee -a "$dir/results"
 }
 : > "$dir/results"
-run gdp build/tools/gdp/gdp blend -o "$dir/out_gdp.tif" --temp "$dir" -- "${layers[@]}"
-run gdp-zero build/tools/gdp/gdp blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
-if [ "${GRAPHCUT:-0}" = 1 ]; then
-  run gdp-graphcut build/tools/gdp/gdp blend --seams graphcut -o "$dir/out_gdp-graphcut.tif" --temp "$dir" -- "${layers[@]}"
+run gdp "$gdp" blend -o "$dir/out_gdp.tif" --temp "$dir" -- "${layers[@]}"
+if [ "${PHOTOMETRIC:-1}" = 1 ]; then
+  run gdp-photometric "$gdp" blend --photometric -o "$dir/out_gdp-photometric.tif" --temp "$dir" -- "${layers[@]}"
+  grep -h "photometric calibration" "$dir/log_gdp-photometric" || true
 fi
+if [ "${ZERO:-1}" = 1 ]; then
+  run gdp-zero "$gdp" blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
+fi
+if [ "${GRAPHCUT:-0}" = 1 ]; then
+  run gdp-graphcut "$gdp" blend --seams graphcut -o "$dir/out_gdp-graphcut.tif" --temp "$dir" -- "${layers[@]}"
+fi
+[ "${ENBLEND:-1}" = 1 ] || exit 0
 run enblend enblend -o "$dir/out_enblend.tif" -- "${layers[@]}"
 # Each run's wall, CPU, memory and error over enblend's (the error: the first number blend_layers prints).
 awk '{v[NR] = $0; name[NR] = $1; wall[NR] = $3; cpu[NR] = $6; mb[NR] = $9; err[NR] = $12}

@@ -52,6 +52,36 @@ enum class SeamGuidance { Zero, Mean };
 // moved through the overlaps to where the layers agree best (graphcut; docs/blend.md).
 enum class SeamMethod { Depth, Graphcut };
 
+// Photometric calibration (docs/blend.md, "Photometric calibration"): layer k's values v are read as
+// (v - offset[c]) / (gain * V(t)), V(t) = 1 + a1 t + a2 t^2 + ..., t = (r / radius)^2, r the
+// distance from the layer's vignetting centre (cx, cy), in the layer's own pixels (0, 0 = its
+// first pixel's centre).
+struct LayerPhotometry {
+  double gain = 1.0;
+  double offset[3] = {0.0, 0.0, 0.0};
+  double cx = 0.0, cy = 0.0, radius = 1.0;
+};
+struct Photometry {
+  std::vector<double> vignetting;       // a1, a2, ...: one falloff for all layers (one camera)
+  std::vector<LayerPhotometry> layers;  // empty: the layers are read as they are
+};
+
+// Where a layer's optical centre lies, in its own pixels, and the radius r is measured in
+// (radius <= 0: half the layer's diagonal). Default: the layer's own centre (layers cut from one
+// photo; nona's cropped layers: the centre of the remapped photo's bounding box).
+struct VignettingCentre {
+  double x = 0.0, y = 0.0, radius = 0.0;
+};
+
+// Fit the calibration on the layers' overlaps before blending (robust least squares on sampled
+// pixel pairs; one decimated pass over the layers).
+struct PhotometricOptions {
+  bool enabled = false;
+  int vignetting_terms = 3;               // 0 to 3: a1 r^2 + a2 r^4 + a3 r^6
+  std::vector<VignettingCentre> centres;  // empty, or one per layer
+  int grid_points = 1 << 18;              // the canvas is sampled on a grid of about this many points
+};
+
 struct BlendOptions {
   std::optional<CanvasRect> canvas;  // enblend's -f; else the union of the layers and their canvas tags
   Wrap wrap = Wrap::None;
@@ -78,6 +108,7 @@ struct BlendOptions {
   std::string save_seams, load_seams;
   bool alpha = true;  // write the alpha channel (false: colour only, e.g. for JPEG; uncovered pixels 0)
   int pq_height = 0;  // Wrap::Both: PQ height (0: sphere::default_pq_height)
+  PhotometricOptions photometric;
   // Progress of the seam pass, 0 to 1 (the solve reports through SolverOptions::progress).
   std::function<void(double)> progress;
 };
@@ -100,6 +131,7 @@ struct BlendPlan {
   // The frame the layers' files name: TIFF canvas tags (PIXAR_IMAGEFULLWIDTH/LENGTH, at 0, 0) or
   // OpenEXR display windows (their union); none when no file names one.
   std::optional<CanvasRect> frame;
+  Photometry photometry;  // applied to every layer as it is read (blend() fills it with options.photometric)
   // Internal: how each layer is opened.
   std::vector<LayerSource> sources;
   std::vector<ImageLayer> images;
@@ -125,6 +157,11 @@ struct BlendReport {
   std::pair<int, int> seam_columns{0, 0};
   double seam_cost_depth = 0, seam_cost = 0;  // SeamMethod::Graphcut: the depth seams' cost and the result's
   SolveSummary solve;
+  // options.photometric: the fitted calibration, the overlap samples it used and their robust RMS
+  // disagreement (values, 0..1) before and after it.
+  Photometry photometry;
+  int photometric_points = 0;
+  double photometric_rms_before = 0.0, photometric_rms_after = 0.0, seconds_photometry = 0.0;
 };
 
 // Output rows: the canvas, colour channels plus alpha (0 where no layer covers the pixel; the

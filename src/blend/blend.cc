@@ -9,6 +9,7 @@
 
 #include "blend/canvas_rows.h"
 #include "blend/layer_fidelity.h"
+#include "blend/photometric.h"
 #include "blend/seam_files.h"
 #include "blend/graphcut_seams.h"
 #include "blend/seams.h"
@@ -151,6 +152,11 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
            BlendReport* report) {
   BlendReport local;
   BlendReport& r = report ? *report : local;
+  if (options.photometric.enabled && plan.photometry.layers.empty()) {  // calibrated layers, then as below
+    BlendPlan calibrated = plan;
+    calibrated.photometry = r.photometry = blending::calibrate(plan, options.photometric, &r);
+    if (!calibrated.photometry.layers.empty()) return blend(calibrated, options, solver_options, out, &r);
+  }
   const int n = static_cast<int>(plan.layers.size());
   std::vector<float> pins = layer_pins(options, n), weights = layer_weights(options, n);
   const bool pinned = options.anchor >= 0 || !options.pinned.empty();

@@ -26,7 +26,7 @@ Footprint footprint(const BlendPlan& plan, int index) {
 }
 
 LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch)
-    : where_(footprint(plan, index)), name_(plan.layers[index].name) {
+    : where_(footprint(plan, index)), name_(plan.layers[index].name), calibration_(plan, index) {
   if (!plan.images.empty()) {
     const ImageLayer& l = plan.images[index];
     image_ = std::make_unique<ImageRowReader>(*l.image);
@@ -70,6 +70,7 @@ void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> co
       if (!std::isfinite(in[i])) covered[i] = 0;
     }
   }
+  if (calibration_.active()) calibration_.apply(r, where_.skip_x, w, colour_, colour.data());
   const auto cover = [&](const float* in, float scale) {
     for (int i = 0; i < w; ++i)
       if (!(in[i] * scale >= kCovered)) covered[i] = 0;

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "blend/photometric.h"
 #include "gdp/blend.h"
 #include "gdp/rows.h"
 
@@ -35,7 +36,7 @@ class LayerRows {
   const Footprint& where() const { return where_; }
   // Canvas row y in [y0, y1), in increasing order: colour samples (the plan's colour channels x
   // width(), channel-major; a grey layer among RGB ones gives its grey to all three) and coverage
-  // flags (width()), for the footprint's columns.
+  // flags (width()), for the footprint's columns; calibrated when the plan has a photometry.
   void read(int y, std::span<float> colour, std::span<unsigned char> covered);
 
  private:
@@ -46,6 +47,7 @@ class LayerRows {
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;
   std::vector<float> row_, mask_row_;
+  RowCalibration calibration_;
 };
 
 }  // namespace gdp::blending

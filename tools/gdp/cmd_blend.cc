@@ -94,6 +94,27 @@ bool number_list(const std::string& text, std::vector<double>& values) {
   return true;
 }
 
+// --vignetting-centres LIST: per layer a line "X Y [RADIUS]" in the layer's own pixels (# comments).
+std::vector<VignettingCentre> centre_list(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read the vignetting centres", path));
+  std::vector<VignettingCentre> centres;
+  int number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    std::istringstream words(line);
+    std::vector<std::string> t;
+    for (std::string w; words >> w;) t.push_back(w);
+    if (t.empty() || t[0][0] == '#') continue;
+    std::vector<double> v;
+    if ((t.size() != 2 && t.size() != 3) || !number_list(t[0], v) || !number_list(t[1], v) ||
+        (t.size() == 3 && !number_list(t[2], v)))
+      throw InputError(fmt::format("{}:{}: expected X Y [RADIUS], got '{}'", path, number, line));
+    centres.push_back({std::stod(t[0]), std::stod(t[1]), t.size() == 3 ? std::stod(t[2]) : 0.0});
+  }
+  return centres;
+}
+
 // --pin / --weights: a file (an image of the canvas's size, as gdp stitch takes) when one exists
 // by that name or the text is not a list of numbers, else per layer: `values` filled.
 bool per_layer(const std::string& text, std::vector<double>& values) {
@@ -135,6 +156,14 @@ class Blend final : public Command {
                                                  "0 = none), lossless (PNG, TIFF)");
     app->add_option("--load-seams", load_seams_, "take the seams from such an image (edited, or kept from a "
                                                    "run before) instead of computing them");
+    app->add_flag("--photometric", photometric_, "calibrate the layers first: exposure (gain, offset) and a "
+                                                 "vignetting falloff fitted to their overlaps (docs/blend.md)");
+    app->add_option("--vignetting-terms", vignetting_terms_, "--photometric's falloff 1 + a1 r^2 + ...: 0 (exposure "
+                                                            "only) to 3 terms")
+        ->capture_default_str();
+    app->add_option("--vignetting-centres", centres_, "--photometric: a file of each layer's optical centre, a line "
+                                                     "per layer: X Y [RADIUS] in its own pixels (default: its centre, "
+                                                     "half its diagonal)");
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
   }
@@ -182,6 +211,7 @@ class Blend final : public Command {
       if (report.isolated.size() > 8) list += fmt::format(", ... ({} in all)", report.isolated.size());
       note(common_, fmt::format("blend: layer(s) overlapping no other, placed as they are: {}", list));
     }
+    if (photometric_) note_photometry(report);
     stats.summary(report.solve);
     stats.image(W, H, channels);
     stats.set("layers", std::to_string(plan.layers.size()));
@@ -190,6 +220,12 @@ class Blend final : public Command {
     if (seams_ == "graphcut") {
       stats.set("seam_cost", fmt::format("{:.6g}", report.seam_cost));
       stats.set("seam_cost_depth", fmt::format("{:.6g}", report.seam_cost_depth));
+    }
+    if (photometric_) {
+      stats.set("photometric_points", std::to_string(report.photometric_points));
+      stats.set("photometric_rms_before", fmt::format("{:.6g}", report.photometric_rms_before));
+      stats.set("photometric_rms_after", fmt::format("{:.6g}", report.photometric_rms_after));
+      stats.set("seconds_photometry", fmt::format("{:.3f}", report.seconds_photometry));
     }
     stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
     stats.set("seam_layers_read", std::to_string(report.seam_layers_read));
@@ -204,6 +240,20 @@ class Blend final : public Command {
   }
 
  private:
+  // The fitted calibration, on stderr: the falloff, the gains' range, the overlaps' disagreement.
+  void note_photometry(const BlendReport& r) const {
+    const Photometry& p = r.photometry;
+    if (p.layers.empty()) return note(common_, "blend: --photometric: no overlaps to calibrate on; layers as they are");
+    std::string falloff = "1";
+    for (std::size_t j = 0; j < p.vignetting.size(); ++j) falloff += fmt::format(" {:+.4f} r^{}", p.vignetting[j], 2 * j + 2);
+    double lo = p.layers[0].gain, hi = lo;
+    for (const LayerPhotometry& l : p.layers) lo = std::min(lo, l.gain), hi = std::max(hi, l.gain);
+    note(common_, fmt::format("blend: photometric calibration on {} overlap points ({:.1f}s): vignetting {}, gains "
+                              "{:.4f}..{:.4f}; overlap disagreement {:.5f} -> {:.5f}",
+                              r.photometric_points, r.seconds_photometry, falloff, lo, hi, r.photometric_rms_before,
+                              r.photometric_rms_after));
+  }
+
   BlendOptions blend_options() const {
     if (common_.domain != "planar")
       throw UsageError("--domain: gdp blend's domain follows --wrap (horizontal: cylindrical, both: the sphere)");
@@ -219,6 +269,13 @@ class Blend final : public Command {
     o.load_seams = load_seams_;
     if (MpiRun::rank() == 0) o.save_seams = save_seams_;  // every rank has the same seams
     if (!canvas_.empty()) o.canvas = canvas_argument(canvas_);
+    if (!photometric_ && (!centres_.empty() || app->count("--vignetting-terms") > 0))
+      throw UsageError("--vignetting-terms and --vignetting-centres go with --photometric");
+    if (vignetting_terms_ < 0 || vignetting_terms_ > 3)
+      throw UsageError(fmt::format("--vignetting-terms {}: 0 to 3 (r^2, r^4, r^6)", vignetting_terms_));
+    o.photometric.enabled = photometric_;
+    o.photometric.vignetting_terms = vignetting_terms_;
+    if (!centres_.empty()) o.photometric.centres = centre_list(centres_);
     return o;
   }
 
@@ -262,8 +319,9 @@ class Blend final : public Command {
   std::vector<std::string> layers_;
   std::string pin_, weights_;
   std::string output_ = "a.tif", correction_, save_seams_, load_seams_, list_, canvas_, wrap_ = "none", guidance_ = "mean", seams_ = "depth", space_ = "values";
-  int anchor_ = 0;
-  bool version_ = false;
+  std::string centres_;
+  int anchor_ = 0, vignetting_terms_ = 3;
+  bool version_ = false, photometric_ = false;
   CommonOptions common_;
 };
 

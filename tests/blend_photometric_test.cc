@@ -1,0 +1,148 @@
+// gdp blend --photometric: exposure and vignetting fitted to the overlaps of a real photo's layers, and applied.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "blend/photometric.h"
+#include "cli_fixture.h"
+#include "gdp/blend.h"
+#include "gdp/errors.h"
+#include "gdp/image_io.h"
+#include "test_util.h"
+
+namespace gdp {
+namespace {
+
+struct Cut {
+  Image photo;
+  std::vector<Image> layers;
+  std::vector<ImageLayer> placed;
+};
+
+constexpr int kLayers = 6;
+
+// weir_1_crop.jpg (640x480) as 3x2 layers of 260x280 (70-80 px overlaps), layer k seen as
+// gain[k] (1 - v t) photo + offset[k], t = (r / half diagonal)^2 about the layer's centre. Float
+// layers: nothing clips.
+Cut cut_photo(double v, const double* gain) {
+  Cut c;
+  c.photo = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg").image;
+  const double offset[kLayers] = {0.12, -0.10, 0.05, -0.15, 0.08, 0.0};
+  const int w = 260, h = 280;
+  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0, r2 = (w * w + h * h) / 4.0;
+  for (int n = 0; n < kLayers; ++n) {
+    const int x0 = (n % 3) * 190, y0 = (n / 3) * 200;
+    Image l(w, h, 3);
+    for (int ch = 0; ch < 3; ++ch)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const double t = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / r2;
+          l.at(ch, x, y) = static_cast<float>(gain[n] * (1.0 - v * t) * c.photo.at(ch, x0 + x, y0 + y) + offset[n]);
+        }
+    c.layers.push_back(std::move(l));
+  }
+  for (int n = 0; n < kLayers; ++n) c.placed.push_back({&c.layers[n], nullptr, (n % 3) * 190, (n / 3) * 200});
+  return c;
+}
+
+const double kGains[kLayers] = {1.06, 0.95, 1.0, 1.1, 0.92, 0.97};
+const double kUnity[kLayers] = {1, 1, 1, 1, 1, 1};
+
+BlendOptions photometric(int terms = 3) {
+  BlendOptions o;
+  o.photometric.enabled = true;
+  o.photometric.vignetting_terms = terms;
+  return o;
+}
+
+SolverOptions solver() {
+  SolverOptions s;
+  s.tolerance = 1e-6;
+  return s;
+}
+
+// The largest difference of the fitted falloff from 1 - v t over t in [0, 1].
+double falloff_error(const Photometry& p, double v) {
+  double worst = 0.0;
+  for (double t = 0.0; t <= 1.0; t += 0.05)
+    worst = std::max(worst, std::fabs(blending::vignetting_gain(p.vignetting, t) - (1.0 - v * t)));
+  return worst;
+}
+
+TEST(BlendPhotometric, FitRecoversVignettingAndGains) {
+  const Cut c = cut_photo(0.3, kGains);
+  double mean = 0.0;
+  for (const double g : kGains) mean += g / kLayers;
+  for (const int terms : {1, 3}) {
+    BlendReport r;
+    const BlendPlan plan = plan_blend(c.placed, photometric(terms));
+    const Photometry p = blending::calibrate(plan, photometric(terms).photometric, &r);
+    ASSERT_EQ(p.layers.size(), static_cast<std::size_t>(kLayers));
+    ASSERT_EQ(p.vignetting.size(), static_cast<std::size_t>(terms));
+    // The falloff within 0.02 of the truth over the whole radius (one term: its coefficient).
+    EXPECT_LT(falloff_error(p, 0.3), 0.02) << terms << " terms";
+    if (terms == 1) EXPECT_NEAR(p.vignetting[0], -0.3, 0.02);
+    // The gains up to their common scale (the gauge: mean 1).
+    for (int k = 0; k < kLayers; ++k) EXPECT_NEAR(p.layers[k].gain, kGains[k] / mean, 0.01) << "layer " << k;
+    EXPECT_LT(r.photometric_rms_after, 0.2 * r.photometric_rms_before);
+    EXPECT_GT(r.photometric_points, 1000);
+  }
+}
+
+TEST(BlendPhotometric, CalibratedBlendIsNearerThePhoto) {
+  const Cut c = cut_photo(0.3, kGains);
+  const double plain = test::rms_difference_mean_removed(blend(c.placed, {}, solver()), c.photo);
+  BlendReport r;
+  const Image calibrated = blend(c.placed, photometric(), solver(), &r);
+  // The calibrated blend is the photo up to the fitted gains' common scale: compare it scaled.
+  const double e = test::rms_difference_mean_removed(calibrated, c.photo);
+  EXPECT_LT(e, 0.25 * plain) << "plain " << plain << ", calibrated " << e;
+  EXPECT_FALSE(r.photometry.layers.empty());
+}
+
+TEST(BlendPhotometric, NoVignettingNoChange) {
+  const Cut c = cut_photo(0.0, kUnity);
+  BlendReport r;
+  const Image calibrated = blend(c.placed, photometric(), solver(), &r);
+  EXPECT_LT(falloff_error(r.photometry, 0.0), 0.01);
+  for (const LayerPhotometry& l : r.photometry.layers) EXPECT_NEAR(l.gain, 1.0, 0.01);
+  const Image plain = blend(c.placed, {}, solver());
+  EXPECT_LT(test::rms_difference_mean_removed(calibrated, plain), 2e-3);
+}
+
+TEST(BlendPhotometric, CentresAreChecked) {
+  const Cut c = cut_photo(0.0, kUnity);
+  BlendOptions o = photometric();
+  o.photometric.centres.resize(2);
+  EXPECT_THROW(blend(c.placed, o, solver()), UsageError);
+  o = photometric(4);
+  EXPECT_THROW(blend(c.placed, o, solver()), UsageError);
+  // Stated centres: the layers' own, given explicitly, fit as the default does.
+  o = photometric(1);
+  for (int k = 0; k < kLayers; ++k) o.photometric.centres.push_back({129.5, 139.5, 0.0});
+  const Cut v = cut_photo(0.3, kUnity);
+  BlendReport r;
+  blend(v.placed, o, solver(), &r);
+  EXPECT_NEAR(r.photometry.vignetting[0], -0.3, 0.02);
+}
+
+class BlendPhotometricCli : public test::CliFixture {};
+
+TEST_F(BlendPhotometricCli, BadOptionsAreOneLine) {
+  Image a(40, 30, 3, 0.5f);
+  write_image(path("a.tif"), a, {});
+  write_image(path("b.tif"), a, {});
+  const std::string layers = " -o " + path("o.tif") + " " + path("a.tif") + " " + path("b.tif");
+  expect_failure("blend --photometric --vignetting-terms 5" + layers, "--vignetting-terms 5");
+  expect_failure("blend --vignetting-terms 2" + layers, "--photometric");
+  expect_failure("blend --photometric --vignetting-centres " + path("none.txt") + layers, "none.txt");
+  std::ofstream(path("c.txt")) << "10 10\n";
+  expect_failure("blend --photometric --vignetting-centres " + path("c.txt") + layers, "1 given for 2 layers");
+  std::ofstream(path("d.txt")) << "10 ten\n";
+  expect_failure("blend --photometric --vignetting-centres " + path("d.txt") + layers, "d.txt:1");
+  const test::CliRun ok = gdp("blend --photometric" + layers);
+  EXPECT_EQ(ok.code, 0) << ok.err;
+}
+
+}  // namespace
+}  // namespace gdp
