@@ -81,7 +81,9 @@ TEST(BlendPhotometric, FitRecoversVignettingAndGains) {
     ASSERT_EQ(p.vignetting.size(), static_cast<std::size_t>(terms));
     // The falloff within 0.02 of the truth over the whole radius (one term: its coefficient).
     EXPECT_LT(falloff_error(p, 0.3), 0.02) << terms << " terms";
-    if (terms == 1) EXPECT_NEAR(p.vignetting[0], -0.3, 0.02);
+    if (terms == 1) {
+      EXPECT_NEAR(p.vignetting[0], -0.3, 0.02);
+    }
     // The gains up to their common scale (the gauge: mean 1).
     for (int k = 0; k < kLayers; ++k) EXPECT_NEAR(p.layers[k].gain, kGains[k] / mean, 0.01) << "layer " << k;
     EXPECT_LT(r.photometric_rms_after, 0.2 * r.photometric_rms_before);
@@ -124,6 +126,17 @@ TEST(BlendPhotometric, CentresAreChecked) {
   BlendReport r;
   blend(v.placed, o, solver(), &r);
   EXPECT_NEAR(r.photometry.vignetting[0], -0.3, 0.02);
+}
+
+// More layers than one dense fit takes: refused before any layer is sampled.
+TEST(BlendPhotometric, TooManyLayersAreRefused) {
+  const Image tile(4, 4, 3, 0.5f);
+  std::vector<ImageLayer> tiles;
+  for (std::size_t n = 0; n <= blending::kMaxPhotometricLayers; ++n)
+    tiles.push_back({&tile, nullptr, static_cast<int>(n % 40) * 3, static_cast<int>(n / 40) * 3});
+  EXPECT_THROW(blend(tiles, photometric(), solver()), UsageError);
+  tiles.resize(blending::kMaxPhotometricLayers);
+  EXPECT_NO_THROW(blending::calibrate(plan_blend(tiles, photometric()), photometric().photometric));
 }
 
 class BlendPhotometricCli : public test::CliFixture {};

@@ -209,7 +209,9 @@ TEST_F(MpiBands, StitchSeamsAcrossTheRankBoundaryGiveTheThreadResult) {
         black += unknown(x, y) && m.at(0, x, y) == 0.0f && m.at(2, x, y) == 0.0f;
       }
     EXPECT_EQ(blanks, 9 * 8) << "blank samples (channel 1) come out blank, and only those channels";
-    if (mode == "--unknown black") EXPECT_EQ(black, unknowns) << "unknown pixels come out black";
+    if (mode == "--unknown black") {
+      EXPECT_EQ(black, unknowns) << "unknown pixels come out black";
+    }
   }
 }
 

@@ -79,6 +79,11 @@ TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {
                  "--center takes two numbers");
   expect_failure("sky " + path("a.fits") + " -o " + path("out.fits"), "--header");
   expect_failure("sky " + path("a.fits") + target + " --plane 2", "a.fits: --plane 2 but the image has 1 plane");
+  expect_failure("sky " + path("a.fits") + target + " --seams bogus", "--seams");
+  expect_failure("sky " + path("a.fits") + " --seams deepest --seams-from " + path("a.fits") + target,
+                 "--seams-from needs --seams stars");
+  expect_failure("sky " + path("a.fits") + " --seams-from " + path("a.fits") + " " + path("a.fits") + target,
+                 "--seams-from takes one plate per plate: 2 for 1");
 }
 
 }  // namespace

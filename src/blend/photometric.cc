@@ -95,6 +95,12 @@ Photometry calibrate(const BlendPlan& plan, const PhotometricOptions& options, B
   const auto start = std::chrono::steady_clock::now();
   if (options.vignetting_terms < 0 || options.vignetting_terms > 3)
     throw UsageError(fmt::format("vignetting terms: {}; 0 to 3 (r^2, r^4, r^6)", options.vignetting_terms));
+  // The fit solves one dense system over every layer's unknowns (about 4 per layer): hundreds of
+  // layers take seconds, thousands would take hours and gigabytes.
+  if (plan.layers.size() > kMaxPhotometricLayers)
+    throw UsageError(fmt::format("--photometric fits at most {} layers, and there are {} (leave it off for tiled "
+                                 "mosaics: their exposures agree, and the blend levels offsets without it)",
+                                 kMaxPhotometricLayers, plan.layers.size()));
   const std::vector<VignettingCentre> centres = vignetting_centres(plan, options);
   const OverlapSamples samples = sample_overlaps(plan, centres, options.grid_points);
   Photometry out;

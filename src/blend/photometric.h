@@ -19,8 +19,12 @@ std::vector<VignettingCentre> vignetting_centres(const BlendPlan& plan, const Ph
 // 24 bytes per layer per sampled overlap point) and the rows of the layers crossing a grid row.
 OverlapSamples sample_overlaps(const BlendPlan& plan, const std::vector<VignettingCentre>& centres, int grid_points);
 
+// The most layers one fit takes (its dense system grows as (4K+3)^2 for K layers).
+inline constexpr std::size_t kMaxPhotometricLayers = 500;
+
 // Samples, fits and returns the calibration for `plan` (its photometry must be empty), with the
-// fit's figures in `report`. UsageError for vignetting_terms outside 0..3.
+// fit's figures in `report`. UsageError for vignetting_terms outside 0..3 or more than
+// kMaxPhotometricLayers layers.
 Photometry calibrate(const BlendPlan& plan, const PhotometricOptions& options, BlendReport* report = nullptr);
 
 // Layer k's calibration applied to its rows (identity when the plan has none).
