@@ -127,14 +127,20 @@ std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const
 }
 
 // The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
-Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const SkyOptions& options,
-               SolverOptions solver, const std::vector<std::string>& paths, SkySummary& s) {
+// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates.
+std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates,
+                                           const std::vector<std::string>& paths, const SkyOptions& options) {
   std::optional<sky::SeamSources> stars;
-  if (options.star_seams) {
-    if (options.seam_plates.empty()) stars.emplace(plates);
-    else stars.emplace(seam_plates(plates, paths, options));
-    if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
-  }
+  if (!options.star_seams) return stars;
+  if (options.seam_plates.empty()) stars.emplace(plates);
+  else stars.emplace(seam_plates(plates, paths, options));
+  if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
+  return stars;
+}
+
+Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const SkyOptions& options,
+               SolverOptions solver, const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths,
+               SkySummary& s) {
   sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr);
   Image pq(win.width, win.rows, 1);
   ImageRowWriter pq_rows(pq);
@@ -222,6 +228,8 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
                                  "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
                                  "--pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
+  // Stars first: --seams-from plates are checked before anything is fitted or noted.
+  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options);
   // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
   if (options.fit_backgrounds && options.blend) {
     const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
@@ -232,7 +240,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   }
   sky::set_fade_levels(plates);
   SkySummary s;
-  const Image pq = solve_pq(plates, win, options, solver, paths, s);
+  const Image pq = solve_pq(plates, win, options, solver, stars, paths, s);
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {
     const auto h = sky::write_sky_hips(pq, win, frame, options.hips, hips_options(paths, options));
