@@ -7,7 +7,8 @@
 #
 # VIGNETTE=V sets the layers' vignetting (0.3 unless set: a 30 % falloff at their corners);
 # GRAPHCUT=1 adds a run with --seams graphcut; ZERO=0 leaves out the --seam-guidance zero run;
-# ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
+# FILES=0 leaves out the run with --memory 0 (the solver's scratch in files: the default keeps it in
+# memory up to a quarter of physical memory, which counts in the peak); ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
 # Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
 set -euo pipefail
@@ -41,6 +42,9 @@ run gdp "$gdp" blend -o "$dir/out_gdp.tif" --temp "$dir" -- "${layers[@]}"
 if [ "${PHOTOMETRIC:-1}" = 1 ]; then
   run gdp-photometric "$gdp" blend --photometric -o "$dir/out_gdp-photometric.tif" --temp "$dir" -- "${layers[@]}"
   grep -h "photometric calibration" "$dir/log_gdp-photometric" || true
+fi
+if [ "${FILES:-1}" = 1 ]; then  # scratch in files, none kept in memory: gdp's bounded-memory figure
+  run gdp-files "$gdp" blend --memory 0 -o "$dir/out_gdp-files.tif" --temp "$dir" -- "${layers[@]}"
 fi
 if [ "${ZERO:-1}" = 1 ]; then
   run gdp-zero "$gdp" blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
