@@ -6,34 +6,13 @@
 #include "gdp/blend.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
+#include "weir_layers.h"
 
 namespace gdp {
 namespace {
 
-struct Cut {
-  Image photo;
-  std::vector<Image> layers;
-  std::vector<ImageLayer> placed;
-};
-
-// weir_1_crop.jpg (640x480) as 3x2 layers of 260x280 with 70-80 px overlaps, each shifted by its
-// own exposure offset (float layers: nothing clips).
-Cut cut_photo() {
-  Cut c;
-  c.photo = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg").image;
-  const float offsets[6] = {0.12f, -0.10f, 0.05f, -0.15f, 0.08f, 0.0f};
-  for (int r = 0; r < 2; ++r)
-    for (int k = 0; k < 3; ++k) {
-      const int x0 = k * 190, y0 = r * 200, w = 260, h = 280;
-      Image l(w, h, 3);
-      for (int ch = 0; ch < 3; ++ch)
-        for (int y = 0; y < h; ++y)
-          for (int x = 0; x < w; ++x) l.at(ch, x, y) = c.photo.at(ch, x0 + x, y0 + y) + offsets[r * 3 + k];
-      c.layers.push_back(std::move(l));
-    }
-  for (int n = 0; n < 6; ++n) c.placed.push_back({&c.layers[n], nullptr, (n % 3) * 190, (n / 3) * 200});
-  return c;
-}
+using Cut = test::WeirLayers;
+Cut cut_photo() { return test::cut_weir(); }
 
 double error(const Image& out, const Image& truth) { return test::rms_difference_mean_removed(out, truth); }
 

@@ -9,41 +9,16 @@
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "test_util.h"
+#include "weir_layers.h"
 
 namespace gdp {
 namespace {
 
-struct Cut {
-  Image photo;
-  std::vector<Image> layers;
-  std::vector<ImageLayer> placed;
-};
+using Cut = test::WeirLayers;
+constexpr int kLayers = test::kWeirLayers;
 
-constexpr int kLayers = 6;
-
-// weir_1_crop.jpg (640x480) as 3x2 layers of 260x280 (70-80 px overlaps), layer k seen as
-// gain[k] (1 - v t) photo + offset[k], t = (r / half diagonal)^2 about the layer's centre. Float
-// layers: nothing clips.
-Cut cut_photo(double v, const double* gain) {
-  Cut c;
-  c.photo = read_image(GDP_TEST_DATA "/opencv/weir_1_crop.jpg").image;
-  const double offset[kLayers] = {0.12, -0.10, 0.05, -0.15, 0.08, 0.0};
-  const int w = 260, h = 280;
-  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0, r2 = (w * w + h * h) / 4.0;
-  for (int n = 0; n < kLayers; ++n) {
-    const int x0 = (n % 3) * 190, y0 = (n / 3) * 200;
-    Image l(w, h, 3);
-    for (int ch = 0; ch < 3; ++ch)
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          const double t = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / r2;
-          l.at(ch, x, y) = static_cast<float>(gain[n] * (1.0 - v * t) * c.photo.at(ch, x0 + x, y0 + y) + offset[n]);
-        }
-    c.layers.push_back(std::move(l));
-  }
-  for (int n = 0; n < kLayers; ++n) c.placed.push_back({&c.layers[n], nullptr, (n % 3) * 190, (n / 3) * 200});
-  return c;
-}
+// The layers with vignetting v and gains `gain` (weir_layers.h).
+Cut cut_photo(double v, const double* gain) { return test::cut_weir(v, gain); }
 
 const double kGains[kLayers] = {1.06, 0.95, 1.0, 1.1, 0.92, 0.97};
 const double kUnity[kLayers] = {1, 1, 1, 1, 1, 1};
