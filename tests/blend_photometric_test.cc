@@ -128,6 +128,8 @@ TEST_F(BlendPhotometricCli, BadOptionsAreOneLine) {
   expect_failure("blend --photometric --vignetting-centres " + path("c.txt") + layers, "1 given for 2 layers");
   std::ofstream(path("d.txt")) << "10 ten\n";
   expect_failure("blend --photometric --vignetting-centres " + path("d.txt") + layers, "d.txt:1");
+  std::ofstream(path("e.txt")) << "# x y\n10 10\n1,2 3\n";  // one number each, not a list
+  expect_failure("blend --photometric --vignetting-centres " + path("e.txt") + layers, "e.txt:3");
   const test::CliRun ok = gdp("blend --photometric" + layers);
   EXPECT_EQ(ok.code, 0) << ok.err;
 }

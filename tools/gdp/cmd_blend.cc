@@ -39,26 +39,41 @@ bool integer(const std::string& s, long long& v) {
   return true;
 }
 
-// --layers LIST: per line "IMAGE [MASK] [X Y]" (tokens split at white space, "double quotes"
-// keep spaces; # comments). Relative paths are taken from the current directory.
-std::vector<LayerSource> layer_list(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot read the layer list", path));
-  std::vector<LayerSource> layers;
+// One line of a list file: its number, its text and its words ("double quotes" keep spaces).
+struct ListLine {
   int number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    std::istringstream words(line);
-    std::vector<std::string> t;
-    for (std::string w; words >> std::quoted(w);) t.push_back(w);
-    if (t.empty() || t[0][0] == '#') continue;
+  std::string text;
+  std::vector<std::string> words;
+};
+
+// The lines of a list file that have words and are not # comments; InputError naming `what`
+// when the file cannot be read.
+std::vector<ListLine> list_lines(const std::string& path, const char* what) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read the {}", path, what));
+  std::vector<ListLine> lines;
+  int number = 0;
+  for (std::string text; std::getline(in, text);) {
+    ListLine l{++number, text, {}};
+    std::istringstream words(text);
+    for (std::string w; words >> std::quoted(w);) l.words.push_back(w);
+    if (!l.words.empty() && l.words[0][0] != '#') lines.push_back(std::move(l));
+  }
+  return lines;
+}
+
+// --layers LIST: per line "IMAGE [MASK] [X Y]". Relative paths are taken from the current directory.
+std::vector<LayerSource> layer_list(const std::string& path) {
+  std::vector<LayerSource> layers;
+  for (const ListLine& l : list_lines(path, "layer list")) {
+    const std::vector<std::string>& t = l.words;
     LayerSource s;
     s.image = t[0];
     const bool placed = t.size() >= 3 && integer(t[t.size() - 2], s.x) && integer(t.back(), s.y);
     s.placed = placed;
     if (t.size() == 2 || t.size() == 4) s.mask = t[1];
     if (t.size() > 4 || ((t.size() == 3 || t.size() == 4) && !placed))
-      throw InputError(fmt::format("{}:{}: expected IMAGE [MASK] [X Y], got '{}'", path, number, line));
+      throw InputError(fmt::format("{}:{}: expected IMAGE [MASK] [X Y], got '{}'", path, l.number, l.text));
     layers.push_back(s);
   }
   return layers;
@@ -80,37 +95,35 @@ CanvasRect canvas_argument(const std::string& text) {
   return c;
 }
 
+// One decimal number (sign, digits, point, exponent) into `value`; false for anything else.
+bool number(const std::string& text, double& value) {
+  static const std::regex form("[+-]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][+-]?[0-9]+)?");
+  if (!std::regex_match(text, form)) return false;
+  value = std::stod(text);
+  return true;
+}
+
 // "1,0.5,2": numbers separated by commas, into `values`; false for anything else.
 bool number_list(const std::string& text, std::vector<double>& values) {
-  static const std::regex form("[+-]?([0-9]+\\.?[0-9]*|\\.[0-9]+)([eE][+-]?[0-9]+)?");
   std::vector<double> v;
   std::istringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!std::regex_match(item, form)) return false;
-    v.push_back(std::stod(item));
-  }
+  for (std::string item; std::getline(in, item, ',');)
+    if (!number(item, v.emplace_back())) return false;
   if (v.empty() || text.back() == ',') return false;
   values = v;
   return true;
 }
 
-// --vignetting-centres LIST: per layer a line "X Y [RADIUS]" in the layer's own pixels (# comments).
+// --vignetting-centres LIST: per layer a line "X Y [RADIUS]" in the layer's own pixels.
 std::vector<VignettingCentre> centre_list(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot read the vignetting centres", path));
   std::vector<VignettingCentre> centres;
-  int number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    std::istringstream words(line);
-    std::vector<std::string> t;
-    for (std::string w; words >> w;) t.push_back(w);
-    if (t.empty() || t[0][0] == '#') continue;
-    std::vector<double> v;
-    if ((t.size() != 2 && t.size() != 3) || !number_list(t[0], v) || !number_list(t[1], v) ||
-        (t.size() == 3 && !number_list(t[2], v)))
-      throw InputError(fmt::format("{}:{}: expected X Y [RADIUS], got '{}'", path, number, line));
-    centres.push_back({std::stod(t[0]), std::stod(t[1]), t.size() == 3 ? std::stod(t[2]) : 0.0});
+  for (const ListLine& l : list_lines(path, "vignetting centres")) {
+    const std::vector<std::string>& t = l.words;
+    VignettingCentre c;
+    if ((t.size() != 2 && t.size() != 3) || !number(t[0], c.x) || !number(t[1], c.y) ||
+        (t.size() == 3 && !number(t[2], c.radius)))
+      throw InputError(fmt::format("{}:{}: expected X Y [RADIUS], got '{}'", path, l.number, l.text));
+    centres.push_back(c);
   }
   return centres;
 }
