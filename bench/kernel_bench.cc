@@ -136,12 +136,14 @@ int print_checksums() {
 // Prints, per kernel, the minimum over `trials` (argument 1, default 15) of the ns per sample on each range
 // (the ranges interleaved within every trial, so load on the machine falls on all three alike) and the ratios.
 // `check` instead prints bit-level checksums of every kernel. Argument 2, a range (0 whole row, 1 edge
-// tile, 2 interior lane, 3 interior tile), runs only that one (for a profiler).
+// tile, 2 interior lane, 3 interior tile), runs only that one, and argument 3, a kernel's name, only that kernel
+// (for a profiler).
 int main(int argc, char** argv) {
   using namespace gdp::multigrid;
   if (argc > 1 && std::strcmp(argv[1], "check") == 0) return print_checksums();
   const int trials = argc > 1 ? std::max(1, std::atoi(argv[1])) : 15;
   const int only = argc > 2 ? std::atoi(argv[2]) : -1;
+  const char* kernel_only = argc > 3 ? argv[3] : nullptr;
   Fixture f;
   Scratch<float> s;
   std::printf("CPU ns per sample, minimum of %d trials; ratios of those minima\n", trials);
@@ -150,6 +152,7 @@ int main(int argc, char** argv) {
   double total = 0.0;
   for (int k = 0; k < 5; ++k) {
     const auto kernel = static_cast<Kernel>(k);
+    if (kernel_only && std::strcmp(kernel_only, kKernels[k]) != 0) continue;
     double best[kRanges] = {1e30, 1e30, 1e30, 1e30};
     const double t0 = cpu_seconds();
     for (int r = 0; r < kRanges; ++r) run(f, kernel, r, s);  // warm the scratch and the coefficient cache

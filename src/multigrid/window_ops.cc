@@ -109,9 +109,11 @@ GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c
 }
 
 // q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
-// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere.
+// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. With
+// `b` (b[i]: column i), the interior's q is relax's t = (b - A u) inv, inv the interior's 1 / K_0.
 template <class T>
-GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q) {
+GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
+                         const T* b = nullptr, T inv = T(0)) {
   const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
   const T* c = s.c.data() + 2 - cols.begin;
   q -= cols.begin;
@@ -122,10 +124,17 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
     const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
     const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
     general(op, q + i, a + i, c + i, ib - i, i - r.base);
-#pragma GCC ivdep
-    for (int x = ib; x < ie; ++x)
-      q[x] = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+    const auto at = [&](int x) __attribute__((always_inline)) {
+      return sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
              m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+    };
+    if (b) {
+#pragma GCC ivdep
+      for (int x = ib; x < ie; ++x) q[x] = (b[x] - at(x)) * inv;
+    } else {
+#pragma GCC ivdep
+      for (int x = ib; x < ie; ++x) q[x] = at(x);
+    }
     general(op, q + ie, a + ie, c + ie, r.end - ie, ie - r.base);
     i = r.end;
   }
@@ -197,35 +206,46 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
   }
 }
 
-// The same recurrence on blocks of eight samples with constant coefficients (the level's interior):
-// each block's in-block part as a vector, the matrix M's eight columns times t (M: Coefficients::block,
-// then the responses B, C to the corrections carried in); the chain from block to block is two scalar
-// multiply-adds, the outputs two vector multiply-adds off it. Blocks [lo, hi) of t, in the sweep's
+// The same recurrence on blocks of kBlock samples with constant coefficients (the level's interior), vectors
+// of eight: each vector's in-block part from zero is the matrix H's eight columns times t, and the next vector
+// takes its last two samples through the responses R[0], R[1] to two carried corrections; the chain from
+// block to block is two scalar multiply-adds, the outputs vector multiply-adds off it (R[2v], R[2v + 1]: vector
+// v's responses to the block's carried corrections). M: H, then R. Blocks [lo, hi) of t, in the sweep's
 // direction (backward: lanes in memory order, the sweep running from lane 7 down). Changes the rounding
 // against blocks of four; every schedule uses it alike.
+constexpr int kBlock = 16;
 template <class T> struct Lanes8;
 template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
 template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
 
-template <bool Add, class T>
-GDP_INLINE void recur8(const T* t, const T* M, int lo, int hi, bool forward, T* out, T& d1, T& d2) {
+template <bool Add, bool forward, class T>
+GDP_INLINE void recur_blocks(const T* t, const T* M, int lo, int hi, T* out, T& d1, T& d2) {
   using V = typename Lanes8<T>::type;
-  V H[8], B, C;
+  constexpr int NV = kBlock / 8, last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried on
+  V H[8], R[2 * NV];
   for (int k = 0; k < 8; ++k) std::memcpy(&H[k], M + 8 * k, sizeof(V));
-  std::memcpy(&B, M + 64, sizeof(V)), std::memcpy(&C, M + 72, sizeof(V));
-  const int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
-  for (int n = 0; n < (hi - lo) / 8; ++n) {
-    const int x = forward ? lo + 8 * n : hi - 8 * (n + 1);
-    V A = H[0] * t[x];
-    for (int k = 1; k < 8; ++k) A += H[k] * t[x + k];
-    const T n1 = A[last] + B[last] * d1 + C[last] * d2, n2 = A[before] + B[before] * d1 + C[before] * d2;
-    V o = A + B * d1 + C * d2;
-    if constexpr (Add) {
-      V u;
-      std::memcpy(&u, out + x, sizeof(V));
-      o += u;
+  for (int k = 0; k < 2 * NV; ++k) std::memcpy(&R[k], M + 64 + 8 * k, sizeof(V));
+  const T b1 = R[2 * NV - 2][last], c1 = R[2 * NV - 1][last], b2 = R[2 * NV - 2][before], c2 = R[2 * NV - 1][before];
+  for (int n = 0; n < (hi - lo) / kBlock; ++n) {
+    const int x = forward ? lo + kBlock * n : hi - kBlock * (n + 1);
+    V A[NV];
+    for (int v = 0; v < NV; ++v) {
+      const T* tv = t + (forward ? x + 8 * v : x + kBlock - 8 * (v + 1));
+      A[v] = H[0] * tv[0];
+      for (int k = 1; k < 8; ++k) A[v] += H[k] * tv[k];
     }
-    std::memcpy(out + x, &o, sizeof(V));
+    for (int v = 1; v < NV; ++v) A[v] += R[0] * A[v - 1][last] + R[1] * A[v - 1][before];
+    const T n1 = A[NV - 1][last] + b1 * d1 + c1 * d2, n2 = A[NV - 1][before] + b2 * d1 + c2 * d2;
+    for (int v = 0; v < NV; ++v) {
+      T* ov = out + (forward ? x + 8 * v : x + kBlock - 8 * (v + 1));
+      V o = A[v] + R[2 * v] * d1 + R[2 * v + 1] * d2;
+      if constexpr (Add) {
+        V u;
+        std::memcpy(&u, ov, sizeof(V));
+        o += u;
+      }
+      std::memcpy(ov, &o, sizeof(V));
+    }
     d1 = n1, d2 = n2;
   }
 }
@@ -237,10 +257,10 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
                           const T* t, int count, bool fwd, T* out, T& d1, T& d2) {
   if (count <= 0) return;
   const std::vector<T>& M = K.block[fwd ? 0 : 1];
-  int v0 = count, v1 = count;  // [v0, v1): whole blocks of eight in the interior
+  int v0 = count, v1 = count;  // [v0, v1): whole blocks in the interior
   if (!M.empty()) {
     const int ib = std::clamp(op.interior_begin - g0, 0, count), ie = std::clamp(op.interior_end - g0, ib, count);
-    const int span = (ie - ib) / 8 * 8;
+    const int span = (ie - ib) / kBlock * kBlock;
     if (span > 0) v0 = fwd ? ib : ie - span, v1 = v0 + span;
   }
   const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
@@ -254,7 +274,8 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
                      K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
   };
   four(fwd ? 0 : v1, fwd ? v0 : count);
-  if (v1 > v0) recur8<Add>(t, M.data(), v0, v1, fwd, out, d1, d2);
+  if (v1 > v0 && fwd) recur_blocks<Add, true>(t, M.data(), v0, v1, out, d1, d2);
+  if (v1 > v0 && !fwd) recur_blocks<Add, false>(t, M.data(), v0, v1, out, d1, d2);
   four(fwd ? v1 : 0, fwd ? count : v0);
 }
 
@@ -262,24 +283,25 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
 template <class T>
 void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& K) {
   for (int dir = 0; dir < 2; ++dir) K.block[dir].clear();
-  if (op.interior_end - op.interior_begin < 8) return;
+  if (op.interior_end - op.interior_begin < kBlock) return;
   for (int dir = 0; dir < 2; ++dir) {
     const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
-    T h[8], B[8], C[8];  // sample r of a block: h from t, B and C from the two corrections before it
+    T h[8], B[kBlock], C[kBlock];  // sample r of a block: h from t, B and C from the two corrections before it
     h[0] = T(1), h[1] = -kn;
     B[0] = -kn, C[0] = -kf, B[1] = -kn * B[0] - kf, C[1] = -kn * C[0];
-    for (int r = 2; r < 8; ++r) {
-      h[r] = -kn * h[r - 1] - kf * h[r - 2];
+    for (int r = 2; r < kBlock; ++r) {
+      if (r < 8) h[r] = -kn * h[r - 1] - kf * h[r - 2];
       B[r] = -kn * B[r - 1] - kf * B[r - 2], C[r] = -kn * C[r - 1] - kf * C[r - 2];
     }
     std::vector<T>& M = K.block[dir];
-    M.assign(80, T(0));
+    M.assign(64 + 2 * kBlock, T(0));
     for (int k = 0; k < 8; ++k)  // lane p of column k: sample p takes h[steps from sample k to it]
       for (int p = 0; p < 8; ++p) {
         const int r = dir ? k - p : p - k;
         M[8 * k + p] = r >= 0 ? h[r] : T(0);
       }
-    for (int p = 0; p < 8; ++p) M[64 + p] = B[dir ? 7 - p : p], M[72 + p] = C[dir ? 7 - p : p];
+    for (int v = 0; v < kBlock / 8; ++v)  // vector v's lanes p: sample 8v + p of the sweep (backward: 7 - p)
+      for (int p = 0; p < 8; ++p) M[64 + 16 * v + p] = B[8 * v + (dir ? 7 - p : p)], M[72 + 16 * v + p] = C[8 * v + (dir ? 7 - p : p)];
   }
 }
 
@@ -341,14 +363,17 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
                       Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  T* q = grow(s.q, len);  // q = A u on the columns
-  combine(op, j, w, cols, s), convolve(op, cols, s, q);
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
+  const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
+  // q = A u on the columns, already t on the interior without a diagonal term
+  const bool folded = !diag && op.interior_begin < op.interior_end;
+  T* q = grow(s.q, len);
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, folded ? K->inv[op.interior_begin] : T(0));
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
   const int swept = wrap ? std::max(len - 2, 0) : len;
-  const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
   T d1 = T(0), d2 = T(0);
   const T* inv = nullptr;
   for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
@@ -359,7 +384,11 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     const int at = diag ? 0 : g0;  // K's column for x0
     inv = K->inv.data() + at;
     T* t = q + x0;
-    for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
+    // The interior's t came with q: [f0, f1) (relative to x0).
+    const int f0 = folded ? std::clamp(op.interior_begin - g0, 0, count) : count;
+    const int f1 = folded ? std::clamp(op.interior_end - g0, f0, count) : count;
+    for (const auto [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
+      for (int x = lo, i = o + x0 + lo; x < hi; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
       recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
