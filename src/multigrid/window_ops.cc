@@ -347,8 +347,22 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
                          Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
+  combine(op, j, w, cols, s);
+  if (!diag) {  // r = b - A u straight from the filter loop on the interior (b - q times 1: the same bits)
+    T* out = r + o - cols.begin;
+    const T* bc = b + o - cols.begin;
+    convolve(op, cols, s, r + o, bc, T(1));
+    for (int i = cols.begin; i < cols.end;) {  // the columns by the level's ends
+      const Run run = copy_run(op.width, cols.periodic, i, cols.end);
+      const int ib = std::clamp(op.interior_begin + run.base, i, run.end);
+      for (const auto [lo, hi] : {std::pair{i, ib}, std::pair{std::clamp(op.interior_end + run.base, ib, run.end), run.end}})
+        for (int x = lo; x < hi; ++x) out[x] = bc[x] - out[x];
+      i = run.end;
+    }
+    return;
+  }
   T* q = grow(s.q, len);  // q = A u on the columns
-  combine(op, j, w, cols, s), convolve(op, cols, s, q);
+  convolve(op, cols, s, q);
   // Pinned pixels hold u = value (to ~1e-6); b - A u - D u there is round-off that would swamp the norms: 0.
   const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
   for (int x = 0, i = o; x < len; ++x, ++i)
