@@ -212,8 +212,9 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
 // block to block is two scalar multiply-adds, the outputs vector multiply-adds off it (R[2v], R[2v + 1]: vector
 // v's responses to the block's carried corrections). M: H, then R. Blocks [lo, hi) of t, in the sweep's
 // direction (backward: lanes in memory order, the sweep running from lane 7 down). Changes the rounding
-// against blocks of four; every schedule uses it alike.
-constexpr int kBlock = 16;
+// against blocks of four; every schedule uses it alike. Sixteen was faster on whole rows, slower on short
+// tiles, and rounds differently (docs/multigrid.md, "t in the filter loop").
+constexpr int kBlock = 8;
 template <class T> struct Lanes8;
 template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
 template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
