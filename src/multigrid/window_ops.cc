@@ -206,14 +206,14 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
   }
 }
 
-// The same recurrence on blocks of kBlock samples with constant coefficients (the level's interior), vectors
-// of eight: each vector's in-block part from zero is the matrix H's eight columns times t, and the next vector
-// takes its last two samples through the responses R[0], R[1] to two carried corrections; the chain from
-// block to block is two scalar multiply-adds, the outputs vector multiply-adds off it (R[2v], R[2v + 1]: vector
-// v's responses to the block's carried corrections). M: H, then R. Blocks [lo, hi) of t, in the sweep's
-// direction (backward: lanes in memory order, the sweep running from lane 7 down). Changes the rounding
-// against blocks of four; every schedule uses it alike. Sixteen was faster on whole rows, slower on short
-// tiles, and rounds differently (docs/multigrid.md, "t in the filter loop").
+// The same recurrence on blocks of eight samples with constant coefficients (the level's interior):
+// each block's in-block part as a vector, the matrix M's eight columns times t (M: Coefficients::block,
+// then the responses B, C to the corrections carried in); the chain from block to block is two scalar
+// multiply-adds (the carried lanes known at compile time, so it stays in registers), the outputs two vector
+// multiply-adds off it. Blocks [lo, hi) of t, in the sweep's direction (backward: lanes in memory order, the
+// sweep running from lane 7 down). Changes the rounding against blocks of four; every schedule uses it alike.
+// Blocks of sixteen were faster on whole rows, slower on short tiles, and round differently
+// (docs/multigrid.md, "t in the filter loop").
 constexpr int kBlock = 8;
 template <class T> struct Lanes8;
 template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
@@ -222,31 +222,22 @@ template <> struct Lanes8<double> { typedef double type __attribute__((vector_si
 template <bool Add, bool forward, class T>
 GDP_INLINE void recur_blocks(const T* t, const T* M, int lo, int hi, T* out, T& d1, T& d2) {
   using V = typename Lanes8<T>::type;
-  constexpr int NV = kBlock / 8, last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried on
-  V H[8], R[2 * NV];
+  constexpr int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
+  V H[8], B, C;
   for (int k = 0; k < 8; ++k) std::memcpy(&H[k], M + 8 * k, sizeof(V));
-  for (int k = 0; k < 2 * NV; ++k) std::memcpy(&R[k], M + 64 + 8 * k, sizeof(V));
-  const T b1 = R[2 * NV - 2][last], c1 = R[2 * NV - 1][last], b2 = R[2 * NV - 2][before], c2 = R[2 * NV - 1][before];
-  for (int n = 0; n < (hi - lo) / kBlock; ++n) {
-    const int x = forward ? lo + kBlock * n : hi - kBlock * (n + 1);
-    V A[NV];
-    for (int v = 0; v < NV; ++v) {
-      const T* tv = t + (forward ? x + 8 * v : x + kBlock - 8 * (v + 1));
-      A[v] = H[0] * tv[0];
-      for (int k = 1; k < 8; ++k) A[v] += H[k] * tv[k];
+  std::memcpy(&B, M + 64, sizeof(V)), std::memcpy(&C, M + 72, sizeof(V));
+  for (int n = 0; n < (hi - lo) / 8; ++n) {
+    const int x = forward ? lo + 8 * n : hi - 8 * (n + 1);
+    V A = H[0] * t[x];
+    for (int k = 1; k < 8; ++k) A += H[k] * t[x + k];
+    const T n1 = A[last] + B[last] * d1 + C[last] * d2, n2 = A[before] + B[before] * d1 + C[before] * d2;
+    V o = A + B * d1 + C * d2;
+    if constexpr (Add) {
+      V u;
+      std::memcpy(&u, out + x, sizeof(V));
+      o += u;
     }
-    for (int v = 1; v < NV; ++v) A[v] += R[0] * A[v - 1][last] + R[1] * A[v - 1][before];
-    const T n1 = A[NV - 1][last] + b1 * d1 + c1 * d2, n2 = A[NV - 1][before] + b2 * d1 + c2 * d2;
-    for (int v = 0; v < NV; ++v) {
-      T* ov = out + (forward ? x + 8 * v : x + kBlock - 8 * (v + 1));
-      V o = A[v] + R[2 * v] * d1 + R[2 * v + 1] * d2;
-      if constexpr (Add) {
-        V u;
-        std::memcpy(&u, ov, sizeof(V));
-        o += u;
-      }
-      std::memcpy(ov, &o, sizeof(V));
-    }
+    std::memcpy(out + x, &o, sizeof(V));
     d1 = n1, d2 = n2;
   }
 }
@@ -287,22 +278,21 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
   if (op.interior_end - op.interior_begin < kBlock) return;
   for (int dir = 0; dir < 2; ++dir) {
     const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
-    T h[8], B[kBlock], C[kBlock];  // sample r of a block: h from t, B and C from the two corrections before it
+    T h[8], B[8], C[8];  // sample r of a block: h from t, B and C from the two corrections before it
     h[0] = T(1), h[1] = -kn;
     B[0] = -kn, C[0] = -kf, B[1] = -kn * B[0] - kf, C[1] = -kn * C[0];
-    for (int r = 2; r < kBlock; ++r) {
-      if (r < 8) h[r] = -kn * h[r - 1] - kf * h[r - 2];
+    for (int r = 2; r < 8; ++r) {
+      h[r] = -kn * h[r - 1] - kf * h[r - 2];
       B[r] = -kn * B[r - 1] - kf * B[r - 2], C[r] = -kn * C[r - 1] - kf * C[r - 2];
     }
     std::vector<T>& M = K.block[dir];
-    M.assign(64 + 2 * kBlock, T(0));
+    M.assign(80, T(0));
     for (int k = 0; k < 8; ++k)  // lane p of column k: sample p takes h[steps from sample k to it]
       for (int p = 0; p < 8; ++p) {
         const int r = dir ? k - p : p - k;
         M[8 * k + p] = r >= 0 ? h[r] : T(0);
       }
-    for (int v = 0; v < kBlock / 8; ++v)  // vector v's lanes p: sample 8v + p of the sweep (backward: 7 - p)
-      for (int p = 0; p < 8; ++p) M[64 + 16 * v + p] = B[8 * v + (dir ? 7 - p : p)], M[72 + 16 * v + p] = C[8 * v + (dir ? 7 - p : p)];
+    for (int p = 0; p < 8; ++p) M[64 + p] = B[dir ? 7 - p : p], M[72 + p] = C[dir ? 7 - p : p];
   }
 }
 
@@ -356,7 +346,7 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
     for (int i = cols.begin; i < cols.end;) {  // the columns by the level's ends
       const Run run = copy_run(op.width, cols.periodic, i, cols.end);
       const int ib = std::clamp(op.interior_begin + run.base, i, run.end);
-      for (const auto [lo, hi] : {std::pair{i, ib}, std::pair{std::clamp(op.interior_end + run.base, ib, run.end), run.end}})
+      for (const auto& [lo, hi] : {std::pair{i, ib}, std::pair{std::clamp(op.interior_end + run.base, ib, run.end), run.end}})
         for (int x = lo; x < hi; ++x) out[x] = bc[x] - out[x];
       i = run.end;
     }
@@ -402,7 +392,7 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     // The interior's t came with q: [f0, f1) (relative to x0).
     const int f0 = folded ? std::clamp(op.interior_begin - g0, 0, count) : count;
     const int f1 = folded ? std::clamp(op.interior_end - g0, f0, count) : count;
-    for (const auto [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
+    for (const auto& [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
       for (int x = lo, i = o + x0 + lo; x < hi; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
       recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
