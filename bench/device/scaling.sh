@@ -6,16 +6,18 @@
 # count, one worker per band (--threads = bands + 2: the two codec threads), scratch in memory
 # (--memory, default 64G: all of it fits), under measure_run.py (wall, user+sys CPU, peak RSS) and
 # `timeout`, and checks every banded output against the one-band output with PACK/bin/image_diff
-# (tolerance: 1e-4 of the value range for float outputs, docs/how-bands-work.md; one step more
-# for integer outputs). Then, while the time budget allows (estimated from the sweep's walls),
-# the gigapixel runs and one run with every scratch store in files (--memory 0). OUTDIR receives
+# (tolerance: 2e-4 of the value range for float outputs, what docs/how-bands-work.md states for
+# images wider than 512 columns; one step more for integer outputs). Then, while the time budget allows (estimated from the sweep's walls),
+# one run with every scratch store in files (--memory 0; checked against the same bands' in-memory
+# run, where the same bits are expected) and the gigapixel runs. GDP_SCALING_OWN_GLIBC=1
+# runs the programs on the packed glibc even where the machine's would do. OUTDIR receives
 # scaling.md and scaling.json after every run (so a cut-off run still leaves its table) and log.txt.
 # Settings (environment):
 #   GDP_SCALING_SIZES="16384"       square sizes of the band sweep
 #   GDP_SCALING_BANDS="1 2 4 8 16"  band counts (the first is the reference of the speedups and checks)
 #   GDP_SCALING_GIGA=32768          size of the large runs ("" for none)
 #   GDP_SCALING_GIGA_BANDS="1 16"   their band counts (checked against the first)
-#   GDP_SCALING_DISK="16384:1"      SIZE:BANDS of the run with scratch in files ("" for none)
+#   GDP_SCALING_DISK="16384:16"     SIZE:BANDS of the run with scratch in files ("" for none)
 #   GDP_SCALING_MEMORY=64G          --memory of the other runs
 #   GDP_SCALING_DEPTH=float         output samples of the sweep; GDP_SCALING_GIGA_DEPTH=8 of the large runs
 #   GDP_SCALING_BUDGET=450          seconds for the whole script; optional runs that would pass it are skipped
@@ -26,12 +28,20 @@ here=$(cd "$(dirname "$0")/../.." && pwd)
 pack=$(cd "$1" && pwd)
 mkdir -p "$2"
 out=$(cd "$2" && pwd)
-export LD_LIBRARY_PATH=$pack/lib
+# The packed programs run with the pack's libraries (only they: python3 and the tools keep the
+# machine's), on the machine's glibc when it is at least the pack's, else on the packed one.
+need=$(sed 's/GLIBC_//' "$pack/GLIBC")
+have=$(getconf GNU_LIBC_VERSION 2>/dev/null | awk '{print $2}') || true
+if [[ -z ${GDP_SCALING_OWN_GLIBC:-} && $(printf '%s\n%s\n' "$need" "${have:-0}" | sort -V | head -1) == "$need" ]]; then
+  launch=(env "LD_LIBRARY_PATH=$pack/lib")
+else
+  launch=("$pack/glibc/ld-linux-x86-64.so.2" --library-path "$pack/lib:$pack/glibc")
+fi
 sizes=${GDP_SCALING_SIZES-16384}
 bands=${GDP_SCALING_BANDS-1 2 4 8 16}
 giga=${GDP_SCALING_GIGA-32768}
 giga_bands=${GDP_SCALING_GIGA_BANDS-1 16}
-disk=${GDP_SCALING_DISK-16384:1}
+disk=${GDP_SCALING_DISK-16384:16}
 memory=${GDP_SCALING_MEMORY-64G}
 depth=${GDP_SCALING_DEPTH-float}
 giga_depth=${GDP_SCALING_GIGA_DEPTH-8}
@@ -44,6 +54,7 @@ runs=$out/runs.jsonl
 exec > >(tee "$out/log.txt") 2>&1
 t0=$SECONDS
 say() { printf '[%4ds] %s\n' $((SECONDS - t0)) "$*"; }
+say "glibc here ${have:-unknown}, the pack needs $need: running the programs as ${launch[*]} PROGRAM"
 table() { python3 "$here/bench/device/scaling_table.py" "$runs" "$out/machine.json" "$out" || say "table failed"; }
 
 python3 - "$out/machine.json" "$pack" "$memory" "$budget" <<'PY'
@@ -62,7 +73,7 @@ PY
 declare -A made
 for s in $sizes ${giga}; do
   [[ -n ${made[$s]:-} ]] && continue
-  "$pack/bin/make_composite" "$pack/data/earth-blue-marble.jpg" "$s" "$s" "$work/c$s.tif" "$work/l$s.tif" $((s / 16)) &
+  "${launch[@]}" "$pack/bin/make_composite" "$pack/data/earth-blue-marble.jpg" "$s" "$s" "$work/c$s.tif" "$work/l$s.tif" $((s / 16)) &
   made[$s]=$!
 done
 say "making inputs for sizes: ${!made[*]}"
@@ -72,23 +83,32 @@ say "inputs made: $(du -sh "$work" | cut -f1)"
 declare -A wall  # "SIZE:BANDS" -> wall seconds of the in-memory run
 # run NAME SIZE BANDS MEMORY DEPTH REF: one stitch, measured; REF names the run it is checked against.
 run() {
-  local name=$1 s=$2 b=$3 mem=$4 dep=$5 ref=$6 rc=0 limit diffrc
+  local name=$1 s=$2 b=$3 mem=$4 dep=$5 ref=$6 rc=0 limit
   limit=$((budget - (SECONDS - t0) + 30))
   ((limit > run_limit)) && limit=$run_limit
   ((limit < 10)) && limit=10
   say "run $name: ${s}x$s, --bands $b --threads $((b + 2)) --memory $mem, depth $dep (limit ${limit}s)"
-  python3 "$here/bench/measure_run.py" "$work/$name.time.json" -- timeout "$limit" "$pack/bin/gdp" stitch \
+  python3 "$here/bench/measure_run.py" "$work/$name.time.json" -- timeout "$limit" "${launch[@]}" "$pack/bin/gdp" stitch \
     -c "$work/c$s.tif" -l "$work/l$s.tif" -o "$work/$name.tif" --compression none --depth "$dep" -q \
     --bands "$b" --threads $((b + 2)) --memory "$mem" --temp "$work" --stats "$work/$name.stats.json" || rc=$?
-  local diff=null
-  if ((rc == 0)) && [[ -n $ref && -f $work/$ref.tif ]]; then
-    diffrc=0
-    "$pack/bin/image_diff" "$work/$ref.tif" "$work/$name.tif" > "$work/$name.diff.json" || diffrc=$?
-    ((diffrc == 0)) && diff=\"$work/$name.diff.json\" || say "image_diff failed ($diffrc)"
+  if ((rc == 0)) && [[ -n $ref && $ref != "$name" && -f $work/$ref.tif ]]; then
+    "${launch[@]}" "$pack/bin/image_diff" "$work/$ref.tif" "$work/$name.tif" > "$work/$name.diff.json" ||
+      say "image_diff failed (exit $?)"
+    [[ -s $work/$name.diff.json ]] && say "against $ref: $(cat "$work/$name.diff.json")"
   fi
-  [[ $name == "$ref" || -z $ref ]] || rm -f "$work/$name.tif"
-  printf '{"name": "%s", "size": %d, "bands": %d, "memory": "%s", "depth": "%s", "ref": "%s", "rc": %d, "time": "%s", "stats": "%s", "diff": %s}\n' \
-    "$name" "$s" "$b" "$mem" "$dep" "$ref" "$rc" "$work/$name.time.json" "$work/$name.stats.json" "$diff" >> "$runs"
+  [[ $name == "$ref" || $name == "$keep" ]] || rm -f "$work/$name.tif"  # only references stay
+  python3 - "$runs" "$name" "$s" "$b" "$mem" "$dep" "$ref" "$rc" "$work/$name" <<'PY'
+import json, sys
+runs, name, size, bands, memory, depth, ref, rc, base = sys.argv[1:]
+def load(path):
+    try:
+        return json.load(open(path))
+    except (OSError, ValueError):
+        return None
+run = dict(name=name, size=int(size), bands=int(bands), memory=memory, depth=depth, ref=ref, rc=int(rc),
+           time=load(base + ".time.json"), stats=load(base + ".stats.json"), diff=load(base + ".diff.json"))
+open(runs, "a").write(json.dumps(run) + "\n")
+PY
   if ((rc == 0)); then
     [[ $mem == 0 ]] || wall[$s:$b]=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['wall'])" "$work/$name.time.json")
     say "run $name done: $(python3 -c "import json,sys; t=json.load(open(sys.argv[1])); print(f\"{t['wall']:.1f} s wall, {t['user']+t['sys']:.1f} CPU-s, peak {t['peak_rss_kb']/1024:.0f} MB\")" "$work/$name.time.json")"
@@ -117,6 +137,8 @@ PY
   say "estimate for ${s}x$s --bands $b: ${est}s"
 }
 
+keep=""  # the sweep run the files run is checked against (the same bits are expected)
+[[ -z $disk ]] || keep=s${disk%:*}-b${disk#*:}
 for s in $sizes; do
   ref=""
   for b in $bands; do
@@ -124,8 +146,12 @@ for s in $sizes; do
     run "$name" "$s" "$b" "$memory" "$depth" "${ref:-$name}"
     ref=${ref:-$name}
   done
-  rm -f "$work/$ref.tif"
 done
+if [[ -n $disk ]]; then
+  s=${disk%:*} b=${disk#*:}
+  if [[ -f $work/c$s.tif ]] && fits "$s" "$b" 1.5; then run "$keep-files" "$s" "$b" 0 "$depth" "$keep"; fi
+fi
+rm -f "$work"/s*-b*.tif
 if [[ -n $giga ]]; then
   ref=""
   for b in $giga_bands; do
@@ -135,10 +161,6 @@ if [[ -n $giga ]]; then
     ref=${ref:-$name}
   done
   rm -f "$work/$ref.tif"
-fi
-if [[ -n $disk ]]; then
-  s=${disk%:*} b=${disk#*:}
-  if [[ -f $work/c$s.tif ]] && fits "$s" "$b" 1.5; then run "s$s-b$b-files" "$s" "$b" 0 "$depth" ""; fi
 fi
 say "done; $out/scaling.md:"
 cat "$out/scaling.md"

@@ -3,38 +3,32 @@
 
     scaling_table.py RUNS.jsonl MACHINE.json OUTDIR
 
-RUNS.jsonl: one line per run (name, size, bands, memory, depth, ref, rc, and the paths of its
-measure_run.py JSON, its `gdp --stats` JSON and its image_diff JSON or null). Per run: wall,
+RUNS.jsonl: one line per run (name, size, bands, memory, depth, ref, rc, and what its
+measure_run.py JSON, its `gdp --stats` JSON and its image_diff JSON held, or null). Per run: wall,
 user+sys CPU seconds, CPU/wall (cores kept busy), peak RSS, scratch in memory and in files,
 Mpix/s end to end and of the V-cycle phase, Mpix/s per band (the paper's Table III measure),
 speedup over the first run of its size with the same memory setting, and the check against the
-reference run: float and half outputs within 1e-4 of the value range (docs/how-bands-work.md), 8- and
-16-bit outputs within one step more (banded results 1e-4 apart can round to neighbouring steps).
+reference run: float and half outputs within 2e-4 of the value range (docs/how-bands-work.md: 1e-4 up
+to 512 columns, 2e-4 on wider images, where the phases hold more groups), 8- and 16-bit outputs
+within one step more (banded results that close can round to neighbouring steps).
 """
 import json
 import sys
 
 STEP = {"8": 1 / 255, "16": 1 / 65535}
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError, TypeError):
-        return None
+TOLERANCE = 2e-4
 
 
 def check(run, diff):
     if diff is None:
         return None, "-"
-    allowed = 1e-4 * diff["range"] + STEP.get(run["depth"], 0.0)
+    allowed = TOLERANCE * diff["range"] + STEP.get(run["depth"], 0.0)
     ok = diff["max_abs"] <= allowed
     return ok, f"{'pass' if ok else 'FAIL'} ({diff['max_rel']:.1e} of range, rms {diff['rms']:.1e})"
 
 
 def row(run, first):
-    t, s = load(run["time"]), load(run["stats"]) or {}
+    t, s = run["time"], run["stats"] or {}
     mpix = run["size"] ** 2 / 1e6
     r = dict(name=run["name"], size=run["size"], bands=run["bands"], memory=run["memory"], depth=run["depth"],
              rc=run["rc"], reference=run["ref"] or None)
@@ -52,9 +46,8 @@ def row(run, first):
         r["vcycle_mpix_per_s"] = round(mpix / r["vcycle_s"], 2)
     if first and first.get("wall_s"):
         r["speedup"] = round(first["wall_s"] / r["wall_s"], 2)
-    r["check_ok"], r["check"] = check(run, load(run["diff"]) if run["diff"] else None)
-    if r["check_ok"] is not None:
-        r["diff"] = load(run["diff"])
+    r["check_ok"], r["check"] = check(run, run["diff"])
+    r["diff"] = run["diff"]
     return r
 
 
@@ -67,12 +60,16 @@ def main(argv):
         sys.stderr.write("usage: scaling_table.py RUNS.jsonl MACHINE.json OUTDIR\n")
         return 2
     runs = [json.loads(line) for line in open(argv[1]) if line.strip()]
-    machine = load(argv[2]) or {}
+    with open(argv[2]) as f:
+        machine = json.load(f)
     rows, firsts = [], {}
     for run in runs:
         key = run["size"]  # speedups against the first run of the size (the in-memory one band)
         r = row(run, firsts.get(key))
-        firsts.setdefault(key, r)
+        if key not in firsts:
+            firsts[key] = r
+            if "wall_s" in r:
+                r["speedup"] = 1.0
         rows.append(r)
     with open(f"{argv[3]}/scaling.json", "w") as f:
         json.dump(dict(machine=machine, runs=rows), f, indent=1)
@@ -80,7 +77,7 @@ def main(argv):
              f"{machine.get('memory_gib', '?')} GiB, {machine.get('glibc', '?')}; `--memory "
              f"{machine.get('memory_option', '?')}` (scratch in memory) unless the row says 0 (scratch in files).", "",
              "| size | bands | --memory | out | wall s | CPU s (user+sys) | CPU/wall | peak RSS MB | scratch mem + files MB "
-             "| Mpix/s | Mpix/s per band | V-cycle Mpix/s | speedup | check vs first |",
+             "| Mpix/s | Mpix/s per band | V-cycle Mpix/s | speedup | check vs reference |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "wall_s" not in r:
