@@ -62,7 +62,11 @@ import json, os, platform, shutil, sys
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
 mem = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal")) / 2**20
 tmp = shutil.disk_usage(os.environ.get("TMPDIR", "/tmp"))
-m = dict(cpu=cpu, cores=os.cpu_count(), memory_gib=round(mem, 1), tmp_free_gib=round(tmp.free / 2**30, 1),
+try:
+    quota = open("/sys/fs/cgroup/cpu.max").read().strip()  # "max 100000" or "QUOTA PERIOD"
+except OSError:
+    quota = None
+m = dict(cpu=cpu, cores=len(os.sched_getaffinity(0)), cpus_online=os.cpu_count(), cgroup_cpu_max=quota, memory_gib=round(mem, 1), tmp_free_gib=round(tmp.free / 2**30, 1),
          glibc=" ".join(platform.libc_ver()), kernel=platform.release(),
          pack_needs=open(f"{sys.argv[2]}/GLIBC").read().strip(), memory_option=sys.argv[3], budget_s=int(sys.argv[4]))
 json.dump(m, open(sys.argv[1], "w"), indent=1)
