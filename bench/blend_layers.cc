@@ -6,6 +6,7 @@
 //       writes OUTDIR/layer_NN.tif (8-bit RGBA) and OUTDIR/original.tif (the photo at the canvas size);
 //       --ghosts: N moving objects per layer (discs of one colour) near its edges, in the overlaps
 //   blend_layers tiles PHOTO OUTDIR [--tile T] [--grid CxR] [--overlap F] [--offset O] [--vignette V] [--seed S]
+//       [--part K/N] (K of N processes cutting one grid: the same tiles and exposures, part 0 writes the list)
 //                      [--upscale N] [--headroom H]
 //       writes OUTDIR/tile_NNNNN.tif (T x T layers with XPOSITION/YPOSITION but no canvas tags, no
 //       wavy edges: a microscopy slide's tiles)
@@ -46,6 +47,7 @@ struct Cut {
   int tile = 0;  // tiles: the tile size (the canvas follows from grid and overlap)
   int upscale = 1;  // tiles: the photo enlarged this many times before it is repeated
   double headroom = 0.0;  // tiles: the photo's values mapped to [headroom, 1 - headroom]
+  int part = 0, parts = 1;  // tiles: this process writes the tiles n with n % parts == part
 };
 
 // A tile's exposure: a brightness offset and a falloff towards its corners.
@@ -214,13 +216,16 @@ void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
   const int W = static_cast<int>(std::lround((o.cols - 1) * step)) + t, H = static_cast<int>(std::lround((o.rows - 1) * step)) + t;
   std::mt19937 rng(o.seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  std::FILE* list = std::fopen((dir + "/tiles.txt").c_str(), "w");
-  check(list != nullptr, "cannot create " + dir + "/tiles.txt");
+  std::FILE* list = o.part == 0 ? std::fopen((dir + "/tiles.txt").c_str(), "w") : nullptr;
+  check(o.part != 0 || list != nullptr, "cannot create " + dir + "/tiles.txt");
   std::vector<unsigned char> rgba(static_cast<std::size_t>(t) * t * 4);
   for (int r = 0, n = 0; r < o.rows; ++r)
     for (int c = 0; c < o.cols; ++c, ++n) {
       const int x0 = static_cast<int>(std::lround(c * step)), y0 = static_cast<int>(std::lround(r * step));
       const Exposure e{o.offset * uniform(rng), o.vignette};
+      const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
+      if (list != nullptr) std::fprintf(list, "%s %d %d\n", name.c_str(), x0, y0);
+      if (n % o.parts != o.part) continue;
       const std::vector<Tap> tx = taps(x0, t, img.width, o.upscale), ty = taps(y0, t, img.height, o.upscale);
       for (int y = 0; y < t; ++y)
         for (int x = 0; x < t; ++x) {
@@ -230,11 +235,9 @@ void tiles(const std::string& photo, const std::string& dir, const Cut& o) {
                 std::clamp(e.at(scene(img, ch, tx[x], ty[y]), x, y, t, t), 0.0, 1.0) * 255.0 + 0.5);
           p[3] = 255;
         }
-      const std::string name = fmt::format("{}/tile_{:05d}.tif", dir, n);
       write_layer(name, rgba, t, t, x0, y0, 0, 0);
-      std::fprintf(list, "%s %d %d\n", name.c_str(), x0, y0);
     }
-  std::fclose(list);
+  if (list != nullptr) std::fclose(list);
   std::printf("%d tiles of %dx%d, canvas %dx%d\n", o.cols * o.rows, t, t, W, H);
 }
 
@@ -339,6 +342,9 @@ int main(int argc, char** argv) {
       else if (k == "--ghosts") o.ghosts = std::stoi(v);
       else if (k == "--upscale") o.upscale = std::max(1, std::stoi(v));
       else if (k == "--headroom") o.headroom = std::stod(v);
+      else if (k == "--part")
+        check(std::sscanf(v.c_str(), "%d/%d", &o.part, &o.parts) == 2 && o.part >= 0 && o.part < o.parts,
+              "--part wants K/N with 0 <= K < N");
       else throw std::runtime_error("unknown option " + k);
     }
     if (a[0] == "tiles-error") {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs one command under /usr/bin/time -v and writes its cost as JSON, bytes written included.
+"""Runs one command and writes its cost as JSON (the kernel's rusage and I/O accounting).
 
     bench/measure_run.py OUT.json -- COMMAND [ARGS...]
 
@@ -8,36 +8,16 @@ children), peak_rss_kb, minor_faults, voluntary_switches (waits: a lock, a queue
 involuntary_switches (preempted), rc, and the kernel's I/O accounting of the command:
 wchar (bytes passed to write(), files and pipes alike), write_bytes (bytes sent towards the
 disk), cancelled_write_bytes (of those, dropped because the file was deleted or truncated
-first). The I/O counters are read from /proc/PID/io of the `time` process after it has
-exited but before it is reaped (waitid WNOWAIT): by then it has reaped the command, whose
-counters the kernel adds to its parent's. Linux only. The command's stdout and stderr pass
-through; the exit status is the command's.
+first). The I/O counters are read from /proc/PID/io after the command has exited but before
+it is reaped (waitid WNOWAIT), the rest from wait4()'s rusage (the same numbers /usr/bin/time -v
+prints, which some machines lack). Linux only. The command's stdout and stderr pass through;
+the exit status is the command's (128 + N when signal N ended it).
 """
 import json
 import os
 import subprocess
 import sys
-import tempfile
 import time
-
-
-def parse_time_v(text):
-    """The fields of /usr/bin/time -v that the benchmarks report."""
-    keys = {
-        "User time (seconds)": ("user", float),
-        "System time (seconds)": ("sys", float),
-        "Maximum resident set size (kbytes)": ("peak_rss_kb", int),
-        "Minor (reclaiming a frame) page faults": ("minor_faults", int),
-        "Voluntary context switches": ("voluntary_switches", int),
-        "Involuntary context switches": ("involuntary_switches", int),
-    }
-    out = {}
-    for line in text.splitlines():
-        name, _, value = line.strip().rpartition(": ")
-        if name in keys:
-            key, kind = keys[name]
-            out[key] = kind(value)
-    return out
 
 
 def main(argv):
@@ -45,17 +25,20 @@ def main(argv):
         sys.stderr.write("usage: measure_run.py OUT.json -- COMMAND [ARGS...]\n")
         return 2
     out_path, command = argv[1], argv[3:]
-    with tempfile.NamedTemporaryFile("r", suffix=".time") as report:
-        start = time.time()
-        proc = subprocess.Popen(["/usr/bin/time", "-v", "-o", report.name] + command)
-        os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOWAIT)
-        end = time.time()
-        with open(f"/proc/{proc.pid}/io") as f:
-            io = {k: int(v) for k, v in (line.split(": ") for line in f.read().splitlines())}
-        rc = proc.wait()
-        result = parse_time_v(report.read())
-    result.update(start=start, end=end, wall=end - start, rc=rc, wchar=io["wchar"],
-                  write_bytes=io["write_bytes"], cancelled_write_bytes=io["cancelled_write_bytes"])
+    start = time.time()
+    proc = subprocess.Popen(command)
+    os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOWAIT)
+    end = time.time()
+    with open(f"/proc/{proc.pid}/io") as f:
+        io = {k: int(v) for k, v in (line.split(": ") for line in f.read().splitlines())}
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = code = os.waitstatus_to_exitcode(status)
+    rc = code if code >= 0 else 128 - code
+    result = dict(user=usage.ru_utime, sys=usage.ru_stime, peak_rss_kb=usage.ru_maxrss,
+                  minor_faults=usage.ru_minflt, voluntary_switches=usage.ru_nvcsw,
+                  involuntary_switches=usage.ru_nivcsw, start=start, end=end, wall=end - start,
+                  rc=rc, wchar=io["wchar"], write_bytes=io["write_bytes"],
+                  cancelled_write_bytes=io["cancelled_write_bytes"])
     with open(out_path, "w") as f:
         json.dump(result, f)
     return rc

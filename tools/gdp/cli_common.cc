@@ -110,32 +110,39 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
 
 namespace {
 
-// "\r<label> 42% ETA 3s" on a terminal, rate-limited; a final newline at 100%.
+// "\r<label> 42% ETA 3s" on a terminal, rate-limited, a final newline at 100%. Into a log file or
+// pipe (a batch job, a device run): whole lines every 30 s, none for a run shorter than that.
 class Progress {
  public:
-  explicit Progress(std::string label) : label_(std::move(label)), start_(Clock::now()) {}
+  Progress(std::string label, bool terminal) : label_(std::move(label)), terminal_(terminal), start_(Clock::now()) {}
   void operator()(double fraction) {
     const auto now = Clock::now();
-    if (fraction < 1.0 && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
+    const auto every = terminal_ ? std::chrono::milliseconds(200) : std::chrono::milliseconds(30000);
     const double elapsed = std::chrono::duration<double>(now - start_).count();
+    if (!terminal_ && elapsed < 30.0) return;
+    if (fraction < 1.0 && now - last_ < every) return;
+    last_ = now;
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r%s %3.0f%%  ETA %.0fs   %s", label_.c_str(), 100.0 * fraction, eta,
-                 fraction >= 1.0 ? "\n" : "");
+    if (terminal_)
+      std::fprintf(stderr, "\r%s %3.0f%%  ETA %.0fs   %s", label_.c_str(), 100.0 * fraction, eta,
+                   fraction >= 1.0 ? "\n" : "");
+    else
+      std::fprintf(stderr, "%s %3.0f%%  ETA %.0fs  (%.0fs elapsed)\n", label_.c_str(), 100.0 * fraction, eta, elapsed);
     std::fflush(stderr);
   }
 
  private:
   using Clock = std::chrono::steady_clock;
   std::string label_;
+  bool terminal_;
   Clock::time_point start_, last_{};
 };
 
 }  // namespace
 
 std::function<void(double)> progress_line(const CommonOptions& o, const std::string& label) {
-  if (o.quiet || !isatty(STDERR_FILENO)) return nullptr;
-  return Progress(label);
+  if (o.quiet) return nullptr;
+  return Progress(label, isatty(STDERR_FILENO) != 0);
 }
 
 SolverOptions solver_options(CommonOptions& o, const std::string& command) {
