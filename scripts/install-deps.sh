@@ -21,7 +21,7 @@ packages=(
   python3-astropy                        # tests: sky positions checked against astropy
   python3-astropy-healpix                # tests: HiPS tile and HPX pixel positions against an independent HEALPix
   aladin                                 # tests: Aladin's HiPS builder lints gdp's HiPS (IVOA HiPS 1.0; needs a JRE)
-  xvfb                                   # bench/sky_hips_aladin.sh: Aladin renders a HiPS under xvfb-run (no test needs a display)
+  xvfb                                   # bench/sky_hips_aladin.sh: Aladin renders under xvfb-run (no test needs it)
   enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
   montage                                # bench/sky_bench.py: Montage's pipeline beside gdp sky (and --projected)
   libtiff-tools                          # bench/blend_huge.sh: tiffdump/tiffinfo check the BigTIFF it writes

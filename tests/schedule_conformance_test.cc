@@ -23,7 +23,8 @@ struct Conformance {
 };
 
 void PrintTo(const Conformance& k, std::ostream* os) {
-  *os << test::domain_name(k.domain) << k.width << "x" << k.height << (k.precision == Precision::Float64 ? " double" : " float")
+  *os << test::domain_name(k.domain) << k.width << "x" << k.height
+      << (k.precision == Precision::Float64 ? " double" : " float")
       << (k.scratch == ScratchPrecision::Narrow ? " narrow scratch" : "");
 }
 
