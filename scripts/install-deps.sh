@@ -11,6 +11,7 @@ packages=(
   libhealpix-cxx-dev                     # HEALPix tiles of gdp sky --hips
   libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
   libboost-graph-dev                     # Boykov-Kolmogorov max-flow for gdp blend --seams graphcut (header-only)
+  libeigen3-dev                          # linear algebra of the photometric and sky-level fits (header-only)
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)
@@ -20,6 +21,7 @@ packages=(
   python3-astropy                        # tests: sky positions checked against astropy
   python3-astropy-healpix                # tests: HiPS tile and HPX pixel positions against an independent HEALPix
   aladin                                 # tests: Aladin's HiPS builder lints gdp's HiPS (IVOA HiPS 1.0; needs a JRE)
+  xvfb                                   # bench/sky_hips_aladin.sh: Aladin renders under xvfb-run (no test needs it)
   enblend hugin-tools                    # gdp blend beside enblend (bench/blend_vs_enblend.sh), Hugin's pipeline (scripts/hugin_blend.sh)
   montage                                # bench/sky_bench.py: Montage's pipeline beside gdp sky (and --projected)
   libtiff-tools                          # bench/blend_huge.sh: tiffdump/tiffinfo check the BigTIFF it writes

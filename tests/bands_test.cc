@@ -8,6 +8,7 @@
 #include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "image_compare.h"
+#include "schedule_problems.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -26,8 +27,7 @@ struct Case {
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << (c.domain == Domain::Planar ? "planar " : c.domain == Domain::Cylindrical ? "cylindrical " : "spherical ")
-      << c.width << "x" << c.height << "x" << c.channels << " alpha " << c.alpha;
+  *os << test::domain_name(c.domain) << c.width << "x" << c.height << "x" << c.channels << " alpha " << c.alpha;
 }
 
 // Bands relax in an ordering of their own (lanes, boustrophedon), so after one V-cycle they
@@ -47,15 +47,6 @@ Image test_image(const Case& k, unsigned seed) {
   return img;
 }
 
-Image with_seams(const Image& img) {
-  Image out = img;
-  for (int c = 0; c < img.channels; ++c)
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x)
-        out.at(c, x, y) += 0.1f * (x > img.width / 3) - 0.07f * (y > img.height / 2) + 0.05f * (x > 3 * img.width / 4);
-  return out;
-}
-
 Image solve_with(const Case& k, const Image& img, Schedule schedule, int bands, int vcycles, SolveSummary* s = nullptr,
                  Precision precision = Precision::Float32, std::size_t incore_bytes = 4096) {
   SolverOptions o;
@@ -67,7 +58,7 @@ Image solve_with(const Case& k, const Image& img, Schedule schedule, int bands, 
   o.bands = bands;
   o.precision = precision;
   test::ExactGradients src(img, k.domain, k.alpha, 1.0);
-  const Image start = with_seams(img);
+  const Image start = test::with_seams(img, 0.1f, -0.07f, 0.05f);
   return solve(src, o, &start, s);
 }
 

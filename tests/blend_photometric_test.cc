@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "blend/photometric.h"
+#include "blend/photometric_fit.h"
 #include "cli_fixture.h"
 #include "gdp/blend.h"
 #include "gdp/errors.h"
@@ -64,6 +65,25 @@ TEST(BlendPhotometric, FitRecoversVignettingAndGains) {
     EXPECT_LT(r.photometric_rms_after, 0.2 * r.photometric_rms_before);
     EXPECT_GT(r.photometric_points, 1000);
   }
+}
+
+// Overlaps seen only at the layers' centres (t = 0) say nothing of the falloff: without its ridge
+// the normal equations are singular, and the fit says so rather than guessing; with it, it is 0.
+TEST(BlendPhotometric, UndeterminedFalloffIsAnErrorWithoutItsRidge) {
+  blending::OverlapSamples s;
+  s.layers = 2;
+  s.channels = 1;
+  for (int p = 0; p < 50; ++p) {
+    for (int k = 0; k < 2; ++k) s.obs.push_back({k, 0.0f, {(0.2f + 0.01f * p) * (k ? 1.1f : 1.0f), 0.0f, 0.0f}});
+    s.start.push_back(static_cast<std::uint32_t>(s.obs.size()));
+  }
+  blending::PhotometricFit f;
+  f.vignetting_prior = 0.0;
+  EXPECT_THROW(blending::fit_photometry(s, 1, f), Error);
+  f.vignetting_prior = 1e-7;
+  const blending::PhotometricResult r = blending::fit_photometry(s, 1, f);
+  EXPECT_EQ(r.vignetting[0], 0.0);
+  EXPECT_NEAR(r.gains[1] / r.gains[0], 1.1, 1e-3);
 }
 
 TEST(BlendPhotometric, CalibratedBlendIsNearerThePhoto) {

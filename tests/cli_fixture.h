@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "gdp/image_io.h"
+#include "test_util.h"
+
 namespace gdp::test {
 
 // mpirun as the tests start it; `timeout` turns a hang into a failure (exit status 124).
@@ -41,6 +44,19 @@ class CliFixture : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // gdp stitch's inputs in the scratch directory: a random w x h RGB composite `comp` (from
+  // `seed`) and its label map `labels`, label(x, y) in each of its `label_channels` channels.
+  template <class Label>
+  void write_stitch_inputs(const std::string& comp, const std::string& labels, int w, int h, unsigned seed,
+                           Label label, int label_channels = 1) const {
+    Image map(w, h, label_channels);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < label_channels; ++c) map.at(c, x, y) = label(x, y);
+    write_image(path(comp), random_image(w, h, 3, seed), {});
+    write_image(path(labels), map, {});
+  }
 
   // Runs gdp with the arguments, capturing stderr.
   CliRun gdp(const std::string& args) const { return run_capturing_stderr(std::string(GDP_CLI_PATH) + " " + args); }

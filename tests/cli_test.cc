@@ -26,12 +26,7 @@ class Cli : public test::CliFixture {
  protected:
   void SetUp() override {
     CliFixture::SetUp();
-    Image comp = test::random_image(40, 30, 3, 5), labels(40, 30, 3);
-    for (int y = 0; y < 30; ++y)
-      for (int x = 0; x < 40; ++x)
-        for (int c = 0; c < 3; ++c) labels.at(c, x, y) = x < 20 ? 0.0f : 0.5f;
-    write_image(path("comp.png"), comp, {});
-    write_image(path("labels.png"), labels, {});
+    write_stitch_inputs("comp.png", "labels.png", 40, 30, 5, [](int x, int) { return x < 20 ? 0.0f : 0.5f; }, 3);
   }
 };
 

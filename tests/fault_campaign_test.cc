@@ -29,12 +29,8 @@ class FaultCampaign : public test::CliFixture {
  protected:
   void SetUp() override {
     CliFixture::SetUp();
-    write_image(path("in.png"), test::random_image(96, 64, 3, 7), {});
+    write_stitch_inputs("in.png", "labels.png", 96, 64, 7, [](int x, int) { return x < 48 ? 0.0f : 0.5f; });
     write_image(path("in.tif"), test::random_image(96, 64, 3, 7), {});
-    Image labels(96, 64, 1);
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 96; ++x) labels.at(0, x, y) = x < 48 ? 0.0f : 0.5f;
-    write_image(path("labels.png"), labels, {});
   }
   void TearDown() override {
     std::printf("[ campaign ] %s: %d cases\n",

@@ -22,11 +22,8 @@ class Resume : public test::CliFixture {
  protected:
   void SetUp() override {
     CliFixture::SetUp();
-    Image comp = test::random_image(96, 80, 3, 11), labels(96, 80, 1);
-    for (int y = 0; y < 80; ++y)
-      for (int x = 0; x < 96; ++x) labels.at(0, x, y) = x < 30 ? 0.0f : y < 40 ? 0.25f : 0.5f;
-    write_image(path("comp.tif"), comp, {});
-    write_image(path("labels.tif"), labels, {});
+    write_stitch_inputs("comp.tif", "labels.tif", 96, 80, 11,
+                        [](int x, int y) { return x < 30 ? 0.0f : y < 40 ? 0.25f : 0.5f; });
   }
   std::string stitch(const std::string& out, const std::string& more) const {
     return "stitch -c " + path("comp.tif") + " -l " + path("labels.tif") + " -o " + path(out) +

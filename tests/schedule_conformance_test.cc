@@ -7,6 +7,7 @@
 
 #include "gdp/solver.h"
 #include "image_compare.h"
+#include "schedule_problems.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -22,8 +23,8 @@ struct Conformance {
 };
 
 void PrintTo(const Conformance& k, std::ostream* os) {
-  *os << (k.domain == Domain::Planar ? "planar " : k.domain == Domain::Cylindrical ? "cylindrical " : "spherical ")
-      << k.width << "x" << k.height << (k.precision == Precision::Float64 ? " double" : " float")
+  *os << test::domain_name(k.domain) << k.width << "x" << k.height
+      << (k.precision == Precision::Float64 ? " double" : " float")
       << (k.scratch == ScratchPrecision::Narrow ? " narrow scratch" : "");
 }
 
@@ -41,15 +42,6 @@ Image content(const Conformance& k) {
         img.at(c, x, y) = 0.5f + 0.3f * wave.at(0, x, y) + 0.05f * noise.at(c, x, y);
   }
   return img;
-}
-
-Image seamed(const Image& img) {
-  Image out = img;
-  for (int c = 0; c < img.channels; ++c)
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x)
-        out.at(c, x, y) += 0.08f * (x > img.width / 3) - 0.06f * (y > img.height / 2) + 0.03f * (x > 3 * img.width / 4);
-  return out;
 }
 
 // Bands 1 is plain streaming (the one-band plan); `groups` channel groups take 2 + bands * groups
@@ -76,7 +68,7 @@ Image solve_as(const Conformance& k, const Image& img, const Config& r, SolveSum
   o.bands = r.bands;
   o.threads = r.in_core ? r.groups : r.groups == 1 ? 1 : 2 + r.bands * r.groups;
   test::ExactGradients src(img, k.domain, 0.0, 1.0);
-  const Image start = seamed(img);
+  const Image start = test::with_seams(img, 0.08f, -0.06f, 0.03f);
   return solve(src, o, &start, s);
 }
 

@@ -11,6 +11,7 @@
 #include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "schedule/row_store.h"
+#include "schedule_problems.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -32,7 +33,7 @@ struct Case {
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << (c.domain == Domain::Planar ? "planar " : c.domain == Domain::Cylindrical ? "cylindrical " : "spherical ") << c.width << "x" << c.height << "x"
+  *os << test::domain_name(c.domain) << c.width << "x" << c.height << "x"
       << c.channels << " alpha " << c.alpha << " cycles " << c.vcycles
       << (c.precision == Precision::Float64 ? " double" : " float") << " incore " << c.incore_bytes
       << (c.initial ? " initial" : "") << (c.scratch == ScratchPrecision::Narrow ? " narrow" : "");

@@ -5,6 +5,11 @@
 #include <cmath>
 #include <utility>
 
+#include <Eigen/Cholesky>
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
 namespace gdp::blending {
 namespace {
 
@@ -139,31 +144,17 @@ double priors(const Model& m, const PhotometricFit& f, double count, Normal* n) 
   return cost;
 }
 
-// Solves A x = b in place (A symmetric positive definite; a little damping where it is not).
-std::vector<double> solve_spd(std::vector<double> A, std::vector<double> b, int P) {
-  double scale = 0.0;
-  for (int i = 0; i < P; ++i) scale = std::max(scale, A[static_cast<std::size_t>(i) * P + i]);
-  for (int i = 0; i < P; ++i) A[static_cast<std::size_t>(i) * P + i] += 1e-12 * scale + 1e-300;
-  for (int j = 0; j < P; ++j) {  // Cholesky, lower triangle
-    double d = A[static_cast<std::size_t>(j) * P + j];
-    for (int k = 0; k < j; ++k) d -= A[static_cast<std::size_t>(j) * P + k] * A[static_cast<std::size_t>(j) * P + k];
-    d = std::sqrt(std::max(d, 1e-14 * scale + 1e-300));
-    A[static_cast<std::size_t>(j) * P + j] = d;
-    for (int i = j + 1; i < P; ++i) {
-      double x = A[static_cast<std::size_t>(i) * P + j];
-      for (int k = 0; k < j; ++k) x -= A[static_cast<std::size_t>(i) * P + k] * A[static_cast<std::size_t>(j) * P + k];
-      A[static_cast<std::size_t>(i) * P + j] = x / d;
-    }
-  }
-  for (int i = 0; i < P; ++i) {
-    for (int k = 0; k < i; ++k) b[i] -= A[static_cast<std::size_t>(i) * P + k] * b[k];
-    b[i] /= A[static_cast<std::size_t>(i) * P + i];
-  }
-  for (int i = P - 1; i >= 0; --i) {
-    for (int k = i + 1; k < P; ++k) b[i] -= A[static_cast<std::size_t>(k) * P + i] * b[k];
-    b[i] /= A[static_cast<std::size_t>(i) * P + i];
-  }
-  return b;
+// Solves A x = b, A symmetric positive definite (the priors make it so: every parameter has a
+// ridge); Eigen's Cholesky, refused with a clear error when rounding leaves A indefinite.
+std::vector<double> solve_spd(const Normal& n) {
+  const Eigen::Map<const Eigen::MatrixXd> A(n.A.data(), n.P, n.P);
+  const Eigen::LLT<Eigen::MatrixXd> llt(A);
+  if (llt.info() != Eigen::Success)
+    throw Error(fmt::format("--photometric: the normal equations of the exposure and vignetting fit ({} unknowns) "
+                            "are not positive definite", n.P));
+  std::vector<double> x(n.P);
+  Eigen::Map<Eigen::VectorXd>(x.data(), n.P) = llt.solve(Eigen::Map<const Eigen::VectorXd>(n.b.data(), n.P));
+  return x;
 }
 
 // Huber weights (1 within 1.5 sigma, then falling as 1/|r|) on the usable observations.
@@ -210,7 +201,7 @@ PhotometricResult fit_photometry(const OverlapSamples& s, int terms, const Photo
     n.A.assign(static_cast<std::size_t>(n.P) * n.P, 0.0);
     n.b.assign(n.P, 0.0);
     const double cost = sweep(s, m, res, &n) + priors(m, f, res.count, &n);
-    std::vector<double> step = solve_spd(n.A, n.b, n.P);
+    std::vector<double> step = solve_spd(n);
     double largest = 0.0;
     for (double& x : step) x = -x, largest = std::max(largest, std::fabs(x));
     Model next = m;

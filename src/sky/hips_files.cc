@@ -117,7 +117,7 @@ std::vector<std::int64_t> write_moc(const fs::path& file, int order, const std::
   std::vector<long long> column(uniq.begin(), uniq.end());
   fitsfile* f = nullptr;
   int status = 0;
-  const std::string name = "!" + file.string();
+  const std::string name = fmt::format("!{}", file.string());  // "!": CFITSIO overwrites the file
   char ttype[] = "UNIQ", tform_j[] = "1J", tform_k[] = "1K";
   char* types[] = {ttype};
   char* forms[] = {order <= 13 ? tform_j : tform_k};

@@ -1,59 +1,46 @@
-// Plate offsets from overlaps: mean differences on sample points, then least squares (CG) on the overlap graph.
+// Plate offsets from overlaps: mean differences on sample points, then least squares on the overlap graph (Eigen's CG).
 #include "sky/plate_offsets.h"
 
-#include <algorithm>
-#include <cmath>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCore>
 
 #include "sky/overlap_samples.h"
 
 namespace gdp::sky {
 
 std::vector<double> offsets_from_overlaps(std::size_t count, const std::vector<OverlapSum>& pairs) {
-  // L o = r: L the Laplacian weighted by n_ab, r_a = sum over a's pairs of sum(a - b). Each
-  // connected part's r sums to 0, so CG from 0 converges to the solution of mean 0 per part.
-  std::vector<double> r(count, 0.0), diagonal(count, 0.0);
+  // L o = r: L the Laplacian weighted by n_ab, r_a = sum over a's pairs of sum(a - b). L is
+  // singular (constants on each connected part), but each part's r sums to 0: conjugate gradients
+  // from 0, unpreconditioned, stay orthogonal to the constants and end at the solution of mean 0
+  // per part (a preconditioner would let each part drift by a constant).
+  const auto n = static_cast<Eigen::Index>(count);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+  std::vector<Eigen::Triplet<double>> entries;
   for (const OverlapSum& p : pairs) {
     if (p.n == 0) continue;
+    const auto w = static_cast<double>(p.n);
     r[p.a] += p.sum;
     r[p.b] -= p.sum;
-    diagonal[p.a] += static_cast<double>(p.n);
-    diagonal[p.b] += static_cast<double>(p.n);
+    entries.insert(entries.end(), {{p.a, p.a, w}, {p.b, p.b, w}, {p.a, p.b, -w}, {p.b, p.a, -w}});
   }
-  const auto apply = [&](const std::vector<double>& x, std::vector<double>& out) {
-    for (std::size_t k = 0; k < count; ++k) out[k] = diagonal[k] * x[k];
-    for (const OverlapSum& p : pairs) {
-      out[p.a] -= static_cast<double>(p.n) * x[p.b];
-      out[p.b] -= static_cast<double>(p.n) * x[p.a];
-    }
-  };
-  const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
-    double s = 0.0;
-    for (std::size_t k = 0; k < a.size(); ++k) s += a[k] * b[k];
-    return s;
-  };
-  std::vector<double> o(count, 0.0), d = r, q(count);
-  double rr = dot(r, r);
-  const double stop = rr * 1e-28;
-  for (std::size_t it = 0; it < 4 * count + 20 && rr > stop && rr > 0.0; ++it) {
-    apply(d, q);
-    const double alpha = rr / dot(d, q);
-    for (std::size_t k = 0; k < count; ++k) {
-      o[k] += alpha * d[k];
-      r[k] -= alpha * q[k];
-    }
-    const double next = dot(r, r);
-    for (std::size_t k = 0; k < count; ++k) d[k] = r[k] + next / rr * d[k];
-    rr = next;
-  }
+  Eigen::SparseMatrix<double> L(n, n);
+  L.setFromTriplets(entries.begin(), entries.end());  // duplicates summed: the degrees on the diagonal
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Eigen::IdentityPreconditioner> cg;
+  cg.setTolerance(1e-14);
+  cg.setMaxIterations(4 * n + 20);
+  const Eigen::VectorXd solved = cg.compute(L).solve(r), degree = L.diagonal();
+  // Mean 0 over the images in some pair (each part's mean is 0 already, up to rounding).
   double mean = 0.0;
   long long linked = 0;
-  for (std::size_t k = 0; k < count; ++k)
-    if (diagonal[k] > 0.0) {
-      mean += o[k];
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (degree[k] > 0.0) {
+      mean += solved[k];
       ++linked;
     }
   if (linked) mean /= static_cast<double>(linked);
-  for (std::size_t k = 0; k < count; ++k) o[k] = diagonal[k] > 0.0 ? o[k] - mean : 0.0;
+  std::vector<double> o(count, 0.0);
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (degree[k] > 0.0) o[k] = solved[k] - mean;
   return o;
 }
 

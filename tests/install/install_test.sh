@@ -36,6 +36,13 @@ else
   pc_static=(--static)
   consumer_env=(GDP_OIIO_MODULE="$prefix/lib/gdp/libgdp_oiio.so")  # a static libgdp looks beside the program
 fi
+# What the package's target brings to a consumer's link: nothing for a shared libgdp (its dependencies
+# are private, Threads included: no public header starts a thread), never Eigen (header-only, private).
+links=$(sed -n 's/.*INTERFACE_LINK_LIBRARIES "\(.*\)"/\1/p' "$prefix"/lib/cmake/gdp/gdpTargets.cmake)
+if [ ${#pc_static[@]} -eq 0 ]; then
+  [ -z "$links" ] || fail "the CMake package of a shared libgdp brings link dependencies: $links"
+fi
+[[ "$links" != *Eigen3* ]] || fail "the CMake package brings Eigen3 (a private, header-only dependency)"
 for program in "$prefix"/bin/*; do
   "$program" --help > /dev/null || fail "$(basename "$program") --help failed"
 done

@@ -14,6 +14,7 @@
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "gdp/size_check.h"
+#include "scratch_split.h"
 
 namespace gdp::cli {
 namespace {
@@ -66,6 +67,15 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
   return l;
 }
 
+// The largest row store of a rank: one plane of the finest level (u, b or the carried result) in
+// the kernel's precision over the rank's columns, with a band's halo each side under mpirun
+// (bands::band_halo: 2 (G + k - 1) columns, G = 16 row groups; 64 covers k up to 17 sweeps).
+double largest_store(const Limits& l, long long width, long long height, int channels) {
+  const double ranks = MpiRun::size(), w = static_cast<double>(width);
+  const double columns = ranks > 1 ? std::min(w, w / ranks + 2 * 64.0) : w;
+  return columns * static_cast<double>(height) * channels * 4.0 * l.scale;
+}
+
 // Throws UsageError when width x height x channels exceeds the limits; `extra_disk_per_pixel`: the
 // command's own scratch (bytes per pixel) beside the solver's.
 void check(const Limits& l, long long width, long long height, int channels, double extra_disk_per_pixel) {
@@ -79,8 +89,11 @@ void check(const Limits& l, long long width, long long height, int channels, dou
   const std::string allow = fmt::format("--max-pixels {:.0f} to try anyway", pixels);
   const double samples = pixels * channels;
   // Under mpirun every rank keeps the scratch of its own columns, each with its own budget.
-  const double scratch = l.scratch ? samples * l.disk_per_sample / MpiRun::size() : 0.0;
-  const double in_memory = std::min(scratch, l.memory_budget);
+  const double ranks = MpiRun::size();
+  const double scratch = l.scratch ? samples * l.disk_per_sample / ranks : 0.0;
+  const double store = l.scratch ? largest_store(l, width, height, channels) : 0.0;
+  const ScratchSplit split = split_scratch(scratch, l.memory_budget, store);  // stores over the budget go to disk whole
+  const double in_memory = split.memory;
   const double memory = l.in_core ? samples * kInCorePerSample * l.scale
                                   : static_cast<double>(width) * channels * kRowsInMemory * 4.0 * l.scale + in_memory;
   const double have_memory = available_memory();
@@ -89,7 +102,7 @@ void check(const Limits& l, long long width, long long height, int channels, dou
                                  in_memory > 0 ? fmt::format(" ({} of scratch rows: --memory)", gb(in_memory)) : "",
                                  gb(have_memory), allow));
   if (!l.scratch) return;
-  const double disk = scratch - in_memory + pixels * extra_disk_per_pixel / MpiRun::size(), have_disk = free_disk(l.dir);
+  const double disk = split.disk + pixels * extra_disk_per_pixel / ranks, have_disk = free_disk(l.dir);
   if (disk > have_disk)
     throw UsageError(fmt::format("{} would need about {} of scratch space in {}, which has {} free (--temp DIR "
                                  "elsewhere, --memory, --half-scratch, or {})",
