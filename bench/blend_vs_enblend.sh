@@ -7,8 +7,9 @@
 #
 # VIGNETTE=V sets the layers' vignetting (0.3 unless set: a 30 % falloff at their corners);
 # GRAPHCUT=1 adds a run with --seams graphcut; ZERO=0 leaves out the --seam-guidance zero run;
-# FILES=0 leaves out the run with --memory 0 (the solver's scratch in files: the default keeps it in
-# memory up to a quarter of physical memory, which counts in the peak); ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
+# MEMORY=0 leaves out the run with the solver's scratch in memory up to a quarter of physical memory
+# (gdp blend's default is files, --memory 0: the page cache holds them and the peak is the blend's
+# own; other commands keep a quarter in memory); ENBLEND=0 leaves out enblend (gdp's runs only, no ratios); PHOTOMETRIC=0 leaves out the run with --photometric (layers calibrated on their overlaps first). Ratios to enblend's figures close the output.
 # Needs build/ (scripts/build.sh) and enblend (apt-get install enblend). Work files go to
 # ${GDP_BENCH_DIR:-/tmp/gdp-blend-bench}; the photo is resampled to SIZE x SIZE.
 set -euo pipefail
@@ -26,6 +27,7 @@ if [ ! -f "$dir/original.tif" ]; then
     --offset 40 --vignette "$vignette" --seed 7
 fi
 layers=("$dir"/layer_*.tif)
+echo "load average at the start: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
 echo "canvas ${size}x${size}, ${#layers[@]} layers ($grid, overlap $overlap, vignetting $vignette), photo $(basename "$photo")"
 run() {  # name, command...
   local name=$1
@@ -43,8 +45,9 @@ if [ "${PHOTOMETRIC:-1}" = 1 ]; then
   run gdp-photometric "$gdp" blend --photometric -o "$dir/out_gdp-photometric.tif" --temp "$dir" -- "${layers[@]}"
   grep -h "photometric calibration" "$dir/log_gdp-photometric" || true
 fi
-if [ "${FILES:-1}" = 1 ]; then  # scratch in files, none kept in memory: gdp's bounded-memory figure
-  run gdp-files "$gdp" blend --memory 0 -o "$dir/out_gdp-files.tif" --temp "$dir" -- "${layers[@]}"
+if [ "${MEMORY:-1}" = 1 ]; then  # scratch rows in memory, up to a quarter of physical memory
+  run gdp-inmemory "$gdp" blend --memory "$(awk '/MemTotal/ {printf "%dK", $2 / 4}' /proc/meminfo)" \
+    -o "$dir/out_gdp-inmemory.tif" --temp "$dir" -- "${layers[@]}"
 fi
 if [ "${ZERO:-1}" = 1 ]; then
   run gdp-zero "$gdp" blend --seam-guidance zero -o "$dir/out_gdp-zero.tif" --temp "$dir" -- "${layers[@]}"
@@ -54,6 +57,7 @@ if [ "${GRAPHCUT:-0}" = 1 ]; then
 fi
 [ "${ENBLEND:-1}" = 1 ] || exit 0
 run enblend enblend -o "$dir/out_enblend.tif" -- "${layers[@]}"
+echo "load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
 # Each run's wall, CPU, memory and error over enblend's (the error: the first number blend_layers prints).
 awk '{v[NR] = $0; name[NR] = $1; wall[NR] = $3; cpu[NR] = $6; mb[NR] = $9; err[NR] = $12}
      END {for (i = 1; i < NR; ++i)

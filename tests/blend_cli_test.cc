@@ -1,5 +1,6 @@
 // gdp blend on the command line: enblend's options as Hugin passes them, gdp-blend, bad input.
 #include <gtest/gtest.h>
+#include <tiffio.h>
 
 #include <cmath>
 #include <fstream>
@@ -67,6 +68,25 @@ TEST_F(BlendCli, HuginStyleCommandLine) {
   // No seam: the step between columns stays the ramp's wherever the layers meet.
   for (int x = 40; x < 50; ++x)
     EXPECT_NEAR(out.image.at(0, x + 1, 20) - out.image.at(0, x, 20), 0.004, 2.5 / 255) << x;
+}
+
+// Blend's own defaults: a TIFF deflated (level 1: not visible in the file) unless --compression
+// says otherwise, and the solver's scratch in files (--memory 0) giving the in-memory run's bits.
+TEST_F(BlendCli, DefaultsDeflateTheTiffAndKeepTheInMemoryResult) {
+  write_layers();
+  const std::string layers = " " + path("l0.tif") + " " + path("l1.tif");
+  ASSERT_EQ(gdp("blend -q -o " + path("default.tif") + layers).code, 0);
+  ASSERT_EQ(gdp("blend -q --memory 1G --compression=LZW -o " + path("lzw.tif") + layers).code, 0);
+  const auto compression = [&](const std::string& name) {
+    TIFF* t = TIFFOpen(path(name).c_str(), "r");
+    std::uint16_t c = 0;
+    if (t) TIFFGetField(t, TIFFTAG_COMPRESSION, &c);
+    if (t) TIFFClose(t);
+    return c;
+  };
+  EXPECT_EQ(compression("default.tif"), COMPRESSION_ADOBE_DEFLATE);
+  EXPECT_EQ(compression("lzw.tif"), COMPRESSION_LZW);
+  EXPECT_EQ(test::max_difference(read_image(path("default.tif")).image, read_image(path("lzw.tif")).image), 0.0);
 }
 
 TEST_F(BlendCli, CanvasWithAnOffsetCropsAndGdpBlendIsBlend) {

@@ -33,6 +33,15 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   above_.assign(fold_top ? w : 0, 1);
   keep_edges(j, right_, down_, above_);
   const bool offsets = has_offsets();
+  bool marked = false;  // offsets only at the edges offset_edges marks
+  if (offsets) {
+    offset_right_.assign(w, 0);
+    offset_down_.assign(w, 0);
+    marked = offset_edges(j, offset_right_, offset_down_);
+  }
+  const auto ask = [&](const std::vector<unsigned char>& keep, const std::vector<unsigned char>& mark, int i) {
+    return keep[i] && (!marked || mark[i]);
+  };
   const std::span<const float> here = source_row(j);
   // The columns computed: [x0, x1) of values and vertical edges, [x0, ex) of horizontal ones.
   const int x0 = column_begin(), x1 = column_end(), ex = end_ < 0 ? e : std::min(e, end_ - 1);
@@ -46,14 +55,15 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
     for (int i = std::max(x0, inner); i < ex; ++i) gx[i] = kept(double(row[0]) - row[i], right_[i]);
     if (offsets)
       for (int i = x0; i < ex; ++i)
-        if (right_[i] && std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i])) gx[i] -= offset(c, i, j, true);
+        if (ask(right_, offset_right_, i) && std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i]))
+          gx[i] -= offset(c, i, j, true);
     if (j + 1 < h) {
       const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
       double* gy = out.gy.data() + static_cast<std::size_t>(c) * w;
       for (int i = x0; i < x1; ++i) gy[i] = kept(double(next[i]) - row[i], down_[i]);
       if (offsets)
         for (int i = x0; i < x1; ++i)
-          if (down_[i] && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
+          if (ask(down_, offset_down_, i) && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }
     // Across the folded edges of a spherical domain (no offsets: a per-label ramp has no
     // direction there).

@@ -50,6 +50,11 @@ class ImageGuidance : public GuidanceSource {
   virtual bool has_offsets() const { return false; }
   // Value subtracted from a kept gradient along x (horizontal) or y, per channel.
   virtual double offset(int /*c*/, int /*i*/, int /*j*/, bool /*horizontal*/) const { return 0.0; }
+  // With offsets: marks (1) row j's edges, as keep_edges', whose offset() may be nonzero; every
+  // other edge's is 0 and offset() is not asked. False (the default): ask at every kept edge.
+  virtual bool offset_edges(int /*j*/, std::span<unsigned char> /*right*/, std::span<unsigned char> /*down*/) const {
+    return false;
+  }
   // Called once per source row y, in order, as soon as it is read (before rows up to y are
   // used): subclasses read their own per-row data here.
   virtual void on_source_row(int /*y*/, std::span<const float> /*row*/) {}
@@ -64,7 +69,7 @@ class ImageGuidance : public GuidanceSource {
   double alpha_, beta_;
   bool start_;
   std::vector<float> rows_[2];
-  std::vector<unsigned char> right_, down_, above_;
+  std::vector<unsigned char> right_, down_, above_, offset_right_, offset_down_;
   int begin_ = 0, end_ = -1;  // the columns computed (end_ < 0: whole rows)
 };
 

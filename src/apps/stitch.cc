@@ -110,6 +110,17 @@ class StitchGuidance final : public apps::ImageGuidance {
     for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
   bool has_offsets() const override { return !ramp_.empty() || across_; }
+  // Without ramps only label changes between known labels have offsets (offset() is 0 elsewhere).
+  bool offset_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down) const override {
+    if (!ramp_.empty()) return false;
+    const int w = width();
+    const std::vector<int>& here = row_ids_[j % 2];
+    const auto change = [](int a, int b) { return a != b && a != kUnknown && b != kUnknown; };
+    for (int i = column_begin(); i < column_end(); ++i) right[i] = change(here[i], here[i + 1 < w ? i + 1 : 0]);
+    if (j + 1 < height())
+      for (int i = column_begin(); i < column_end(); ++i) down[i] = change(here[i], row_ids_[(j + 1) % 2][i]);
+    return true;
+  }
   // Across a label change (with `across`) from p (source A) to q (source B), the composite's
   // difference B(q) - A(p) less the guidance kept: the mean of A's and B's differences where the
   // across values A(q) and B(p) are both finite, else the one source's difference that is known

@@ -54,29 +54,43 @@ LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool 
 
 LayerRows::~LayerRows() = default;
 
-void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> covered) {
-  const int r = y - where_.y0 + where_.skip_y, w = where_.width(), lw = image_->width();
-  for (; next_ <= r; ++next_) {  // rows above the canvas are read and dropped
+// Decodes the layer's rows up to the one on canvas row y (rows above the canvas are read and
+// dropped); returns that row's index in the layer.
+int LayerRows::seek(int y) {
+  const int r = y - where_.y0 + where_.skip_y;
+  for (; next_ <= r; ++next_) {
     image_->read_row(next_, row_);
     if (mask_) mask_->read_row(next_, mask_row_);
   }
-  const bool alpha = channels_ == own_ + 1;
+  return r;
+}
+
+void LayerRows::coverage(int y, std::span<unsigned char> covered) {
+  seek(y);
+  const int w = where_.width(), lw = image_->width();
   std::fill(covered.begin(), covered.begin() + w, 1);
+  // Finite colour (v - v == 0 exactly when v is finite: vectorised, std::isfinite is not).
+  for (int c = 0; c < own_; ++c) {
+    const float* in = row_.data() + static_cast<std::size_t>(c) * lw + where_.skip_x;
+    for (int i = 0; i < w; ++i) covered[i] &= static_cast<unsigned char>(in[i] - in[i] == 0.0f);
+  }
+  const auto cover = [&](const float* in, float scale) {
+    for (int i = 0; i < w; ++i) covered[i] &= static_cast<unsigned char>(in[i] * scale >= kCovered);
+  };
+  if (channels_ == own_ + 1) cover(row_.data() + static_cast<std::size_t>(own_) * lw + where_.skip_x, 1.0f);
+  if (mask_) cover(mask_row_.data() + where_.skip_x, mask_scale_);
+}
+
+void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> covered) {
+  coverage(y, covered);
+  const int r = y - where_.y0 + where_.skip_y, w = where_.width(), lw = image_->width();
+  const float offset = offset_;
   for (int c = 0; c < colour_; ++c) {
     const float* in = row_.data() + static_cast<std::size_t>(own_ == 1 ? 0 : c) * lw + where_.skip_x;
     float* out = colour.data() + static_cast<std::size_t>(c) * w;
-    for (int i = 0; i < w; ++i) {
-      out[i] = in[i] + offset_;
-      if (!std::isfinite(in[i])) covered[i] = 0;
-    }
+    for (int i = 0; i < w; ++i) out[i] = in[i] + offset;
   }
   if (calibration_.active()) calibration_.apply(r, where_.skip_x, w, colour_, colour.data());
-  const auto cover = [&](const float* in, float scale) {
-    for (int i = 0; i < w; ++i)
-      if (!(in[i] * scale >= kCovered)) covered[i] = 0;
-  };
-  if (alpha) cover(row_.data() + static_cast<std::size_t>(own_) * lw + where_.skip_x, 1.0f);
-  if (mask_) cover(mask_row_.data() + where_.skip_x, mask_scale_);
 }
 
 }  // namespace gdp::blending

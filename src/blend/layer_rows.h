@@ -38,8 +38,12 @@ class LayerRows {
   // width(), channel-major; a grey layer among RGB ones gives its grey to all three) and coverage
   // flags (width()), for the footprint's columns; calibrated when the plan has a photometry.
   void read(int y, std::span<float> colour, std::span<unsigned char> covered);
+  // The coverage flags of canvas row y only (as read's; the colour is not converted).
+  void coverage(int y, std::span<unsigned char> covered);
 
  private:
+  int seek(int y);
+
   Footprint where_;
   int channels_ = 0, colour_ = 0, next_ = 0;  // next_: the next row of the layer itself
   int own_ = 0;  // the layer's own colour channels (1: grey, promoted when colour_ is 3)

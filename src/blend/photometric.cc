@@ -79,7 +79,7 @@ OverlapSamples sample_overlaps(const BlendPlan& plan, const std::vector<Vignetti
     for (; next < by_top.size() && where[by_top[next]].y0 <= y; ++next) {
       const int k = by_top[next];
       if (where[k].y1 <= y || where[k].width() <= 0) continue;
-      Sampled o{k, std::make_unique<LayerRows>(plan, k, 0, W, false), {}, {}};
+      Sampled o{k, std::make_unique<LayerRows>(plan, k, 0, W, open.size() < 8), {}, {}};  // decoded ahead
       o.colour.resize(static_cast<std::size_t>(s.channels) * where[k].width());
       o.covered.resize(where[k].width());
       open.push_back(std::move(o));

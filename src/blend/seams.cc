@@ -93,7 +93,7 @@ struct Active {
   std::size_t base;  // byte offset of its first-pass rows in the scratch
   std::unique_ptr<LayerRows> rows;
   PaddedRow near, far, cur;
-  std::vector<float> colour, start;
+  std::vector<float> start;
   std::vector<unsigned char> covered;
   std::size_t offset(int y) const { return base + static_cast<std::size_t>(y - where.y0) * where.width() * sizeof(float); }
 };
@@ -164,13 +164,12 @@ void SeamPasses::forward() {
     for (; next < by_top.size() && where_[by_top[next]].y0 == y; ++next) {
       auto a = start(by_top[next], true);
       a->rows = std::make_unique<LayerRows>(plan_, a->index, 0, W_, active.size() < 8);
-      a->colour.resize(static_cast<std::size_t>(plan_.colour_channels) * a->where.width());
       a->covered.resize(a->where.width());
       active.push_back(std::move(a));
     }
     for (auto& a : active) {
       const int w = a->where.width();
-      a->rows->read(y, a->colour, a->covered);
+      a->rows->coverage(y, a->covered);  // the depth needs only where the layer is
       for (int x = 0; x < w; ++x) a->start[x] = a->covered[x] ? kInf : 0.0f;
       chamfer_row(a->edges, 1, a->start.data(), a->near, a->far, a->cur);
       distances_->write(a->offset(y), a->cur.at(), w * sizeof(float));
