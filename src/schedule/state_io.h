@@ -30,6 +30,15 @@ class StateWriter {
     put(static_cast<std::uint64_t>(v.size()));
     bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(V));
   }
+  // The one verb of a state written and read by one function (StateReader's reads).
+  template <class V>
+  void io(const V& v) {
+    put(v);
+  }
+  template <class V>
+  void io_sized(const std::vector<V>& v) {
+    put(v);
+  }
   const std::string& bytes() const { return bytes_; }
 
  private:
@@ -58,6 +67,14 @@ class StateReader {
     const std::size_t want = v.size();
     get(v);
     if (v.size() != want) throw CorruptState("a buffer has the wrong size");
+  }
+  template <class V>
+  void io(V& v) {
+    get(v);
+  }
+  template <class V>
+  void io_sized(std::vector<V>& v) {
+    get_sized(v);
   }
   bool at_end() const { return at_ == bytes_.size(); }
 
