@@ -1,4 +1,4 @@
-// The collective check before a distributed band solve: all ranks go on, or all stop with one message.
+// The collective check before a distributed band solve (mpi_run.cc): all ranks go on, or all stop with one message.
 #pragma once
 
 #include <string>
@@ -11,8 +11,5 @@ namespace gdp::bands {
 // and the fingerprints agree; otherwise throws on every rank the same UsageError: the error of
 // the lowest failing rank ("rank R: ...") or that the ranks disagree on the problem.
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint);
-
-// Notes that every rank saw the same error (gdp::MpiRun::failed_together(); defined in mpi_run.cc).
-void mark_failed_together();
 
 }  // namespace gdp::bands

@@ -1,10 +1,12 @@
-// gdp::MpiRun: starts and ends MPI when the process was launched by mpirun.
+// gdp::MpiRun: starts and ends MPI when the process was launched by mpirun; the ranks' agreement before a solve.
 #include "gdp/mpi_run.h"
 
 #include <mpi.h>
 
 #include <atomic>
 #include <cstdlib>
+
+#include <fmt/format.h>
 
 #include "bands/mpi_agree.h"
 #include "bands/mpi_transport.h"
@@ -20,7 +22,34 @@ int the_rank = 0, the_size = 1;
 }  // namespace
 
 namespace bands {
-void mark_failed_together() { together = true; }
+
+void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const int mine = error.empty() ? ranks : rank;
+  int first_bad = ranks;
+  MPI_Allreduce(&mine, &first_bad, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  std::vector<long long> low(fingerprint.size()), high(fingerprint.size());
+  const int n = static_cast<int>(fingerprint.size());
+  MPI_Allreduce(fingerprint.data(), low.data(), n, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(fingerprint.data(), high.data(), n, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+  if (first_bad < ranks) {
+    int length = static_cast<int>(error.size());
+    MPI_Bcast(&length, 1, MPI_INT, first_bad, MPI_COMM_WORLD);
+    std::string text = error;
+    text.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(text.data(), length, MPI_CHAR, first_bad, MPI_COMM_WORLD);
+    together = true;
+    throw UsageError(fmt::format("rank {}: {}", first_bad, text));
+  }
+  if (low != high) {
+    together = true;
+    throw UsageError("the ranks disagree on the image or the solver options: every rank must be given the same "
+                     "command");
+  }
+}
+
 }  // namespace bands
 
 bool MpiRun::launched() {

@@ -110,11 +110,9 @@ MpiHub::~MpiHub() {
 }
 
 int MpiHub::first() const { return impl_->rank * impl_->local; }
-int MpiHub::local() const { return impl_->local; }
-int MpiHub::size() const { return impl_->local * impl_->ranks; }
 
 Transport& MpiHub::endpoint(int worker) {
-  if (worker < first() || worker >= first() + local())
+  if (worker < first() || worker >= first() + impl_->local)
     throw std::logic_error(fmt::format("worker {} does not run on rank {}", worker, impl_->rank));
   return *impl_->endpoints[worker - first()];
 }

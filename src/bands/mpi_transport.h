@@ -19,9 +19,7 @@ class MpiHub {
   explicit MpiHub(int local);
   ~MpiHub();  // waits for this rank's sends to complete
   int first() const;  // the first worker on this rank
-  int local() const;
-  int size() const;   // workers on all ranks
-  Transport& endpoint(int worker);  // worker in [first(), first() + local())
+  Transport& endpoint(int worker);  // worker in [first(), first() + local)
 
  private:
   struct Impl;

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <future>
 #include <optional>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -36,32 +35,19 @@ constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcyc
 // reads the guidance of the columns within two of it.
 constexpr int kInputMargin = 4;
 
-// Input sums as one message and back.
-Bytes pack(const std::vector<InputTotals>& totals) {
-  std::vector<double> v;
-  for (const InputTotals& t : totals) {
-    v.insert(v.end(), t.weighted_sums.begin(), t.weighted_sums.end());
-    v.insert(v.end(), t.rhs_norms2.begin(), t.rhs_norms2.end());
-    v.push_back(t.weight_total);
-  }
-  Bytes bytes(v.size() * sizeof(double));
-  if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
-  return bytes;
+// Input sums as message parts and back.
+void put(Packer& p, const InputTotals& t) {
+  p.put(t.weighted_sums);
+  p.put(t.rhs_norms2);
+  p.put(t.weight_total);
 }
 
-std::vector<InputTotals> unpack(const Bytes& bytes, int count, int channels) {
-  const std::size_t each = 2 * static_cast<std::size_t>(channels) + 1;
-  if (bytes.size() != count * each * sizeof(double)) throw std::logic_error("input sums message of the wrong size");
-  std::vector<double> v(count * each);
-  if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
-  std::vector<InputTotals> totals(count);
-  for (int i = 0; i < count; ++i) {
-    const double* p = v.data() + i * each;
-    totals[i].weighted_sums.assign(p, p + channels);
-    totals[i].rhs_norms2.assign(p + channels, p + 2 * channels);
-    totals[i].weight_total = p[2 * channels];
-  }
-  return totals;
+InputTotals get_totals(Unpacker& u) {
+  InputTotals t;
+  u.get(t.weighted_sums);
+  u.get(t.rhs_norms2);
+  t.weight_total = u.get();
+  return t;
 }
 
 // The workers of this process: bands [first, first + local) of the plan (all of them on threads,
@@ -81,25 +67,24 @@ struct Team {
 // The input sums of all bands, added in band order (the same bits however the bands are spread
 // over processes) from this process's bands' sums: under mpirun the first band of every rank
 // sends its rank's to band 0, whose rank adds them all up and sends the total back.
-InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team, int channels) {
-  const auto add_all = [](const std::vector<InputTotals>& all) {
-    InputTotals total;
-    for (const InputTotals& t : all) total.add(t);
+InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team) {
+  InputTotals total;
+  if (!team.ranks) {
+    for (const InputTotals& t : local) total.add(t);
     return total;
-  };
-  if (!team.ranks) return add_all(local);
+  }
   Transport& me = team.endpoint(0, team.first);
-  if (team.first != 0) {
-    me.send(0, kTotals, pack(local));
-    return unpack(me.receive(0, kTotals), 1, channels)[0];
+  Packer mine, reply;
+  for (const InputTotals& t : local) put(mine, t);
+  for (Bytes& part : gather(me, kTotals, std::move(mine.bytes), team.local)) {  // rank 0: every rank's
+    Unpacker u(std::move(part));
+    for (int i = 0; i < team.local; ++i) total.add(get_totals(u));
+    u.finish();
   }
-  std::vector<InputTotals> all = local;
-  for (int first = team.local; first < team.ranks->size(); first += team.local) {
-    const auto part = unpack(me.receive(first, kTotals), team.local, channels);
-    all.insert(all.end(), part.begin(), part.end());
-  }
-  const InputTotals total = add_all(all);
-  for (int first = team.local; first < team.ranks->size(); first += team.local) me.send(first, kTotals, pack({total}));
+  put(reply, total);
+  Unpacker u(broadcast(me, kTotals, std::move(reply.bytes), team.local));
+  total = get_totals(u);
+  u.finish();
   return total;
 }
 
@@ -122,36 +107,30 @@ void cut(const T* row, int n, bool periodic, int origin, int length, std::vector
   }
 }
 
-// One worker: channels [c0, c0 + n) of one band, its V-cycles on rows from `in`, its columns of
-// the result to `out`.
+// One worker: channels [c0, c0 + n) of one band, its V-cycles on rows from `worker.in`, its
+// columns of the result to `worker.out`.
 template <class T>
-class Worker {
- public:
+struct Worker {
   Worker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
-         schedule::CycleSettings s, std::shared_future<InputTotals> totals, int c0, int n, schedule::ResidualLog& log)
-      : c0(c0), n(n), band(net.rank()), log_(log), layout_(layout), totals_(std::move(totals)),
-        vcycle(ops, layout, net, (s.channels = n, s)),
+         schedule::CycleSettings s, int c0, int n, schedule::ResidualLog& log)
+      : c0(c0), n(n), band(net.rank()), log(log), vcycle(ops, layout, net, (s.channels = n, s)),
         worker(vcycle, opt, ops.singular, n, layout.row_length(0, band), ops.levels[0].height, s.stores,
                fmt::format("band{}-c{}-result", band, c0)) {}
 
-  void run() {
-    const int own = layout_.end(0, band) - layout_.begin(0, band);
-    // Every band's input sums, once all are read.
-    if (!worker.run([this]() -> const InputTotals& { return totals_.get(); }, log_, c0, layout_.halo, own))
-      throw TransportStopped("stopped");
-  }
-
   const int c0, n, band;
-
- private:
-  schedule::ResidualLog& log_;
-  const BandLayout& layout_;
-  std::shared_future<InputTotals> totals_;
-
- public:
+  schedule::ResidualLog& log;
   StreamedVCycle<T> vcycle;
   schedule::CycleWorker<T, StreamedVCycle<T>> worker;
 };
+
+// Runs worker `wk` (rows from `wk.worker.in`) until its last result row is out; `totals`: every
+// band's input sums, once all are read.
+template <class T>
+void run(Worker<T>& wk, const BandLayout& layout, std::shared_future<InputTotals> totals) {
+  const int own = layout.end(0, wk.band) - layout.begin(0, wk.band);
+  if (!wk.worker.run([&]() -> const InputTotals& { return totals.get(); }, wk.log, wk.c0, layout.halo, own))
+    throw TransportStopped("stopped");
+}
 
 // Everything a streamed solve sets up before its workers start: the problem, the column plan
 // (one band, or opt.bands per process), the team and the columns this process reads and writes.
@@ -159,9 +138,8 @@ template <class T>
 struct Setup {
   std::unique_ptr<schedule::Problem<T>> problem;
   std::optional<BandLayout> layout;
-  bool periodic = false, distributed = false;
-  int own_begin = 0, own_end = 0;
-  std::pair<int, int> input_columns;
+  bool distributed = false;
+  std::pair<int, int> input_columns;  // of the input rows this process computes
 };
 
 template <class T>
@@ -176,10 +154,10 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
     s.problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
     const schedule::Problem<T>& p = *s.problem;
     if (p.ops.count() > 1) {
-      s.periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+      const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
       const int whole_from = schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
-      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, s.periodic, opt.sweeps, whole_from)
-                                  : make_band_layout(p.hierarchy, s.periodic, total_bands, opt.sweeps, whole_from);
+      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, opt.sweeps, whole_from)
+                                  : make_band_layout(p.hierarchy, periodic, total_bands, opt.sweeps, whole_from);
     }
   } catch (const Error& e) {
     if (!s.distributed) throw;
@@ -208,39 +186,39 @@ Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distribu
 }
 
 // This process's bands and columns: every band, or under mpirun a contiguous share of them,
-// whose own columns [own_begin, own_end) it writes and whose rows it reads (plus margins).
+// whose own columns it writes and whose rows it reads (plus margins).
 template <class T>
 void share_columns(Setup<T>& s, const Team& team, GuidanceSource& source, RowWriter& out) {
   const BandLayout& layout = *s.layout;
   const int w = source.width(), last_local = team.first + team.local - 1;
-  s.own_begin = layout.begin(0, team.first), s.own_end = layout.end(0, last_local);
-  s.input_columns = {0, w};  // the columns of the input rows this process computes
+  s.input_columns = {0, w};
   if (!s.distributed) return;
   const int rows_from = layout.origin(0, team.first);
   const int rows_to = layout.origin(0, last_local) + layout.row_length(0, last_local);
   // Whole rows where the window would wrap around a periodic image's edge, and on the sphere,
   // where the right-hand side of the first and last rows reads the guidance across the fold, at
   // the mirror image's columns; a planar image's edges clip it.
-  const bool wraps = s.periodic && (rows_from - kInputMargin < 0 || rows_to + kInputMargin > w);
+  const bool wraps = layout.periodic && (rows_from - kInputMargin < 0 || rows_to + kInputMargin > w);
   if (!wraps && !layout.folded) {
     source.set_columns(std::max(0, rows_from - kInputMargin), std::min(w, rows_to + kInputMargin));
     s.input_columns = {std::max(0, rows_from), std::min(w, rows_to)};
   }
-  out.set_columns(s.own_begin, s.own_end);
+  out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
-// The caller's thread: every input row cut into the workers' batches (columns of their band with
-// its halo, channels of their group), the sums of all bands to the workers, then this process's
-// columns of every result row, in order, to `out`. Returns the seconds spent reading input.
+void report(const SolverOptions& opt, double fraction) {
+  if (opt.progress) opt.progress(fraction);
+}
+
+// The caller's thread, first: every input row cut into the workers' batches (columns of their
+// band with its halo, channels of their group), then the sums of all bands to the workers.
+// Returns the seconds spent reading input.
 template <class T>
-double feed_and_drain(GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
-                      const BandLayout& layout, const Setup<T>& setup, Team& team,
-                      std::vector<std::unique_ptr<Worker<T>>>& workers, const std::vector<int>& skip,
-                      std::promise<InputTotals>& totals, RowWriter& out) {
+double feed(GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
+            const Setup<T>& setup, Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
+            const std::vector<int>& skip, std::promise<InputTotals>& totals) {
   const int w = source.width(), h = source.height(), channels = source.channels();
-  const auto report = [&](double fraction) {
-    if (opt.progress) opt.progress(fraction);
-  };
+  const BandLayout& layout = *setup.layout;
   std::vector<std::pair<int, int>> own_columns;
   for (int band = team.first; band < team.first + team.local; ++band)
     own_columns.emplace_back(layout.begin(0, band), layout.end(0, band));
@@ -261,20 +239,27 @@ double feed_and_drain(GuidanceSource& source, const SolverOptions& opt, const sc
       const int origin = layout.origin(0, wk.band), length = layout.row_length(0, wk.band);
       if (batch.rows == 0) batch.first = j;
       for (int c = wk.c0; c < wk.c0 + wk.n; ++c) {
-        cut(u.data() + static_cast<std::size_t>(c) * w, w, setup.periodic, origin, length, batch.u);
-        cut(b.data() + static_cast<std::size_t>(c) * w, w, setup.periodic, origin, length, batch.b);
+        cut(u.data() + static_cast<std::size_t>(c) * w, w, layout.periodic, origin, length, batch.u);
+        cut(b.data() + static_cast<std::size_t>(c) * w, w, layout.periodic, origin, length, batch.b);
       }
-      if (!wt.empty() && problem.ops.singular) cut(wt.data(), w, setup.periodic, origin, length, batch.w);
-      if (!d.empty()) cut(d.data(), w, setup.periodic, origin, length, batch.d);
+      if (!wt.empty() && problem.ops.singular) cut(wt.data(), w, layout.periodic, origin, length, batch.w);
+      if (!d.empty()) cut(d.data(), w, layout.periodic, origin, length, batch.d);
       if (++batch.rows < batch_rows(length, wk.n) && !last) continue;
       if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
       batch = wk.worker.spent_in.take();
     }
-    if (j % 64 == 63) report(0.5 * (j + 1) / h);
+    if (j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
   }
-  totals.set_value(exchange_totals(input.range_totals(), team, channels));
+  totals.set_value(exchange_totals(input.range_totals(), team));
+  return seconds_input;
+}
+
+// Then: this process's columns of every result row, in order, to `out`.
+template <class T>
+void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::unique_ptr<Worker<T>>>& workers,
+           int w, int h, int channels, RowWriter& out) {
   std::vector<Batch<T>> results(workers.size());
-  std::vector<float> row(n, 0.0f);
+  std::vector<float> row(static_cast<std::size_t>(channels) * w, 0.0f);
   for (int j = 0; j < h; ++j) {
     for (std::size_t k = 0; k < workers.size(); ++k) {
       Worker<T>& wk = *workers[k];
@@ -293,9 +278,8 @@ double feed_and_drain(GuidanceSource& source, const SolverOptions& opt, const sc
                        [](T v) { return static_cast<float>(v); });
     }
     out.write_row(j, row);
-    if (j % 64 == 63 || j + 1 == h) report(0.5 + 0.5 * (j + 1) / h);
+    if (j % 64 == 63 || j + 1 == h) report(opt, 0.5 + 0.5 * (j + 1) / h);
   }
-  return seconds_input;
 }
 
 }  // namespace
@@ -331,13 +315,12 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups;
       if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
-      workers.push_back(std::make_unique<Worker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings,
-                                                    totals, c0, c1 - c0, logs[i]));
+      workers.push_back(std::make_unique<Worker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0,
+                                                    c1 - c0, logs[i]));
       Worker<T>& wk = *workers.back();
       skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, logs[i], c0, wk.n, source.width()) : 0);
     }
 
-  std::vector<std::exception_ptr> errors(workers.size());
   const auto stop_all = [&](const std::string& why) {
     try {  // workers waiting for the sums stop too
       totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
@@ -349,44 +332,19 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       wk->worker.out.close();
     }
   };
-  std::vector<std::thread> threads;
-  for (std::size_t k = 0; k < workers.size(); ++k)
-    threads.emplace_back([&, k] {
-      try {
-        workers[k]->run();
-      } catch (const std::exception& e) {
-        errors[k] = std::current_exception();
-        stop_all(fmt::format("band {} stopped: {}", workers[k]->band, e.what()));
-      } catch (...) {
-        errors[k] = std::current_exception();
-        stop_all(fmt::format("band {} stopped", workers[k]->band));
-      }
-    });
-  // Joins the workers; rethrows the first that failed for a reason of its own (which explains
-  // more than "stopped"), and with `any` also one that was only stopped.
-  const auto join = [&](bool any) {
-    for (std::thread& th : threads) th.join();
-    for (const auto& e : errors) {
-      if (!e) continue;
-      try {
-        std::rethrow_exception(e);
-      } catch (const TransportStopped&) {
-        continue;
-      }
-    }
-    for (const auto& e : errors)
-      if (e && any) std::rethrow_exception(e);
-  };
-
+  // This thread reads and writes (worker 0), the others solve.
   double seconds_input = 0.0;
-  try {
-    seconds_input = feed_and_drain(source, opt, problem, layout, setup, team, workers, skip, totals_promise, out);
-  } catch (const std::exception& e) {
-    stop_all(fmt::format("the input/output thread stopped: {}", e.what()));
-    join(false);
-    throw;
-  }
-  join(true);
+  schedule::run_workers(
+      static_cast<int>(workers.size()) + 1,
+      [&](int k) {
+        if (k > 0) return run(*workers[k - 1], layout, totals);
+        seconds_input = feed(source, opt, problem, setup, team, workers, skip, totals_promise);
+        drain(opt, layout, workers, source.width(), source.height(), channels, out);
+      },
+      [&](int k, const std::string& what) {
+        stop_all(k == 0 ? fmt::format("the input/output thread stopped: {}", what)
+                        : fmt::format("band {} stopped: {}", workers[k - 1]->band, what));
+      });
   for (const auto& wk : workers) {
     summary.scratch_bytes += wk->vcycle.store_bytes() + wk->worker.carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cstring>
 #include <iterator>
 #include <vector>
 #include <memory>
@@ -73,24 +72,20 @@ class StreamedCheckpoint {
     std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
     return out;  // both hold 0
   }
+  // The generations every rank has (ranks are every local_-th worker of `net`).
   std::vector<long long> across_ranks(Transport& net, std::vector<long long> mine) const {
-    constexpr int kGenerations = 2001, kChosen = 2002;  // below the V-cycle's tags, beside solve's 2000
-    const auto pack = [](const std::vector<long long>& v) {
-      Bytes b(v.size() * sizeof(long long));
-      std::memcpy(b.data(), v.data(), b.size());
-      return b;
-    };
-    const auto unpack = [](const Bytes& b) {
-      std::vector<long long> v(b.size() / sizeof(long long));
-      std::memcpy(v.data(), b.data(), v.size() * sizeof(long long));
-      return v;
-    };
-    if (first_ != 0) {
-      net.send(0, kGenerations, pack(mine));
-      return unpack(net.receive(0, kChosen));
+    constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
+    Packer p, reply;
+    p.put(mine);
+    for (Bytes& part : gather(net, kGenerations, std::move(p.bytes), local_)) {  // rank 0: every rank's
+      Unpacker u(std::move(part));
+      std::vector<long long> theirs;
+      u.get(theirs);
+      mine = intersect(mine, theirs);
     }
-    for (int first = local_; first < net.size(); first += local_) mine = intersect(mine, unpack(net.receive(first, kGenerations)));
-    for (int first = local_; first < net.size(); first += local_) net.send(first, kChosen, pack(mine));
+    reply.put(mine);
+    Unpacker u(broadcast(net, kGenerations, std::move(reply.bytes), local_));
+    u.get(mine);
     return mine;
   }
   std::unique_ptr<schedule::Checkpoint> cp_;

@@ -1,4 +1,4 @@
-// Streamed V-cycle: phases of tiled sweeps per level, strips once a phase (the level below: streamed_tail.cc; fold, merging: band_fold_exchange.cc, band_merge.cc).
+// Streamed V-cycle: phases of tiled sweeps per level, strips once a phase (the level below: streamed_tail.cc; fold, merging: streamed_exchange.cc).
 #include "bands/streamed_vcycle.h"
 
 #include <algorithm>
@@ -30,54 +30,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       base_(layout.first_level) {
   if (transport.size() != layout.bands)
     throw std::logic_error(fmt::format("{} workers for {} bands", transport.size(), layout.bands));
-  const int channels = set_.channels;
-  const multigrid::LevelGeometry* geo = ops.hierarchy->levels.data() + base_;
-  for (int l = 0; l < layout.levels; ++l) {
-    auto L = std::make_unique<Level>();
-    const LevelOperator<T>& op = ops.levels[base_ + l];
-    L->op = &op;
-    L->width = op.width;
-    L->height = op.height;
-    L->A = layout.begin(l, band_);
-    L->B = layout.end(l, band_);
-    L->origin = layout.origin(l, band_);
-    L->len = layout.row_length(l, band_);
-    for (int j = 0; j < op.height; ++j)
-      for (int d = 0; d < 5; ++d)
-        if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
-          throw std::logic_error("bands need every row's neighbours within two rows");
-    // Live rows span at most about 3 phases (check_slot says if not); the one-band plan's only
-    // the 2k + 5 rows of its pipeline, as streaming's.
-    L->ring = layout.single ? 2 * (k_ + 2) + 8 : 4 * layout.phase_groups + 2 * k_ + 16;
-    L->phases = phase_count(layout, op.height);
-    const std::size_t slot = static_cast<std::size_t>(channels) * L->len;
-    L->u.assign(L->ring * slot, T(0));
-    L->b.assign(L->ring * slot, T(0));
-    if (set_.weights) L->w.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
-    if (set_.diagonal) L->d.assign(static_cast<std::size_t>(L->ring) * L->len, T(0));
-    if (layout.folded) {
-      if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
-      for (int side = 0; side < 2; ++side) {
-        L->fold[side].reads = fold_reads(layout, l, op.width, kSides[side], band_);
-        L->fold[side].sums = fold_sums(layout, l + 1, geo[l + 1].width(), kSides[side], band_);
-        L->fold[side].rows.assign(2 * static_cast<std::size_t>(channels) * op.width, T(0));
-      }
-    }
-    L->last_touch.assign(geo[l + 1].height(), -1);
-    for (int j = 0; j < op.height; ++j)
-      for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
-    const std::string name = fmt::format("band{}-level{}", band_, base_ + l);
-    L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
-    L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
-    if (l == 0 && set_.weights && set_.more_cycles && !set_.inputs_change)
-      L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
-    if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
-      schedule::StorePolicy exact = set_.stores;
-      exact.half = {};
-      L->d_store = std::make_unique<schedule::RowStore<T>>(exact, L->len, op.height, name + "-d");
-    }
-    levels_.push_back(std::move(L));
-  }
+  for (int l = 0; l < layout.levels; ++l) levels_.push_back(make_level(l));
   const LevelOperator<T>& tail = ops.levels[base_ + layout.levels];
   if (layout.merged) {
     // The level below, handed to the merged stage row by row: this band's columns (b, w, d as
@@ -90,12 +43,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     H->B = layout.end(layout.levels, band_);
     H->origin = H->A - layout.halo;
     H->len = H->B - H->A + 2 * layout.halo;
-    H->ring = 8;
-    const std::size_t slot = static_cast<std::size_t>(channels) * H->len;
-    H->u.assign(H->ring * slot, T(0));
-    H->b.assign(H->ring * slot, T(0));
-    if (set_.weights) H->w.assign(static_cast<std::size_t>(H->ring) * H->len, T(0));
-    if (set_.diagonal) H->d.assign(static_cast<std::size_t>(H->ring) * H->len, T(0));
+    allocate_ring(*H, 8);
     levels_.push_back(std::move(H));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
       merged_net_ = merged_transport(transport, layout.merged->bands);
@@ -105,8 +53,8 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, inner);
     }
   } else {
-    tail_u_.assign(channels, Plane<T>(tail.width, tail.height));
-    tail_b_.assign(channels, Plane<T>(tail.width, tail.height));
+    tail_u_.assign(set_.channels, Plane<T>(tail.width, tail.height));
+    tail_b_.assign(set_.channels, Plane<T>(tail.width, tail.height));
     if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
     if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
     if (band_ == 0) {
@@ -114,37 +62,88 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
     }
   }
+  const std::size_t slot0 = static_cast<std::size_t>(set_.channels) * levels_[0]->len;
   r_.resize(layout.row_length(0, band_) + 8);
-  probes_.resize(channels);
-  if (set_.measure_initial) initial_.assign(8 * static_cast<std::size_t>(channels) * levels_[0]->len, T(0));
+  probes_.resize(set_.channels);
+  if (set_.measure_initial) initial_.assign(8 * slot0, T(0));
   if (set_.measure_initial && layout.folded)
-    for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(channels) * levels_[0]->width, T(0));
+    for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(set_.channels) * levels_[0]->width, T(0));
+}
+
+// A ring of `ring` rows of u and b (every channel), w and d (as the settings have them).
+template <class T>
+void StreamedVCycle<T>::allocate_ring(Level& L, int ring) {
+  L.ring = ring;
+  const std::size_t slots = static_cast<std::size_t>(ring) * L.len;
+  L.u.assign(slots * set_.channels, T(0));
+  L.b.assign(slots * set_.channels, T(0));
+  if (set_.weights) L.w.assign(slots, T(0));
+  if (set_.diagonal) L.d.assign(slots, T(0));
+}
+
+// Banded level l: its columns, ring, fold plans, restriction bookkeeping and row stores.
+template <class T>
+std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level(int l) {
+  const multigrid::LevelGeometry* geo = ops_.hierarchy->levels.data() + base_;
+  auto L = std::make_unique<Level>();
+  const LevelOperator<T>& op = ops_.levels[base_ + l];
+  L->op = &op;
+  L->width = op.width;
+  L->height = op.height;
+  L->A = layout_.begin(l, band_);
+  L->B = layout_.end(l, band_);
+  L->origin = layout_.origin(l, band_);
+  L->len = layout_.row_length(l, band_);
+  for (int j = 0; j < op.height; ++j)
+    for (int d = 0; d < 5; ++d)
+      if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
+        throw std::logic_error("bands need every row's neighbours within two rows");
+  // Live rows span at most about 3 phases (check_slot says if not); the one-band plan's only
+  // the 2k + 5 rows of its pipeline, as streaming's.
+  allocate_ring(*L, layout_.single ? 2 * (k_ + 2) + 8 : 4 * layout_.phase_groups + 2 * k_ + 16);
+  L->phases = phase_count(layout_, op.height);
+  if (layout_.folded) {
+    if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
+    for (int side = 0; side < 2; ++side) {
+      L->fold[side].reads = fold_reads(layout_, l, op.width, kSides[side], band_);
+      L->fold[side].sums = fold_sums(layout_, l + 1, geo[l + 1].width(), kSides[side], band_);
+      L->fold[side].rows.assign(2 * static_cast<std::size_t>(set_.channels) * op.width, T(0));
+    }
+  }
+  L->last_touch.assign(geo[l + 1].height(), -1);
+  for (int j = 0; j < op.height; ++j)
+    for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
+  const std::string name = fmt::format("band{}-level{}", band_, base_ + l);
+  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L->len;
+  L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
+  L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
+  if (l == 0 && set_.weights && set_.more_cycles && !set_.inputs_change)
+    L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
+  if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
+    schedule::StorePolicy exact = set_.stores;
+    exact.half = {};
+    L->d_store = std::make_unique<schedule::RowStore<T>>(exact, L->len, op.height, name + "-d");
+  }
+  return L;
 }
 
 template <class T>
 StreamedVCycle<T>::~StreamedVCycle() = default;
 
+// Row c of ring slot j % ring of level l's ring `v`, whose slots hold `per` rows (null: no ring).
 template <class T>
-T* StreamedVCycle<T>::u_row(int l, int c, int j) {
-  Level& L = *levels_[l];
-  return L.u.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
+T* StreamedVCycle<T>::ring_row(std::vector<T>& v, int l, int j, int c, int per) {
+  const Level& L = *levels_[l];
+  return v.empty() ? nullptr : v.data() + (static_cast<std::size_t>(j % L.ring) * per + c) * L.len;
 }
 template <class T>
-T* StreamedVCycle<T>::b_row(int l, int c, int j) {
-  Level& L = *levels_[l];
-  return L.b.data() + (static_cast<std::size_t>(j % L.ring) * set_.channels + c) * L.len;
-}
+T* StreamedVCycle<T>::u_row(int l, int c, int j) { return ring_row(levels_[l]->u, l, j, c, set_.channels); }
 template <class T>
-T* StreamedVCycle<T>::w_row(int l, int j) {
-  Level& L = *levels_[l];
-  return L.w.data() + static_cast<std::size_t>(j % L.ring) * L.len;
-}
-
+T* StreamedVCycle<T>::b_row(int l, int c, int j) { return ring_row(levels_[l]->b, l, j, c, set_.channels); }
 template <class T>
-T* StreamedVCycle<T>::d_row(int l, int j) {
-  Level& L = *levels_[l];
-  return L.d.empty() ? nullptr : L.d.data() + static_cast<std::size_t>(j % L.ring) * L.len;
-}
+T* StreamedVCycle<T>::w_row(int l, int j) { return ring_row(levels_[l]->w, l, j, 0, 1); }
+template <class T>
+T* StreamedVCycle<T>::d_row(int l, int j) { return ring_row(levels_[l]->d, l, j, 0, 1); }
 template <class T>
 Columns StreamedVCycle<T>::columns(int l, int begin, int end, bool forward) const {
   if (!layout_.single) return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
@@ -313,8 +312,7 @@ template <class T>
 void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
   const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
   if (from_worker < 0) return;
-  const Bytes bytes = net_.receive(from_worker, l);
-  Unpacker un(bytes);
+  Unpacker un(net_.receive(from_worker, l));
   strip_rows(l, p, from_left, false, [&](T* row, std::size_t n) { un.get(row, n); });
   un.finish();
 }

@@ -40,7 +40,7 @@ namespace gdp::bands {
 template <class T>
 class StreamedVCycle {
  public:
-  using Settings = schedule::CycleSettings;  // its sweeps are the layout's (BandLayout::sweeps)
+  using Settings = schedule::CycleSettings;
 
   StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
              const Settings& settings);
@@ -61,18 +61,21 @@ class StreamedVCycle {
   const BandLayout& layout() const { return layout_; }
 
   // Checkpoints (stores kept in files: StorePolicy::keep_dir), between two pushes or between
-  // passes: save() makes the row stores durable and writes this worker's whole state (rings,
-  // counters, the whole level below, probes, the stores' lengths; a merged stage's too); load()
+  // passes: saving makes the row stores durable and writes this worker's whole state (rings,
+  // counters, the whole level below, probes, the stores' lengths; a merged stage's too); loading
   // puts it back and truncates the stores to those lengths. CorruptState when the blob does not
   // fit this cycle's shape. Every band of a plan saves at the same row (docs/resume.md).
-  void save(schedule::StateWriter& out);
-  void load(schedule::StateReader& in);
+  // (save: a StateWriter, load: a StateReader).
+  template <class Archive>
+  void state(Archive& archive);
   // After every band's save: returns once all bands of the plan have saved (so that no band is
   // ever two saves ahead of another, docs/resume.md). Nothing to wait for with one band.
   void saved();
 
  private:
   struct Level;
+  std::unique_ptr<Level> make_level(int l);
+  void allocate_ring(Level& L, int ring);
   void advance(int l);
   void run_phase(int l, int p);
   void send_strips(int l, int p, bool to_left);
@@ -88,6 +91,7 @@ class StreamedVCycle {
   template <class F>
   void tail_parts(int band, F&& f);
   void run_tail();
+  void solve_tail(Packer& reply);
   // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
   // level 0, handed to it row by row (restriction) and back (prolongation).
   bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
@@ -105,6 +109,7 @@ class StreamedVCycle {
   T* fold_row(int l, int c, int row, bool initial = false);
   void exchange_fold_rows(int l, int side, std::vector<T>& into);
   void add_fold_sums(int l, int side, const std::vector<T>& sums, int row);
+  T* ring_row(std::vector<T>& v, int l, int j, int c, int per);
   T* u_row(int l, int c, int j);
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);

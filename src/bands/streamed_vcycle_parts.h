@@ -1,10 +1,7 @@
 // What the band V-cycle's source files share: a level's storage, message tags, byte packing.
 #pragma once
 
-#include <cstring>
 #include <memory>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "bands/band_fold.h"
@@ -14,53 +11,17 @@ namespace gdp::bands {
 
 // Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
 // restriction's sums across the fold kFoldSums + l; the collectives use the others.
-constexpr int kGather = 1000, kScatter = 1001, kFinalUp = 1002, kFinalDown = 1003, kFoldRows = 1100,
-              kFoldSums = 1200, kHandOff = 1300, kHandBack = 1301, kSaved = 1400, kSavedAll = 1401;
+constexpr int kGather = 1000, kSums = 1001, kFinal = 1002, kFoldRows = 1100, kFoldSums = 1200, kHandOff = 1300,
+              kHandBack = 1301, kSaved = 1400;
 // Every stage's tags (and solve_streamed' 2000) are below this; a merged stage's are moved past it.
 constexpr int kStageTags = 4000;
 
-// The merged stage's workers over `outer`'s (band_merge.cc): merged band g is worker 2g.
+// The merged stage's workers over `outer`'s (streamed_exchange.cc): merged band g is worker 2g.
 std::unique_ptr<Transport> merged_transport(Transport& outer, int bands);
 
 // Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
 constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
 inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
-
-// A message as bytes: values appended in order (Packer), read back in the same order (Unpacker).
-class Packer {
- public:
-  template <class V>
-  void put(const V* p, std::size_t n) {
-    const std::size_t at = bytes.size();
-    bytes.resize(at + n * sizeof(V));
-    if (n) std::memcpy(bytes.data() + at, p, n * sizeof(V));
-  }
-  void put(double v) { put(&v, 1); }
-  Bytes bytes;
-};
-
-class Unpacker {
- public:
-  explicit Unpacker(const Bytes& b) : b_(b) {}
-  template <class V>
-  void get(V* p, std::size_t n) {
-    if (at_ + n * sizeof(V) > b_.size()) throw std::logic_error("band message shorter than expected");
-    if (n) std::memcpy(p, b_.data() + at_, n * sizeof(V));
-    at_ += n * sizeof(V);
-  }
-  double get() {
-    double v;
-    get(&v, 1);
-    return v;
-  }
-  void finish() const {
-    if (at_ != b_.size()) throw std::logic_error("band message longer than expected");
-  }
-
- private:
-  const Bytes& b_;
-  std::size_t at_ = 0;
-};
 
 template <class T>
 struct StreamedVCycle<T>::Level {

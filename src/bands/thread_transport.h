@@ -19,7 +19,6 @@ class ThreadHub {
   explicit ThreadHub(int size);
   ~ThreadHub();
   Transport& endpoint(int worker);
-  int size() const { return size_; }
 
  private:
   class Endpoint;

@@ -8,8 +8,7 @@
 namespace gdp::schedule {
 
 struct CycleSettings {
-  int channels = 1;
-  int sweeps = 3;
+  int channels = 1;  // the sweeps are the column plan's (bands::BandLayout::sweeps)
   double coarse_tolerance = 1e-10;
   bool measure_initial = false;  // |b - A u| of the pushed rows (first cycle)
   bool measure_final = false;    // |b - A u| of the pulled rows
@@ -26,7 +25,6 @@ struct CycleSettings {
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s;
   s.channels = channels;
-  s.sweeps = opt.sweeps;
   s.coarse_tolerance = opt.coarse_tolerance;
   s.measure_initial = s.measure_final = true;
   s.weights = singular;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -93,21 +94,11 @@ class CycleWorker {
     log_ = &log;
     c0_ = c0;
     if (!cp.resuming()) return 0;
-    const std::optional<std::string> state = cp.load(lane);
-    if (!state) return 0;
+    const std::optional<std::string> saved = cp.load(lane);
+    if (!saved) return 0;
     try {
-      StateReader in(*state);
-      int version = 0;
-      in.get(version);
-      in.get(mark_);
-      if (version != kStateVersion || mark_.cycle < 0 || mark_.cycle >= cycles() || mark_.pass < 0 ||
-          mark_.pass > 2 || mark_.rows < 0 || mark_.rows > height_)
-        throw CorruptState("unknown version or position");
-      if constexpr (requires(StateReader& r) { vcycle_.load(r); }) vcycle_.load(in);
-      std::size_t carried = 0;
-      in.get(carried);
-      if (carry_) carry_->restore(carried);
-      log.load(in, c0, channels_);
+      StateReader in(*saved);
+      state(in, mark_);
       if (!in.at_end()) throw CorruptState("it is longer than expected");
     } catch (const CorruptState& e) {
       throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp.dir().string(), cp.state_name(lane), e.what()));
@@ -215,14 +206,27 @@ class CycleWorker {
   void save(CycleMark m) {
     if (!checkpoint_) return;
     StateWriter out;
-    out.put(kStateVersion);
-    out.put(m);
-    if constexpr (requires(StateWriter& w) { vcycle_.save(w); }) vcycle_.save(out);
-    else throw std::logic_error("this schedule does not checkpoint");
-    out.put(carry_ ? carry_->make_durable() : std::size_t{0});
-    log_->save(out, c0_, channels_);
+    state(out, m);
     checkpoint_->save(lane_, out.bytes(), m.describe(height_));
-    if constexpr (requires { vcycle_.saved(); }) vcycle_.saved();  // every band of the plan has saved
+    vcycle_.saved();  // every band of the plan has saved
+  }
+  // Written (StateWriter) and read back (StateReader) by the same steps: where the worker is, its
+  // V-cycle's state, the carried result's length and the log's channels.
+  template <class Archive>
+  void state(Archive& a, CycleMark& mark) {
+    int version = kStateVersion;
+    a.io(version);
+    a.io(mark);
+    if (version != kStateVersion || mark.cycle < 0 || mark.cycle >= cycles() || mark.pass < 0 || mark.pass > 2 ||
+        mark.rows < 0 || mark.rows > height_)
+      throw CorruptState("unknown version or position");
+    vcycle_.state(a);
+    std::size_t carried = 0;
+    if constexpr (std::is_same_v<Archive, StateWriter>) carried = carry_ ? carry_->make_durable() : 0;
+    a.io(carried);
+    if constexpr (std::is_same_v<Archive, StateReader>)
+      if (carry_) carry_->restore(carried);
+    log_->state(a, c0_, channels_);
   }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {

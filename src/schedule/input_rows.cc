@@ -105,21 +105,6 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   }
   if (weights)
     for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
-  for (std::size_t r = 0; r < ranges_.size(); ++r) {
-    const auto [a, e] = ranges_[r];
-    for (int c = 0; c < channels_; ++c) {
-      const T* bc = b.data() + static_cast<std::size_t>(c) * width_;
-      double& norm2 = totals_[r].rhs_norms2[c];
-      if (!source_.has_weights()) {
-        norm2 += multigrid::row_dot(bc + a, bc + a, e - a);
-        continue;
-      }
-      // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
-      // residuals are measured against: they are left out of it.
-      for (int i = a; i < e; ++i)
-        if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
-    }
-  }
   const std::vector<float>& init = initial_[k];
   for (int i = begin_; i < end_; ++i) {
     bool finite = true;
@@ -132,9 +117,18 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   }
   for (std::size_t r = 0; r < ranges_.size(); ++r) {
     const auto [a, e] = ranges_[r];
-    for (int c = 0; c < channels_; ++c)
-      totals_[r].weighted_sums[c] +=
-          multigrid::row_dot(w.data() + a, u.data() + static_cast<std::size_t>(c) * width_ + a, e - a);
+    for (int c = 0; c < channels_; ++c) {
+      const std::size_t at = static_cast<std::size_t>(c) * width_;
+      const T* bc = b.data() + at;
+      totals_[r].weighted_sums[c] += multigrid::row_dot(w.data() + a, u.data() + at + a, e - a);
+      double& norm2 = totals_[r].rhs_norms2[c];
+      // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
+      // residuals are measured against: they are left out of it.
+      if (!weights) norm2 += multigrid::row_dot(bc + a, bc + a, e - a);
+      else
+        for (int i = a; i < e; ++i)
+          if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
+    }
     for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
   }
   if (!source_.start_from_initial()) std::fill(u.begin(), u.end(), T(0));

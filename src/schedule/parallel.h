@@ -1,13 +1,25 @@
-// Running a few workers on threads: the calling thread takes worker 0, the first exception wins.
+// Running a few workers on threads: the calling thread takes worker 0; one stop policy, one error wins.
 #pragma once
 
 #include <functional>
+#include <string>
+
+#include "gdp/errors.h"
 
 namespace gdp::schedule {
 
+// What a worker throws when it was stopped because another one failed (bands::TransportStopped).
+class Stopped : public Error {
+ public:
+  using Error::Error;
+};
+
 // Runs worker(0) .. worker(count - 1), worker 0 on the calling thread and the others on their
-// own threads, and returns when all are done. If any throws, the first exception is rethrown
-// here after every worker has finished (a worker exception never terminates the process).
-void run_workers(int count, const std::function<void(int)>& worker);
+// own threads, and returns when all are done. When one throws, `stop` (if given) is called with
+// its number and the exception's what(), to stop the others. Once every worker has finished, the
+// first exception thrown that is not Stopped (which explains more than "stopped") is rethrown
+// here, else the first one (a worker exception never terminates the process).
+void run_workers(int count, const std::function<void(int)>& worker,
+                 const std::function<void(int, const std::string&)>& stop = {});
 
 }  // namespace gdp::schedule

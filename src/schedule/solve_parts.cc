@@ -59,29 +59,25 @@ void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) co
       for (const auto& l : lines) options.log(l);
 }
 
-void ResidualLog::save(StateWriter& out, int c0, int n) const {
+template <class Archive>
+void ResidualLog::state(Archive& a, int c0, int n) {
   for (int c = c0; c < c0 + n; ++c) {
-    out.put(b_norm_[c]);
-    out.put(rel_[c]);
-    out.put(static_cast<std::uint64_t>(lines_[c].size()));
-    for (const std::string& line : lines_[c]) out.put(std::vector<char>(line.begin(), line.end()));
-  }
-}
-
-void ResidualLog::load(StateReader& in, int c0, int n) {
-  for (int c = c0; c < c0 + n; ++c) {
-    in.get(b_norm_[c]);
-    in.get(rel_[c]);
-    std::uint64_t count = 0;
-    in.get(count);
-    lines_[c].clear();
+    a.io(b_norm_[c]);
+    a.io(rel_[c]);
+    auto count = static_cast<std::uint64_t>(lines_[c].size());
+    a.io(count);
+    std::vector<std::string> lines;
     for (std::uint64_t k = 0; k < count; ++k) {
-      std::vector<char> line;
-      in.get(line);
-      lines_[c].emplace_back(line.begin(), line.end());
+      std::vector<char> chars;
+      if (k < lines_[c].size()) chars.assign(lines_[c][k].begin(), lines_[c][k].end());
+      a.io(chars);
+      lines.emplace_back(chars.begin(), chars.end());
     }
+    lines_[c] = std::move(lines);
   }
 }
+template void ResidualLog::state(StateWriter&, int, int);
+template void ResidualLog::state(StateReader&, int, int);
 
 template struct Problem<float>;
 template struct Problem<double>;

@@ -50,9 +50,9 @@ class ResidualLog {
   double last(int c) const { return rel_[c].back(); }
   // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
   void finish(SolveSummary& summary, const SolverOptions& options) const;
-  // Checkpoints: channels c0 .. c0 + n - 1 (one lane's).
-  void save(StateWriter& out, int c0, int n) const;
-  void load(StateReader& in, int c0, int n);
+  // Checkpoints: channels c0 .. c0 + n - 1 (one lane's) to a StateWriter or from a StateReader.
+  template <class Archive>
+  void state(Archive& archive, int c0, int n);
 
  private:
   double relative(int c, double r) const { return b_norm_[c] > 0.0 ? r / b_norm_[c] : r; }

@@ -16,19 +16,25 @@ class CorruptState : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A state is written and read back by one function template given a StateWriter or a
+// StateReader: io(v) appends v / reads it back; io_sized(v) reads a vector that must keep its
+// present size (a ring or plane of a known shape).
 class StateWriter {
  public:
   template <class V>
-  void put(const V& v) {
+  void io(const V& v) {
     static_assert(std::is_trivially_copyable_v<V>);
-    const auto* p = reinterpret_cast<const char*>(&v);
-    bytes_.append(p, sizeof(V));
+    bytes_.append(reinterpret_cast<const char*>(&v), sizeof(V));
   }
   template <class V>
-  void put(const std::vector<V>& v) {
+  void io(const std::vector<V>& v) {
     static_assert(std::is_trivially_copyable_v<V>);
-    put(static_cast<std::uint64_t>(v.size()));
+    io(static_cast<std::uint64_t>(v.size()));
     bytes_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(V));
+  }
+  template <class V>
+  void io_sized(const std::vector<V>& v) {
+    io(v);
   }
   const std::string& bytes() const { return bytes_; }
 
@@ -40,23 +46,22 @@ class StateReader {
  public:
   explicit StateReader(std::string bytes) : bytes_(std::move(bytes)) {}
   template <class V>
-  void get(V& v) {
+  void io(V& v) {
     static_assert(std::is_trivially_copyable_v<V>);
     take(&v, sizeof(V));
   }
   template <class V>
-  void get(std::vector<V>& v) {
+  void io(std::vector<V>& v) {
     std::uint64_t n = 0;
-    get(n);
+    io(n);
     if (n > (bytes_.size() - at_) / sizeof(V)) throw CorruptState("a length runs past the end");
     v.resize(n);
     take(v.data(), n * sizeof(V));
   }
-  // Like get(), but the vector must keep its present size (a ring or plane of a known shape).
   template <class V>
-  void get_sized(std::vector<V>& v) {
+  void io_sized(std::vector<V>& v) {
     const std::size_t want = v.size();
-    get(v);
+    io(v);
     if (v.size() != want) throw CorruptState("a buffer has the wrong size");
   }
   bool at_end() const { return at_ == bytes_.size(); }

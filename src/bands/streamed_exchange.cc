@@ -1,0 +1,214 @@
+// What crosses a band edge besides the strips: rows and restriction sums across a spherical level's
+// fold (to mirror partners and owners), rows handed to a merged stage's owner and handed back.
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "bands/streamed_vcycle_parts.h"
+
+namespace gdp::bands {
+namespace {
+
+// One exchange across the fold on `tag`: every partner b gets the pieces plan.to[b] (pack), the
+// band takes its own (own) and reads every partner's (unpack), each as a function of the runs.
+template <class Pack, class Own, class Unpack>
+void exchange(Transport& net, const FoldPlan& plan, int tag, Pack&& pack, Own&& own, Unpack&& unpack) {
+  const int me = net.rank();
+  for (int b = 0; b < net.size(); ++b) {
+    if (b == me || !plan.sends(b)) continue;
+    Packer pk;
+    pack(plan.to[b], pk);
+    net.send(b, tag, std::move(pk.bytes));
+  }
+  own(plan.from[me]);
+  for (int b = 0; b < net.size(); ++b) {
+    if (b == me || !plan.receives(b)) continue;
+    Unpacker un(net.receive(b, tag));
+    unpack(plan.from[b], un);
+    un.finish();
+  }
+}
+
+// The merged stage's workers: merged band g is this stage's worker 2g.
+class MergedTransport : public Transport {
+ public:
+  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
+  int rank() const override { return outer_.rank() / 2; }
+  int size() const override { return bands_; }
+  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
+  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
+  void abort(const std::string& why) override { outer_.abort(why); }
+
+ private:
+  Transport& outer_;
+  int bands_;
+};
+
+}  // namespace
+
+template <class T>
+T* StreamedVCycle<T>::fold_row(int l, int c, int row, bool initial) {
+  Level& L = *levels_[l];
+  const int side = row < 2 ? 0 : 1, r = side == 0 ? row : row - (L.height - 2);
+  T* rows = initial ? initial_fold_[side].data() : L.fold[side].rows.data();
+  return rows + (static_cast<std::size_t>(c) * 2 + r) * L.width;
+}
+
+// Rows 0, 1 (side 0) or h - 2, h - 1 (side 1) of level l as they are now, at the columns across
+// the fold this band reads, into `into` (whole rows): its own copied, the others' from their owners.
+template <class T>
+void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
+  Level& L = *levels_[l];
+  const FoldPlan& plan = L.fold[side].reads;
+  const int first = side == 0 ? 0 : L.height - 2;
+  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
+    for (int c = 0; c < set_.channels; ++c)
+      for (int r = 0; r < 2; ++r)
+        for (auto [x0, x1] : runs) f(c, r, x0, static_cast<std::size_t>(x1 - x0));
+  };
+  const auto own = [&](int c, int r, int x) { return u_row(l, c, first + r) + (x - L.origin); };
+  const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
+  exchange(
+      net_, plan, kFoldRows + l,
+      [&](const ColumnRuns& runs, Packer& pk) {
+        pieces(runs, [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
+      },
+      [&](const ColumnRuns& runs) {
+        pieces(runs, [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
+      },
+      [&](const ColumnRuns& runs, Unpacker& un) {
+        pieces(runs, [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
+      });
+}
+
+// Level l's restriction across the fold into coarse row `row`: `sums` holds this band's
+// contributions at the mirror image of its coarse columns (whole rows: b per channel, then w and d
+// as the settings have them); each goes to the band owning the column, which adds them (its own
+// first, then the others' in band order).
+template <class T>
+void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
+  const FoldPlan& plan = levels_[l]->fold[side].sums;
+  const bool tail = gathered(l);
+  const int m = ops_.levels[base_ + l + 1].width, channels = set_.channels;
+  const int parts = channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0);
+  const int corigin = tail ? 0 : levels_[l + 1]->origin;
+  const auto coarse = [&](int k) -> T* {  // part k of coarse row `row`, at column corigin
+    if (k < channels) return tail ? tail_b_[k].row(row) : b_row(l + 1, k, row);
+    if (k == channels && set_.weights) return tail ? tail_w_.row(row) : w_row(l + 1, row);
+    return tail ? tail_d_.row(row) : d_row(l + 1, row);
+  };
+  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
+    for (int k = 0; k < parts; ++k)
+      for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
+  };
+  const auto add = [&](int k, int x, const T* v, std::size_t n) {
+    T* to = coarse(k) + (x - corigin);
+    for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
+  };
+  const auto part = [&](int k, int x) { return sums.data() + static_cast<std::size_t>(k) * m + x; };
+  std::vector<T> got;
+  exchange(
+      net_, plan, kFoldSums + l,
+      [&](const ColumnRuns& runs, Packer& pk) {
+        pieces(runs, [&](int k, int x, std::size_t n) { pk.put(part(k, x), n); });
+      },
+      [&](const ColumnRuns& runs) { pieces(runs, [&](int k, int x, std::size_t n) { add(k, x, part(k, x), n); }); },
+      [&](const ColumnRuns& runs, Unpacker& un) {
+        pieces(runs, [&](int k, int x, std::size_t n) {
+          got.resize(n);
+          un.get(got.data(), n);
+          add(k, x, got.data(), n);
+        });
+      });
+}
+
+std::unique_ptr<Transport> merged_transport(Transport& outer, int bands) {
+  return std::make_unique<MergedTransport>(outer, bands);
+}
+
+// Restriction pass: coarse row `row` of the level below is complete in every band of a group; the
+// group's owner puts its columns together and pushes the row into the merged stage.
+template <class T>
+void StreamedVCycle<T>::hand_off(int row) {
+  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  Level& H = *levels_[tl];
+  // Band m's columns of the row, piece by piece: f(kind, channel, first column, count) for b of
+  // every channel (kind 0), then w (1) and d (2) where the settings have them.
+  const auto pieces = [&](int m, auto&& f) {
+    const int a = layout_.begin(tl, m);
+    const auto n = static_cast<std::size_t>(layout_.end(tl, m) - a);
+    for (int c = 0; c < set_.channels; ++c) f(0, c, a, n);
+    if (set_.weights) f(1, 0, a, n);
+    if (set_.diagonal) f(2, 0, a, n);
+  };
+  const auto mine = [&](int kind, int c, int a) {
+    T* r = kind == 0 ? b_row(tl, c, row) : kind == 1 ? w_row(tl, row) : d_row(tl, row);
+    return r + (a - H.origin);
+  };
+  ++H.finished;
+  if (band_ != owner) {
+    Packer pk;
+    pieces(band_, [&](int kind, int c, int a, std::size_t n) { pk.put(mine(kind, c, a), n); });
+    net_.send(owner, kHandOff, std::move(pk.bytes));
+    return;
+  }
+  const BandLayout& M = *layout_.merged;
+  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
+  const int origin = M.origin(0, g);
+  // The merged band's row: u zero (a correction), b, w, d of the group's columns; the halo's b
+  // comes in the merged stage's strips.
+  std::vector<T> u(set_.channels * len, T(0)), b(set_.channels * len, T(0)), w(set_.weights ? len : 0, T(0)),
+      d(set_.diagonal ? len : 0, T(0));
+  const auto merged = [&](int kind, int c, int a) {
+    T* r = kind == 0 ? b.data() + c * len : kind == 1 ? w.data() : d.data();
+    return r + (a - origin);
+  };
+  pieces(band_, [&](int kind, int c, int a, std::size_t n) { std::copy_n(mine(kind, c, a), n, merged(kind, c, a)); });
+  for (int m = owner + 1; m < layout_.group_end(g); ++m) {
+    Unpacker un(net_.receive(m, kHandOff));
+    pieces(m, [&](int kind, int c, int a, std::size_t n) { un.get(merged(kind, c, a), n); });
+    un.finish();
+  }
+  merged_->push(u, b, w, d);
+}
+
+// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
+// band's row, halo included, from the group's owner to the others), into this band's ring.
+template <class T>
+void StreamedVCycle<T>::take_back(int row) {
+  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  Level& H = *levels_[tl];
+  const BandLayout& M = *layout_.merged;
+  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
+  const int origin = M.origin(0, g);
+  std::vector<T> got(set_.channels * len);
+  for (; H.arrived <= row; ++H.arrived) {
+    const int J = H.arrived;
+    if (J - H.ring >= H.needed_from)
+      throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
+    if (band_ == owner) {
+      merged_->pull(got);
+      Packer pk;
+      pk.put(got.data(), got.size());
+      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, pk.bytes);
+    } else {
+      Unpacker un(net_.receive(owner, kHandBack));
+      un.get(got.data(), got.size());
+      un.finish();
+    }
+    for (int c = 0; c < set_.channels; ++c)
+      std::copy_n(got.data() + c * len + (H.origin - origin), H.len, u_row(tl, c, J));
+  }
+}
+
+#define GDP_INSTANTIATE(T)                                                        \
+  template T* StreamedVCycle<T>::fold_row(int, int, int, bool);                     \
+  template void StreamedVCycle<T>::exchange_fold_rows(int, int, std::vector<T>&);   \
+  template void StreamedVCycle<T>::add_fold_sums(int, int, const std::vector<T>&, int); \
+  template void StreamedVCycle<T>::hand_off(int);                                   \
+  template void StreamedVCycle<T>::take_back(int);
+GDP_INSTANTIATE(float)
+GDP_INSTANTIATE(double)
+#undef GDP_INSTANTIATE
+
+}  // namespace gdp::bands
