@@ -21,6 +21,10 @@ bins=("$build/tools/gdp/gdp" "$build/bench/make_composite" "$build/bench/image_d
 for b in "${bins[@]}"; do
   [[ -x $b ]] || { echo "pack.sh: missing $b (build it: cmake --build $build --target gdp_cli make_composite image_diff)" >&2; exit 2; }
 done
+if [[ -e $pack && ! -f $pack/GLIBC ]]; then
+  echo "pack.sh: $pack exists and is not a pack (no $pack/GLIBC); give a new folder" >&2
+  exit 2
+fi
 rm -rf "$pack"
 mkdir -p "$pack/bin" "$pack/lib" "$pack/glibc" "$pack/data"
 cp "${bins[@]}" "$pack/bin/"
