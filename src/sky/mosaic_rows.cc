@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "blend/scratch.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -36,9 +37,11 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources)
+MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources,
+                       const std::filesystem::path& temp_dir)
     : plates_(plates), window_(window), sources_(sources), chosen_(plates.size(), 0), counted_(window.rows, 0),
-      coverage_(static_cast<std::size_t>(window.width) * window.rows, 0) {
+      coverage_(std::make_unique<blending::Scratch>(temp_dir, static_cast<std::size_t>(window.width) * window.rows,
+                                                    "gdp-sky-coverage")) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
@@ -49,6 +52,10 @@ MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window,
 }
 
 MosaicRows::~MosaicRows() = default;
+
+void MosaicRows::coverage_row(int j, std::span<unsigned char> out) const {
+  coverage_->read(static_cast<std::size_t>(j) * window_.width, out.data(), window_.width);
+}
 
 MosaicRows::Row& MosaicRows::fetch(int j) {
   auto it = cache_.find(j);
@@ -138,8 +145,8 @@ void MosaicRows::compute(int j, Row& out) {
     out.label[i] = static_cast<float>(h.plate + 2);
     out.covered[i] = depth_inside(h.x, h.y, p.width, p.height) > 0.0;
     if (count && out.covered[i]) ++chosen_[h.plate];
-    coverage_[static_cast<std::size_t>(j) * w + i] = out.covered[i];
   }
+  if (count) coverage_->write(static_cast<std::size_t>(j) * w, out.covered.data(), w);
 }
 
 }  // namespace gdp::sky

@@ -15,10 +15,15 @@
 
 namespace gdp::sky {
 
+// Conversions run in chunks of this many points: every plate keeps its own scratch arrays
+// (76 bytes a point), which grew to the largest batch and stayed (docs/sky.md, "Memory": 0.7 MB a
+// plate on the memory bench, over half the peak heap with 48 plates).
+constexpr std::size_t kChunk = 1024;
+
 struct Wcs::Prm {
   wcsprm wcs{};
   bool initialised = false;
-  // Scratch of the conversions (wcslib needs intermediate arrays).
+  // Scratch of the conversions (wcslib needs intermediate arrays), for up to kChunk points.
   mutable std::vector<double> pix, img, phi, theta, world;
   mutable std::vector<int> stat;
   ~Prm() {
@@ -92,35 +97,37 @@ Wcs::Wcs(const std::string& header, int width, int height, const std::string& na
 Wcs::~Wcs() = default;
 
 void Wcs::pixel_to_sky(std::span<const double> xy, std::span<double> sky, std::span<unsigned char> ok) const {
-  const std::size_t n = ok.size();
-  if (n == 0) return;
   Prm& p = *prm_;
-  p.reserve(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    p.pix[2 * k] = xy[2 * k] + 0.5;
-    p.pix[2 * k + 1] = height_ + 0.5 - xy[2 * k + 1];
-  }
-  const int s = wcsp2s(&p.wcs, static_cast<int>(n), 2, p.pix.data(), p.img.data(), p.phi.data(), p.theta.data(),
-                       p.world.data(), p.stat.data());
-  for (std::size_t k = 0; k < n; ++k) {
-    ok[k] = (s == 0 || s == WCSERR_BAD_PIX) && p.stat[k] == 0;
-    sky[2 * k] = p.world[2 * k];
-    sky[2 * k + 1] = p.world[2 * k + 1];
+  for (std::size_t k0 = 0; k0 < ok.size(); k0 += kChunk) {
+    const std::size_t n = std::min(kChunk, ok.size() - k0);
+    p.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      p.pix[2 * k] = xy[2 * (k0 + k)] + 0.5;
+      p.pix[2 * k + 1] = height_ + 0.5 - xy[2 * (k0 + k) + 1];
+    }
+    const int s = wcsp2s(&p.wcs, static_cast<int>(n), 2, p.pix.data(), p.img.data(), p.phi.data(), p.theta.data(),
+                         p.world.data(), p.stat.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      ok[k0 + k] = (s == 0 || s == WCSERR_BAD_PIX) && p.stat[k] == 0;
+      sky[2 * (k0 + k)] = p.world[2 * k];
+      sky[2 * (k0 + k) + 1] = p.world[2 * k + 1];
+    }
   }
 }
 
 void Wcs::sky_to_pixel(std::span<const double> sky, std::span<double> xy, std::span<unsigned char> ok) const {
-  const std::size_t n = ok.size();
-  if (n == 0) return;
   Prm& p = *prm_;
-  p.reserve(n);
-  std::copy_n(sky.begin(), 2 * n, p.world.begin());
-  const int s = wcss2p(&p.wcs, static_cast<int>(n), 2, p.world.data(), p.phi.data(), p.theta.data(), p.img.data(),
-                       p.pix.data(), p.stat.data());
-  for (std::size_t k = 0; k < n; ++k) {
-    ok[k] = (s == 0 || s == WCSERR_BAD_WORLD) && p.stat[k] == 0;
-    xy[2 * k] = p.pix[2 * k] - 0.5;
-    xy[2 * k + 1] = height_ + 0.5 - p.pix[2 * k + 1];
+  for (std::size_t k0 = 0; k0 < ok.size(); k0 += kChunk) {
+    const std::size_t n = std::min(kChunk, ok.size() - k0);
+    p.reserve(n);
+    std::copy_n(sky.begin() + 2 * k0, 2 * n, p.world.begin());
+    const int s = wcss2p(&p.wcs, static_cast<int>(n), 2, p.world.data(), p.phi.data(), p.theta.data(), p.img.data(),
+                         p.pix.data(), p.stat.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      ok[k0 + k] = (s == 0 || s == WCSERR_BAD_WORLD) && p.stat[k] == 0;
+      xy[2 * (k0 + k)] = p.pix[2 * k] - 0.5;
+      xy[2 * (k0 + k) + 1] = height_ + 0.5 - p.pix[2 * k + 1];
+    }
   }
 }
 
