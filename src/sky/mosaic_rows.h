@@ -1,6 +1,7 @@
 // PQ rows of a plate mosaic: each pixel's value from the plate it lies deepest inside (stars from one plate), and that plate's label.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "gdp/rows.h"
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/seam_sources.h"
 #include "sky/seams.h"
@@ -34,9 +36,12 @@ class MosaicRows {
  public:
   // Rows of `window` (its columns only); the views are window.width x window.rows. `sources`:
   // the stars the seams go around (none: each point from the plate it lies deepest inside).
-  // `temp_dir`: where the coverage rows go when they exceed 8 MiB (coverage_row()).
-  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr,
-             const std::filesystem::path& temp_dir = {});
+  // `temp_dir`: where the coverage rows go when they exceed `memory_limit` bytes (coverage_row()). Rows are
+  // read once, in order (as the solve reads them): a plate's pixels are released (emptied) once
+  // the rows computed are past the last row it reaches (plate_rows), and a row that would need a
+  // released plate again throws std::logic_error.
+  MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr,
+             const std::filesystem::path& temp_dir = {}, std::size_t memory_limit = kSmallScratch);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
@@ -66,8 +71,10 @@ class MosaicRows {
   Row& fetch(int j);
   void compute(int j, Row& out);
 
-  const std::vector<Plate>& plates_;
+  std::vector<Plate>& plates_;
   PqWindow window_;
+  std::vector<std::array<int, 2>> rows_of_;  // per plate: the first and last window row it reaches
+  int released_below_ = 0;                   // rows below this may need plates already released
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
   std::vector<long long> chosen_;

@@ -9,10 +9,10 @@
 
 namespace gdp::sky {
 
-PqStore::PqStore(const PqWindow& window, const std::filesystem::path& temp_dir)
+PqStore::PqStore(const PqWindow& window, const std::filesystem::path& temp_dir, std::size_t memory_limit)
     : window_(window),
       rows_(std::make_unique<blending::Scratch>(
-          temp_dir, static_cast<std::size_t>(window.width) * window.rows * sizeof(float), "gdp-sky-pq")) {}
+          temp_dir, static_cast<std::size_t>(window.width) * window.rows * sizeof(float), "gdp-sky-pq", memory_limit)) {}
 
 PqStore::PqStore(const Image& pq, const PqWindow& window) : PqStore(window, {}) {
   for (int j = 0; j < window.rows; ++j) write_row(j, pq.row(0, j));

@@ -15,13 +15,16 @@ class Scratch;
 
 namespace gdp::sky {
 
+// Scratch of gdp sky kept in memory at most (blend's rule), unless --memory says less.
+inline constexpr std::size_t kSmallScratch = std::size_t{8} << 20;
+
 // Rows of a PQ window (one float channel, window.width x window.rows), written once and read back
 // in any order by PqSampler (reproject.h), the HiPS writer and the display range: gdp sky holds
-// only the rows a target row, a HiPS tile or the solve reaches (docs/sky.md, "Memory"). Up to 8
-// MiB stay in memory (blend's scratch rule), more go to an unlinked file in `temp_dir`.
+// only the rows a target tile, a HiPS tile or the solve reaches (docs/sky.md, "Memory, bands and
+// mpirun"). Up to `memory_limit` bytes stay in memory, more go to an unlinked file in `temp_dir`.
 class PqStore {
  public:
-  PqStore(const PqWindow& window, const std::filesystem::path& temp_dir);
+  PqStore(const PqWindow& window, const std::filesystem::path& temp_dir, std::size_t memory_limit = kSmallScratch);
   ~PqStore();
   PqStore(const PqStore&) = delete;
   PqStore& operator=(const PqStore&) = delete;

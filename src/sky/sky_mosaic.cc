@@ -1,4 +1,5 @@
 // gdp sky: plates -> seamed PQ mosaic -> spherical gradient-domain stitch -> target grid with its WCS.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -140,6 +141,9 @@ std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates
   return stars;
 }
 
+// gdp sky's own scratch (PQ store, coverage) in memory up to 8 MiB, or less as --memory says (0: files).
+std::size_t scratch_limit(const SolverOptions& solver) { return std::min(sky::kSmallScratch, solver.scratch_memory); }
+
 // The solved rows on their way into the PQ store: extensions and the unknown region are no sky (blank).
 class MaskedPqWriter final : public RowWriter {
  public:
@@ -164,7 +168,7 @@ class MaskedPqWriter final : public RowWriter {
 void solve_pq(std::vector<sky::Plate>& plates, sky::PqStore& store, const SkyOptions& options, SolverOptions solver,
               const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths, SkySummary& s) {
   const sky::PqWindow& win = store.window();
-  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr, solver.temp_dir);
+  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
   const auto pq_rows = MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(rows, store); }, win.width,
                                              win.rows, 1);
   if (options.blend) {
@@ -263,7 +267,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   SkySummary s;
   s.pq_height = H;
   s.pq_window = {win.i0, win.j0, win.width, win.rows};
-  sky::PqStore pq(win, solver.temp_dir);
+  sky::PqStore pq(win, solver.temp_dir, scratch_limit(solver));
   solve_pq(plates, pq, options, solver, stars, paths, s);
   if (MpiRun::rank() != 0) return;  // rank 0 gathered the solve and writes the outputs
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
