@@ -17,7 +17,6 @@ Needs python3-numpy and python3-astropy.
 import argparse
 import json
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -26,6 +25,9 @@ import time
 import numpy as np
 from astropy.io import fits
 from astropy.wcs import WCS
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from measure_run import parse_time_v  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--gdp", required=True)
@@ -90,14 +92,14 @@ def make_plates(nx, ny, d):
 
 
 def run(cmd):
+    """Wall, CPU (user + sys) seconds and peak RSS (MiB) of cmd, by /usr/bin/time -v."""
     t = time.time()
     r = subprocess.run(["/usr/bin/time", "-v"] + cmd, capture_output=True, text=True)
     wall = time.time() - t
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{r.stderr}")
-    cpu = sum(float(m) for m in re.findall(r"(?:User|System) time \(seconds\): ([\d.]+)", r.stderr))
-    rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr).group(1)) / 1024
-    return wall, cpu, rss
+    cost = parse_time_v(r.stderr)
+    return wall, cost["user"] + cost["sys"], cost["peak_rss_kb"] / 1024
 
 
 print(f"{'plates':>7} {'PQ H':>6} {'window':>13} {'peak RSS MiB':>12} {'wall s':>7} {'CPU s':>6} {'scratch MiB':>11}")
