@@ -1,6 +1,8 @@
 // gdp sky on the command line: the output's header carries the target WCS; bad input exits 2 with one line.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -14,6 +16,7 @@
 #include "sky/header.h"
 #include "sky/plate.h"
 #include "sky_test_util.h"
+#include "test_util.h"
 
 namespace gdp {
 namespace {
@@ -65,6 +68,55 @@ TEST_F(SkyCli, ToastTilesShowThePlateWhereItIsAndNothingElsewhere) {
   EXPECT_EQ(alpha_at(300.0, 30.0), 0.0f) << "the antipode";
   EXPECT_EQ(alpha_at(120.0, 10.0), 0.0f) << "40 degrees north of the plate";
   EXPECT_TRUE(std::filesystem::exists(path("toast/toast.wtml")));
+}
+
+// The same pixels within `tolerance`, blank (NaN) at the same places; the count of finite ones.
+long long expect_same_sky(const Image& a, const Image& b, double tolerance, const std::string& what) {
+  EXPECT_EQ(a.data.size(), b.data.size()) << what;
+  long long finite = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.data.size() && k < b.data.size(); ++k) {
+    EXPECT_EQ(std::isnan(a.data[k]), std::isnan(b.data[k])) << what << " at " << k;
+    if (std::isnan(a.data[k]) || std::isnan(b.data[k])) continue;
+    worst = std::max(worst, std::abs(double(a.data[k]) - b.data[k]));
+    ++finite;
+  }
+  EXPECT_LT(worst, tolerance) << what;
+  std::printf("%s: worst difference %.2e over %lld pixels\n", what.c_str(), worst, finite);
+  return finite;
+}
+
+// --bands 2 and mpirun -np 2 (every rank builds the mosaic rows and solves its columns, rank 0
+// gathers the PQ rows and writes the output) give the one-band result within 1e-4 (the values
+// span 1..2), on the plates' PQ window (planar) and on the whole PQ sphere (--toast: its folds).
+TEST_F(SkyCli, BandsAndMpirunGiveTheOneBandResult) {
+  plate("a.fits", 120.0, -30.0);
+  plate("b.fits", 129.0, -30.0);
+  plate("c.fits", 124.0, -22.0);
+  const std::string run = "sky " + path("a.fits") + " " + path("b.fits") + " " + path("c.fits") +
+                          " --center 125,-27 --size 50,40 --scale 0.5 --vcycles 4 --quiet";
+  const auto solve = [&](const std::string& prefix, const std::string& name, const std::string& more) {
+    const std::string cmd = prefix + GDP_CLI_PATH + " " + run + " -o " + path(name) + more;
+    const test::CliRun r = run_capturing_stderr(cmd);
+    EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+    return read_image(path(name)).image;
+  };
+  const bool mpi = test::mpirun_works();
+  const std::string mpirun = test::kMpirun + " -np 2 ";
+  for (const bool sphere : {false, true}) {
+    // The whole sphere at the smallest TOAST height (1 s a run; mpirun runs several V-cycles of 2 ranks).
+    const std::string toast = sphere ? " --toast " + path("toast") + " --pq-height 128" : "";
+    const std::string kind = sphere ? "sphere" : "window";
+    const auto fresh = [&](const std::string& name) {
+      std::filesystem::remove_all(path("toast"));
+      return name + "-" + kind + ".fits";
+    };
+    const Image one = solve("", fresh("one"), toast);
+    EXPECT_GT(expect_same_sky(one, solve("", fresh("bands"), toast + " --bands 2"), 1e-4, kind + ": --bands 2"), 1000);
+    if (mpi) expect_same_sky(one, solve(mpirun, fresh("mpi"), toast), 1e-4, kind + ": mpirun -np 2");
+    if (mpi) expect_same_sky(one, solve(mpirun, fresh("mpi-bands"), toast + " --bands 2"), 1e-4, kind + ": mpirun x bands 2");
+  }
+  if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
 }
 
 TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {

@@ -201,7 +201,8 @@ TEST_F(SkyHips, OnlyTilesWithDataAreWrittenAndTheMocIsThem) {
   const auto s = sky::write_sky_hips(pq, sky::whole_pq(H), "RA", path("hips"), {w, "cap"});
   ASSERT_EQ(s.order, 2);
   // Brute force: every tile of order 2 sampled as the writer samples (bilinear on the PQ).
-  const sky::PqSampler sampler(pq, sky::whole_pq(H));
+  const sky::PqStore store(pq, sky::whole_pq(H));
+  sky::PqSampler sampler(store);
   const sky::HipsGeometry geometry(2, w);
   std::set<long long> with_data, written;
   std::vector<sphere::Vec3> dirs;

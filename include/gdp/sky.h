@@ -66,7 +66,8 @@ struct SkySummary {
 // spherical; the mean over the covered PQ pixels is the seamed mosaic's: docs/sky.md) and
 // writes `out` on the target's grid, the WCS written into FITS headers. Pixels no plate covers
 // are NaN. `out` empty: no image and no target (then options.hips or options.toast; the frame
-// is the plates'). Throws InputError naming the file (no WCS, a WCS wcslib rejects, a plane out of
+// is the plates'). Under mpirun every rank solves its columns and rank 0 alone writes the
+// outputs (the other ranks' summaries stop before them). Throws InputError naming the file (no WCS, a WCS wcslib rejects, a plane out of
 // range, a target no plate reaches), UsageError for inconsistent options, OutputError.
 void sky_mosaic(const std::vector<std::string>& plates, const SkyOptions& options, SolverOptions solver,
                 const std::filesystem::path& out, WriteOptions write, SkySummary* summary = nullptr);

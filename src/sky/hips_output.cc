@@ -10,7 +10,6 @@
 
 #include "gdp/errors.h"
 #include "io/staged_directory.h"
-#include "schedule/parallel.h"
 #include "sky/hips_files.h"
 #include "sky/hips_geometry.h"
 #include "sky/hips_icrs.h"
@@ -18,7 +17,6 @@
 #include "sky/hips_tile_wcs.h"
 #include "sky/plate.h"
 #include "sky/reproject.h"
-#include "sky/toast_output.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -35,19 +33,23 @@ struct Coverage {
   double ra = 0.0, dec = 0.0, fov = 180.0;
 };
 
-Coverage find_coverage(const Image& pq, const PqWindow& window, const HipsGeometry& geometry) {
+Coverage find_coverage(const PqStore& pq, const HipsGeometry& geometry) {
+  const PqWindow& window = pq.window();
   std::vector<std::int64_t> tiles;
   std::vector<sphere::Vec3> dirs;
+  std::vector<float> row(window.width);
   sphere::Vec3 sum;
-  for (int j = 0; j < pq.height; ++j)
-    for (int i = 0; i < pq.width; ++i) {
-      if (!std::isfinite(pq.at(0, i, j))) continue;
+  for (int j = 0; j < window.rows; ++j) {
+    pq.read_row(j, row);
+    for (int i = 0; i < window.width; ++i) {
+      if (!std::isfinite(row[i])) continue;
       const sphere::Vec3 d = sphere::pq_pixel_direction(sphere::SquareMap::Toast, window.height, window.i0 + i, window.j0 + j);
       sum = sum + d;
       const std::int64_t t = geometry.tile_of(d);
       if (tiles.empty() || tiles.back() != t) tiles.push_back(t);
       if (i % 8 == 0 && j % 8 == 0) dirs.push_back(d);
     }
+  }
   Coverage c;
   c.tiles = geometry.with_neighbours(std::move(tiles));
   if (sphere::norm(sum) > 1e-9) {
@@ -66,19 +68,16 @@ std::string hips_frame(const std::string& longitude) {
   throw UsageError(fmt::format("gdp sky --hips: plates in RA/Dec or galactic coordinates, not {}", longitude));
 }
 
-HipsSummary write_tree(const Image& pq, const PqWindow& window, const HipsGeometry& geometry, HipsFormat& format,
-                       const HipsOptions& options, const std::string& longitude, const fs::path& root) {
-  Coverage coverage = find_coverage(pq, window, geometry);
+HipsSummary write_tree(const PqStore& pq, const HipsGeometry& geometry, HipsFormat& format, const HipsOptions& options,
+                       const std::string& longitude, const fs::path& root) {
+  Coverage coverage = find_coverage(pq, geometry);
   if (format.frame == "galactic") galactic_to_icrs(coverage.ra, coverage.dec);  // hips_initial_ra/dec are ICRS
-  const PqSampler sampler(pq, window);
+  PqSampler sampler(pq);  // holds the PQ rows of one tile at a time
   std::vector<sphere::Vec3> dirs;
-  const int w = format.width, threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, w);
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const HipsSample sample = [&](std::int64_t npix, Image& tile) {
     geometry.tile_directions(npix, dirs);
-    schedule::run_workers(threads, [&](int t) {
-      for (std::size_t k = std::size_t(w) * (w * t / threads); k < std::size_t(w) * (w * (t + 1) / threads); ++k)
-        tile.data[k] = sampler.at(dirs[k]);
-    });
+    sampler.sample(dirs, tile.data, threads);
     return std::any_of(tile.data.begin(), tile.data.end(), [](float v) { return std::isfinite(v); });
   };
   HipsAllsky allsky(std::min(3, format.order), format.width);
@@ -122,8 +121,9 @@ void check_hips_output(const fs::path& dir, const HipsOptions& options, const st
     throw UsageError(dir.string() + ": exists and is not an empty directory");
 }
 
-HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::string& longitude, const fs::path& out,
+HipsSummary write_sky_hips(const PqStore& pq, const std::string& longitude, const fs::path& out,
                            const HipsOptions& options) {
+  const PqWindow& window = pq.window();
   check_hips_output(out, options, longitude);
   HipsFormat format;
   format.frame = hips_frame(longitude);
@@ -133,8 +133,13 @@ HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::s
   std::tie(format.lo, format.hi) = display_range(pq);
   const HipsGeometry geometry(format.order, format.width);
   HipsSummary s;
-  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, window, geometry, format, options, longitude, temp); });
+  io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, geometry, format, options, longitude, temp); });
   return s;
+}
+
+HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::string& longitude, const fs::path& out,
+                           const HipsOptions& options) {
+  return write_sky_hips(PqStore(pq, window), longitude, out, options);
 }
 
 }  // namespace gdp::sky

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gdp/image.h"
+#include "sky/pq_store.h"
 #include "sky/pq_window.h"
 
 namespace gdp::sky {
@@ -25,13 +26,16 @@ struct HipsSummary {
 // the plates' longitude axis (`longitude`, "RA" or "GLON") has no HiPS frame.
 void check_hips_output(const std::filesystem::path& dir, const HipsOptions& options, const std::string& longitude);
 
-// Writes `dir` from `pq` (`window` of a TOAST PQ image of the sky, one channel, NaN where no plate
-// is), in the plates' frame (`longitude`: the WCS longitude type, "RA" or "GLON"). The deepest
+// Writes `dir` from `pq` (a window of a TOAST PQ image of the sky, one channel, NaN where no plate
+// is; read row by row, a tile's rows held at a time), in the plates' frame (`longitude`: the WCS longitude type, "RA" or "GLON"). The deepest
 // order is the coarsest whose pixels are as fine as the PQ image's (hips_geometry.h); each tile
 // pixel is the PQ image's bilinear value at its centre's direction (as gdp sky's FITS output),
 // lower orders are 2x2 means down to order 0. Only tiles with data are written. Built in a hidden
 // directory beside `dir` and renamed into place (removed on errors). Throws UsageError (frame,
 // options), OutputError.
+HipsSummary write_sky_hips(const PqStore& pq, const std::string& longitude, const std::filesystem::path& dir,
+                           const HipsOptions& options);
+// The same from an image in memory (`window.width` x `window.rows`).
 HipsSummary write_sky_hips(const Image& pq, const PqWindow& window, const std::string& longitude,
                            const std::filesystem::path& dir, const HipsOptions& options);
 

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
+#include "blend/scratch.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -36,12 +39,15 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources)
+MosaicRows::MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources,
+                       const std::filesystem::path& temp_dir, std::size_t memory_limit)
     : plates_(plates), window_(window), sources_(sources), chosen_(plates.size(), 0), counted_(window.rows, 0),
-      coverage_(static_cast<std::size_t>(window.width) * window.rows, 0) {
+      coverage_(std::make_unique<blending::Scratch>(temp_dir, static_cast<std::size_t>(window.width) * window.rows,
+                                                    "gdp-sky-coverage", memory_limit)) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
+    rows_of_.push_back(plate_rows(p, window, kExtension));
   }
   composite_ = std::make_unique<View>(*this, Kind::Value);
   labels_ = std::make_unique<View>(*this, Kind::Label);
@@ -50,12 +56,20 @@ MosaicRows::MosaicRows(const std::vector<Plate>& plates, const PqWindow& window,
 
 MosaicRows::~MosaicRows() = default;
 
+void MosaicRows::coverage_row(int j, std::span<unsigned char> out) const {
+  coverage_->read(static_cast<std::size_t>(j) * window_.width, out.data(), window_.width);
+}
+
 MosaicRows::Row& MosaicRows::fetch(int j) {
   auto it = cache_.find(j);
   if (it != cache_.end()) return it->second;
   if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
   Row& r = cache_[j];
   compute(j, r);
+  // Rows older than the cache are not asked for again: plates that end above them are done.
+  released_below_ = std::max(released_below_, j - static_cast<int>(kCachedRows) - 2);
+  for (std::size_t k = 0; k < plates_.size(); ++k)
+    if (rows_of_[k][1] < released_below_ && !plates_[k].pixels.empty()) std::vector<float>().swap(plates_[k].pixels);
   return r;
 }
 
@@ -90,6 +104,8 @@ const std::vector<float>& MosaicRows::across_row(int j) {
 }
 
 void MosaicRows::compute(int j, Row& out) {
+  if (j < released_below_)
+    throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
   const int w = window_.width;
   std::vector<sphere::Vec3> dirs(w);
   if (window_.whole()) {
@@ -106,6 +122,7 @@ void MosaicRows::compute(int j, Row& out) {
   std::vector<unsigned char> ok;
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const Plate& p = plates_[k];
+    if (j < rows_of_[k][0] || j > rows_of_[k][1]) continue;  // the plate reaches no pixel of this row
     pixels.clear();
     for (int i = 0; i < w; ++i)
       if (sphere::dot(dirs[i], p.centre) >= p.cos_reach) pixels.push_back(i);
@@ -138,8 +155,8 @@ void MosaicRows::compute(int j, Row& out) {
     out.label[i] = static_cast<float>(h.plate + 2);
     out.covered[i] = depth_inside(h.x, h.y, p.width, p.height) > 0.0;
     if (count && out.covered[i]) ++chosen_[h.plate];
-    coverage_[static_cast<std::size_t>(j) * w + i] = out.covered[i];
   }
+  if (count) coverage_->write(static_cast<std::size_t>(j) * w, out.covered.data(), w);
 }
 
 }  // namespace gdp::sky

@@ -1,16 +1,24 @@
 // PQ rows of a plate mosaic: each pixel's value from the plate it lies deepest inside (stars from one plate), and that plate's label.
 #pragma once
 
+#include <array>
+#include <filesystem>
 #include <map>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "gdp/rows.h"
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/seam_sources.h"
 #include "sky/seams.h"
+
+namespace gdp::blending {
+class Scratch;
+}
 
 namespace gdp::sky {
 
@@ -28,7 +36,12 @@ class MosaicRows {
  public:
   // Rows of `window` (its columns only); the views are window.width x window.rows. `sources`:
   // the stars the seams go around (none: each point from the plate it lies deepest inside).
-  MosaicRows(const std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr);
+  // `temp_dir`: where the coverage rows go when they exceed `memory_limit` bytes (coverage_row()). Rows are
+  // read once, in order (as the solve reads them): a plate's pixels are released (emptied) once
+  // the rows computed are past the last row it reaches (plate_rows), and a row that would need a
+  // released plate again throws std::logic_error.
+  MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr,
+             const std::filesystem::path& temp_dir = {}, std::size_t memory_limit = kSmallScratch);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
@@ -40,8 +53,9 @@ class MosaicRows {
   const PqWindow& window() const { return window_; }
   // Pixels (over all rows computed so far) each plate was chosen for.
   const std::vector<long long>& chosen() const { return chosen_; }
-  // Per window pixel (row-major), of the rows computed so far: 1 inside a plate with a value.
-  const std::vector<unsigned char>& coverage() const { return coverage_; }
+  // Row j's coverage (computed before): 1 inside a plate with a value, else 0 (an extension or no
+  // plate). Kept in scratch (a byte a pixel), since the solve writes a row long after reading it.
+  void coverage_row(int j, std::span<unsigned char> out) const;
 
   struct Row {
     std::vector<float> value, label;
@@ -57,13 +71,15 @@ class MosaicRows {
   Row& fetch(int j);
   void compute(int j, Row& out);
 
-  const std::vector<Plate>& plates_;
+  std::vector<Plate>& plates_;
   PqWindow window_;
+  std::vector<std::array<int, 2>> rows_of_;  // per plate: the first and last window row it reaches
+  int released_below_ = 0;                   // rows below this may need plates already released
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
   std::vector<long long> chosen_;
   std::vector<unsigned char> counted_;  // rows already counted in chosen_
-  std::vector<unsigned char> coverage_;
+  std::unique_ptr<blending::Scratch> coverage_;  // window.width bytes a row
   std::map<int, Row> cache_;
   std::unique_ptr<RowReader> composite_, labels_, across_;
 };

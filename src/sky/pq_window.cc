@@ -35,4 +35,31 @@ std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int heigh
   return win;
 }
 
+std::array<int, 2> plate_rows(const Plate& plate, const PqWindow& window, double extension) {
+  constexpr int kSteps = 64;
+  const double m = extension * std::max(plate.width, plate.height);
+  const double left = -m, top = -m, dx = (plate.width + 2 * m) / kSteps, dy = (plate.height + 2 * m) / kSteps;
+  std::vector<double> xy, sky(2 * (kSteps + 1) * (kSteps + 1));
+  for (int b = 0; b <= kSteps; ++b)
+    for (int a = 0; a <= kSteps; ++a) xy.insert(xy.end(), {left + a * dx, top + b * dy});
+  std::vector<unsigned char> ok((kSteps + 1) * (kSteps + 1));
+  plate.wcs->pixel_to_sky(xy, sky, ok);
+  const std::array<int, 2> every{0, window.rows - 1};
+  const int depth = toast_depth(window.height);
+  double y0 = window.height, y1 = -1.0;
+  for (std::size_t k = 0; k < ok.size(); ++k) {
+    if (!ok[k]) return every;
+    const double y = sphere::pq_from_direction(sphere::SquareMap::Toast, window.height,
+                                               direction(sky[2 * k], sky[2 * k + 1]), depth).y;
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  // A grid cell's diagonal in PQ rows (the PQ's mean pixel: sqrt(4 pi / 4H^2) radians).
+  const double cell = std::hypot(dx, dy) * plate.scale * M_PI / 180.0 / (std::sqrt(M_PI) / window.height);
+  const double margin = 1.5 * cell + 4.0;
+  const int first = static_cast<int>(std::floor(y0 - margin)) - window.j0;
+  const int last = static_cast<int>(std::ceil(y1 + margin)) - window.j0;
+  return {std::clamp(first, 0, window.rows - 1), std::clamp(last, 0, window.rows - 1)};
+}
+
 }  // namespace gdp::sky

@@ -1,6 +1,7 @@
 // The part of the PQ sphere that a set of plates covers: a rectangle solved as a planar image when it meets no fold.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -27,5 +28,10 @@ inline int toast_depth(int height) { return static_cast<int>(std::ceil(std::log2
 // right edges, or cover more than a quarter of the PQ image (no gain then): the whole sphere is
 // solved instead.
 std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int height, double extension);
+
+// The rows of `window` (first, last) that the plate with its extension may reach: from a 65 x 65
+// grid of points over the extended plate, widened by one and a half grid cells (TOAST pixels vary
+// 1.45x in size) and 4 rows, clipped to the window; every row when a point has no sky position.
+std::array<int, 2> plate_rows(const Plate& plate, const PqWindow& window, double extension);
 
 }  // namespace gdp::sky

@@ -1,4 +1,5 @@
 // gdp sky: plates -> seamed PQ mosaic -> spherical gradient-domain stitch -> target grid with its WCS.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -9,6 +10,7 @@
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
+#include "gdp/mpi_run.h"
 #include "gdp/sky.h"
 #include "sky/header.h"
 #include "sky/hips_geometry.h"
@@ -17,6 +19,7 @@
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
 #include "sky/plate_offsets.h"
+#include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
 #include "sky/seam_sources.h"
@@ -26,7 +29,7 @@
 namespace gdp {
 namespace {
 
-constexpr double kMaxPqPixels = double(1 << 30);  // 4 GiB of floats
+constexpr double kMaxPqPixels = double(1 << 30);  // about 20 GiB of scratch
 constexpr double kSkySquareDegrees = 4.0 * M_PI * (180.0 / M_PI) * (180.0 / M_PI);
 
 struct TargetGrid {
@@ -138,33 +141,54 @@ std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates
   return stars;
 }
 
-Image solve_pq(std::vector<sky::Plate>& plates, const sky::PqWindow& win, const SkyOptions& options,
-               SolverOptions solver, const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths,
-               SkySummary& s) {
-  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr);
-  Image pq(win.width, win.rows, 1);
-  ImageRowWriter pq_rows(pq);
+// gdp sky's own scratch (PQ store, coverage) in memory up to 8 MiB, or less as --memory says (0: files).
+std::size_t scratch_limit(const SolverOptions& solver) { return std::min(sky::kSmallScratch, solver.scratch_memory); }
+
+// The solved rows on their way into the PQ store: extensions and the unknown region are no sky (blank).
+class MaskedPqWriter final : public RowWriter {
+ public:
+  MaskedPqWriter(const sky::MosaicRows& rows, sky::PqStore& store)
+      : rows_(rows), store_(store), row_(store.window().width), covered_(store.window().width) {}
+  void write_row(int y, std::span<const float> row) override {
+    rows_.coverage_row(y, covered_);
+    for (std::size_t i = 0; i < row_.size(); ++i) row_[i] = covered_[i] ? row[i] : std::numeric_limits<float>::quiet_NaN();
+    store_.write_row(y, row_);
+  }
+
+ private:
+  const sky::MosaicRows& rows_;
+  sky::PqStore& store_;
+  std::vector<float> row_;
+  std::vector<unsigned char> covered_;
+};
+
+// The seamed mosaic on `win`, solved unless options.blend is off, into `store` (NaN where no
+// plate is). Under mpirun every rank solves its columns and rank 0 gathers the rows into its
+// store (the others' stay empty: they write no output).
+void solve_pq(std::vector<sky::Plate>& plates, sky::PqStore& store, const SkyOptions& options, SolverOptions solver,
+              const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths, SkySummary& s) {
+  const sky::PqWindow& win = store.window();
+  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
+  const auto pq_rows = MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(rows, store); }, win.width,
+                                             win.rows, 1);
   if (options.blend) {
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
     stitch_options.unknown = UnknownMode::Harmonic;
     stitch_options.across = &rows.across();  // seams: the mean of both plates' gradients
-    stitch(rows.composite(), rows.labels(), stitch_options, solver, pq_rows, &s.solve);
+    stitch(rows.composite(), rows.labels(), stitch_options, solver, *pq_rows, &s.solve);
   } else {
-    std::vector<float> row(pq.width);
+    std::vector<float> row(win.width);
     for (int j = 0; j < win.rows; ++j) {
       rows.composite().read_row(j, row);
-      pq_rows.write_row(j, row);
+      pq_rows->write_row(j, row);
     }
   }
-  // Extensions and the unknown region are no sky: blank.
-  for (std::size_t k = 0; k < pq.data.size(); ++k)
-    if (!rows.coverage()[k]) pq.data[k] = std::numeric_limits<float>::quiet_NaN();
+  pq_rows->commit();
   for (std::size_t k = 0; k < plates.size(); ++k)
     if (rows.chosen()[k] == 0 && options.note)
       options.note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
   s.plate_pixels = rows.chosen();
-  return pq;
 }
 
 // The HiPS's tile width and the properties' obs_description and prov_progenitor (the plates' names).
@@ -222,11 +246,12 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   // fold); TOAST output needs the whole sphere.
   const auto window = options.toast.empty() ? sky::plate_window(plates, H, sky::kExtension) : std::nullopt;
   const sky::PqWindow win = window ? *window : sky::whole_pq(H);
-  // The PQ image (or window) is held in memory for the output's resampling (docs/sky.md).
+  // The PQ image (or window) streams through scratch (about 20 bytes a pixel with the solve's, on
+  // disk when large; docs/sky.md, "Memory"): a sanity bound against absurd plate scales.
   if (double(win.width) * win.rows > kMaxPqPixels)
     throw UsageError(fmt::format("the finest plate scale ({:.3g} arcsec) needs {} x {} pixels of a PQ sphere of height "
-                                 "{}; gdp sky holds them in memory and takes at most {:.0f} Mpixels: give a smaller "
-                                 "--pq-height",
+                                 "{}; gdp sky takes at most {:.0f} Mpixels (about 20 bytes of scratch each): give a "
+                                 "smaller --pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
   // Stars first: --seams-from plates are checked before anything is fitted or noted.
   const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options);
@@ -240,10 +265,14 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   }
   sky::set_fade_levels(plates);
   SkySummary s;
-  const Image pq = solve_pq(plates, win, options, solver, stars, paths, s);
+  s.pq_height = H;
+  s.pq_window = {win.i0, win.j0, win.width, win.rows};
+  sky::PqStore pq(win, solver.temp_dir, scratch_limit(solver));
+  solve_pq(plates, pq, options, solver, stars, paths, s);
+  if (MpiRun::rank() != 0) return;  // rank 0 gathered the solve and writes the outputs
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {
-    const auto h = sky::write_sky_hips(pq, win, frame, options.hips, hips_options(paths, options));
+    const auto h = sky::write_sky_hips(pq, frame, options.hips, hips_options(paths, options));
     s.hips_order = h.order;
     s.hips_tiles = h.tiles;
     note(fmt::format("HiPS order {} ({} tiles of {} pixels there, {} in all) -> {}", h.order, h.deepest_tiles,
@@ -252,13 +281,11 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   if (target) {
     write.fits_header = grid->cards;
     ImageFileWriter writer(out, grid->width, grid->height, 1, write);
-    s.covered = sky::reproject_pq(pq, win, *target, writer);
+    s.covered = sky::reproject_pq(pq, *target, writer);
     if (s.covered == 0) throw InputError(fmt::format("{}: no plate reaches the target", grid->name));
     writer.commit();
     s.target_pixels = static_cast<long long>(grid->width) * grid->height;
   }
-  s.pq_height = H;
-  s.pq_window = {win.i0, win.j0, win.width, win.rows};
   if (summary) *summary = std::move(s);
 }
 

@@ -15,24 +15,30 @@
 
 namespace gdp::sky {
 
+// Conversions run in chunks of this many points, with scratch arrays made per call (76 bytes a
+// point): kept per plate, they grew to each plate's largest batch and stayed (docs/sky.md,
+// "Memory, bands and mpirun": 0.7 MB a plate, over half the peak heap with 48 plates).
+constexpr std::size_t kChunk = 1024;
+
 struct Wcs::Prm {
   wcsprm wcs{};
   bool initialised = false;
-  // Scratch of the conversions (wcslib needs intermediate arrays).
-  mutable std::vector<double> pix, img, phi, theta, world;
-  mutable std::vector<int> stat;
   ~Prm() {
     if (initialised) wcsfree(&wcs);
   }
-  void reserve(std::size_t n) const {
-    pix.resize(2 * n);
-    img.resize(2 * n);
-    phi.resize(n);
-    theta.resize(n);
-    world.resize(2 * n);
-    stat.resize(n);
-  }
 };
+
+namespace {
+
+// The intermediate arrays wcsp2s / wcss2p need, for up to n points.
+struct Conversion {
+  std::vector<double> pix, img, phi, theta, world;
+  std::vector<int> stat;
+  explicit Conversion(std::size_t n)
+      : pix(2 * n), img(2 * n), phi(n), theta(n), world(2 * n), stat(n) {}
+};
+
+}  // namespace
 
 namespace {
 
@@ -92,35 +98,35 @@ Wcs::Wcs(const std::string& header, int width, int height, const std::string& na
 Wcs::~Wcs() = default;
 
 void Wcs::pixel_to_sky(std::span<const double> xy, std::span<double> sky, std::span<unsigned char> ok) const {
-  const std::size_t n = ok.size();
-  if (n == 0) return;
-  Prm& p = *prm_;
-  p.reserve(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    p.pix[2 * k] = xy[2 * k] + 0.5;
-    p.pix[2 * k + 1] = height_ + 0.5 - xy[2 * k + 1];
-  }
-  const int s = wcsp2s(&p.wcs, static_cast<int>(n), 2, p.pix.data(), p.img.data(), p.phi.data(), p.theta.data(),
-                       p.world.data(), p.stat.data());
-  for (std::size_t k = 0; k < n; ++k) {
-    ok[k] = (s == 0 || s == WCSERR_BAD_PIX) && p.stat[k] == 0;
-    sky[2 * k] = p.world[2 * k];
-    sky[2 * k + 1] = p.world[2 * k + 1];
+  Conversion p(std::min(kChunk, ok.size()));
+  for (std::size_t k0 = 0; k0 < ok.size(); k0 += kChunk) {
+    const std::size_t n = std::min(kChunk, ok.size() - k0);
+    for (std::size_t k = 0; k < n; ++k) {
+      p.pix[2 * k] = xy[2 * (k0 + k)] + 0.5;
+      p.pix[2 * k + 1] = height_ + 0.5 - xy[2 * (k0 + k) + 1];
+    }
+    const int s = wcsp2s(&prm_->wcs, static_cast<int>(n), 2, p.pix.data(), p.img.data(), p.phi.data(), p.theta.data(),
+                         p.world.data(), p.stat.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      ok[k0 + k] = (s == 0 || s == WCSERR_BAD_PIX) && p.stat[k] == 0;
+      sky[2 * (k0 + k)] = p.world[2 * k];
+      sky[2 * (k0 + k) + 1] = p.world[2 * k + 1];
+    }
   }
 }
 
 void Wcs::sky_to_pixel(std::span<const double> sky, std::span<double> xy, std::span<unsigned char> ok) const {
-  const std::size_t n = ok.size();
-  if (n == 0) return;
-  Prm& p = *prm_;
-  p.reserve(n);
-  std::copy_n(sky.begin(), 2 * n, p.world.begin());
-  const int s = wcss2p(&p.wcs, static_cast<int>(n), 2, p.world.data(), p.phi.data(), p.theta.data(), p.img.data(),
-                       p.pix.data(), p.stat.data());
-  for (std::size_t k = 0; k < n; ++k) {
-    ok[k] = (s == 0 || s == WCSERR_BAD_WORLD) && p.stat[k] == 0;
-    xy[2 * k] = p.pix[2 * k] - 0.5;
-    xy[2 * k + 1] = height_ + 0.5 - p.pix[2 * k + 1];
+  Conversion p(std::min(kChunk, ok.size()));
+  for (std::size_t k0 = 0; k0 < ok.size(); k0 += kChunk) {
+    const std::size_t n = std::min(kChunk, ok.size() - k0);
+    std::copy_n(sky.begin() + 2 * k0, 2 * n, p.world.begin());
+    const int s = wcss2p(&prm_->wcs, static_cast<int>(n), 2, p.world.data(), p.phi.data(), p.theta.data(), p.img.data(),
+                         p.pix.data(), p.stat.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      ok[k0 + k] = (s == 0 || s == WCSERR_BAD_WORLD) && p.stat[k] == 0;
+      xy[2 * (k0 + k)] = p.pix[2 * k] - 0.5;
+      xy[2 * (k0 + k) + 1] = height_ + 0.5 - p.pix[2 * k + 1];
+    }
   }
 }
 

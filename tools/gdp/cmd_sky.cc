@@ -4,6 +4,7 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 #include "gdp/sky.h"
 #include "gdp/sky_projected.h"
 
@@ -68,6 +69,10 @@ class Sky final : public Command {
     add_common_options(*app, common_);
   }
 
+  // Plates on the PQ sphere: every rank builds the mosaic rows and solves its columns, rank 0
+  // gathers the PQ rows and writes the outputs (docs/sky.md, "Memory, bands and mpirun").
+  bool runs_under_mpi() const override { return true; }
+
   int run() override {
     Stats stats("sky");
     const SolverOptions solver = solver_options(common_, "sky");
@@ -89,6 +94,8 @@ class Sky final : public Command {
     stats.time("total", [&] { sky_mosaic(plates_, options_, solver, output_, write_options(common_, info), &summary); });
     if (options_.blend) stats.summary(summary.solve);
     stats.set("pq_height", std::to_string(summary.pq_height));
+    const auto& w = summary.pq_window;
+    stats.set("pq_window", fmt::format("\"{}x{}+{}+{}\"", w[2], w[3], w[0], w[1]));
     stats.set("covered_pixels", std::to_string(summary.covered));
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
@@ -105,6 +112,7 @@ class Sky final : public Command {
       throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --hips, "
                        "--no-blend, --pq-height, --plane, --seams or --seams-from");
     if (output_.empty()) throw UsageError("gdp sky --projected needs -o OUTPUT");
+    if (MpiRun::size() > 1) throw UsageError("gdp sky --projected does not run under mpirun (every rank would write -o)");
     ProjectedOptions options;
     options.header = options_.target.header;
     ProjectedSummary summary;

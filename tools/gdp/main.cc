@@ -41,7 +41,7 @@ std::string command_line_error(CLI::App& root, const std::vector<std::unique_ptr
   for (const auto& c : commands) {
     if (!c->app->parsed()) continue;
     if (!c->runs_under_mpi())
-      return "under mpirun, only stitch, sharpen, smooth, clone and blend run, not " + c->app->get_name();
+      return "under mpirun, only stitch, sharpen, smooth, clone, blend and sky run, not " + c->app->get_name();
     const CLI::Option* in_core = c->app->get_option_no_throw("--in-core");
     if (in_core && in_core->count())  // ranks solve bands (one per rank unless --bands says more)
       return "--in-core does not run under mpirun (ranks solve bands, which stream; docs/how-bands-work.md)";
