@@ -16,7 +16,7 @@
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
-#include "sky/plate_offsets.h"
+#include "sky/plate_extension.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
 #include "sky/seam_sources.h"
@@ -231,15 +231,17 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   // Stars first: --seams-from plates are checked before anything is fitted or noted.
   const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options);
   // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
+  SkySummary s;
   if (options.fit_backgrounds && options.blend) {
     const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
     sky::subtract_smooth_backgrounds(plates, b);
-    for (std::size_t k = 0; k < plates.size(); ++k)
-      note(fmt::format("{}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial {:.6g}", paths[k],
-                       b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial));
+    for (std::size_t k = 0; k < plates.size(); ++k) {
+      s.backgrounds.push_back({b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial});
+      s.background_rms.push_back(sky::smooth_rms(plates[k], b[k]));
+    }
+    note(sky::backgrounds_note(paths, s.background_rms));
   }
-  sky::set_fade_levels(plates);
-  SkySummary s;
+  sky::prepare_extensions(plates);
   const Image pq = solve_pq(plates, win, options, solver, stars, paths, s);
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {
