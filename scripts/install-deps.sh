@@ -10,6 +10,7 @@ packages=(
   libcfitsio-dev wcslib-dev              # FITS and its world coordinates (gdp sky)
   libhealpix-cxx-dev                     # HEALPix tiles of gdp sky --hips
   libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
+  libeigen3-dev                          # linear algebra, header-only (the sky background fit's sparse solve)
   libboost-graph-dev                     # Boykov-Kolmogorov max-flow for gdp blend --seams graphcut (header-only)
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
