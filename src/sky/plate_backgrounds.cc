@@ -126,7 +126,8 @@ std::array<double, 4> background_energy(const Plate& plate) {
 }
 
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
-                                             const std::vector<BackgroundEquation>& equations, double damping) {
+                                             const std::vector<BackgroundEquation>& equations, double damping,
+                                             bool robust) {
   const std::size_t count = energy.size();
   NormalEquations n(count);
   for (const BackgroundEquation& e : equations) n.add(e, 1.0);
@@ -148,7 +149,7 @@ std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double
   std::vector<double> x = n.solve(weights);
   // Stars, plate defects and other compact sources in the overlaps are outliers of the
   // differences: iteratively reweighted least squares with Huber's weights bounds their pull.
-  for (int it = 0; it < kReweightings && !equations.empty(); ++it) {
+  for (int it = 0; it < kReweightings && robust && !equations.empty(); ++it) {
     const std::vector<double> w = huber_weights(equations, x);
     if (w.empty()) break;
     NormalEquations weighted(count);
@@ -170,7 +171,7 @@ std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double
   return out;
 }
 
-std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping) {
+std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping, bool robust) {
   std::vector<BackgroundEquation> equations;
   for (std::size_t a = 0; a < plates.size(); ++a)
     for (std::size_t b = a + 1; b < plates.size(); ++b) {
@@ -181,7 +182,7 @@ std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates,
     }
   std::vector<std::array<double, 4>> energy;
   for (const Plate& p : plates) energy.push_back(background_energy(p));
-  return fit_backgrounds(energy, equations, damping);
+  return fit_backgrounds(energy, equations, damping, robust);
 }
 
 double smooth_rms(const Plate& plate, const PlateBackground& b) {

@@ -40,13 +40,14 @@ std::array<double, 4> background_energy(const Plate& plate);
 // damped; they come out with mean 0 over the plates in some equation. Robust: after the
 // least-squares fit, a few iterations reweight the equations by Huber's rule (weight 1 within
 // 1.345 robust spreads of the residuals, less beyond), so that stars and defects in the overlaps
-// do not pull the fit. Eigen's conjugate gradients on the block-sparse normal equations.
+// do not pull the fit (`robust` false: plain least squares). Eigen's conjugate gradients on the block-sparse normal equations.
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
-                                             const std::vector<BackgroundEquation>& equations, double damping);
+                                             const std::vector<BackgroundEquation>& equations, double damping,
+                                             bool robust = true);
 
 // The equations of the plates' overlaps (overlap_samples: about 64 x 64 points per plate) and
 // their fit. Uses the plates' WCS (not thread-safe).
-std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping);
+std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping, bool robust = true);
 
 // The rms over the plate of the background's smooth terms (plane and radial; not the offset).
 double smooth_rms(const Plate& plate, const PlateBackground& background);
