@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "sky/plate_offsets.h"
-#include "sky/seam_sources.h"
 #include "sky/seams.h"
 
 namespace gdp::sky {
@@ -49,7 +48,7 @@ float correction_at(const Plate& p, double x, double y) {
 
 }  // namespace
 
-std::vector<float> edge_corrections(const Plate& plate) {
+std::vector<float> edge_corrections(const Plate& plate, const std::vector<PlateSource>& sources) {
   const int w = plate.width, h = plate.height;
   if (w < 2 || h < 2) return {};
   const int n = ring_length(w, h);
@@ -64,7 +63,7 @@ std::vector<float> edge_corrections(const Plate& plate) {
   std::vector<float> correction(n, 0.0f);
   std::vector<char> source(n, 0);
   bool any = false;
-  for (const PlateSource& c : plate_sources(plate)) {
+  for (const PlateSource& c : sources) {
     const double reach = c.radius + kWiden;
     if (depth_inside(c.x + 0.5, c.y + 0.5, w, h) > reach) continue;
     for (int k = 0; k < n; ++k) {
@@ -87,9 +86,9 @@ std::vector<float> edge_corrections(const Plate& plate) {
   return correction;
 }
 
-void prepare_extensions(std::vector<Plate>& plates) {
+void prepare_extensions(std::vector<Plate>& plates, const std::vector<std::vector<PlateSource>>& sources) {
   set_fade_levels(plates);
-  for (Plate& p : plates) p.edge_correction = edge_corrections(p);
+  for (std::size_t k = 0; k < plates.size(); ++k) plates[k].edge_correction = edge_corrections(plates[k], sources[k]);
 }
 
 float Plate::extended(double x, double y, double margin) const {

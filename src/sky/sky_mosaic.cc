@@ -127,13 +127,18 @@ std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const
 }
 
 // The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
-// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates.
+// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates;
+// `sources`: each plate's compact sources, found in the same plates (their extensions bridge over
+// those the plate's edge cuts, plate_extension.h: the same in every band with --seams-from).
 std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates,
-                                           const std::vector<std::string>& paths, const SkyOptions& options) {
+                                           const std::vector<std::string>& paths, const SkyOptions& options,
+                                           std::vector<std::vector<sky::PlateSource>>& sources) {
   std::optional<sky::SeamSources> stars;
+  const std::vector<sky::Plate> other = options.seam_plates.empty() ? std::vector<sky::Plate>{} : seam_plates(plates, paths, options);
+  const std::vector<sky::Plate>& finders = other.empty() ? plates : other;
+  for (const sky::Plate& p : finders) sources.push_back(sky::plate_sources(p));
   if (!options.star_seams) return stars;
-  if (options.seam_plates.empty()) stars.emplace(plates);
-  else stars.emplace(seam_plates(plates, paths, options));
+  stars.emplace(finders);
   if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
   return stars;
 }
@@ -229,7 +234,8 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
                                  "--pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
   // Stars first: --seams-from plates are checked before anything is fitted or noted.
-  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options);
+  std::vector<std::vector<sky::PlateSource>> sources;
+  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options, sources);
   // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
   SkySummary s;
   if (options.fit_backgrounds && options.blend) {
@@ -241,7 +247,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
     }
     note(sky::backgrounds_note(paths, s.background_rms));
   }
-  sky::prepare_extensions(plates);
+  sky::prepare_extensions(plates, sources);
   const Image pq = solve_pq(plates, win, options, solver, stars, paths, s);
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {
