@@ -19,7 +19,9 @@ namespace {
 
 constexpr int kTerms = 4;
 constexpr int kReweightings = 6;  // Huber iterations after the plain least-squares fit
-constexpr double kHuber = 1.345;  // Huber's constant, in units of the residuals' robust spread
+// Huber's limit in robust spreads of the residuals: 3, not the usual 1.345, which also trims the
+// model's own misfit (12-plate bench: bg rms 0.0057 with 1.345, 0.0054 with 3, least squares 0.0053).
+constexpr double kHuber = 3.0;
 using Block = std::array<double, kTerms * kTerms>;
 
 // The normal equations N x = rhs of weighted equations, x = the plates' coefficients one after

@@ -39,7 +39,7 @@ std::array<double, 4> background_energy(const Plate& plate);
 // backgrounds have the least energy, so the common part is left where it was. Offsets are not
 // damped; they come out with mean 0 over the plates in some equation. Robust: after the
 // least-squares fit, a few iterations reweight the equations by Huber's rule (weight 1 within
-// 1.345 robust spreads of the residuals, less beyond), so that stars and defects in the overlaps
+// 3 robust spreads of the residuals, less beyond), so that stars and defects in the overlaps
 // do not pull the fit (`robust` false: plain least squares). Eigen's conjugate gradients on the block-sparse normal equations.
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
                                              const std::vector<BackgroundEquation>& equations, double damping,
