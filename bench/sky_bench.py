@@ -182,7 +182,7 @@ def pipelines(raw, base):
             run(cmd, montage_log)
         run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
     else:
-        r = run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
+        r = run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4", "--verbose",
                  *shlex.split(args.gdp_args)], gdp_log)
         fitted.setdefault(raw, r.stderr)
         run([args.gdp, "sky", *plates, "--header", hdr, "-o", m("seamed.fits"), "--no-blend", "--quiet"], seamed_log)
@@ -209,21 +209,6 @@ else:
     run([args.gdp, "sky", *sorted(glob.glob(m("raw_truth", "*.fits"))), "--header", hdr, "-o", m("floor.fits"),
          "--no-blend", "--quiet"], [])
     names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend", "floor": "sky alone, gdp --no-blend"}
-# gdp's fitted backgrounds (--fit-backgrounds) against the true ones, on each plate's pixels, each
-# model's mean over the plate removed: what the fit got wrong, plate by plate (a part common to
-# all plates is what overlaps cannot see).
-notes = re.findall(r"plate(\d+)\.fits: background fitted: offset \S+, slope u (\S+), slope v (\S+), radial (\S+)",
-                   fitted.get(m("raw"), ""))
-if notes:
-    yy, xx = np.mgrid[0:n, 0:n]
-    u, v = (xx - n / 2) / n, (yy - n / 2) / n
-    ug, vg = u + 0.5 / n, -v - 0.5 / n  # gdp's pixel coordinates: rows top down, pixel centres at +0.5
-    print("plate  true: plane u, v, radial   fitted (same axes): plane u, v, radial   rms(fitted - true)")
-    for k, su, sv, rad in notes:
-        a, b, c, d = true_backgrounds[int(k)]
-        su, sv, rad = float(su), float(sv), float(rad)
-        diff = (su * ug + sv * vg + rad * (ug * ug + vg * vg)) - (b * u + c * v + d * (u * u + v * v))
-        print(f"  {int(k):3d}  {b:+.4f} {c:+.4f} {d:+.4f}   {su:+.4f} {-sv:+.4f} {rad:+.4f}   {np.std(diff):.4f}")
 if args.stars:
     os.makedirs(m("stars"), exist_ok=True)
     pipelines(m("raw_stars"), m("stars"))
@@ -234,6 +219,36 @@ if args.stars:
         for name, extra in (("gdp", ["--tolerance", "1e-4"]), ("seamed", ["--no-blend"])):
             run([args.gdp, "sky", *sorted(glob.glob(m("raw", "*.fits"))), "--header", hdr, "-o", m("stars", name + "_ref.fits"),
                  *extra, "--quiet", "--seams-from", *star_plates], [])
+
+
+# gdp's fitted backgrounds against the true ones, on each plate's pixels, each model's mean over
+# the plate removed: what the fit got wrong, plate by plate (a part common to all plates is what
+# overlaps cannot see); with --stars also the fit on the plates with stars (the robust fit's test:
+# stars in the overlaps should not move it).
+def fit_errors(raw):
+    notes = re.findall(r"plate(\d+)\.fits: background fitted: offset \S+, slope u (\S+), slope v (\S+), radial (\S+)",
+                       fitted.get(raw, ""))
+    yy, xx = np.mgrid[0:n, 0:n]
+    u, v = (xx - n / 2) / n, (yy - n / 2) / n
+    ug, vg = u + 0.5 / n, -v - 0.5 / n  # gdp's pixel coordinates: rows top down, pixel centres at +0.5
+    rows = {}
+    for k, su, sv, rad in notes:
+        a, b, c, d = true_backgrounds[int(k)]
+        su, sv, rad = float(su), float(sv), float(rad)
+        diff = (su * ug + sv * vg + rad * (ug * ug + vg * vg)) - (b * u + c * v + d * (u * u + v * v))
+        rows[int(k)] = ((b, c, d), (su, -sv, rad), np.std(diff))
+    return rows
+
+
+errors, star_errors = fit_errors(m("raw")), fit_errors(m("raw_stars"))
+if errors:
+    print("plate  true: plane u, v, radial   fitted (same axes): plane u, v, radial   rms(fitted - true)" +
+          ("   with stars" if star_errors else ""))
+    for k, (t, f, e) in sorted(errors.items()):
+        extra = f"   {star_errors[k][2]:.4f}" if k in star_errors else ""
+        print(f"  {k:3d}  {t[0]:+.4f} {t[1]:+.4f} {t[2]:+.4f}   {f[0]:+.4f} {f[1]:+.4f} {f[2]:+.4f}   {e:.4f}{extra}")
+    print(f"  mean rms(fitted - true): {np.mean([e[2] for e in errors.values()]):.4f}" +
+          (f", with stars {np.mean([e[2] for e in star_errors.values()]):.4f}" if star_errors else ""))
 
 
 def median3(a):

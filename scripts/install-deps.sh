@@ -11,7 +11,7 @@ packages=(
   libhealpix-cxx-dev                     # HEALPix tiles of gdp sky --hips
   libopenimageio-dev openimageio-tools   # other formats (HDR, WebP, ...) in the loadable module; oiiotool
   libboost-graph-dev                     # Boykov-Kolmogorov max-flow for gdp blend --seams graphcut (header-only)
-  libeigen3-dev                          # linear algebra of the photometric and sky-level fits (header-only)
+  libeigen3-dev                          # linear algebra of the photometric and sky fits (header-only)
   libcli11-dev libfmt-dev                # command line parsing, formatting
   libgtest-dev libbenchmark-dev          # tests and benchmarks
   libopenmpi-dev openmpi-bin             # distributed band solver (mpirun; issue 4)

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <fmt/format.h>
 #include <string>
@@ -117,6 +118,32 @@ TEST_F(SkyCli, BandsAndMpirunGiveTheOneBandResult) {
     if (mpi) expect_same_sky(one, solve(mpirun, fresh("mpi-bands"), toast + " --bands 2"), 1e-4, kind + ": mpirun x bands 2");
   }
   if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
+}
+
+TEST_F(SkyCli, TheBackgroundFitIsOneNoteAndEachPlateWithVerboseAndInStats) {
+  plate("a.fits", 120.0, -30.0);
+  plate("b.fits", 128.0, -30.0);
+  plate("c.fits", 124.0, -23.0);
+  const std::string plates = path("a.fits") + " " + path("b.fits") + " " + path("c.fits");
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  const std::string args = " --center 124,-27 --size 40,30 --scale 0.5 -o " + path("out.fits");
+  const test::CliRun plain = gdp("sky " + plates + args);
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(count(plain.err, "smooth backgrounds (plane + radial) fitted to the overlaps and taken off 3 plate(s)"), 1u)
+      << plain.err;
+  EXPECT_EQ(count(plain.err, "background fitted:"), 0u) << plain.err;
+  const test::CliRun verbose = gdp("sky " + plates + args + " --verbose --stats " + path("s.json"));
+  ASSERT_EQ(verbose.code, 0) << verbose.err;
+  EXPECT_EQ(count(verbose.err, "background fitted:"), 3u) << verbose.err;
+  std::ifstream in(path("s.json"));
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(count(json, "\"plate_backgrounds\": ["), 1u) << json;
+  EXPECT_EQ(count(json, "\"smooth_rms\": "), 3u) << json;
+  EXPECT_EQ(count(json, "\"plate\": \"" + path("b.fits") + "\""), 1u) << json;
 }
 
 TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -256,8 +257,22 @@ TEST_F(SkyHips, OnlyTilesWithDataAreWrittenAndTheMocIsThem) {
   }
   for (const char* k : {"creator_did", "obs_title", "dataproduct_type", "hips_version", "hips_release_date", "hips_status",
                         "hips_tile_format", "hips_order", "hips_frame", "hips_tile_width",
-                        "hips_pixel_bitpix", "hips_initial_ra", "hips_initial_dec", "hips_initial_fov"})
+                        "hips_pixel_bitpix", "data_pixel_bitpix", "hips_pixel_cut", "hips_data_range",
+                        "hips_initial_ra", "hips_initial_dec", "hips_initial_fov", "moc_sky_fraction"})
     EXPECT_TRUE(props.count(k)) << k;
+  // The data range is the PQ image's finite extremes, around the display cut.
+  float lo = INFINITY, hi = -INFINITY;
+  for (const float v : pq.data)
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  double range[2] = {0, 0}, cut[2] = {0, 0};
+  std::istringstream(props["hips_data_range"]) >> range[0] >> range[1];
+  std::istringstream(props["hips_pixel_cut"]) >> cut[0] >> cut[1];
+  EXPECT_NEAR(range[0], lo, 1e-6);
+  EXPECT_NEAR(range[1], hi, 1e-6);
+  EXPECT_LE(range[0], cut[0]);
+  EXPECT_LT(cut[0], cut[1]);
+  EXPECT_LE(cut[1], range[1]);
+  EXPECT_EQ(props["data_pixel_bitpix"], "-32");
   EXPECT_FALSE(props.count("hips_order_min")) << "not a HiPS 1.0 keyword (Aladin's LINT: unreferenced); orders start at 0";
   EXPECT_EQ(props["hips_order"], "2");
   EXPECT_EQ(props["hips_frame"], "equatorial");

@@ -58,6 +58,10 @@ struct SkySummary {
   long long covered = 0, target_pixels = 0;  // target pixels with a value, of all
   int hips_order = -1;                       // with `hips`: the deepest tile order and the tiles written
   long long hips_tiles = 0;
+  // Per plate, the fitted background taken off (fit_backgrounds): offset, slope u, slope v, radial
+  // (sky/plate_backgrounds.h), and its smooth terms' rms over the plate; empty when not fitted.
+  std::vector<std::array<double, 4>> backgrounds;
+  std::vector<double> background_rms;
   SolveSummary solve;
 };
 

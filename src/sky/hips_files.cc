@@ -101,7 +101,9 @@ void write_hips_properties(const fs::path& file, const HipsFormat& f, const Hips
       << "hips_tile_width      = " << f.width << "\n"
       << "hips_tile_format     = png fits\n"
       << "hips_pixel_bitpix    = -32\n"
+      << "data_pixel_bitpix    = -32\n"  // gdp reads every plate as floats (physical values after BSCALE/BZERO)
       << fmt::format("hips_pixel_cut       = {:.9g} {:.9g}\n", f.lo, f.hi)
+      << fmt::format("hips_data_range      = {:.9g} {:.9g}\n", f.min, f.max)
       << fmt::format("hips_pixel_scale     = {:.9g}\n", 180.0 / M_PI * std::sqrt(M_PI / 3.0) / f.width / std::ldexp(1.0, f.order))
       << "hips_sampling        = bilinear\n"
       << fmt::format("hips_initial_ra      = {:.9g}\n", p.ra)

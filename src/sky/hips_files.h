@@ -15,6 +15,7 @@ struct HipsFormat {
   int order = 0, min_order = 0, width = 512;
   std::string frame = "equatorial";  // hips_frame: equatorial, galactic, ecliptic
   float lo = 0.0f, hi = 1.0f;        // PNG: grey = (value - lo) / (hi - lo), clamped; alpha = data
+  float min = 0.0f, max = 1.0f;      // hips_data_range: the data's finite extremes
 };
 
 // "Norder{order}/Dir{D}/Npix{npix}" (D = npix / 10000 * 10000), without the extension.

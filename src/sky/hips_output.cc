@@ -131,6 +131,10 @@ HipsSummary write_sky_hips(const PqStore& pq, const std::string& longitude, cons
   const int shift = static_cast<int>(std::lround(std::log2(format.width)));
   format.order = std::max(0, hips_pixel_order(window.height) - shift);
   std::tie(format.lo, format.hi) = display_range(pq);
+  format.min = format.lo;
+  format.max = format.hi;
+  for (const float v : pq.data)
+    if (std::isfinite(v)) format.min = std::min(format.min, v), format.max = std::max(format.max, v);
   const HipsGeometry geometry(format.order, format.width);
   HipsSummary s;
   io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, geometry, format, options, longitude, temp); });

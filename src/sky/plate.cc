@@ -34,15 +34,6 @@ bool Plate::has_value(double x, double y) const {
   return std::isfinite(bilinear_clamped(pixels.data(), width, height, x, y));
 }
 
-float Plate::extended(double x, double y, double margin) const {
-  const float edge = sample(x, y);
-  const double outside = -std::min({x, width - x, y, height - y});
-  if (outside <= 0.0 || !std::isfinite(edge)) return edge;
-  const double t = std::min(1.0, outside / (0.8 * margin));
-  const double s = t * t * (3.0 - 2.0 * t);
-  return static_cast<float>(edge * (1.0 - s) + fade_to * s);
-}
-
 std::vector<std::array<double, 2>> border_points(double left, double top, double right, double bottom, int steps) {
   std::vector<std::array<double, 2>> points;
   for (int k = 0; k <= steps; ++k) {

@@ -26,10 +26,13 @@ struct Plate {
   double scale = 0.0;         // degrees per pixel at the centre (the finer axis)
   double mean = 0.0;          // of the finite pixels
   double fade_to = 0.0;       // where its extension ends (load_plate: the mean; set_fade_levels)
+  std::vector<float> edge_correction;  // per border pixel, added where its extension starts (plate_extension.h)
 
-  // The plate's value at (x, y), also beyond its edges: inside, sample(); within `margin`
-  // pixels outside, the nearest edge value fading smoothly to `fade_to` (reached at 0.8
-  // margin): an extension whose far boundary is one constant (docs/sky.md).
+  // The plate's value at (x, y), also beyond its edges (plate_extension.cc): inside, sample();
+  // within `margin` pixels outside, the nearest edge value plus edge_correction there (compact
+  // sources cut by the edge bridged over, so that they are not drawn out along the extension)
+  // fading smoothly to `fade_to` (reached at 0.8 margin): an extension whose far boundary is one
+  // constant (docs/sky.md).
   float extended(double x, double y, double margin) const;
 
   // Value at gdp pixel coordinates (x, y): Catmull-Rom cubic where the 4 x 4 pixel centres

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "sky/plate.h"
@@ -36,14 +37,24 @@ std::array<double, 4> background_energy(const Plate& plate);
 // do not see a background common to all plates (a constant, a plane and a bowl over the whole
 // mosaic fit every plate's model): the damping picks, among the fits, the one whose smooth
 // backgrounds have the least energy, so the common part is left where it was. Offsets are not
-// damped; they come out with mean 0 over the plates in some equation. Conjugate gradients
-// (diagonal preconditioner) on the block-sparse normal equations.
+// damped; they come out with mean 0 over the plates in some equation. Robust: after the
+// least-squares fit, a few iterations reweight the equations by Huber's rule (weight 1 within
+// 3 robust spreads of the residuals, less beyond), so that stars and defects in the overlaps
+// do not pull the fit (`robust` false: plain least squares). Eigen's conjugate gradients on the block-sparse normal equations.
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
-                                             const std::vector<BackgroundEquation>& equations, double damping);
+                                             const std::vector<BackgroundEquation>& equations, double damping,
+                                             bool robust = true);
 
 // The equations of the plates' overlaps (overlap_samples: about 64 x 64 points per plate) and
 // their fit. Uses the plates' WCS (not thread-safe).
-std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping);
+std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping, bool robust = true);
+
+// The rms over the plate of the background's smooth terms (plane and radial; not the offset).
+double smooth_rms(const Plate& plate, const PlateBackground& background);
+
+// One line for the user: how many plates' backgrounds were fitted, the median of their smooth
+// terms' rms and the largest three, with the plates' file names.
+std::string backgrounds_note(const std::vector<std::string>& paths, const std::vector<double>& rms);
 
 // Subtracts each plate's smooth terms (not its offset: the solve removes constants exactly) from
 // its pixels, and from its mean.

@@ -18,6 +18,7 @@
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
+#include "sky/plate_extension.h"
 #include "sky/plate_offsets.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
@@ -130,13 +131,18 @@ std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const
 }
 
 // The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
-// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates.
+// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates;
+// `sources`: each plate's compact sources, found in the same plates (their extensions bridge over
+// those the plate's edge cuts, plate_extension.h: the same in every band with --seams-from).
 std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates,
-                                           const std::vector<std::string>& paths, const SkyOptions& options) {
+                                           const std::vector<std::string>& paths, const SkyOptions& options,
+                                           std::vector<std::vector<sky::PlateSource>>& sources) {
   std::optional<sky::SeamSources> stars;
+  const std::vector<sky::Plate> other = options.seam_plates.empty() ? std::vector<sky::Plate>{} : seam_plates(plates, paths, options);
+  const std::vector<sky::Plate>& finders = other.empty() ? plates : other;
+  for (const sky::Plate& p : finders) sources.push_back(sky::plate_sources(p));
   if (!options.star_seams) return stars;
-  if (options.seam_plates.empty()) stars.emplace(plates);
-  else stars.emplace(seam_plates(plates, paths, options));
+  stars.emplace(finders);
   if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
   return stars;
 }
@@ -254,17 +260,20 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
                                  "smaller --pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
   // Stars first: --seams-from plates are checked before anything is fitted or noted.
-  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options);
+  std::vector<std::vector<sky::PlateSource>> sources;
+  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options, sources);
   // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
+  SkySummary s;
   if (options.fit_backgrounds && options.blend) {
     const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
     sky::subtract_smooth_backgrounds(plates, b);
-    for (std::size_t k = 0; k < plates.size(); ++k)
-      note(fmt::format("{}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial {:.6g}", paths[k],
-                       b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial));
+    for (std::size_t k = 0; k < plates.size(); ++k) {
+      s.backgrounds.push_back({b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial});
+      s.background_rms.push_back(sky::smooth_rms(plates[k], b[k]));
+    }
+    note(sky::backgrounds_note(paths, s.background_rms));
   }
-  sky::set_fade_levels(plates);
-  SkySummary s;
+  sky::prepare_extensions(plates, sources);
   s.pq_height = H;
   s.pq_window = {win.i0, win.j0, win.width, win.rows};
   sky::PqStore pq(win, solver.temp_dir, scratch_limit(solver));

@@ -27,6 +27,17 @@ std::pair<T, T> pair_of(const std::string& text, const char* option) {
   }
 }
 
+// A JSON string's contents: quotes, backslashes and control characters escaped.
+std::string json_escaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", static_cast<int>(c));
+    else out += c;
+  }
+  return out;
+}
+
 class Sky final : public Command {
  public:
   explicit Sky(CLI::App& root) {
@@ -97,6 +108,7 @@ class Sky final : public Command {
     const auto& w = summary.pq_window;
     stats.set("pq_window", fmt::format("\"{}x{}+{}+{}\"", w[2], w[3], w[0], w[1]));
     stats.set("covered_pixels", std::to_string(summary.covered));
+    report_backgrounds(summary, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
                                 plates_.size(), summary.pq_height, summary.covered, summary.target_pixels, output_));
@@ -126,6 +138,23 @@ class Sky final : public Command {
                               inputs.size(), summary.width, summary.height, summary.covered, output_));
     stats.write(common_.stats_path);
     return 0;
+  }
+
+  // The fitted backgrounds plate by plate: a note each with --verbose, and in --stats.
+  void report_backgrounds(const SkySummary& summary, Stats& stats) const {
+    if (summary.backgrounds.empty()) return;
+    std::string json = "[";
+    for (std::size_t k = 0; k < summary.backgrounds.size(); ++k) {
+      const auto& b = summary.backgrounds[k];
+      if (common_.verbose)
+        note(common_, fmt::format("gdp sky: {}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial "
+                                  "{:.6g}",
+                                  plates_[k], b[0], b[1], b[2], b[3]));
+      json += fmt::format("{}\n    {{\"plate\": \"{}\", \"offset\": {:.9g}, \"slope_u\": {:.9g}, \"slope_v\": {:.9g}, "
+                          "\"radial\": {:.9g}, \"smooth_rms\": {:.9g}}}",
+                          k ? "," : "", json_escaped(plates_[k]), b[0], b[1], b[2], b[3], summary.background_rms[k]);
+    }
+    stats.set("plate_backgrounds", json + "\n  ]");
   }
 
   bool projected_ = false;
