@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -133,8 +134,12 @@ HipsSummary write_sky_hips(const PqStore& pq, const std::string& longitude, cons
   std::tie(format.lo, format.hi) = display_range(pq);
   format.min = format.lo;
   format.max = format.hi;
-  for (const float v : pq.data)
-    if (std::isfinite(v)) format.min = std::min(format.min, v), format.max = std::max(format.max, v);
+  std::vector<float> row(static_cast<std::size_t>(window.width));
+  for (int j = 0; j < window.rows; ++j) {  // hips_data_range: every covered pixel, row by row
+    pq.read_row(j, row);
+    for (const float v : row)
+      if (std::isfinite(v)) format.min = std::min(format.min, v), format.max = std::max(format.max, v);
+  }
   const HipsGeometry geometry(format.order, format.width);
   HipsSummary s;
   io::write_staged_directory(out, [&](const fs::path& temp) { s = write_tree(pq, geometry, format, options, longitude, temp); });
