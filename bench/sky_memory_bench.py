@@ -8,7 +8,7 @@ Each configuration NXxNY is a grid of NX x NY overlapping TAN plates (--size pix
 degrees, 0.5 degree overlaps) around RA 90, Dec 30: a synthetic sky (smooth waves and Gaussian
 stars, so no data files are needed) plus a different smooth background per plate. 4x3 and 4x12
 have the same width and the second is four times taller: the PQ window is as wide (nearly: TOAST's
-rows are not parallels) and has more rows. gdp sky runs on each under /usr/bin/time -v with
+rows are not parallels) and has more rows. gdp sky runs on each under bench/measure_run.py with
 --stats; printed per run: plates, PQ window, peak RSS, wall, CPU (user + sys), the solver's scratch
 in memory. --memory 0 (the default here) keeps the solver's scratch in files, so what is left is
 what gdp sky itself holds; --memory '' leaves the solver's default (a quarter of physical memory).
@@ -20,14 +20,11 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 
 import numpy as np
 from astropy.io import fits
 from astropy.wcs import WCS
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from measure_run import parse_time_v  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--gdp", required=True)
@@ -91,16 +88,14 @@ def make_plates(nx, ny, d):
         f.write("END\n")
 
 
-def run(cmd):
-    """Wall, CPU (user + sys) seconds and peak RSS (MiB) of cmd, by /usr/bin/time -v."""
-    t = time.time()
-    r = subprocess.run(["/usr/bin/time", "-v"] + cmd, capture_output=True, text=True)
-    wall = time.time() - t
+def run(cmd, record):
+    """Wall, CPU (user + sys) seconds and peak RSS (MiB) of cmd, by bench/measure_run.py."""
+    measure = os.path.join(os.path.dirname(os.path.abspath(__file__)), "measure_run.py")
+    r = subprocess.run([sys.executable, measure, record, "--"] + cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{r.stderr}")
-    cost = parse_time_v(r.stderr)
-    return wall, cost["user"] + cost["sys"], cost["peak_rss_kb"] / 1024
-
+    cost = json.load(open(record))
+    return cost["wall"], cost["user"] + cost["sys"], cost["peak_rss_kb"] / 1024
 
 print(f"{'plates':>7} {'PQ H':>6} {'window':>13} {'peak RSS MiB':>12} {'wall s':>7} {'CPU s':>6} {'scratch MiB':>11}")
 for config in args.configs.split(","):
@@ -114,7 +109,7 @@ for config in args.configs.split(","):
     stats = os.path.join(d, "stats.json")
     cmd = [args.gdp, "sky", "-q", "--header", os.path.join(d, "region.hdr"), "-o", os.path.join(d, "out.fits"),
            "--stats", stats] + (["--memory", args.memory] if args.memory else []) + args.gdp_args.split() + plates
-    wall, cpu, rss = run(cmd)
+    wall, cpu, rss = run(cmd, os.path.join(d, "run.json"))
     s = json.load(open(stats))
     win = s.get("pq_window", "")
     print(f"{len(plates):>7} {s.get('pq_height', '?'):>6} {str(win):>13} {rss:>12.1f} {wall:>7.2f} {cpu:>6.2f} "
