@@ -73,15 +73,22 @@ std::vector<float> edge_corrections(const Plate& plate, const std::vector<PlateS
     }
   }
   if (!any) return correction;
-  // Across each run of source pixels, the straight line between the finite pixels that bound it.
-  for (int k = 0; k < n; ++k) {
-    if (!source[k] || !std::isfinite(ring[k])) continue;
-    int before = 1, after = 1;
-    while (before < n && (source[((k - before) % n + n) % n] || !std::isfinite(ring[((k - before) % n + n) % n]))) ++before;
-    while (after < n && (source[(k + after) % n] || !std::isfinite(ring[(k + after) % n]))) ++after;
-    if (before >= n) return std::vector<float>(n, 0.0f);  // nothing but sources: leave the edge as it is
-    const double a = ring[((k - before) % n + n) % n], b = ring[(k + after) % n];
-    correction[k] = static_cast<float>(a + (b - a) * before / (before + after) - ring[k]);
+  // Across each run of source pixels, the straight line between the finite pixels that bound it:
+  // one walk around the ring from a pixel that is neither, offsets counted from there.
+  const auto at = [n](int offset) { return offset % n; };
+  const auto bounds = [&](int k) { return !source[k] && std::isfinite(ring[k]); };
+  int start = 0;
+  while (start < n && !bounds(start)) ++start;
+  if (start == n) return correction;  // nothing but sources: leave the edge as it is
+  for (int before = 0, after = 1; after <= n; ++after) {
+    const int k = at(start + after);
+    if (!bounds(k)) continue;
+    const double a = ring[at(start + before)], b = ring[k];
+    for (int j = before + 1; j < after; ++j) {
+      const int i = at(start + j);
+      if (std::isfinite(ring[i])) correction[i] = static_cast<float>(a + (b - a) * (j - before) / (after - before) - ring[i]);
+    }
+    before = after;
   }
   return correction;
 }
