@@ -92,17 +92,13 @@ InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team) {
 // zero outside the row otherwise.
 template <class T>
 void cut(const T* row, int n, bool periodic, int origin, int length, std::vector<T>& out) {
-  const std::size_t at = out.size();
-  out.resize(at + static_cast<std::size_t>(length), T(0));
-  T* dst = out.data() + at;
-  for (int x = 0; x < length;) {  // copied in runs up to the row's end
+  for (int x = 0; x < length;) {  // appended in runs (no zero fill of what is copied)
     const int i = periodic ? fem::wrap_index(origin + x, n) : origin + x;
-    if (i < 0 || i >= n) {
-      ++x;
-      continue;
-    }
-    const int run = std::min(length - x, n - i);
-    std::copy_n(row + i, run, dst + x);
+    const int run = i < 0 ? std::min(length - x, -i) : i >= n ? length - x : std::min(length - x, n - i);
+    if (i < 0 || i >= n)
+      out.insert(out.end(), static_cast<std::size_t>(run), T(0));
+    else
+      out.insert(out.end(), row + i, row + i + run);
     x += run;
   }
 }

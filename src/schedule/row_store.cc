@@ -104,6 +104,7 @@ void RowStore<T>::append(std::span<const T> row) {
   if (reading_) throw std::logic_error("RowStore::append while reading");
   if (fd_ >= 0 && buffered_ + n > capacity_) flush();
   if (fd_ < 0 && buffered_ + n > capacity_) throw std::logic_error("RowStore: more rows than declared");
+  if (memory_.held()) memory_.prepare(buffered_ + n);
   unsigned char* out = buffer_ + buffered_;
   if (encoding_ == StoreEncoding::Half) {
     multigrid::to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
