@@ -37,90 +37,61 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
   return v.data();
 }
 
-// The five rows of row j's vertical combination, indexed by column (u[d][i]: column i of row j + d - 2, a
-// mirrored copy across a spherical fold), their y coefficients, the columns they hold [from, to), and
-// a[i], c[i] (column i) into which it goes: a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d}.
+// a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d} at columns [begin - 2, end + 2), from s.a[0]:
+// from the rows where they hold the columns, zero beyond a non-periodic level, wrapped for Wrap.
 template <class T>
-struct Rows {
+GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
+  const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
+  const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
+  const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
+  const int count = std::max(to - from, 0);
+  T *a = grow(s.a, len), *c = grow(s.c, len);
   std::array<const T*, 5> u;
   std::array<T, 5> m{}, k{};
-  bool symmetric;
-  int from, to;
-  T *a, *c;
-};
-
-// a and c at columns [lo, hi) (within [from, to)); pairs of rows added before multiplying where
-// the coefficients are symmetric (interior rows).
-template <class T>
-GDP_INLINE void combine_span(const Rows<T>& R, int lo, int hi) {
-  const std::array<const T*, 5>& u = R.u;
-  const std::array<T, 5> &m = R.m, &k = R.k;
-  T *A = R.a, *C = R.c;
-  if (R.symmetric) {
+  const std::array<T, 5> &my = op.my[j], &cy = op.cy[j];  // row tables: one lookup each, not one per row
+  const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
+  for (int d = 0; d < 5; ++d) {
+    const T* row = w.rows[d];
+    if (!row) {  // unused rows have zero coefficients: any (finite) row will do
+      u[d] = w.rows[2] + (from - w.origin[2]);
+      continue;
+    }
+    m[d] = my[d], k[d] = cy[d];
+    const fem::Mirror mirror = mirrors[d];
+    u[d] = row + (from - w.origin[d]);
+    if (mirror == fem::Mirror::None) continue;
+    // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
+    T* copy = grow(s.mirrored[d], count);
+    for (int x = from; x < to;) {
+      const Run r = mirror_run(mirror, n, x, to);
+      for (; x < r.end; ++x) copy[x - from] = row[r.base - x - w.origin[d]];
+    }
+    u[d] = copy;
+  }
+  T* A = a + (from - lo);
+  T* C = c + (from - lo);
+  if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
+    // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
 #pragma GCC ivdep
-    for (int i = lo; i < hi; ++i) {
+    for (int i = 0; i < count; ++i) {
       const T p1 = u[1][i] + u[3][i], p2 = u[0][i] + u[4][i];
       A[i] = m[2] * u[2][i] + m[1] * p1 + m[0] * p2;
       C[i] = k[2] * u[2][i] + k[1] * p1 + k[0] * p2;
     }
   } else {
 #pragma GCC ivdep
-    for (int i = lo; i < hi; ++i) {
+    for (int i = 0; i < count; ++i) {
       A[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
       C[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
     }
   }
-}
-
-// Row j's Rows for columns [begin - 2, end + 2): from the window where it holds them, zero beyond a
-// non-periodic level, wrapped for Wrap. Copies rows read mirrored; a and c are not yet formed.
-template <class T>
-GDP_INLINE Rows<T> rows_of(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
-  const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
-  const bool clip = cols.left == Edge::Wrap || !cols.periodic;
-  Rows<T> R;
-  R.from = clip ? std::max(lo, 0) : lo, R.to = std::max(clip ? std::min(lo + len, n) : lo + len, R.from);
-  R.a = grow(s.a, len) - lo, R.c = grow(s.c, len) - lo;
-  const std::array<T, 5> &my = op.my[j], &cy = op.cy[j];  // row tables: one lookup each, not one per row
-  const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
-  for (int d = 0; d < 5; ++d) {
-    const T* row = w.rows[d];
-    R.u[d] = w.rows[2] - w.origin[2];  // unused rows have zero coefficients: any (finite) row will do
-    if (!row) continue;
-    R.m[d] = my[d], R.k[d] = cy[d];
-    R.u[d] = row - w.origin[d];
-    if (mirrors[d] == fem::Mirror::None) continue;
-    // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
-    T* copy = grow(s.mirrored[d], R.to - R.from) - R.from;
-    for (int x = R.from; x < R.to;) {
-      const Run r = mirror_run(mirrors[d], n, x, R.to);
-      for (; x < r.end; ++x) copy[x] = row[r.base - x - w.origin[d]];
-    }
-    R.u[d] = copy;
+  std::fill(a, A, T(0)), std::fill(c, C, T(0));
+  std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
+  if (!wrap) return;
+  for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
+    a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
+    a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
   }
-  R.symmetric = R.m[0] == R.m[4] && R.m[1] == R.m[3] && R.k[0] == R.k[4] && R.k[1] == R.k[3];
-  return R;
-}
-
-// a and c beyond the rows' columns: zero, and the ghost samples of a whole periodic row.
-template <class T>
-GDP_INLINE void combine_ends(const Rows<T>& R, const Columns& cols) {
-  const int lo = cols.begin - 2, hi = cols.end + 2, n = cols.n;
-  std::fill(R.a + lo, R.a + R.from, T(0)), std::fill(R.c + lo, R.c + R.from, T(0));
-  std::fill(R.a + R.to, R.a + hi, T(0)), std::fill(R.c + R.to, R.c + hi, T(0));
-  if (cols.left != Edge::Wrap) return;
-  for (int g = 1; g <= 2; ++g) {  // column -g is n - g, column n - 1 + g is g - 1
-    R.a[-g] = R.a[n - g], R.c[-g] = R.c[n - g];
-    R.a[n - 1 + g] = R.a[g - 1], R.c[n - 1 + g] = R.c[g - 1];
-  }
-}
-
-// a, c at columns [begin - 2, end + 2), s.a[0] being column begin - 2.
-template <class T>
-GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
-  const Rows<T> R = rows_of(op, j, w, cols, s);
-  combine_span(R, R.from, R.to);
-  combine_ends(R, cols);
 }
 
 // q[x] = sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column g + x.
@@ -137,20 +108,19 @@ GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c
            m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
 }
 
-// q[x] = (A u)[begin + x] on columns [from, to) (default: all) from the combined rows: per-column coefficients by the level's ends,
+// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
 // the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. With
 // `b` (b[i]: column i), the interior's q is relax's t = (b - A u) inv, inv the interior's 1 / K_0.
 template <class T>
 GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
-                         const T* b = nullptr, T inv = T(0), int from = 0, int to = -1) {
+                         const T* b = nullptr, T inv = T(0)) {
   const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
   const T* c = s.c.data() + 2 - cols.begin;
   q -= cols.begin;
   const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
   const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
-  if (to < from) from = cols.begin, to = cols.end;
-  for (int i = from; i < to;) {
-    const Run r = copy_run(op.width, cols.periodic, i, to);
+  for (int i = cols.begin; i < cols.end;) {
+    const Run r = copy_run(op.width, cols.periodic, i, cols.end);
     const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
     const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
     general(op, q + i, a + i, c + i, ib - i, i - r.base);
@@ -236,69 +206,69 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
   }
 }
 
-// The recurrence over t[lo, hi) (K's terms at at + x) in the sweep's direction, blocks of four.
-template <bool Add, class T>
-GDP_INLINE void recur_four(const typename Scratch<T>::Coefficients& K, int at, int g0, const T* t, int lo, int hi,
-                           bool fwd, T* out, T& d1, T& d2) {
-  if (hi <= lo) return;
-  const int a = at + lo, top = hi - 1 - lo;
-  if (fwd)
-    recur<1, Add>(t + lo, K.k[1].data() + a, K.k[0].data() + a, K.fb.data() + a, K.fc.data() + a, hi - lo,
-                  (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
-  else
-    recur<-1, Add>(t + lo + top, K.k[3].data() + a + top, K.k[4].data() + a + top, K.bb.data() + a + top,
-                   K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
-}
-
-// On the level's interior (one constant stencil, no per-pixel diagonal) the sweep takes blocks of eight
-// samples in one pass: each block's t = (b - A u)/K0 from the vertical combination (formed two blocks
-// ahead, as before the sweep) as a vector, its in-block part the matrix M's eight columns times t
-// (M: Coefficients::block, then the responses B, C to the corrections carried in); the chain from block
-// to block is two scalar multiply-adds (the carried lanes known at compile time, so it stays in
-// registers), the outputs two vector multiply-adds off it. Blocks [lo, hi) (columns; a, c, b, out
-// indexed by column) in the sweep's direction (backward: lanes in memory order, the sweep running from
-// lane 7 down). Rounds otherwise than blocks of four; every schedule uses it alike. Blocks of sixteen
-// were faster on whole rows, slower on short tiles, and round differently (docs/multigrid.md).
+// The same recurrence on blocks of eight samples with constant coefficients (the level's interior):
+// each block's in-block part as a vector, the matrix M's eight columns times t (M: Coefficients::block,
+// then the responses B, C to the corrections carried in); the chain from block to block is two scalar
+// multiply-adds (the carried lanes known at compile time, so it stays in registers), the outputs two vector
+// multiply-adds off it. Blocks [lo, hi) of t, in the sweep's direction (backward: lanes in memory order, the
+// sweep running from lane 7 down). Changes the rounding against blocks of four; every schedule uses it alike.
+// Blocks of sixteen were faster on whole rows, slower on short tiles, and round differently
+// (docs/multigrid.md, "t in the filter loop").
 constexpr int kBlock = 8;
 template <class T> struct Lanes8;
 template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
 template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
 
-template <class V, class T>
-GDP_INLINE V load8(const T* p) {
-  V v;
-  std::memcpy(&v, p, sizeof(V));
-  return v;
-}
-
 template <bool Add, bool forward, class T>
-GDP_INLINE void relax_blocks(const LevelOperator<T>& op, const Rows<T>& R, const T* b, T inv, const T* M, int lo,
-                             int hi, T* out, T& d1, T& d2) {
+GDP_INLINE void recur_blocks(const T* t, const T* M, int lo, int hi, T* out, T& d1, T& d2) {
   using V = typename Lanes8<T>::type;
   constexpr int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
-  V H[8];
-  for (int k = 0; k < 8; ++k) H[k] = load8<V>(M + 8 * k);
-  const V B = load8<V>(M + 64), C = load8<V>(M + 72);
-  const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
-  const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
-  const T *a = R.a, *c = R.c;
+  V H[8], B, C;
+  for (int k = 0; k < 8; ++k) std::memcpy(&H[k], M + 8 * k, sizeof(V));
+  std::memcpy(&B, M + 64, sizeof(V)), std::memcpy(&C, M + 72, sizeof(V));
   for (int n = 0; n < (hi - lo) / 8; ++n) {
-    const int x = forward ? lo + 8 * n : hi - 8 * (n + 1), y = forward ? x + 16 : x - 16;
-    if (forward ? y + 8 <= hi : y >= lo) combine_span(R, y, y + 8);
-    const V q = sc * load8<V>(a + x) + s1c * (load8<V>(a + x - 1) + load8<V>(a + x + 1)) +
-                s2c * (load8<V>(a + x - 2) + load8<V>(a + x + 2)) + mc * load8<V>(c + x) +
-                m1c * (load8<V>(c + x - 1) + load8<V>(c + x + 1)) + m2c * (load8<V>(c + x - 2) + load8<V>(c + x + 2));
-    const V tv = (load8<V>(b + x) - q) * inv;
-    T t[8];
-    std::memcpy(t, &tv, sizeof(V));
-    V A = H[0] * t[0];
-    for (int k = 1; k < 8; ++k) A += H[k] * t[k];
+    const int x = forward ? lo + 8 * n : hi - 8 * (n + 1);
+    V A = H[0] * t[x];
+    for (int k = 1; k < 8; ++k) A += H[k] * t[x + k];
     const T n1 = A[last] + B[last] * d1 + C[last] * d2, n2 = A[before] + B[before] * d1 + C[before] * d2;
     V o = A + B * d1 + C * d2;
-    if constexpr (Add) o += load8<V>(out + x);
+    if constexpr (Add) {
+      V u;
+      std::memcpy(&u, out + x, sizeof(V));
+      o += u;
+    }
     std::memcpy(out + x, &o, sizeof(V));
     d1 = n1, d2 = n2;
   }
+}
+
+// The recurrence over t[0, count) (table columns g0 .., K's at `at` ..) in the sweep's direction: blocks of
+// eight on the level's interior where K has them, blocks of four (recur) before and after.
+template <bool Add, class T>
+GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>::Coefficients& K, int at, int g0,
+                          const T* t, int count, bool fwd, T* out, T& d1, T& d2) {
+  if (count <= 0) return;
+  const std::vector<T>& M = K.block[fwd ? 0 : 1];
+  int v0 = count, v1 = count;  // [v0, v1): whole blocks in the interior
+  if (!M.empty()) {
+    const int ib = std::clamp(op.interior_begin - g0, 0, count), ie = std::clamp(op.interior_end - g0, ib, count);
+    const int span = (ie - ib) / kBlock * kBlock;
+    if (span > 0) v0 = fwd ? ib : ie - span, v1 = v0 + span;
+  }
+  const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
+    if (hi <= lo) return;
+    const int a = at + lo, top = hi - 1 - lo;
+    if (fwd)
+      recur<1, Add>(t + lo, K.k[1].data() + a, K.k[0].data() + a, K.fb.data() + a, K.fc.data() + a, hi - lo,
+                    (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
+    else
+      recur<-1, Add>(t + lo + top, K.k[3].data() + a + top, K.k[4].data() + a + top, K.bb.data() + a + top,
+                     K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
+  };
+  four(fwd ? 0 : v1, fwd ? v0 : count);
+  if (v1 > v0 && fwd) recur_blocks<Add, true>(t, M.data(), v0, v1, out, d1, d2);
+  if (v1 > v0 && !fwd) recur_blocks<Add, false>(t, M.data(), v0, v1, out, d1, d2);
+  four(fwd ? v1 : 0, fwd ? count : v0);
 }
 
 // Coefficients::block of a level whose interior (one constant stencil) is eight columns or more.
@@ -400,84 +370,36 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   if (len <= 0) return;
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
-  const bool folded = !diag && op.interior_begin < op.interior_end;  // t on the interior from the filter
-  const T inv_in = folded ? K->inv[op.interior_begin] : T(0);
-  const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
-  const int swept = wrap ? std::max(len - 2, 0) : len;
-  const std::vector<T>& M = K->block[fwd ? 0 : 1];
-  // Run by run (one per periodic copy) in the sweep's order: [x0, x0 + count), table columns from g0;
-  // blocks of eight [x0 + v0, x0 + v1) on the interior (relax_blocks).
-  const auto runs = [&](auto&& f) __attribute__((always_inline)) {
-    for (int done = 0; done < len;) {
-      const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
-      const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
-      const int count = x1 - x0, g0 = cols.begin + x0 - r.base, swept_here = std::min(count, swept - x0);
-      int v0 = swept_here, v1 = swept_here;
-      if (!M.empty()) {
-        const int ib = std::clamp(op.interior_begin - g0, 0, swept_here);
-        const int ie = std::clamp(op.interior_end - g0, ib, swept_here), span = (ie - ib) / kBlock * kBlock;
-        if (span > 0) v0 = fwd ? ib : ie - span, v1 = v0 + span;
-      }
-      f(x0, count, g0, swept_here, v0, v1);
-      done += count;
-    }
-  };
-  // The vertical combination, but for what relax_blocks forms two blocks ahead (before the sweep reaches it).
-  const Rows<T> R = rows_of(op, j, w, cols, s);
-  int next = fwd ? R.from : R.to;
-  runs([&](int x0, int, int, int, int v0, int v1) __attribute__((always_inline)) {
-    const int lo = cols.begin + x0 + v0 + (fwd ? 2 * kBlock : 0), hi = cols.begin + x0 + v1 - (fwd ? 0 : 2 * kBlock);
-    if (hi <= lo) return;
-    if (fwd) combine_span(R, next, lo), next = hi;
-    else combine_span(R, hi, next), next = lo;
-  });
-  if (fwd) combine_span(R, next, R.to);
-  else combine_span(R, R.from, next);
-  combine_ends(R, cols);
+  // q = A u on the columns, already t on the interior without a diagonal term
+  const bool folded = !diag && op.interior_begin < op.interior_end;
   T* q = grow(s.q, len);
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, folded ? K->inv[op.interior_begin] : T(0));
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
-  const T* bc = b + o - cols.begin;  // bc[i]: column i
+  const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
+  const int swept = wrap ? std::max(len - 2, 0) : len;
   T d1 = T(0), d2 = T(0);
   const T* inv = nullptr;
-  runs([&](int x0, int count, int g0, int swept_here, int v0, int v1) __attribute__((always_inline)) {
+  for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
+    const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
+    const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
+    const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
     if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
     const int at = diag ? 0 : g0;  // K's column for x0
     inv = K->inv.data() + at;
     T* t = q + x0;
-    // t off the blocks, [lo, hi): the filter (on the interior: t itself without a diagonal term), then the
-    // columns by the level's ends [0, f0), [f1, count) (relative to x0)
+    // The interior's t came with q: [f0, f1) (relative to x0).
     const int f0 = folded ? std::clamp(op.interior_begin - g0, 0, count) : count;
     const int f1 = folded ? std::clamp(op.interior_end - g0, f0, count) : count;
-    const auto t_of = [&](int lo, int hi) __attribute__((always_inline)) {
-      const int from = cols.begin + x0 + lo, to = cols.begin + x0 + hi;
-      convolve(op, cols, s, q, folded ? bc : nullptr, inv_in, from, to);
-      for (const auto& [p, e] : {std::pair{lo, std::min(hi, f0)}, std::pair{std::max(lo, f1), hi}})
-        for (int x = p, i = o + x0 + p; x < e; ++x, ++i)
-          t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
-    };
-    // corrections (Wrap: kept for the last two samples, added below); t of the columns after the blocks
-    // only once relax_blocks has formed the vertical combination it reads
-    T* out = wrap ? dx + x0 : u + o + x0;
-    T* oc = out - (cols.begin + x0);  // oc[i]: column i
-    const int c = cols.begin + x0;
-    if (fwd) {
-      t_of(0, v0);
-      if (wrap) recur_four<false>(*K, at, g0, t, 0, v0, true, out, d1, d2);
-      else recur_four<true>(*K, at, g0, t, 0, v0, true, out, d1, d2);
-      if (v1 > v0 && wrap) relax_blocks<false, true>(op, R, bc, inv_in, M.data(), c + v0, c + v1, oc, d1, d2);
-      if (v1 > v0 && !wrap) relax_blocks<true, true>(op, R, bc, inv_in, M.data(), c + v0, c + v1, oc, d1, d2);
-      t_of(v1, count);
-      if (wrap) recur_four<false>(*K, at, g0, t, v1, swept_here, true, out, d1, d2);
-      else recur_four<true>(*K, at, g0, t, v1, count, true, out, d1, d2);
-    } else {
-      t_of(v1, count);
-      recur_four<true>(*K, at, g0, t, v1, count, false, out, d1, d2);
-      if (v1 > v0) relax_blocks<true, false>(op, R, bc, inv_in, M.data(), c + v0, c + v1, oc, d1, d2);
-      t_of(0, v0);
-      recur_four<true>(*K, at, g0, t, 0, v0, false, out, d1, d2);
-    }
-  });
+    for (const auto& [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
+      for (int x = lo, i = o + x0 + lo; x < hi; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
+    if (wrap)  // corrections kept for the last two samples, added below
+      recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
+    else
+      recur_run<true>(op, *K, at, g0, t, count, fwd, u + o + x0, d1, d2);
+    done += count;
+  }
   for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)
     T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
     for (int d = len - i; d <= 2; ++d) {
