@@ -66,11 +66,11 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
 
   for (int l = first_; l + 1 < levels; ++l) {
-    Plane<T>& coarse_b = b_[l - first_];
-    std::fill(coarse_b.data.begin(), coarse_b.data.end(), T(0));
-    std::fill(u_[l - first_].data.begin(), u_[l - first_].data.end(), T(0));
+    Plane<T>& coarse_b = b_[l - first_];  // zeroed by descend as its rows are reached, like U(l) for l > first
+    if (l + 2 == levels) std::fill(U(l + 1).data.begin(), U(l + 1).data.end(), T(0));  // the coarsest's guess
     double dots = 0.0;
-    const double rr = descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots);
+    const double rr =
+        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, probe != nullptr);
     if (weights && probe) probe->dots.push_back(dots);
     if (probe) probe->level_norms.push_back(std::sqrt(rr));
     if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
@@ -107,26 +107,37 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
 // relaxes row t - 2s, and row t - 2k, whose neighbours are then final, has its residual restricted
 // into the coarser level. Every relaxation sees what it sees in k whole sweeps one after the other
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
-// bits are the same; the rows being worked on stay in cache. Returns |r|^2; adds <w, u> to dots.
+// bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
+// the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
+// Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
-                                const Plane<T>* w, double& dots) {
+                                const Plane<T>* w, double& dots, bool norms) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
   double rr = 0.0;
+  const auto zero_rows = [](Plane<T>& p, int& done, int to) {
+    to = std::min(to, p.height);
+    if (to > done) std::fill(p.row(done), p.row(done) + static_cast<std::size_t>(to - done) * p.width, T(0));
+    done = std::max(done, to);
+  };
+  int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
+    zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
       if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
     const int j = t - 2 * sweeps_;
     if (j < 0) continue;
     if (w) dots += row_dot(w->row(j), u.row(j), op.width);
     residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
-    rr += row_dot(r_row_.data(), r_row_.data(), op.width);
+    if (norms) rr += row_dot(r_row_.data(), r_row_.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
+    zero_rows(coarse_b, b_zeroed, std::max(py.index[0], py.index[1]) + 1);
     restrict_rows(g.px, py, r_row_.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
                   {0, 0}, scratch_);
   }
+  zero_rows(coarse_b, b_zeroed, coarse_b.height);
   return rr;
 }
 

@@ -61,7 +61,7 @@ class InCoreVCycle {
 
  private:
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
-                 double& dots);
+                 double& dots, bool norms);
   void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
 
   const Operators<T>& ops_;
