@@ -61,7 +61,7 @@ InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hier
 template <class T>
 void InputRows<T>::read_guidance() {
   const int j = read_++;
-  std::fill(row_.counted.begin(), row_.counted.end(), 1);
+  std::fill(row_.counted.begin() + begin_, row_.counted.begin() + end_, 1);
   source_.read_row(j, row_);
   // Swapped, not copied: a source with a column window fills only its columns of them.
   if (source_.has_initial()) initial_[j % kRing].swap(row_.initial);
@@ -131,7 +131,9 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     }
     for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
   }
-  if (!source_.start_from_initial()) std::fill(u.begin(), u.end(), T(0));
+  if (!source_.start_from_initial())  // only the columns computed: other readers may fill the rest
+    for (int c = 0; c < channels_; ++c)
+      std::fill_n(u.begin() + static_cast<std::ptrdiff_t>(c) * width_ + begin_, end_ - begin_, T(0));
 }
 
 template class InputRows<float>;
