@@ -8,6 +8,7 @@
 # (--stats seconds.rhs; this branch's binary also splits its CPU into the decoding thread's and the
 # lanes'), the main thread's CPU (it reads, or decodes, and writes), the busiest other threads, the
 # whole CPU and wall; and whether the two binaries' outputs are the same bytes (cmp).
+# MAKE_COMPOSITE: the generator to use where BUILD has none.
 set -euo pipefail
 old=$(realpath "$1")
 size=${2:-8192}
@@ -16,7 +17,7 @@ build=${4:-build}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
 stitch_bench_setup input-pass "$build"
-"$here/$build/bench/make_composite" "$photo" "$size" "$size" "$work/composite.tif" "$work/labels.tif" $((size / 16))
+"${MAKE_COMPOSITE:-$here/$build/bench/make_composite}" "$photo" "$size" "$size" "$work/composite.tif" "$work/labels.tif" $((size / 16))
 stitch=(stitch -c "$work/composite.tif" -l "$work/labels.tif" --compression none -q)
 for r in $(seq 1 "$rounds"); do
   for bands in 1 2; do
