@@ -221,41 +221,53 @@ void report(const SolverOptions& opt, double fraction) {
 }
 
 // One thread of the input pass: local bands [first, last) (worker indices first * groups ..),
-// their input rows computed from the ring's decoded rows (InputRows over the ring's view).
+// their input rows made from the ring's decoded rows.
 template <class T>
 struct Lane {
   int first, last;
-  std::unique_ptr<GuidanceSource> view;
   std::unique_ptr<schedule::InputRows<T>> input;
 };
 
-// One lane per local band where the source splits (GuidanceSource::splits), each computing its
-// band's columns; else one lane for all, reading whole rows.
+// The input pass's ring and lanes: one lane per local band where the source splits
+// (GuidanceSource::splits), each computing its band's columns; else one lane for all.
 template <class T>
-std::vector<Lane<T>> make_lanes(const schedule::Problem<T>& problem, const Setup<T>& setup, const Team& team,
-                                schedule::InputRing& ring, int count) {
-  const BandLayout& layout = *setup.layout;
-  const int w = problem.hierarchy.levels[0].x.n;
+struct InputPass {
+  std::unique_ptr<schedule::InputRing> ring;
   std::vector<Lane<T>> lanes;
+};
+
+template <class T>
+InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const Setup<T>& setup,
+                             const Team& team) {
+  const BandLayout& layout = *setup.layout;
+  const int w = source.width(), count = source.splits() && !layout.folded ? team.local : 1;
+  InputPass<T> pass;
+  std::vector<InputWindow> windows;
   for (int l = 0; l < count; ++l) {
-    Lane<T> lane{l * team.local / count, (l + 1) * team.local / count, nullptr, nullptr};
-    std::vector<std::pair<int, int>> own;
-    for (int i = lane.first; i < lane.last; ++i) own.emplace_back(layout.begin(0, team.first + i), layout.end(0, team.first + i));
-    InputWindow window = input_window(layout, team.first + lane.first, team.first + lane.last - 1, w);
-    if (count == 1) window.rows = setup.input_columns;
-    lane.view = ring.view(l, {window.guidance});
-    lane.input = std::make_unique<schedule::InputRows<T>>(*lane.view, problem.hierarchy, own, window.rows);
-    lanes.push_back(std::move(lane));
+    pass.lanes.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
+    windows.push_back(input_window(layout, team.first + pass.lanes[l].first, team.first + pass.lanes[l].last - 1, w));
+    if (count == 1) windows[l].rows = setup.input_columns;
   }
-  return lanes;
+  std::vector<std::pair<int, int>> guidance;
+  for (const InputWindow& window : windows) guidance.push_back(window.guidance);
+  pass.ring = std::make_unique<schedule::InputRing>(source, guidance);
+  for (int l = 0; l < count; ++l) {
+    std::vector<std::pair<int, int>> own;
+    for (int i = team.first + pass.lanes[l].first; i < team.first + pass.lanes[l].last; ++i)
+      own.emplace_back(layout.begin(0, i), layout.end(0, i));
+    pass.lanes[l].input = std::make_unique<schedule::InputRows<T>>(
+        source, problem.hierarchy, own, windows[l].rows,
+        [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
+  }
+  return pass;
 }
 
 // A lane's thread: every input row of its bands cut into their workers' batches (columns of their
 // band with its halo, channels of their group). Returns its CPU seconds.
 template <class T>
-double feed(Lane<T>& lane, const SolverOptions& opt, const schedule::Problem<T>& problem, const BandLayout& layout,
-            const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers, const std::vector<int>& skip) {
-  const GuidanceSource& source = *lane.view;
+double feed(Lane<T>& lane, const GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
+            const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
+            const std::vector<int>& skip) {
   const int w = source.width(), h = source.height();
   const std::size_t n = static_cast<std::size_t>(source.channels()) * w;
   std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
@@ -353,9 +365,10 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
 
   // The input pass: this thread decodes every input row (then writes the results), lanes make
   // their bands' input rows from them (run_workers' workers 1 .. lanes), the others solve.
-  const int lane_count = source.splits() && !layout.folded ? team.local : 1;
-  schedule::InputRing ring(source, lane_count);
-  std::vector<Lane<T>> lanes = make_lanes(problem, setup, team, ring, lane_count);
+  InputPass<T> input = make_input_pass(source, problem, setup, team);
+  std::vector<Lane<T>>& lanes = input.lanes;
+  schedule::InputRing& ring = *input.ring;
+  const int lane_count = static_cast<int>(lanes.size());
   const auto stop_all = [&](const std::string& why) {
     try {  // workers waiting for the sums stop too
       totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
@@ -375,7 +388,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       [&](int k) {
         if (k > lane_count) return run(*workers[k - 1 - lane_count], layout, totals);
         if (k > 0) {
-          lane_cpu[k - 1] = feed(lanes[k - 1], opt, problem, layout, team, workers, skip);
+          lane_cpu[k - 1] = feed(lanes[k - 1], source, opt, problem, layout, team, workers, skip);
           return ring.finished(k - 1);
         }
         const auto t = Clock::now();

@@ -8,46 +8,24 @@
 
 namespace gdp::schedule {
 
-// Reader r's view of the source: its rows' columns computed from the ring's slots.
-class InputRing::View final : public GuidanceSource {
- public:
-  View(InputRing& ring, int reader, std::vector<Range> windows)
-      : ring_(ring), src_(ring.source_), reader_(reader), windows_(std::move(windows)) {}
-  int width() const override { return src_.width(); }
-  int height() const override { return src_.height(); }
-  int channels() const override { return src_.channels(); }
-  double alpha() const override { return src_.alpha(); }
-  bool has_weights() const override { return src_.has_weights(); }
-  bool has_initial() const override { return src_.has_initial(); }
-  bool start_from_initial() const override { return src_.start_from_initial(); }
-  void read_row(int j, GuidanceRow& out) override {
-    if (!ring_.split_) return src_.read_row(j, out);
-    ring_.wait_decoded(std::min(j + 1, height() - 1));
-    for (const auto& [begin, end] : windows_) src_.compute(j, out, begin, end);
-    ring_.release(reader_, j + 1);
-  }
-
- private:
-  InputRing& ring_;
-  GuidanceSource& src_;
-  const int reader_;
-  const std::vector<Range> windows_;
-};
-
-InputRing::InputRing(GuidanceSource& source, int readers, int slots)
-    : source_(source), split_(source.splits()), slots_(slots), height_(source.height()), released_(readers, 0) {
+InputRing::InputRing(GuidanceSource& source, std::vector<Range> windows, int slots)
+    : source_(source), split_(source.splits()), slots_(slots), height_(source.height()), windows_(std::move(windows)),
+      released_(windows_.size(), 0) {
   if (split_) source.set_slots(slots);
 }
 
-std::unique_ptr<GuidanceSource> InputRing::view(int reader, std::vector<Range> windows) {
-  return std::make_unique<View>(*this, reader, std::move(windows));
+void InputRing::read(int reader, int j, GuidanceRow& out) {
+  if (!split_) return source_.read_row(j, out);
+  wait_decoded(std::min(j + 1, height_ - 1));
+  source_.compute(j, out, windows_[reader].first, windows_[reader].second);
+  release(reader, j + 1);
 }
 
 // A thread that must wait asks for a few rows more than it needs (kBatch), so that threads are
 // woken about once every kBatch rows; whoever changes what it waits for wakes it (the *_wants_).
 void InputRing::decode_all() {
   const auto released = [&] { return *std::min_element(released_.begin(), released_.end()); };
-  for (int y = 0; split_ && y <= height_; ++y) {
+  for (int y = split_ ? 0 : height_; y <= height_; ++y) {
     std::unique_lock lock(mutex_);
     decoded_ = y;
     if (decoded_ > reader_wants_) {

@@ -26,8 +26,8 @@ InputTotals InputRows<T>::totals() const {
 
 template <class T>
 InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges,
-                        Range columns)
-    : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
+                        Range columns, Reader read)
+    : source_(source), read_row_(std::move(read)), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
       initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing), begin_(columns.first),
       end_(columns.second < 0 ? width_ : columns.second), ranges_(std::move(sum_ranges)) {
@@ -62,7 +62,8 @@ template <class T>
 void InputRows<T>::read_guidance() {
   const int j = read_++;
   std::fill(row_.counted.begin() + begin_, row_.counted.begin() + end_, 1);
-  source_.read_row(j, row_);
+  if (read_row_) read_row_(j, row_);
+  else source_.read_row(j, row_);
   // Swapped, not copied: a source with a column window fills only its columns of them.
   if (source_.has_initial()) initial_[j % kRing].swap(row_.initial);
   counted_[j % kRing].swap(row_.counted);
