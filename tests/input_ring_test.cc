@@ -92,12 +92,12 @@ Image pattern_image(int w, int h, int channels) {
   return img;
 }
 
-struct Run {
+struct Solved {
   Image out;
   SolveSummary summary;
 };
 
-Run solve_with(GuidanceSource& source, Domain domain, int bands, Precision precision) {
+Solved solve_with(GuidanceSource& source, Domain domain, int bands, Precision precision) {
   SolverOptions o;
   o.domain = domain;
   o.precision = precision;
@@ -107,7 +107,7 @@ Run solve_with(GuidanceSource& source, Domain domain, int bands, Precision preci
     o.schedule = Schedule::Bands;
     o.bands = bands;
   }
-  Run r{Image(source.width(), source.height(), source.channels()), {}};
+  Solved r{Image(source.width(), source.height(), source.channels()), {}};
   ImageRowWriter writer(r.out);
   solve(source, o, writer, &r.summary);
   return r;
@@ -134,8 +134,8 @@ TEST_P(InputRing, BandsMakeTheirColumnsWithTheSameBitsAsOneReader) {
   Patterned split(a), serial(b);
   Whole whole(serial);
   ASSERT_TRUE(split.splits());
-  const Run lanes = solve_with(split, k.domain, k.bands, k.precision);
-  const Run one = solve_with(whole, k.domain, k.bands, k.precision);
+  const Solved lanes = solve_with(split, k.domain, k.bands, k.precision);
+  const Solved one = solve_with(whole, k.domain, k.bands, k.precision);
   EXPECT_TRUE(same_bits(lanes.out, one.out));
   EXPECT_EQ(lanes.summary.relative_residuals, one.summary.relative_residuals);
   EXPECT_GT(lanes.summary.cpu_rhs_columns, 0.0);
