@@ -1,8 +1,12 @@
 // The input pass by band: rows decoded on one thread, each band's columns made on its own, the same bits as one reader.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <thread>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -11,6 +15,8 @@
 #include "gdp/errors.h"
 #include "gdp/rows.h"
 #include "gdp/solver.h"
+#include "schedule/input_ring.h"
+#include "schedule/parallel.h"
 #include "schedule_problems.h"
 #include "test_util.h"
 
@@ -149,9 +155,51 @@ INSTANTIATE_TEST_SUITE_P(Domains, InputRing,
                                            Case{Domain::Cylindrical, 240, 64, 4, Precision::Float32},
                                            Case{Domain::Spherical, 256, 64, 2, Precision::Float32}),
                          [](const ::testing::TestParamInfo<Case>& i) {
-                           return std::string(test::domain_name(i.param.domain)).substr(0, 5) + std::to_string(i.param.bands) +
-                                  "bands" + (i.param.precision == Precision::Float64 ? "double" : "float");
+                           std::string d = test::domain_name(i.param.domain);
+                           return d.substr(0, d.size() - 1) + "_" + std::to_string(i.param.bands) + "bands_" +
+                                  (i.param.precision == Precision::Float64 ? "double" : "float");
                          });
+
+// A source that records which row each slot holds: compute checks that rows j and j + 1 are in
+// their slots while it runs (its readers dawdle, so that the decoder runs ahead of them).
+class SlotCheck final : public GuidanceSource {
+ public:
+  int width() const override { return 64; }
+  int height() const override { return 300; }
+  int channels() const override { return 1; }
+  void read_row(int, GuidanceRow&) override { throw std::logic_error("read whole"); }
+  bool splits() const override { return true; }
+  void set_slots(int slots) override { held_ = std::make_unique<std::atomic<int>[]>(slots_ = slots); }
+  void decode(int y) override { held_[y % slots_] = y; }
+  void compute(int j, GuidanceRow& out, int begin, int) const override {
+    if (j % 7 == begin % 5) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    const bool held = held_[j % slots_] == j && (j + 1 == height() || held_[(j + 1) % slots_] == j + 1);
+    out.counted[begin] = held ? 1 : 0;
+  }
+
+ private:
+  int slots_ = 0;
+  std::unique_ptr<std::atomic<int>[]> held_;
+};
+
+// The ring never decodes into a slot whose row a reader may still read, and every reader sees
+// every row in order.
+TEST(InputRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
+  SlotCheck source;
+  schedule::InputRing ring(source, {{0, 10}, {10, 30}, {30, 64}});
+  std::vector<int> wrong(3, 0);
+  schedule::run_workers(4, [&](int k) {
+    if (k == 0) return ring.decode_all();
+    GuidanceRow row;
+    row.counted.assign(64, 1);
+    for (int j = 0; j < source.height(); ++j) {
+      ring.read(k - 1, j, row);
+      wrong[k - 1] += row.counted[k == 1 ? 0 : k == 2 ? 10 : 30] == 0;
+    }
+    ring.finished(k - 1);
+  });
+  EXPECT_EQ(wrong, std::vector<int>(3, 0));
+}
 
 // A row that cannot be decoded, or a band's columns that cannot be made, stops the whole run with
 // that error (not "stopped", no hang).
