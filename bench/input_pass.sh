@@ -6,7 +6,7 @@
 # binary) and BUILD's gdp in turn, --bands 1 then --bands 2, ROUNDS times, under
 # bench/thread_cpu.py (CPU seconds of each thread) with --stats. Prints per run the input pass
 # (--stats seconds.rhs; this branch's binary also splits its CPU into the decoding thread's and the
-# lanes'), the main thread's CPU (it reads, or decodes, and writes), the busiest other threads, the
+# readers'), the main thread's CPU (it reads, or decodes, and writes), the busiest other threads, the
 # whole CPU and wall; and whether the two binaries' outputs are the same bytes (cmp).
 # MAKE_COMPOSITE: the generator to use where BUILD has none.
 set -euo pipefail
@@ -37,7 +37,7 @@ python3 - "$work" "$size" "$rounds" <<'PY'
 import json, sys
 work, size, rounds = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 px = size * size
-print(f"{size}x{size} stitch; seconds.rhs = the input pass (old: time inside its serial input rows; new: decode start to the last lane done)")
+print(f"{size}x{size} stitch; seconds.rhs = the input pass (old: time inside its serial input rows; new: decode start to the last reader done)")
 for r in range(1, rounds + 1):
     for bands in (1, 2):
         for which in ("old", "new"):
@@ -46,7 +46,7 @@ for r in range(1, rounds + 1):
             split = ""
             if "rhs_decode_cpu" in s:
                 split = (f", decode thread {s['rhs_decode_cpu']:.2f} CPU-s ({1e9 * s['rhs_decode_cpu'] / px:.1f} ns/px)"
-                         f", lanes {s['rhs_columns_cpu']:.2f} CPU-s")
+                         f", readers {s['rhs_columns_cpu']:.2f} CPU-s")
             print(f"round {r} --bands {bands} {which}: rhs {s['rhs']:.2f} s{split}; main thread {t['main']:.2f} CPU-s "
                   f"({1e9 * t['main'] / px:.1f} ns/px), others " + ", ".join(f"{c:.2f}" for c in t["threads"][:4]) +
                   f"; total {t['cpu']:.2f} CPU-s, wall {t['wall']:.2f} s")

@@ -140,11 +140,11 @@ TEST_P(InputRing, BandsMakeTheirColumnsWithTheSameBitsAsOneReader) {
   Patterned split(a), serial(b);
   Whole whole(serial);
   ASSERT_TRUE(split.splits());
-  const Solved lanes = solve_with(split, k.domain, k.bands, k.precision);
+  const Solved readers = solve_with(split, k.domain, k.bands, k.precision);
   const Solved one = solve_with(whole, k.domain, k.bands, k.precision);
-  EXPECT_TRUE(same_bits(lanes.out, one.out));
-  EXPECT_EQ(lanes.summary.relative_residuals, one.summary.relative_residuals);
-  EXPECT_GT(lanes.summary.cpu_rhs_columns, 0.0);
+  EXPECT_TRUE(same_bits(readers.out, one.out));
+  EXPECT_EQ(readers.summary.relative_residuals, one.summary.relative_residuals);
+  EXPECT_GT(readers.summary.cpu_rhs_columns, 0.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Domains, InputRing,

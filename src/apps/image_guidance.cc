@@ -38,7 +38,9 @@ void ImageGuidance::compute(int j, GuidanceRow& out, int x0, int x1) const {
   const bool fold_top = out.spherical && j == 0, fold_bottom = out.spherical && j + 1 == h;
   // Per-edge flags in out.edges: right, down, up (above), and where offsets are asked, right and down.
   out.edges.resize(static_cast<std::size_t>(5) * w);
-  const auto flags = [&](int k, int n) { return std::span<unsigned char>(out.edges.data() + static_cast<std::size_t>(k) * w, n); };
+  const auto flags = [&](int k, int n) {
+    return std::span<unsigned char>(out.edges.data() + static_cast<std::size_t>(k) * w, n);
+  };
   const std::span<unsigned char> right = flags(0, w), down = flags(1, w), up = flags(2, fold_top ? w : 0);
   const std::span<unsigned char> offset_right = flags(3, w), offset_down = flags(4, w);
   std::fill(right.begin() + x0, right.begin() + x1, 1);

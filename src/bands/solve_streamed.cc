@@ -220,20 +220,20 @@ void report(const SolverOptions& opt, double fraction) {
   if (opt.progress) opt.progress(fraction);
 }
 
-// One thread of the input pass: local bands [first, last) (worker indices first * groups ..),
+// One reader of the input pass: local bands [first, last) (worker indices first * groups ..),
 // their input rows made from the ring's decoded rows.
 template <class T>
-struct Lane {
+struct Reader {
   int first, last;
   std::unique_ptr<schedule::InputRows<T>> input;
 };
 
-// The input pass's ring and lanes: one lane per local band where the source splits
-// (GuidanceSource::splits), each computing its band's columns; else one lane for all.
+// The input pass's ring and readers: one reader per local band where the source splits
+// (GuidanceSource::splits), each computing its band's columns; else one reader for all.
 template <class T>
 struct InputPass {
   std::unique_ptr<schedule::InputRing> ring;
-  std::vector<Lane<T>> lanes;
+  std::vector<Reader<T>> readers;
 };
 
 template <class T>
@@ -244,8 +244,9 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
   InputPass<T> pass;
   std::vector<InputWindow> windows;
   for (int l = 0; l < count; ++l) {
-    pass.lanes.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
-    windows.push_back(input_window(layout, team.first + pass.lanes[l].first, team.first + pass.lanes[l].last - 1, w));
+    pass.readers.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
+    const Reader<T>& r = pass.readers[l];
+    windows.push_back(input_window(layout, team.first + r.first, team.first + r.last - 1, w));
     if (count == 1) windows[l].rows = setup.input_columns;
   }
   std::vector<std::pair<int, int>> guidance;
@@ -253,29 +254,29 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
   pass.ring = std::make_unique<schedule::InputRing>(source, guidance);
   for (int l = 0; l < count; ++l) {
     std::vector<std::pair<int, int>> own;
-    for (int i = team.first + pass.lanes[l].first; i < team.first + pass.lanes[l].last; ++i)
+    for (int i = team.first + pass.readers[l].first; i < team.first + pass.readers[l].last; ++i)
       own.emplace_back(layout.begin(0, i), layout.end(0, i));
-    pass.lanes[l].input = std::make_unique<schedule::InputRows<T>>(
+    pass.readers[l].input = std::make_unique<schedule::InputRows<T>>(
         source, problem.hierarchy, own, windows[l].rows,
         [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
   }
   return pass;
 }
 
-// A lane's thread: every input row of its bands cut into their workers' batches (columns of their
+// A reader's thread: every input row of its bands cut into their workers' batches (columns of their
 // band with its halo, channels of their group). Returns its CPU seconds.
 template <class T>
-double feed(Lane<T>& lane, const GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
-            const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
+double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions& opt,
+            const schedule::Problem<T>& problem, const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
             const std::vector<int>& skip) {
   const int w = source.width(), h = source.height();
   const std::size_t n = static_cast<std::size_t>(source.channels()) * w;
   std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
   std::vector<Batch<T>> batches(workers.size());
   for (int j = 0; j < h; ++j) {
-    lane.input->next(u, b, wt, d);
+    reader.input->next(u, b, wt, d);
     const bool last = j + 1 == h;
-    for (int k = lane.first * team.groups; k < lane.last * team.groups; ++k) {
+    for (int k = reader.first * team.groups; k < reader.last * team.groups; ++k) {
       if (j < skip[k]) continue;  // resumed: the worker has this row
       Worker<T>& wk = *workers[k];
       Batch<T>& batch = batches[k];
@@ -291,7 +292,7 @@ double feed(Lane<T>& lane, const GuidanceSource& source, const SolverOptions& op
       if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
       batch = wk.worker.spent_in.take();
     }
-    if (lane.first == 0 && j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
+    if (reader.first == 0 && j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
   }
   return schedule::thread_cpu_seconds();
 }
@@ -363,12 +364,12 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, logs[i], c0, wk.n, source.width()) : 0);
     }
 
-  // The input pass: this thread decodes every input row (then writes the results), lanes make
-  // their bands' input rows from them (run_workers' workers 1 .. lanes), the others solve.
+  // The input pass: this thread decodes every input row (then writes the results), readers make
+  // their bands' input rows from them (run_workers' workers 1 .. readers), the others solve.
   InputPass<T> input = make_input_pass(source, problem, setup, team);
-  std::vector<Lane<T>>& lanes = input.lanes;
+  std::vector<Reader<T>>& readers = input.readers;
   schedule::InputRing& ring = *input.ring;
-  const int lane_count = static_cast<int>(lanes.size());
+  const int reader_count = static_cast<int>(readers.size());
   const auto stop_all = [&](const std::string& why) {
     try {  // workers waiting for the sums stop too
       totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
@@ -382,31 +383,33 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     }
   };
   double seconds_input = 0.0;
-  std::vector<double> lane_cpu(lane_count, 0.0);
+  std::vector<double> reader_cpu(reader_count, 0.0);
   schedule::run_workers(
-      1 + lane_count + static_cast<int>(workers.size()),
+      1 + reader_count + static_cast<int>(workers.size()),
       [&](int k) {
-        if (k > lane_count) return run(*workers[k - 1 - lane_count], layout, totals);
+        if (k > reader_count) return run(*workers[k - 1 - reader_count], layout, totals);
         if (k > 0) {
-          lane_cpu[k - 1] = feed(lanes[k - 1], source, opt, problem, layout, team, workers, skip);
+          reader_cpu[k - 1] = feed(readers[k - 1], source, opt, problem, layout, team, workers, skip);
           return ring.finished(k - 1);
         }
         const auto t = Clock::now();
         const double cpu = schedule::thread_cpu_seconds();
-        ring.decode_all();  // returns when every lane has finished
+        ring.decode_all();  // returns when every reader has finished
         summary.cpu_rhs_decode = schedule::thread_cpu_seconds() - cpu;
         std::vector<InputTotals> sums;  // every local band's, in band order
-        for (const Lane<T>& lane : lanes) sums.insert(sums.end(), lane.input->range_totals().begin(), lane.input->range_totals().end());
+        for (const Reader<T>& reader : readers)
+          sums.insert(sums.end(), reader.input->range_totals().begin(), reader.input->range_totals().end());
         totals_promise.set_value(exchange_totals(sums, team));
         seconds_input = seconds_since(t);
         drain(opt, layout, workers, source.width(), source.height(), channels, out);
       },
       [&](int k, const std::string& what) {
-        stop_all(k == 0            ? fmt::format("the input/output thread stopped: {}", what)
-                 : k <= lane_count ? fmt::format("the input of band {} stopped: {}", team.first + lanes[k - 1].first, what)
-                                   : fmt::format("band {} stopped: {}", workers[k - 1 - lane_count]->band, what));
+        if (k == 0) return stop_all(fmt::format("the input/output thread stopped: {}", what));
+        if (k <= reader_count)
+          return stop_all(fmt::format("the input of band {} stopped: {}", team.first + readers[k - 1].first, what));
+        stop_all(fmt::format("band {} stopped: {}", workers[k - 1 - reader_count]->band, what));
       });
-  for (const double cpu : lane_cpu) summary.cpu_rhs_columns += cpu;
+  for (const double cpu : reader_cpu) summary.cpu_rhs_columns += cpu;
   for (const auto& wk : workers) {
     summary.scratch_bytes += wk->vcycle.store_bytes() + wk->worker.carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();
