@@ -32,6 +32,8 @@ struct GuidanceRow {
   // Per pixel: 1 where the pixel counts towards the mean the solution keeps when alpha == 0
   // (the solver sets every entry to 1 before each read_row; sources may clear some).
   std::vector<unsigned char> counted;
+  // Working space a source may use while it fills the row (per-edge flags).
+  std::vector<unsigned char> edges;
 };
 
 // A weight that holds a pixel at its value (within about 1e-6 of the range).
@@ -59,6 +61,19 @@ class GuidanceSource {
   // (edges gx[i] for i in [begin, end - 1)); sources may then read only those columns of their
   // images (RowReader::set_columns) and leave the other entries as they are.
   virtual void set_columns(int /*begin*/, int /*end*/) {}
+
+  // Sources that split: reading their inputs (decode, one thread, rows in order) apart from the
+  // per-column work (compute, on several threads at once), so that the solver's input pass makes
+  // each band's columns on its own thread. set_slots(n), once before the first decode: decode(y)
+  // reads input row y into slot y % n. compute(j, out, begin, end) then fills columns [begin, end)
+  // of row j's fields as read_row would (horizontal edges [begin, end - 1), or to the row's last
+  // edge where end == width) from the decoded rows j and j + 1, which must stay in their slots
+  // until it returns; calls for other rows or columns may run at once, beside decode of other
+  // slots. read_row is then decode and compute.
+  virtual bool splits() const { return false; }
+  virtual void set_slots(int /*slots*/) {}
+  virtual void decode(int /*y*/) {}
+  virtual void compute(int /*j*/, GuidanceRow& /*out*/, int /*begin*/, int /*end*/) const {}
 };
 
 }  // namespace gdp

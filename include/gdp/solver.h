@@ -106,7 +106,9 @@ struct SolveSummary {
   std::vector<int> level_widths, level_heights;
   // Relative residual |b - A u| / |b| (worst channel) before the first V-cycle and after each.
   std::vector<double> relative_residuals;
-  double seconds_rhs = 0.0, seconds_solve = 0.0;  // in-core: reading guidance, V-cycles
+  double seconds_rhs = 0.0, seconds_solve = 0.0;  // reading guidance (the input pass), the rest
+  // Streamed: CPU seconds of the input pass, its decoding thread's and its lanes' (all together).
+  double cpu_rhs_decode = 0.0, cpu_rhs_columns = 0.0;
   std::string schedule;          // "streaming" or "in-core"
   int streamed_levels = 0;       // levels that streamed (the rest were held in memory)
   std::size_t scratch_bytes = 0; // bytes stored between passes per V-cycle (disk or memory)

@@ -67,8 +67,7 @@ class StitchGuidance final : public apps::ImageGuidance {
         extend_(options.unknown == UnknownMode::Extend), fixups_(fixups),
         ids_(composite.width(), labels.channels(), options.unknown == UnknownMode::Label),
         label_row_(static_cast<std::size_t>(labels.channels()) * labels.width()), zero_(composite.width()) {
-    if (across_)
-      for (auto& r : across_rows_) r.assign(static_cast<std::size_t>(channels()) * width(), 0.0f);
+    set_slots(slots());
     if (options.deramp) compute_ramps(composite);
   }
   // Whether a known label was met (in a window narrower than the image, other processes see
@@ -79,10 +78,16 @@ class StitchGuidance final : public apps::ImageGuidance {
     labels_.set_columns(begin, std::min(end + 1, width()));
     if (across_) across_->set_columns(begin, std::min(end + 1, width()));
   }
-  void read_row(int j, GuidanceRow& out) override {
-    ImageGuidance::read_row(j, out);
-    const std::vector<int>& id = row_ids_[j % 2];
-    for (int i = column_begin(); i < column_end(); ++i) out.counted[i] = id[i] != kUnknown;
+  bool splits() const override { return true; }
+  void set_slots(int slots) override {
+    ImageGuidance::set_slots(slots);
+    row_ids_.assign(slots, std::vector<int>(width()));
+    across_rows_.assign(across_ ? slots : 0, std::vector<float>(static_cast<std::size_t>(channels()) * width(), 0.0f));
+  }
+  void compute(int j, GuidanceRow& out, int begin, int end) const override {
+    ImageGuidance::compute(j, out, begin, end);
+    const std::vector<int>& id = row_ids_[slot(j)];
+    for (int i = begin; i < end; ++i) out.counted[i] = id[i] != kUnknown;
   }
 
  protected:
@@ -91,18 +96,18 @@ class StitchGuidance final : public apps::ImageGuidance {
     // horizontal edge needs.
     const int a = column_begin(), b = std::min(column_end() + 1, width());
     labels_.read_row(y, label_row_);
-    ids_.assign(label_row_, row_ids_[y % 2], a, b);
-    if (across_) across_->read_row(y, across_rows_[y % 2]);
-    for (int i = a; i < b; ++i) zero_[i] = black_ && row_ids_[y % 2][i] == kUnknown;
+    ids_.assign(label_row_, row_ids_[slot(y)], a, b);
+    if (across_) across_->read_row(y, across_rows_[slot(y)]);
+    for (int i = a; i < b; ++i) zero_[i] = black_ && row_ids_[slot(y)][i] == kUnknown;
     fixups_.record(y, row, zero_);
   }
-  void keep_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down,
+  void keep_edges(int j, int begin, int end, std::span<unsigned char> right, std::span<unsigned char> down,
                   std::span<unsigned char> above) const override {
     const int w = width();
-    const std::vector<int>& here = row_ids_[j % 2];
-    const std::vector<int>& next = j + 1 < height() ? row_ids_[(j + 1) % 2] : here;  // spherical: folded
+    const std::vector<int>& here = row_ids_[slot(j)];
+    const std::vector<int>& next = j + 1 < height() ? row_ids_[slot(j + 1)] : here;  // spherical: folded
     const int last = j + 1 < height() ? j + 1 : j;
-    for (int i = column_begin(); i < column_end(); ++i) {
+    for (int i = begin; i < end; ++i) {
       const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
       right[i] = joined(a, here[r]) || across_either(i, j, r, j);
       down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last)));
@@ -111,14 +116,15 @@ class StitchGuidance final : public apps::ImageGuidance {
   }
   bool has_offsets() const override { return !ramp_.empty() || across_; }
   // Without ramps only label changes between known labels have offsets (offset() is 0 elsewhere).
-  bool offset_edges(int j, std::span<unsigned char> right, std::span<unsigned char> down) const override {
+  bool offset_edges(int j, int begin, int end, std::span<unsigned char> right,
+                    std::span<unsigned char> down) const override {
     if (!ramp_.empty()) return false;
     const int w = width();
-    const std::vector<int>& here = row_ids_[j % 2];
+    const std::vector<int>& here = row_ids_[slot(j)];
     const auto change = [](int a, int b) { return a != b && a != kUnknown && b != kUnknown; };
-    for (int i = column_begin(); i < column_end(); ++i) right[i] = change(here[i], here[i + 1 < w ? i + 1 : 0]);
+    for (int i = begin; i < end; ++i) right[i] = change(here[i], here[i + 1 < w ? i + 1 : 0]);
     if (j + 1 < height())
-      for (int i = column_begin(); i < column_end(); ++i) down[i] = change(here[i], row_ids_[(j + 1) % 2][i]);
+      for (int i = begin; i < end; ++i) down[i] = change(here[i], row_ids_[slot(j + 1)][i]);
     return true;
   }
   // Across a label change (with `across`) from p (source A) to q (source B), the composite's
@@ -132,7 +138,7 @@ class StitchGuidance final : public apps::ImageGuidance {
     if (a != b && a != kUnknown && b != kUnknown) {
       const std::size_t p = static_cast<std::size_t>(c) * width() + i, q = static_cast<std::size_t>(c) * width() + i2;
       const double a_p = source_row(j)[p], b_q = source_row(j2)[q];
-      const double b_p = across_rows_[j % 2][p], a_q = across_rows_[j2 % 2][q];
+      const double b_p = across_rows_[slot(j)][p], a_q = across_rows_[slot(j2)][q];
       if (!std::isfinite(b_p)) return b_q - a_q;  // keeps A(q) - A(p)
       if (!std::isfinite(a_q)) return b_p - a_p;  // keeps B(q) - B(p)
       return 0.5 * ((b_q - a_p) - (a_q - b_p));
@@ -142,7 +148,7 @@ class StitchGuidance final : public apps::ImageGuidance {
   }
 
  private:
-  int id(int i, int j) const { return row_ids_[j % 2][i]; }
+  int id(int i, int j) const { return row_ids_[slot(j)][i]; }
   // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
   bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
   // With `across`, a label change whose across values are finite at either end (first channel).
@@ -150,7 +156,7 @@ class StitchGuidance final : public apps::ImageGuidance {
     if (!across_) return false;
     const int a = id(i, j), b = id(i2, j2);
     return a != b && a != kUnknown && b != kUnknown &&
-           (std::isfinite(across_rows_[j % 2][i]) || std::isfinite(across_rows_[j2 % 2][i2]));
+           (std::isfinite(across_rows_[slot(j)][i]) || std::isfinite(across_rows_[slot(j2)][i2]));
   }
 
   // A first pass over both inputs: the mean horizontal and vertical difference inside each
@@ -191,12 +197,12 @@ class StitchGuidance final : public apps::ImageGuidance {
 
   RowReader& labels_;
   RowReader* across_;
-  std::vector<float> across_rows_[2];
+  std::vector<std::vector<float>> across_rows_;  // per slot, as row_ids_
   bool black_, extend_;
   apps::OutputFixups& fixups_;
   LabelIds ids_;
   std::vector<float> label_row_;
-  std::vector<int> row_ids_[2];
+  std::vector<std::vector<int>> row_ids_;
   std::vector<unsigned char> zero_;
   std::vector<double> ramp_;
 };

@@ -18,6 +18,7 @@
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "schedule/cycle_worker.h"
+#include "schedule/input_ring.h"
 #include "schedule/input_rows.h"
 
 namespace gdp::bands {
@@ -181,6 +182,22 @@ Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distribu
   return team;
 }
 
+// The columns bands [first, last] read: their rows' (own columns and halos) and the guidance
+// kInputMargin beyond them; whole rows where that would wrap around a periodic image's edge, and
+// on the sphere, where the right-hand side of the first and last rows reads the guidance across
+// the fold, at the mirror image's columns. A planar image's edges clip them.
+struct InputWindow {
+  std::pair<int, int> rows, guidance;
+  bool whole = false;
+};
+
+InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
+  const int from = layout.origin(0, first), to = layout.origin(0, last) + layout.row_length(0, last);
+  if (layout.folded || (layout.periodic && (from - kInputMargin < 0 || to + kInputMargin > w)))
+    return {{0, w}, {0, w}, true};
+  return {{std::max(0, from), std::min(w, to)}, {std::max(0, from - kInputMargin), std::min(w, to + kInputMargin)}};
+}
+
 // This process's bands and columns: every band, or under mpirun a contiguous share of them,
 // whose own columns it writes and whose rows it reads (plus margins).
 template <class T>
@@ -189,16 +206,9 @@ void share_columns(Setup<T>& s, const Team& team, GuidanceSource& source, RowWri
   const int w = source.width(), last_local = team.first + team.local - 1;
   s.input_columns = {0, w};
   if (!s.distributed) return;
-  const int rows_from = layout.origin(0, team.first);
-  const int rows_to = layout.origin(0, last_local) + layout.row_length(0, last_local);
-  // Whole rows where the window would wrap around a periodic image's edge, and on the sphere,
-  // where the right-hand side of the first and last rows reads the guidance across the fold, at
-  // the mirror image's columns; a planar image's edges clip it.
-  const bool wraps = layout.periodic && (rows_from - kInputMargin < 0 || rows_to + kInputMargin > w);
-  if (!wraps && !layout.folded) {
-    source.set_columns(std::max(0, rows_from - kInputMargin), std::min(w, rows_to + kInputMargin));
-    s.input_columns = {std::max(0, rows_from), std::min(w, rows_to)};
-  }
+  const InputWindow window = input_window(layout, team.first, last_local, w);
+  if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
+  s.input_columns = window.rows;
   out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
@@ -206,29 +216,63 @@ void report(const SolverOptions& opt, double fraction) {
   if (opt.progress) opt.progress(fraction);
 }
 
-// The caller's thread, first: every input row cut into the workers' batches (columns of their
-// band with its halo, channels of their group), then the sums of all bands to the workers.
-// Returns the seconds spent reading input.
+// One reader of the input pass: local bands [first, last) (worker indices first * groups ..),
+// their input rows made from the ring's decoded rows.
 template <class T>
-double feed(GuidanceSource& source, const SolverOptions& opt, const schedule::Problem<T>& problem,
-            const Setup<T>& setup, Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
-            const std::vector<int>& skip, std::promise<InputTotals>& totals) {
-  const int w = source.width(), h = source.height(), channels = source.channels();
+struct Reader {
+  int first, last;
+  std::unique_ptr<schedule::InputRows<T>> input;
+};
+
+// The input pass's ring and readers: one reader per local band where the source splits
+// (GuidanceSource::splits), each computing its band's columns; else one reader for all.
+template <class T>
+struct InputPass {
+  std::unique_ptr<schedule::InputRing> ring;
+  std::vector<Reader<T>> readers;
+};
+
+template <class T>
+InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const Setup<T>& setup,
+                             const Team& team) {
   const BandLayout& layout = *setup.layout;
-  std::vector<std::pair<int, int>> own_columns;
-  for (int band = team.first; band < team.first + team.local; ++band)
-    own_columns.emplace_back(layout.begin(0, band), layout.end(0, band));
-  schedule::InputRows<T> input(source, problem.hierarchy, own_columns, setup.input_columns);
-  const std::size_t n = static_cast<std::size_t>(channels) * w;
+  const int w = source.width(), count = source.splits() && !layout.folded ? team.local : 1;
+  InputPass<T> pass;
+  std::vector<InputWindow> windows;
+  for (int l = 0; l < count; ++l) {
+    pass.readers.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
+    const Reader<T>& r = pass.readers[l];
+    windows.push_back(input_window(layout, team.first + r.first, team.first + r.last - 1, w));
+    if (count == 1) windows[l].rows = setup.input_columns;
+  }
+  std::vector<std::pair<int, int>> guidance;
+  for (const InputWindow& window : windows) guidance.push_back(window.guidance);
+  pass.ring = std::make_unique<schedule::InputRing>(source, guidance);
+  for (int l = 0; l < count; ++l) {
+    std::vector<std::pair<int, int>> own;
+    for (int i = team.first + pass.readers[l].first; i < team.first + pass.readers[l].last; ++i)
+      own.emplace_back(layout.begin(0, i), layout.end(0, i));
+    pass.readers[l].input = std::make_unique<schedule::InputRows<T>>(
+        source, problem.hierarchy, own, windows[l].rows,
+        [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
+  }
+  return pass;
+}
+
+// A reader's thread: every input row of its bands cut into their workers' batches (columns of their
+// band with its halo, channels of their group). Returns its CPU seconds.
+template <class T>
+double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions& opt,
+            const schedule::Problem<T>& problem, const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
+            const std::vector<int>& skip) {
+  const int w = source.width(), h = source.height();
+  const std::size_t n = static_cast<std::size_t>(source.channels()) * w;
   std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
   std::vector<Batch<T>> batches(workers.size());
-  double seconds_input = 0.0;
   for (int j = 0; j < h; ++j) {
-    const auto t = Clock::now();
-    input.next(u, b, wt, d);
-    seconds_input += seconds_since(t);
+    reader.input->next(u, b, wt, d);
     const bool last = j + 1 == h;
-    for (std::size_t k = 0; k < workers.size(); ++k) {
+    for (int k = reader.first * team.groups; k < reader.last * team.groups; ++k) {
       if (j < skip[k]) continue;  // resumed: the worker has this row
       Worker<T>& wk = *workers[k];
       Batch<T>& batch = batches[k];
@@ -244,10 +288,9 @@ double feed(GuidanceSource& source, const SolverOptions& opt, const schedule::Pr
       if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
       batch = wk.worker.spent_in.take();
     }
-    if (j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
+    if (reader.first == 0 && j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
   }
-  totals.set_value(exchange_totals(input.range_totals(), team));
-  return seconds_input;
+  return schedule::thread_cpu_seconds();
 }
 
 // Then: this process's columns of every result row, in order, to `out`.
@@ -317,30 +360,52 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, logs[i], c0, wk.n, source.width()) : 0);
     }
 
+  // The input pass: this thread decodes every input row (then writes the results), readers make
+  // their bands' input rows from them (run_workers' workers 1 .. readers), the others solve.
+  InputPass<T> input = make_input_pass(source, problem, setup, team);
+  std::vector<Reader<T>>& readers = input.readers;
+  schedule::InputRing& ring = *input.ring;
+  const int reader_count = static_cast<int>(readers.size());
   const auto stop_all = [&](const std::string& why) {
     try {  // workers waiting for the sums stop too
       totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
     } catch (const std::future_error&) {
     }
+    ring.stop();
     team.abort(why);
     for (auto& wk : workers) {
       wk->worker.in.close();
       wk->worker.out.close();
     }
   };
-  // This thread reads and writes (worker 0), the others solve.
   double seconds_input = 0.0;
+  std::vector<double> reader_cpu(reader_count, 0.0);
   schedule::run_workers(
-      static_cast<int>(workers.size()) + 1,
+      1 + reader_count + static_cast<int>(workers.size()),
       [&](int k) {
-        if (k > 0) return run(*workers[k - 1], layout, totals);
-        seconds_input = feed(source, opt, problem, setup, team, workers, skip, totals_promise);
+        if (k > reader_count) return run(*workers[k - 1 - reader_count], layout, totals);
+        if (k > 0) {
+          reader_cpu[k - 1] = feed(readers[k - 1], source, opt, problem, layout, team, workers, skip);
+          return ring.finished(k - 1);
+        }
+        const auto t = Clock::now();
+        const double cpu = schedule::thread_cpu_seconds();
+        ring.decode_all();  // returns when every reader has finished
+        summary.cpu_rhs_decode = schedule::thread_cpu_seconds() - cpu;
+        std::vector<InputTotals> sums;  // every local band's, in band order
+        for (const Reader<T>& reader : readers)
+          sums.insert(sums.end(), reader.input->range_totals().begin(), reader.input->range_totals().end());
+        totals_promise.set_value(exchange_totals(sums, team));
+        seconds_input = seconds_since(t);
         drain(opt, layout, workers, source.width(), source.height(), channels, out);
       },
       [&](int k, const std::string& what) {
-        stop_all(k == 0 ? fmt::format("the input/output thread stopped: {}", what)
-                        : fmt::format("band {} stopped: {}", workers[k - 1]->band, what));
+        if (k == 0) return stop_all(fmt::format("the input/output thread stopped: {}", what));
+        if (k <= reader_count)
+          return stop_all(fmt::format("the input of band {} stopped: {}", team.first + readers[k - 1].first, what));
+        stop_all(fmt::format("band {} stopped: {}", workers[k - 1 - reader_count]->band, what));
       });
+  for (const double cpu : reader_cpu) summary.cpu_rhs_columns += cpu;
   for (const auto& wk : workers) {
     summary.scratch_bytes += wk->vcycle.store_bytes() + wk->worker.carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();

@@ -26,8 +26,8 @@ InputTotals InputRows<T>::totals() const {
 
 template <class T>
 InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges,
-                        Range columns)
-    : source_(source), width_(source.width()), height_(source.height()), channels_(source.channels()),
+                        Range columns, Reader read)
+    : source_(source), read_row_(std::move(read)), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
       initial_(kRing), counted_(kRing), b_(kRing), d_(kRing), dv_(kRing), begin_(columns.first),
       end_(columns.second < 0 ? width_ : columns.second), ranges_(std::move(sum_ranges)) {
@@ -61,8 +61,9 @@ InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hier
 template <class T>
 void InputRows<T>::read_guidance() {
   const int j = read_++;
-  std::fill(row_.counted.begin(), row_.counted.end(), 1);
-  source_.read_row(j, row_);
+  std::fill(row_.counted.begin() + begin_, row_.counted.begin() + end_, 1);
+  if (read_row_) read_row_(j, row_);
+  else source_.read_row(j, row_);
   // Swapped, not copied: a source with a column window fills only its columns of them.
   if (source_.has_initial()) initial_[j % kRing].swap(row_.initial);
   counted_[j % kRing].swap(row_.counted);
@@ -131,7 +132,9 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     }
     for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
   }
-  if (!source_.start_from_initial()) std::fill(u.begin(), u.end(), T(0));
+  if (!source_.start_from_initial())  // only the columns computed: other readers may fill the rest
+    for (int c = 0; c < channels_; ++c)
+      std::fill_n(u.begin() + static_cast<std::ptrdiff_t>(c) * width_ + begin_, end_ - begin_, T(0));
 }
 
 template class InputRows<float>;

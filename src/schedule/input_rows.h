@@ -1,6 +1,7 @@
 // The finest level's input rows (starting guess, right-hand side, mean weights, diagonal) from a guidance source.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -29,14 +30,16 @@ struct InputTotals {
 // each band's own columns, so that the band schedule adds them up in band order however its bands
 // are spread over processes. With `columns`, only those columns of the rows handed out are
 // computed (the others are 0): a process of a distributed solve, whose source knows the guidance
-// two columns beyond them (GuidanceSource::set_columns); not on spherical domains.
+// two columns beyond them (GuidanceSource::set_columns), or a reader of the input pass by band
+// (InputRing); not on spherical domains. `read` reads a guidance row (default: source.read_row).
 template <class T>
 class InputRows {
  public:
   using Range = std::pair<int, int>;  // columns [first, second)
 
+  using Reader = std::function<void(int, GuidanceRow&)>;
   InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges = {},
-            Range columns = {0, -1});
+            Range columns = {0, -1}, Reader read = {});
   void next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d = {});
 
   // After the last row: the sums over each range, and over all of them (added in range order).
@@ -48,6 +51,7 @@ class InputRows {
   void read_guidance();
 
   GuidanceSource& source_;
+  Reader read_row_;
   int width_, height_, channels_;
   fem::RhsAssembler assembler_;
   GuidanceRow row_;

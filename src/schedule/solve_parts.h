@@ -66,6 +66,8 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
+// CPU seconds (user + system) of the calling thread so far.
+double thread_cpu_seconds();
 
 template <class T>
 void solve_incore(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);

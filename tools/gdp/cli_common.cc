@@ -299,6 +299,8 @@ void Stats::summary(const SolveSummary& s) {
   set("vcycles", std::to_string(s.vcycles));
   set("relative_residuals", "[" + residuals + "]");
   seconds_["rhs"] += s.seconds_rhs;
+  seconds_["rhs_decode_cpu"] += s.cpu_rhs_decode;
+  seconds_["rhs_columns_cpu"] += s.cpu_rhs_columns;
   seconds_["vcycles"] += s.seconds_solve;
 }
 
