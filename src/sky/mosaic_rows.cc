@@ -13,8 +13,6 @@
 namespace gdp::sky {
 namespace {
 
-constexpr std::size_t kCachedRows = 6;  // across_row(j) needs rows j - 1 .. j + 1
-
 enum class Kind { Value, Label, Across };
 
 // One of the three views of the shared rows.
@@ -39,15 +37,15 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources,
-                       const std::filesystem::path& temp_dir, std::size_t memory_limit)
-    : plates_(plates), window_(window), sources_(sources), chosen_(plates.size(), 0), counted_(window.rows, 0),
+MosaicRows::MosaicRows(std::vector<Plate>& plates, PlatePixels& pixels, const PqWindow& window,
+                       const SeamSources* sources, const std::filesystem::path& temp_dir, std::size_t memory_limit)
+    : plates_(plates), pixels_(pixels), window_(window), released_(plates.size(), 0), sources_(sources),
+      chosen_(plates.size(), 0), counted_(window.rows, 0),
       coverage_(std::make_unique<blending::Scratch>(temp_dir, static_cast<std::size_t>(window.width) * window.rows,
                                                     "gdp-sky-coverage", memory_limit)) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
-    rows_of_.push_back(plate_rows(p, window, kExtension));
   }
   composite_ = std::make_unique<View>(*this, Kind::Value);
   labels_ = std::make_unique<View>(*this, Kind::Label);
@@ -63,13 +61,18 @@ void MosaicRows::coverage_row(int j, std::span<unsigned char> out) const {
 MosaicRows::Row& MosaicRows::fetch(int j) {
   auto it = cache_.find(j);
   if (it != cache_.end()) return it->second;
+  if (j < released_below_)
+    throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
   if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
+  // Rows older than the cache are not asked for again: plates that end above them are done.
+  released_below_ = std::max(released_below_, j - kReleaseLag);
+  for (std::size_t k = 0; k < plates_.size(); ++k)
+    if (pixels_.rows(k)[1] < released_below_ && !released_[k]) {
+      pixels_.release(k);
+      released_[k] = 1;
+    }
   Row& r = cache_[j];
   compute(j, r);
-  // Rows older than the cache are not asked for again: plates that end above them are done.
-  released_below_ = std::max(released_below_, j - static_cast<int>(kCachedRows) - 2);
-  for (std::size_t k = 0; k < plates_.size(); ++k)
-    if (rows_of_[k][1] < released_below_ && !plates_[k].pixels.empty()) std::vector<float>().swap(plates_[k].pixels);
   return r;
 }
 
@@ -104,8 +107,6 @@ const std::vector<float>& MosaicRows::across_row(int j) {
 }
 
 void MosaicRows::compute(int j, Row& out) {
-  if (j < released_below_)
-    throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
   const int w = window_.width;
   std::vector<sphere::Vec3> dirs(w);
   if (window_.whole()) {
@@ -122,7 +123,8 @@ void MosaicRows::compute(int j, Row& out) {
   std::vector<unsigned char> ok;
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const Plate& p = plates_[k];
-    if (j < rows_of_[k][0] || j > rows_of_[k][1]) continue;  // the plate reaches no pixel of this row
+    if (j < pixels_.rows(k)[0] || j > pixels_.rows(k)[1]) continue;  // the plate reaches no pixel of this row
+    pixels_.hold(k);
     pixels.clear();
     for (int i = 0; i < w; ++i)
       if (sphere::dot(dirs[i], p.centre) >= p.cos_reach) pixels.push_back(i);

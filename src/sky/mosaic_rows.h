@@ -11,6 +11,7 @@
 #include "gdp/rows.h"
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/plate_sweep.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/seam_sources.h"
@@ -25,6 +26,11 @@ namespace gdp::sky {
 // Label of PQ pixels no plate covers (stitch's "unknown": white); plate k has label k + 2.
 inline constexpr float kNoPlate = 1.0f;
 
+// Rows the mosaic keeps computed (across_row(j) needs rows j - 1 .. j + 1), and how far past a
+// plate's last row its pixels stay held (the cache and two rows).
+inline constexpr int kCachedRows = 6;
+inline constexpr int kReleaseLag = kCachedRows + 2;
+
 // Computes PQ rows (TOAST map, height H, width 4H) on demand: the composite (the chosen plate's
 // bilinear value) and the label map (which plate). Around the plates, up to half a plate's size
 // beyond its edges, pixels take the nearest plate's edge values (its extension, its label), so
@@ -37,11 +43,13 @@ class MosaicRows {
   // Rows of `window` (its columns only); the views are window.width x window.rows. `sources`:
   // the stars the seams go around (none: each point from the plate it lies deepest inside).
   // `temp_dir`: where the coverage rows go when they exceed `memory_limit` bytes (coverage_row()). Rows are
-  // read once, in order (as the solve reads them): a plate's pixels are released (emptied) once
-  // the rows computed are past the last row it reaches (plate_rows), and a row that would need a
-  // released plate again throws std::logic_error.
-  MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr,
-             const std::filesystem::path& temp_dir = {}, std::size_t memory_limit = kSmallScratch);
+  // read once, in order (as the solve reads them): a plate's pixels are read (`pixels`, made with
+  // lag kReleaseLag) when a row first reaches it and released once the rows computed are
+  // kReleaseLag past the last row it reaches (plate_rows); a row that would need a released plate
+  // again throws std::logic_error.
+  MosaicRows(std::vector<Plate>& plates, PlatePixels& pixels, const PqWindow& window,
+             const SeamSources* sources = nullptr, const std::filesystem::path& temp_dir = {},
+             std::size_t memory_limit = kSmallScratch);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
@@ -72,9 +80,10 @@ class MosaicRows {
   void compute(int j, Row& out);
 
   std::vector<Plate>& plates_;
+  PlatePixels& pixels_;  // which plates' pixels are held
   PqWindow window_;
-  std::vector<std::array<int, 2>> rows_of_;  // per plate: the first and last window row it reaches
-  int released_below_ = 0;                   // rows below this may need plates already released
+  int released_below_ = 0;  // rows below this may need plates already released
+  std::vector<char> released_;
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
   std::vector<long long> chosen_;
