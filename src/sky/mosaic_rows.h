@@ -59,15 +59,20 @@ class MosaicRows {
   // then gets the mean of both plates' differences as guidance, zero only at junctions.
   RowReader& across() { return *across_; }
   const PqWindow& window() const { return window_; }
-  // Pixels (over all rows computed so far) each plate was chosen for.
-  const std::vector<long long>& chosen() const { return chosen_; }
-  // Row j's coverage (computed before): 1 inside a plate with a value, else 0 (an extension or no
-  // plate). Kept in scratch (a byte a pixel), since the solve writes a row long after reading it.
-  void coverage_row(int j, std::span<unsigned char> out) const;
+  // Row j's coverage (computed before): inside a plate with a value, its label (plate + 2), else 0
+  // (an extension or no plate). Kept in scratch (4 bytes a pixel), since the solve writes a row
+  // long after reading it; only the columns computed (want_columns) are set.
+  void coverage_row(int j, std::span<float> out) const;
+  // Only columns [begin, end) are read from now on (the union of the calls; RowReader::set_columns
+  // of the three views: a rank of a distributed solve). Rows are then computed over those columns
+  // and one more on each side (across() needs its neighbours' labels), the rest left blank.
+  void want_columns(int begin, int end);
+  // PQ pixels computed so far (rows computed again counted again).
+  long long pixels_computed() const { return pixels_computed_; }
 
   struct Row {
     std::vector<float> value, label;
-    std::vector<unsigned char> covered;  // inside a plate (else an extension, or no plate)
+    std::vector<float> covered;  // inside a plate: its label (else 0: an extension, or no plate)
     std::vector<std::vector<PlateHit>> hits;  // per pixel, the plates reaching it
     std::vector<float> across;                // across_row(): empty until asked for
   };
@@ -86,9 +91,11 @@ class MosaicRows {
   std::vector<char> released_;
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
-  std::vector<long long> chosen_;
-  std::vector<unsigned char> counted_;  // rows already counted in chosen_
-  std::unique_ptr<blending::Scratch> coverage_;  // window.width bytes a row
+  int begin_ = 0, end_ = 0;     // the columns computed
+  std::array<int, 2> wanted_{};  // the union of want_columns
+  bool columns_set_ = false;
+  long long pixels_computed_ = 0;
+  std::unique_ptr<blending::Scratch> coverage_;  // window.width floats a row
   std::map<int, Row> cache_;
   std::unique_ptr<RowReader> composite_, labels_, across_;
 };

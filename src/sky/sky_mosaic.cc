@@ -158,34 +158,62 @@ std::optional<sky::SeamSources> take_in_plates(std::vector<sky::Plate>& plates, 
   return std::move(in.stars);
 }
 
-// The solved rows on their way into the PQ store: extensions and the unknown region are no sky (blank).
+// A rank's solved rows on their way to rank 0 (MpiRun::gather_writer), with their coverage as a
+// second channel (MosaicRows::coverage_row: the label of the plate a pixel lies inside, 0 where
+// none), which each rank has for the columns it computed only.
+class WithCoverage final : public RowWriter {
+ public:
+  WithCoverage(const sky::MosaicRows& rows, std::unique_ptr<RowWriter> out)
+      : rows_(rows), out_(std::move(out)), row_(2 * static_cast<std::size_t>(rows.window().width)) {}
+  void set_columns(int begin, int end) override { out_->set_columns(begin, end); }
+  void write_row(int y, std::span<const float> row) override {
+    const std::size_t w = row_.size() / 2;
+    std::copy(row.begin(), row.begin() + w, row_.begin());
+    rows_.coverage_row(y, std::span(row_).subspan(w));
+    out_->write_row(y, row_);
+  }
+  void commit() override { out_->commit(); }
+
+ private:
+  const sky::MosaicRows& rows_;
+  std::unique_ptr<RowWriter> out_;
+  std::vector<float> row_;
+};
+
+// Rank 0's rows (value and coverage, WithCoverage) into the PQ store, blank where no plate is
+// (extensions and the unknown region are no sky), counting each plate's pixels.
 class MaskedPqWriter final : public RowWriter {
  public:
-  MaskedPqWriter(const sky::MosaicRows& rows, sky::PqStore& store)
-      : rows_(rows), store_(store), row_(store.window().width), covered_(store.window().width) {}
+  MaskedPqWriter(sky::PqStore& store, std::vector<long long>& chosen)
+      : store_(store), chosen_(chosen), row_(store.window().width) {}
   void write_row(int y, std::span<const float> row) override {
-    rows_.coverage_row(y, covered_);
-    for (std::size_t i = 0; i < row_.size(); ++i) row_[i] = covered_[i] ? row[i] : std::numeric_limits<float>::quiet_NaN();
+    const std::size_t w = row_.size();
+    for (std::size_t i = 0; i < w; ++i) {
+      const float label = row[w + i];
+      row_[i] = label > 0.0f ? row[i] : std::numeric_limits<float>::quiet_NaN();
+      if (label > 0.0f) ++chosen_[static_cast<std::size_t>(label) - 2];
+    }
     store_.write_row(y, row_);
   }
 
  private:
-  const sky::MosaicRows& rows_;
   sky::PqStore& store_;
+  std::vector<long long>& chosen_;
   std::vector<float> row_;
-  std::vector<unsigned char> covered_;
 };
 
 // The seamed mosaic on `win`, solved unless options.blend is off, into `store` (NaN where no
-// plate is). Under mpirun every rank solves its columns and rank 0 gathers the rows into its
-// store (the others' stay empty: they write no output).
+// plate is). Under mpirun every rank solves its columns, computing the mosaic rows over those
+// and their halo only where the solve says which (a planar window), and rank 0 gathers the rows
+// and their coverage into its store (the others' stay empty: they write no output).
 void solve_pq(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels, sky::PqStore& store, const SkyOptions& options,
               SolverOptions solver, const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths,
               SkySummary& s) {
   const sky::PqWindow& win = store.window();
   sky::MosaicRows rows(plates, pixels, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
-  const auto pq_rows = MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(rows, store); }, win.width,
-                                             win.rows, 1);
+  std::vector<long long> chosen(plates.size(), 0);  // rank 0's: every rank's columns
+  const auto pq_rows = std::make_unique<WithCoverage>(
+      rows, MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(store, chosen); }, win.width, win.rows, 2));
   if (options.blend) {
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
@@ -200,10 +228,11 @@ void solve_pq(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels, sky::Pq
     }
   }
   pq_rows->commit();
-  for (std::size_t k = 0; k < plates.size(); ++k)
-    if (rows.chosen()[k] == 0 && options.note)
+  for (std::size_t k = 0; k < plates.size() && MpiRun::rank() == 0; ++k)
+    if (chosen[k] == 0 && options.note)
       options.note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
-  s.plate_pixels = rows.chosen();
+  s.plate_pixels = chosen;
+  s.mosaic_pixels = rows.pixels_computed();
 }
 
 // The HiPS's tile width and the properties' obs_description and prov_progenitor (the plates' names).

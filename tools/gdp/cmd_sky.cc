@@ -110,6 +110,7 @@ class Sky final : public Command {
     stats.set("covered_pixels", std::to_string(summary.covered));
     stats.set("plates_held_at_once", std::to_string(summary.plates_held));
     stats.set("plates_crossing_a_row", std::to_string(summary.plates_crossing));
+    stats.set("mosaic_pixels_computed", std::to_string(summary.mosaic_pixels));
     report_backgrounds(summary, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
