@@ -13,6 +13,7 @@
 #include "gdp/image_io.h"
 #include "gdp/sky.h"
 #include "image_stream_util.h"
+#include "sky_test_util.h"
 #include "sky/header.h"
 #include "sky/overlap_samples.h"
 #include "sky/plate_backgrounds.h"
@@ -24,34 +25,12 @@ namespace gdp {
 namespace {
 
 namespace fs = std::filesystem;
-using SkyFunction = std::function<double(const sphere::Vec3&)>;
+using test::SkyFunction;
 
 // A smooth sky: a few low-order terms over the sphere.
 double smooth_sky(const sphere::Vec3& d) { return 1.0 + 0.3 * d.x + 0.2 * d.y * d.z + 0.1 * std::sin(3.0 * d.z); }
 
-// Writes a TAN plate of `size` x `size` pixels of `scale` degrees centred at (lon, lat): the
-// sky function at each pixel centre plus `offset` (plus `background` of the pixel coordinates);
-// returns its path.
-std::string write_plate(const fs::path& dir, const std::string& name, double lon, double lat, int size, double scale,
-                        const SkyFunction& sky, double offset,
-                        const std::function<double(double, double)>& background = {}) {
-  SkyTarget grid{{}, lon, lat, size, size, scale, "TAN"};
-  const std::string cards = sky::target_header(grid);
-  const sky::Wcs wcs(cards, size, size, name);
-  Image image(size, size, 1);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      double a = 0, b = 0;
-      EXPECT_TRUE(wcs.pixel_to_sky(x + 0.5, y + 0.5, a, b));
-      image.at(0, x, y) = static_cast<float>(sky(sky::direction(a, b)) + offset +
-                                             (background ? background(x + 0.5, y + 0.5) : 0.0));
-    }
-  WriteOptions options;
-  options.fits_header = cards;
-  const fs::path path = dir / name;
-  write_image(path, image, options);
-  return path.string();
-}
+using test::write_plate;
 
 class SkyMosaic : public test::TempDirTest {
  protected:

@@ -62,6 +62,12 @@ struct SkySummary {
   // (sky/plate_backgrounds.h), and its smooth terms' rms over the plate; empty when not fitted.
   std::vector<std::array<double, 4>> backgrounds;
   std::vector<double> background_rms;
+  // The most plates whose pixels were in memory at once (every pass), and the most whose PQ rows
+  // (and the solve's few cached rows after) meet one PQ row: plates_held <= plates_crossing.
+  std::size_t plates_held = 0, plates_crossing = 0;
+  // PQ pixels of the seamed mosaic this process computed: under mpirun on a PQ window, each rank
+  // its columns and their halo only.
+  long long mosaic_pixels = 0;
   SolveSummary solve;
 };
 

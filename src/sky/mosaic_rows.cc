@@ -13,8 +13,6 @@
 namespace gdp::sky {
 namespace {
 
-constexpr std::size_t kCachedRows = 6;  // across_row(j) needs rows j - 1 .. j + 1
-
 enum class Kind { Value, Label, Across };
 
 // One of the three views of the shared rows.
@@ -31,6 +29,7 @@ class View final : public RowReader {
     std::copy(v.begin(), v.end(), out.begin());
   }
   void rewind() override {}
+  void set_columns(int begin, int end) override { rows_.want_columns(begin, end); }
 
  private:
   MosaicRows& rows_;
@@ -39,15 +38,16 @@ class View final : public RowReader {
 
 }  // namespace
 
-MosaicRows::MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources,
-                       const std::filesystem::path& temp_dir, std::size_t memory_limit)
-    : plates_(plates), window_(window), sources_(sources), chosen_(plates.size(), 0), counted_(window.rows, 0),
-      coverage_(std::make_unique<blending::Scratch>(temp_dir, static_cast<std::size_t>(window.width) * window.rows,
-                                                    "gdp-sky-coverage", memory_limit)) {
+MosaicRows::MosaicRows(std::vector<Plate>& plates, PlatePixels& pixels, const PqWindow& window,
+                       const SeamSources* sources, const std::filesystem::path& temp_dir, std::size_t memory_limit)
+    : plates_(plates), pixels_(pixels), window_(window), released_(plates.size(), 0), sources_(sources),
+      end_(window.width),
+      coverage_(std::make_unique<blending::Scratch>(
+          temp_dir, static_cast<std::size_t>(window.width) * window.rows * sizeof(float), "gdp-sky-coverage",
+          memory_limit)) {
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
-    rows_of_.push_back(plate_rows(p, window, kExtension));
   }
   composite_ = std::make_unique<View>(*this, Kind::Value);
   labels_ = std::make_unique<View>(*this, Kind::Label);
@@ -56,20 +56,34 @@ MosaicRows::MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const
 
 MosaicRows::~MosaicRows() = default;
 
-void MosaicRows::coverage_row(int j, std::span<unsigned char> out) const {
-  coverage_->read(static_cast<std::size_t>(j) * window_.width, out.data(), window_.width);
+void MosaicRows::coverage_row(int j, std::span<float> out) const {
+  const std::size_t w = window_.width;
+  coverage_->read(static_cast<std::size_t>(j) * w * sizeof(float), out.data(), w * sizeof(float));
+}
+
+void MosaicRows::want_columns(int begin, int end) {
+  if (!columns_set_) wanted_ = {begin, end};
+  wanted_ = {std::min(begin, wanted_[0]), std::max(end, wanted_[1])};
+  columns_set_ = true;
+  begin_ = std::max(0, wanted_[0] - 1);
+  end_ = std::min(window_.width, wanted_[1] + 1);
 }
 
 MosaicRows::Row& MosaicRows::fetch(int j) {
   auto it = cache_.find(j);
   if (it != cache_.end()) return it->second;
+  if (j < released_below_)
+    throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
   if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
+  // Rows older than the cache are not asked for again: plates that end above them are done.
+  released_below_ = std::max(released_below_, j - kReleaseLag);
+  for (std::size_t k = 0; k < plates_.size(); ++k)
+    if (pixels_.rows(k)[1] < released_below_ && !released_[k]) {
+      pixels_.release(k);
+      released_[k] = 1;
+    }
   Row& r = cache_[j];
   compute(j, r);
-  // Rows older than the cache are not asked for again: plates that end above them are done.
-  released_below_ = std::max(released_below_, j - static_cast<int>(kCachedRows) - 2);
-  for (std::size_t k = 0; k < plates_.size(); ++k)
-    if (rows_of_[k][1] < released_below_ && !plates_[k].pixels.empty()) std::vector<float>().swap(plates_[k].pixels);
   return r;
 }
 
@@ -81,7 +95,7 @@ const std::vector<float>& MosaicRows::across_row(int j) {
   const std::vector<float> down = j + 1 < window_.rows ? row(j + 1).label : std::vector<float>(w, kNoPlate);
   Row& r = fetch(j);
   r.across.assign(w, std::numeric_limits<float>::quiet_NaN());
-  for (int i = 0; i < w; ++i) {
+  for (int i = begin_; i < end_; ++i) {
     const float own = r.label[i];
     if (own == kNoPlate) continue;
     // The whole PQ image's rows are periodic (the stitch's right neighbour of the last column is column 0).
@@ -104,16 +118,15 @@ const std::vector<float>& MosaicRows::across_row(int j) {
 }
 
 void MosaicRows::compute(int j, Row& out) {
-  if (j < released_below_)
-    throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
   const int w = window_.width;
   std::vector<sphere::Vec3> dirs(w);
   if (window_.whole()) {
     sphere::pq_row(sphere::SquareMap::Toast, window_.height, j, dirs);
   } else {
-    for (int i = 0; i < w; ++i)
+    for (int i = begin_; i < end_; ++i)
       dirs[i] = sphere::pq_pixel_direction(sphere::SquareMap::Toast, window_.height, window_.i0 + i, window_.j0 + j);
   }
+  pixels_computed_ += end_ - begin_;
   // Every plate whose footprint reaches a pixel: that pixel's coordinates in the plate.
   std::vector<std::vector<PlateHit>>& hits = out.hits;
   hits.assign(w, {});
@@ -122,9 +135,10 @@ void MosaicRows::compute(int j, Row& out) {
   std::vector<unsigned char> ok;
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const Plate& p = plates_[k];
-    if (j < rows_of_[k][0] || j > rows_of_[k][1]) continue;  // the plate reaches no pixel of this row
+    if (j < pixels_.rows(k)[0] || j > pixels_.rows(k)[1]) continue;  // the plate reaches no pixel of this row
+    pixels_.hold(k);
     pixels.clear();
-    for (int i = 0; i < w; ++i)
+    for (int i = begin_; i < end_; ++i)
       if (sphere::dot(dirs[i], p.centre) >= p.cos_reach) pixels.push_back(i);
     if (pixels.empty()) continue;
     sky.resize(2 * pixels.size());
@@ -141,11 +155,9 @@ void MosaicRows::compute(int j, Row& out) {
   }
   out.value.assign(w, std::numeric_limits<float>::quiet_NaN());
   out.label.assign(w, kNoPlate);
-  out.covered.assign(w, 0);
+  out.covered.assign(w, 0.0f);
   out.across.clear();
-  const bool count = !counted_[j];
-  counted_[j] = 1;
-  for (int i = 0; i < w; ++i) {
+  for (int i = begin_; i < end_; ++i) {
     const int preferred = sources_ && hits[i].size() >= 2 ? sources_->plate_at(dirs[i]) : -1;
     const int best = choose_plate(hits[i], sizes_, preferred);
     if (best < 0) continue;
@@ -153,10 +165,9 @@ void MosaicRows::compute(int j, Row& out) {
     const Plate& p = plates_[h.plate];
     out.value[i] = p.extended(h.x, h.y, kExtension * std::max(p.width, p.height));
     out.label[i] = static_cast<float>(h.plate + 2);
-    out.covered[i] = depth_inside(h.x, h.y, p.width, p.height) > 0.0;
-    if (count && out.covered[i]) ++chosen_[h.plate];
+    out.covered[i] = depth_inside(h.x, h.y, p.width, p.height) > 0.0 ? out.label[i] : 0.0f;
   }
-  if (count) coverage_->write(static_cast<std::size_t>(j) * w, out.covered.data(), w);
+  coverage_->write(static_cast<std::size_t>(j) * w * sizeof(float), out.covered.data(), w * sizeof(float));
 }
 
 }  // namespace gdp::sky

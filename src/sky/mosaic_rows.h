@@ -11,6 +11,7 @@
 #include "gdp/rows.h"
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/plate_sweep.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/seam_sources.h"
@@ -25,6 +26,11 @@ namespace gdp::sky {
 // Label of PQ pixels no plate covers (stitch's "unknown": white); plate k has label k + 2.
 inline constexpr float kNoPlate = 1.0f;
 
+// Rows the mosaic keeps computed (across_row(j) needs rows j - 1 .. j + 1), and how far past a
+// plate's last row its pixels stay held (the cache and two rows).
+inline constexpr int kCachedRows = 6;
+inline constexpr int kReleaseLag = kCachedRows + 2;
+
 // Computes PQ rows (TOAST map, height H, width 4H) on demand: the composite (the chosen plate's
 // bilinear value) and the label map (which plate). Around the plates, up to half a plate's size
 // beyond its edges, pixels take the nearest plate's edge values (its extension, its label), so
@@ -37,11 +43,13 @@ class MosaicRows {
   // Rows of `window` (its columns only); the views are window.width x window.rows. `sources`:
   // the stars the seams go around (none: each point from the plate it lies deepest inside).
   // `temp_dir`: where the coverage rows go when they exceed `memory_limit` bytes (coverage_row()). Rows are
-  // read once, in order (as the solve reads them): a plate's pixels are released (emptied) once
-  // the rows computed are past the last row it reaches (plate_rows), and a row that would need a
-  // released plate again throws std::logic_error.
-  MosaicRows(std::vector<Plate>& plates, const PqWindow& window, const SeamSources* sources = nullptr,
-             const std::filesystem::path& temp_dir = {}, std::size_t memory_limit = kSmallScratch);
+  // read once, in order (as the solve reads them): a plate's pixels are read (`pixels`, made with
+  // lag kReleaseLag) when a row first reaches it and released once the rows computed are
+  // kReleaseLag past the last row it reaches (plate_rows); a row that would need a released plate
+  // again throws std::logic_error.
+  MosaicRows(std::vector<Plate>& plates, PlatePixels& pixels, const PqWindow& window,
+             const SeamSources* sources = nullptr, const std::filesystem::path& temp_dir = {},
+             std::size_t memory_limit = kSmallScratch);
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
@@ -51,15 +59,20 @@ class MosaicRows {
   // then gets the mean of both plates' differences as guidance, zero only at junctions.
   RowReader& across() { return *across_; }
   const PqWindow& window() const { return window_; }
-  // Pixels (over all rows computed so far) each plate was chosen for.
-  const std::vector<long long>& chosen() const { return chosen_; }
-  // Row j's coverage (computed before): 1 inside a plate with a value, else 0 (an extension or no
-  // plate). Kept in scratch (a byte a pixel), since the solve writes a row long after reading it.
-  void coverage_row(int j, std::span<unsigned char> out) const;
+  // Row j's coverage (computed before): inside a plate with a value, its label (plate + 2), else 0
+  // (an extension or no plate). Kept in scratch (4 bytes a pixel), since the solve writes a row
+  // long after reading it; only the columns computed (want_columns) are set.
+  void coverage_row(int j, std::span<float> out) const;
+  // Only columns [begin, end) are read from now on (the union of the calls; RowReader::set_columns
+  // of the three views: a rank of a distributed solve). Rows are then computed over those columns
+  // and one more on each side (across() needs its neighbours' labels), the rest left blank.
+  void want_columns(int begin, int end);
+  // PQ pixels computed so far (rows computed again counted again).
+  long long pixels_computed() const { return pixels_computed_; }
 
   struct Row {
     std::vector<float> value, label;
-    std::vector<unsigned char> covered;  // inside a plate (else an extension, or no plate)
+    std::vector<float> covered;  // inside a plate: its label (else 0: an extension, or no plate)
     std::vector<std::vector<PlateHit>> hits;  // per pixel, the plates reaching it
     std::vector<float> across;                // across_row(): empty until asked for
   };
@@ -72,14 +85,17 @@ class MosaicRows {
   void compute(int j, Row& out);
 
   std::vector<Plate>& plates_;
+  PlatePixels& pixels_;  // which plates' pixels are held
   PqWindow window_;
-  std::vector<std::array<int, 2>> rows_of_;  // per plate: the first and last window row it reaches
-  int released_below_ = 0;                   // rows below this may need plates already released
+  int released_below_ = 0;  // rows below this may need plates already released
+  std::vector<char> released_;
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
-  std::vector<long long> chosen_;
-  std::vector<unsigned char> counted_;  // rows already counted in chosen_
-  std::unique_ptr<blending::Scratch> coverage_;  // window.width bytes a row
+  int begin_ = 0, end_ = 0;     // the columns computed
+  std::array<int, 2> wanted_{};  // the union of want_columns
+  bool columns_set_ = false;
+  long long pixels_computed_ = 0;
+  std::unique_ptr<blending::Scratch> coverage_;  // window.width floats a row
   std::map<int, Row> cache_;
   std::unique_ptr<RowReader> composite_, labels_, across_;
 };

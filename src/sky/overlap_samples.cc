@@ -13,8 +13,17 @@ bool cones_meet(const Plate& a, const Plate& b) {
   return sphere::angle(a.centre, b.centre) <= reach;
 }
 
+namespace {
+int grid_stride(const Plate& a) { return std::max(1, std::max(a.width, a.height) / 64); }
+}  // namespace
+
+std::size_t overlap_sample_bound(const Plate& a) {
+  const std::size_t s = grid_stride(a);
+  return ((a.width + s - 1) / s) * ((a.height + s - 1) / s);
+}
+
 std::vector<OverlapSample> overlap_samples(const Plate& a, const Plate& b) {
-  const int stride = std::max(1, std::max(a.width, a.height) / 64);
+  const int stride = grid_stride(a);
   std::vector<double> xy, sky, bxy;
   std::vector<unsigned char> ok, bok;
   std::vector<float> values;

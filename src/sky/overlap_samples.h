@@ -20,4 +20,7 @@ bool cones_meet(const Plate& a, const Plate& b);
 // where b has a value (b sampled as Plate::sample does). Uses both WCS (not thread-safe).
 std::vector<OverlapSample> overlap_samples(const Plate& a, const Plate& b);
 
+// The most samples overlap_samples(a, b) can give: a's grid points (needs only a's size).
+std::size_t overlap_sample_bound(const Plate& a);
+
 }  // namespace gdp::sky

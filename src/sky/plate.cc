@@ -43,26 +43,25 @@ std::vector<std::array<double, 2>> border_points(double left, double top, double
   return points;
 }
 
-Plate load_plate(const std::string& path, long plane) {
-  Plate p;
-  p.name = path;
-  std::unique_ptr<io::FitsImage> image;
+namespace {
+
+std::unique_ptr<io::FitsImage> open_fits(const std::string& path) {
   try {
-    image = std::make_unique<io::FitsImage>(path);
+    return std::make_unique<io::FitsImage>(path);
   } catch (const std::exception& e) {
     throw InputError(fmt::format("{}: {}", path, e.what()));
   }
-  p.width = image->width();
-  p.height = image->height();
-  p.planes = image->planes();
-  if (plane < 0 || plane >= p.planes)
-    throw InputError(fmt::format("{}: --plane {} but the image has {} plane(s)", path, plane + 1, p.planes));
-  p.wcs = std::make_unique<Wcs>(image->header(), p.width, p.height, path);
+}
+
+}  // namespace
+
+void read_pixels(Plate& p) {
+  const std::unique_ptr<io::FitsImage> image = open_fits(p.name);
   p.pixels.resize(static_cast<std::size_t>(p.width) * p.height);
   try {
-    image->read(plane, 0, p.height, 0, p.width, p.pixels.data());
+    image->read(p.plane, 0, p.height, 0, p.width, p.pixels.data());
   } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: {}", path, e.what()));
+    throw InputError(fmt::format("{}: {}", p.name, e.what()));
   }
   double sum = 0.0;
   long long finite = 0;
@@ -71,9 +70,28 @@ Plate load_plate(const std::string& path, long plane) {
       sum += v;
       ++finite;
     }
-  if (finite == 0) throw InputError(fmt::format("{}: every pixel is blank", path));
+  if (finite == 0) throw InputError(fmt::format("{}: every pixel is blank", p.name));
   p.mean = sum / static_cast<double>(finite);
+}
+
+Plate load_plate(const std::string& path, long plane) {
+  Plate p = open_plate(path, plane);
+  read_pixels(p);
   p.fade_to = p.mean;
+  return p;
+}
+
+Plate open_plate(const std::string& path, long plane) {
+  Plate p;
+  p.name = path;
+  const std::unique_ptr<io::FitsImage> image = open_fits(path);
+  p.width = image->width();
+  p.height = image->height();
+  p.planes = image->planes();
+  p.plane = plane;
+  if (plane < 0 || plane >= p.planes)
+    throw InputError(fmt::format("{}: --plane {} but the image has {} plane(s)", path, plane + 1, p.planes));
+  p.wcs = std::make_unique<Wcs>(image->header(), p.width, p.height, path);
   // The footprint: the centre and the widest angle to points around the border.
   double lon = 0, lat = 0;
   if (!p.wcs->pixel_to_sky(p.width / 2.0, p.height / 2.0, lon, lat))

@@ -20,6 +20,7 @@ struct Plate {
   int width = 0, height = 0;
   std::vector<float> pixels;  // rows top down; NaN: blank
   long planes = 1;            // planes in the file (a cube: `plane` was taken)
+  long plane = 0;             // the plane read (0-based)
   sphere::Vec3 centre;        // direction of the plate's centre
   double cos_radius = 1.0;    // every pixel of the plate lies within this cosine of the centre
   double cos_reach = 1.0;     // ... and its extension (half its size beyond every edge) within this
@@ -43,8 +44,16 @@ struct Plate {
   bool has_value(double x, double y) const;
 };
 
-// Reads plane `plane` (0-based) of the first image HDU of `path` and its WCS. Throws InputError
-// naming the file: not FITS, no celestial WCS, a WCS wcslib rejects, plane out of range.
+// Reads the header of the first image HDU of `path`: its size, WCS and footprint; no pixels
+// (read_pixels). Throws InputError naming the file: not FITS, no celestial WCS, a WCS wcslib
+// rejects, plane (0-based) out of range.
+Plate open_plate(const std::string& path, long plane = 0);
+
+// Reads an opened plate's plane into its pixels and sets its mean. Throws InputError naming the
+// file when every pixel is blank or the file cannot be read.
+void read_pixels(Plate& plate);
+
+// open_plate and read_pixels.
 Plate load_plate(const std::string& path, long plane = 0);
 
 // Points along the four sides of [left, right] x [top, bottom] (pixel coordinates), every

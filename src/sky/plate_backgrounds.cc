@@ -91,24 +91,22 @@ double residual(const BackgroundEquation& e, const std::vector<double>& x) {
   return r;
 }
 
-double median(std::vector<double> v) {
+double median(std::vector<double>& v) {  // reorders v
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
 }
 
-// Huber weights of the residuals: 1 within kHuber robust spreads (1.4826 x the median absolute
-// deviation) of their median, kHuber spreads / |r - median| beyond. Empty when the spread is 0
-// (the differences fitted exactly: nothing to weight down).
-std::vector<double> huber_weights(const std::vector<BackgroundEquation>& equations, const std::vector<double>& x) {
-  std::vector<double> r(equations.size()), deviation(equations.size());
-  for (std::size_t k = 0; k < equations.size(); ++k) r[k] = residual(equations[k], x);
+// Huber's rule: the robust centre of the equations' residuals and their limit (kHuber robust
+// spreads, 1.4826 x the median absolute deviation); a residual r weighs 1 within the limit of the
+// centre, limit / |r - centre| beyond. Limit 0 when the spread is 0 (the differences fitted
+// exactly: nothing to weight down). 8 bytes per equation while it runs.
+std::pair<double, double> huber_limits(const BackgroundEquations& equations, const std::vector<double>& x) {
+  std::vector<double> r;
+  equations([&](const BackgroundEquation& e) { r.push_back(residual(e, x)); });
+  if (r.empty()) return {0.0, 0.0};
   const double centre = median(r);
-  for (std::size_t k = 0; k < r.size(); ++k) deviation[k] = std::abs(r[k] - centre);
-  const double limit = kHuber * 1.4826 * median(deviation);
-  if (!(limit > 0.0)) return {};
-  std::vector<double> w(r.size());
-  for (std::size_t k = 0; k < r.size(); ++k) w[k] = deviation[k] <= limit ? 1.0 : limit / deviation[k];
-  return w;
+  for (double& v : r) v = std::abs(v - centre);
+  return {centre, kHuber * 1.4826 * median(r)};
 }
 
 }  // namespace
@@ -128,11 +126,14 @@ std::array<double, 4> background_energy(const Plate& plate) {
 }
 
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
-                                             const std::vector<BackgroundEquation>& equations, double damping,
-                                             bool robust) {
+                                             const BackgroundEquations& equations, double damping, bool robust) {
   const std::size_t count = energy.size();
   NormalEquations n(count);
-  for (const BackgroundEquation& e : equations) n.add(e, 1.0);
+  long long total = 0;
+  equations([&](const BackgroundEquation& e) {
+    n.add(e, 1.0);
+    ++total;
+  });
   // lambda: damping x the data's mean diagonal over the smooth terms, per unit of energy (of the
   // unweighted equations, so that the reweighting does not move it).
   double trace = 0.0, energies = 0.0;
@@ -151,11 +152,14 @@ std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double
   std::vector<double> x = n.solve(weights);
   // Stars, plate defects and other compact sources in the overlaps are outliers of the
   // differences: iteratively reweighted least squares with Huber's weights bounds their pull.
-  for (int it = 0; it < kReweightings && robust && !equations.empty(); ++it) {
-    const std::vector<double> w = huber_weights(equations, x);
-    if (w.empty()) break;
+  for (int it = 0; it < kReweightings && robust && total > 0; ++it) {
+    const auto [centre, limit] = huber_limits(equations, x);
+    if (!(limit > 0.0)) break;
     NormalEquations weighted(count);
-    for (std::size_t k = 0; k < equations.size(); ++k) weighted.add(equations[k], w[k]);
+    equations([&](const BackgroundEquation& e) {
+      const double deviation = std::abs(residual(e, x) - centre);
+      weighted.add(e, deviation <= limit ? 1.0 : limit / deviation);
+    });
     x = weighted.solve(weights);
   }
   std::vector<PlateBackground> out(count);
@@ -173,18 +177,21 @@ std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double
   return out;
 }
 
+BackgroundEquation background_equation(const Plate& a, int ia, const Plate& b, int ib, const OverlapSample& s) {
+  return {ia, ib, background_basis(a, s.ax, s.ay), background_basis(b, s.bx, s.by), s.difference};
+}
+
 std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping, bool robust) {
   std::vector<BackgroundEquation> equations;
   for (std::size_t a = 0; a < plates.size(); ++a)
-    for (std::size_t b = a + 1; b < plates.size(); ++b) {
-      if (!cones_meet(plates[a], plates[b])) continue;
-      for (const OverlapSample& s : overlap_samples(plates[a], plates[b]))
-        equations.push_back({static_cast<int>(a), static_cast<int>(b), background_basis(plates[a], s.ax, s.ay),
-                             background_basis(plates[b], s.bx, s.by), s.difference});
-    }
+    for (std::size_t b = a + 1; b < plates.size(); ++b)
+      if (cones_meet(plates[a], plates[b]))
+        for (const OverlapSample& s : overlap_samples(plates[a], plates[b]))
+          equations.push_back(background_equation(plates[a], static_cast<int>(a), plates[b], static_cast<int>(b), s));
   std::vector<std::array<double, 4>> energy;
   for (const Plate& p : plates) energy.push_back(background_energy(p));
-  return fit_backgrounds(energy, equations, damping, robust);
+  return fit_backgrounds(
+      energy, [&](const auto& visit) { for (const BackgroundEquation& e : equations) visit(e); }, damping, robust);
 }
 
 double smooth_rms(const Plate& plate, const PlateBackground& b) {
@@ -206,23 +213,19 @@ std::string backgrounds_note(const std::vector<std::string>& paths, const std::v
                      rms.size(), middle, largest);
 }
 
-void subtract_smooth_backgrounds(std::vector<Plate>& plates, const std::vector<PlateBackground>& backgrounds) {
-  for (std::size_t k = 0; k < plates.size(); ++k) {
-    Plate& p = plates[k];
-    const PlateBackground& m = backgrounds[k];
-    double sum = 0.0;
-    long long finite = 0;
-    for (int y = 0; y < p.height; ++y)
-      for (int x = 0; x < p.width; ++x) {
-        float& v = p.pixels[static_cast<std::size_t>(y) * p.width + x];
-        if (!std::isfinite(v)) continue;
-        const auto f = background_basis(p, x + 0.5, y + 0.5);
-        v = static_cast<float>(v - (m.slope_u * f[1] + m.slope_v * f[2] + m.radial * f[3]));
-        sum += v;
-        ++finite;
-      }
-    if (finite) p.mean = sum / static_cast<double>(finite);
-  }
+void subtract_smooth_background(Plate& p, const PlateBackground& m) {
+  double sum = 0.0;
+  long long finite = 0;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      float& v = p.pixels[static_cast<std::size_t>(y) * p.width + x];
+      if (!std::isfinite(v)) continue;
+      const auto f = background_basis(p, x + 0.5, y + 0.5);
+      v = static_cast<float>(v - (m.slope_u * f[1] + m.slope_v * f[2] + m.radial * f[3]));
+      sum += v;
+      ++finite;
+    }
+  if (finite) p.mean = sum / static_cast<double>(finite);
 }
 
 }  // namespace gdp::sky

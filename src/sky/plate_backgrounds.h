@@ -2,9 +2,11 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "sky/overlap_samples.h"
 #include "sky/plate.h"
 
 namespace gdp::sky {
@@ -41,12 +43,19 @@ std::array<double, 4> background_energy(const Plate& plate);
 // least-squares fit, a few iterations reweight the equations by Huber's rule (weight 1 within
 // 3 robust spreads of the residuals, less beyond), so that stars and defects in the overlaps
 // do not pull the fit (`robust` false: plain least squares). Eigen's conjugate gradients on the block-sparse normal equations.
+// `equations(visit)` calls visit on every equation, in the same order each time (it is called
+// once per pass: the least-squares fit, then two per reweighting; the equations need not be in
+// memory: overlap_store.h). Memory: 8 bytes per equation (the residuals' median) and the normal
+// equations (16 numbers per plate and per overlapping pair).
+using BackgroundEquations = std::function<void(const std::function<void(const BackgroundEquation&)>&)>;
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
-                                             const std::vector<BackgroundEquation>& equations, double damping,
-                                             bool robust = true);
+                                             const BackgroundEquations& equations, double damping, bool robust = true);
 
-// The equations of the plates' overlaps (overlap_samples: about 64 x 64 points per plate) and
-// their fit. Uses the plates' WCS (not thread-safe).
+// The equation of one overlap sample of plates a and b (indices ia and ib; overlap_samples(a, b)).
+BackgroundEquation background_equation(const Plate& a, int ia, const Plate& b, int ib, const OverlapSample& s);
+
+// The equations of the plates' overlaps, all plates in memory, and their fit. Uses the plates'
+// WCS (not thread-safe). gdp sky streams the plates instead (plate_passes.h).
 std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates, double damping, bool robust = true);
 
 // The rms over the plate of the background's smooth terms (plane and radial; not the offset).
@@ -56,8 +65,8 @@ double smooth_rms(const Plate& plate, const PlateBackground& background);
 // terms' rms and the largest three, with the plates' file names.
 std::string backgrounds_note(const std::vector<std::string>& paths, const std::vector<double>& rms);
 
-// Subtracts each plate's smooth terms (not its offset: the solve removes constants exactly) from
+// Subtracts the plate's smooth terms (not its offset: the solve removes constants exactly) from
 // its pixels, and from its mean.
-void subtract_smooth_backgrounds(std::vector<Plate>& plates, const std::vector<PlateBackground>& backgrounds);
+void subtract_smooth_background(Plate& plate, const PlateBackground& background);
 
 }  // namespace gdp::sky

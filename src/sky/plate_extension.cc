@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sky/plate_offsets.h"
 #include "sky/seams.h"
 
 namespace gdp::sky {
@@ -91,11 +90,6 @@ std::vector<float> edge_corrections(const Plate& plate, const std::vector<PlateS
     before = after;
   }
   return correction;
-}
-
-void prepare_extensions(std::vector<Plate>& plates, const std::vector<std::vector<PlateSource>>& sources) {
-  set_fade_levels(plates);
-  for (std::size_t k = 0; k < plates.size(); ++k) plates[k].edge_correction = edge_corrections(plates[k], sources[k]);
 }
 
 float Plate::extended(double x, double y, double margin) const {

@@ -16,8 +16,4 @@ namespace gdp::sky {
 // plates narrower than 2 pixels.
 std::vector<float> edge_corrections(const Plate& plate, const std::vector<PlateSource>& sources);
 
-// Every plate's extension: fade_to (set_fade_levels) and edge_correction (edge_corrections of
-// the plate's `sources`, one list per plate).
-void prepare_extensions(std::vector<Plate>& plates, const std::vector<std::vector<PlateSource>>& sources);
-
 }  // namespace gdp::sky

@@ -44,24 +44,27 @@ std::vector<double> offsets_from_overlaps(std::size_t count, const std::vector<O
   return o;
 }
 
+OverlapSum overlap_sum(const Plate& a, int ia, const Plate& b, int ib) {
+  OverlapSum o{ia, ib, 0.0, 0};
+  for (const OverlapSample& p : overlap_samples(a, b)) {
+    o.sum += p.difference;
+    ++o.n;
+  }
+  return o;
+}
+
 std::vector<double> plate_offsets(const std::vector<Plate>& plates) {
   const std::size_t m = plates.size();
   std::vector<OverlapSum> pairs;
   for (std::size_t a = 0; a < m; ++a)
-    for (std::size_t b = a + 1; b < m; ++b) {
-      if (!cones_meet(plates[a], plates[b])) continue;
-      OverlapSum o{static_cast<int>(a), static_cast<int>(b), 0.0, 0};
-      for (const OverlapSample& p : overlap_samples(plates[a], plates[b])) {
-        o.sum += p.difference;
-        ++o.n;
-      }
-      if (o.n > 0) pairs.push_back(o);
-    }
+    for (std::size_t b = a + 1; b < m; ++b)
+      if (cones_meet(plates[a], plates[b]))
+        if (const OverlapSum o = overlap_sum(plates[a], static_cast<int>(a), plates[b], static_cast<int>(b)); o.n > 0)
+          pairs.push_back(o);
   return offsets_from_overlaps(m, pairs);
 }
 
-void set_fade_levels(std::vector<Plate>& plates) {
-  const std::vector<double> o = plate_offsets(plates);
+void set_fade_levels(std::vector<Plate>& plates, const std::vector<double>& o) {
   double level = 0.0;
   for (std::size_t k = 0; k < plates.size(); ++k) level += plates[k].mean - o[k];
   level /= static_cast<double>(plates.size());

@@ -105,80 +105,75 @@ std::vector<PlateSource> plate_sources(const Plate& plate, double threshold) {
   return out;
 }
 
-namespace {
-
-struct Detection {
-  sphere::Vec3 centre;
-  double radius = 0.0;  // radians
-};
-
-// Every plate's sources as directions with angular radii, largest first.
-std::vector<Detection> all_detections(const std::vector<Plate>& plates) {
-  std::vector<Detection> all;
-  for (const Plate& p : plates)
-    for (const PlateSource& s : plate_sources(p)) {
-      double lon = 0, lat = 0;
-      if (p.wcs->pixel_to_sky(s.x + 0.5, s.y + 0.5, lon, lat))
-        all.push_back({direction(lon, lat), s.radius * p.scale * kDeg});
-    }
-  std::stable_sort(all.begin(), all.end(), [](const Detection& a, const Detection& b) { return a.radius > b.radius; });
-  return all;
+std::vector<SourceDetection> source_detections(const Plate& plate, const std::vector<PlateSource>& sources) {
+  std::vector<SourceDetection> out;
+  for (const PlateSource& s : sources) {
+    double lon = 0, lat = 0;
+    if (plate.wcs->pixel_to_sky(s.x + 0.5, s.y + 0.5, lon, lat))
+      out.push_back({direction(lon, lat), s.radius * plate.scale * kDeg, {}});
+  }
+  return out;
 }
 
-// The plate a source at `d` of angular radius r goes to: the valid plate deepest at d, when at
-// least two plates reach within r of d (else plate -1: no seam can cut it); `room`: how far a
-// disk grown for a neighbour may reach and stay inside that plate with 2 of its pixels to spare
-// (its edge pixels are resampled bilinearly and its extension beyond them is no sky), in radians.
+void add_reach(SourceDetection& d, const Plate& p, int k) {
+  double lon = 0, lat = 0, x = 0, y = 0;
+  lon_lat(d.centre, lon, lat);
+  if (sphere::dot(d.centre, p.centre) < p.cos_reach || !p.wcs->sky_to_pixel(lon, lat, x, y)) return;
+  if (depth_inside(x, y, p.width, p.height) <= -d.radius / (p.scale * kDeg)) return;
+  d.hits.push_back({k, x, y, p.has_value(x, y)});
+}
+
+namespace {
+
+// The plate a source goes to: the valid plate deepest at its centre, when at least two plates
+// reach within its radius (else plate -1: no seam can cut it); `room`: how far a disk grown for
+// a neighbour may reach and stay inside that plate with 2 of its pixels to spare (its edge pixels
+// are resampled bilinearly and its extension beyond them is no sky), in radians.
 struct Owner {
   int plate = -1;
   double room = 0.0;
 };
 
-Owner source_plate(const std::vector<Plate>& plates, const sphere::Vec3& d, double r) {
-  double lon = 0, lat = 0;
-  lon_lat(d, lon, lat);
-  std::vector<PlateHit> hits;
-  std::vector<int> sizes;
-  int reaching = 0;
-  for (std::size_t k = 0; k < plates.size(); ++k) {
-    const Plate& p = plates[k];
-    sizes.push_back(p.width);
-    sizes.push_back(p.height);
-    double x = 0, y = 0;
-    if (sphere::dot(d, p.centre) < p.cos_reach || !p.wcs->sky_to_pixel(lon, lat, x, y)) continue;
-    if (depth_inside(x, y, p.width, p.height) <= -r / (p.scale * kDeg)) continue;
-    ++reaching;
-    hits.push_back({static_cast<int>(k), x, y, p.has_value(x, y)});
-  }
-  const int best = reaching >= 2 ? choose_plate(hits, sizes) : -1;
+Owner source_plate(const SourceDetection& d, const std::vector<int>& sizes, const std::vector<double>& scales) {
+  if (d.hits.size() < 2) return {};
+  std::vector<PlateHit> hits = d.hits;
+  std::sort(hits.begin(), hits.end(), [](const PlateHit& a, const PlateHit& b) { return a.plate < b.plate; });
+  const int best = choose_plate(hits, sizes);
   if (best < 0) return {};
   const PlateHit& h = hits[best];
-  const Plate& p = plates[h.plate];
-  return {h.plate, (depth_inside(h.x, h.y, p.width, p.height) - 2.0) * p.scale * kDeg};
+  const double depth = depth_inside(h.x, h.y, sizes[2 * h.plate], sizes[2 * h.plate + 1]);
+  return {h.plate, (depth - 2.0) * scales[h.plate] * kDeg};
 }
 
 }  // namespace
 
-SeamSources::SeamSources(const std::vector<Plate>& plates) {
-  const std::vector<Detection> all = all_detections(plates);
+SeamSources::SeamSources(const std::vector<std::vector<SourceDetection>>& detections, const std::vector<int>& sizes,
+                         const std::vector<double>& scales) {
+  // Every plate's sources, largest first (plate order, then the plate's, among equals).
+  std::vector<const SourceDetection*> all;
+  for (const auto& plate : detections)
+    for (const SourceDetection& d : plate) all.push_back(&d);
+  std::stable_sort(all.begin(), all.end(), [](const SourceDetection* a, const SourceDetection* b) {
+    return a->radius > b->radius;
+  });
   if (all.empty()) return;
   // Chords are shorter than angles; a kept disk grows to hold the smaller ones inside it, to at
   // most twice the largest radius.
-  cell_ = 2.0 * all.front().radius * 1.001;
-  for (const Detection& s : all) {
-    if (const int n = find(s.centre); n >= 0) {
+  cell_ = 2.0 * all.front()->radius * 1.001;
+  for (const SourceDetection* s : all) {
+    if (const int n = find(s->centre); n >= 0) {
       Source& kept = sources_[n];
-      const double apart = std::acos(std::min(1.0, sphere::dot(s.centre, kept.centre)));
-      if (apart < 0.3 * s.radius) continue;  // the same star in another plate
+      const double apart = std::acos(std::min(1.0, sphere::dot(s->centre, kept.centre)));
+      if (apart < 0.3 * s->radius) continue;  // the same star in another plate
       // A neighbour: the disk grows to hold it whole; where that no longer fits inside its plate,
       // the pair keeps the plain rule (a seam along the plate's edge would cut the neighbour).
-      const double reach = apart + s.radius;
-      kept.cos_radius = std::min(kept.cos_radius, std::cos(std::min(reach, 2.0 * all.front().radius)));
+      const double reach = apart + s->radius;
+      kept.cos_radius = std::min(kept.cos_radius, std::cos(std::min(reach, 2.0 * all.front()->radius)));
       if (reach > kept.room) kept.plate = -1;
       continue;
     }
-    const Owner owner = source_plate(plates, s.centre, s.radius);
-    if (owner.plate >= 0) insert({s.centre, std::cos(s.radius), owner.plate, owner.room});
+    const Owner owner = source_plate(*s, sizes, scales);
+    if (owner.plate >= 0) insert({s->centre, std::cos(s->radius), owner.plate, owner.room});
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include "gdp/sphere.h"
 #include "sky/plate.h"
+#include "sky/seams.h"
 
 namespace gdp::sky {
 
@@ -24,6 +25,21 @@ struct PlateSource {
 // median of the 4, plus one pixel, at most max(2, min(32, plate size / 8)) pixels.
 std::vector<PlateSource> plate_sources(const Plate& plate, double threshold = 20.0);
 
+// A plate's source on the sphere, and the plates reaching within its radius of its centre (their
+// hits there: pixel coordinates and whether the plate has a value), gathered while their pixels
+// are held (plate_sweep.h: every such plate crosses the source's PQ row).
+struct SourceDetection {
+  sphere::Vec3 centre;
+  double radius = 0.0;         // radians
+  std::vector<PlateHit> hits;  // any order (SeamSources sorts them by plate)
+};
+
+// A plate's sources (plate_sources of it) on the sphere, by its WCS; no hits yet.
+std::vector<SourceDetection> source_detections(const Plate& plate, const std::vector<PlateSource>& sources);
+
+// Adds plate k's hit at d's centre when the plate (with its pixels) reaches within d's radius.
+void add_reach(SourceDetection& d, const Plate& plate, int k);
+
 // The sources of all plates that lie in overlaps (within their radius of two plates), merged
 // (largest first; a source whose centre lies in a kept disk widens that disk to hold it whole:
 // the same star seen by another plate, or a close neighbour), each assigned the plate it lies
@@ -34,7 +50,10 @@ std::vector<PlateSource> plate_sources(const Plate& plate, double threshold = 20
 // percent of its peak, and the solve would spread that difference around it).
 class SeamSources {
  public:
-  explicit SeamSources(const std::vector<Plate>& plates);
+  // `detections`: per plate, its source_detections with every reaching plate's hit added;
+  // `sizes`: each plate's width and height, {w0, h0, w1, h1, ...}; `scales`: degrees per pixel.
+  SeamSources(const std::vector<std::vector<SourceDetection>>& detections, const std::vector<int>& sizes,
+              const std::vector<double>& scales);
   int plate_at(const sphere::Vec3& d) const;
   std::size_t size() const { return sources_.size(); }
 

@@ -18,8 +18,8 @@
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
-#include "sky/plate_extension.h"
-#include "sky/plate_offsets.h"
+#include "sky/plate_passes.h"
+#include "sky/plate_sweep.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
@@ -113,15 +113,17 @@ int choose_pq_height(const std::vector<sky::Plate>& plates, const SkyOptions& op
   return H;
 }
 
-// --seams-from: the plates whose stars place the seams, one per plate and on its grid.
+// --seams-from: the plates whose stars place the seams, one per plate and on its grid (their
+// headers: their pixels are read with the plates', plate_sweep.h).
 std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const std::vector<std::string>& paths,
                                     const SkyOptions& options) {
+  if (options.seam_plates.empty()) return {};
   if (options.seam_plates.size() != plates.size())
     throw UsageError(fmt::format("--seams-from takes one plate per plate: {} for {}", options.seam_plates.size(),
                                  plates.size()));
   std::vector<sky::Plate> out;
   for (std::size_t k = 0; k < plates.size(); ++k) {
-    out.push_back(sky::load_plate(options.seam_plates[k], options.plane));
+    out.push_back(sky::open_plate(options.seam_plates[k], options.plane));
     if (out[k].width != plates[k].width || out[k].height != plates[k].height)
       throw InputError(fmt::format("{}: {} x {} pixels, but {} is {} x {}; --seams-from takes plates on the same grids",
                                    options.seam_plates[k], out[k].width, out[k].height, paths[k], plates[k].width,
@@ -130,53 +132,88 @@ std::vector<sky::Plate> seam_plates(const std::vector<sky::Plate>& plates, const
   return out;
 }
 
-// The seamed mosaic of the plates on `win`, solved unless options.blend is off; NaN where no plate is.
-// The stars the seams go around (options.star_seams), found in the plates or the --seams-from plates;
-// `sources`: each plate's compact sources, found in the same plates (their extensions bridge over
-// those the plate's edge cuts, plate_extension.h: the same in every band with --seams-from).
-std::optional<sky::SeamSources> seam_stars(const std::vector<sky::Plate>& plates,
-                                           const std::vector<std::string>& paths, const SkyOptions& options,
-                                           std::vector<std::vector<sky::PlateSource>>& sources) {
-  std::optional<sky::SeamSources> stars;
-  const std::vector<sky::Plate> other = options.seam_plates.empty() ? std::vector<sky::Plate>{} : seam_plates(plates, paths, options);
-  const std::vector<sky::Plate>& finders = other.empty() ? plates : other;
-  for (const sky::Plate& p : finders) sources.push_back(sky::plate_sources(p));
-  if (!options.star_seams) return stars;
-  stars.emplace(finders);
-  if (options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", stars->size()));
-  return stars;
-}
-
-// gdp sky's own scratch (PQ store, coverage) in memory up to 8 MiB, or less as --memory says (0: files).
+// gdp sky's own scratch (PQ store, coverage, overlap samples) in memory up to 8 MiB, or less as --memory says (0: files).
 std::size_t scratch_limit(const SolverOptions& solver) { return std::min(sky::kSmallScratch, solver.scratch_memory); }
 
-// The solved rows on their way into the PQ store: extensions and the unknown region are no sky (blank).
+// The passes before the solve (docs/sky.md): the stars the seams go around, the plates' smooth
+// backgrounds off (with a note), the levels and edges of their extensions; the plates' pixels
+// read a few at a time (plate_passes.h).
+std::optional<sky::SeamSources> take_in_plates(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels,
+                                               const std::vector<std::string>& paths, const SkyOptions& options,
+                                               const SolverOptions& solver, SkySummary& s) {
+  sky::IntakeOptions o;
+  o.star_seams = options.star_seams;
+  o.fit_backgrounds = options.fit_backgrounds && options.blend;
+  o.damping = options.background_damping;
+  o.temp_dir = solver.temp_dir;
+  o.memory_limit = scratch_limit(solver);
+  sky::PlateIntake in = sky::take_in_plates(plates, pixels, o);
+  if (in.stars && options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", in.stars->size()));
+  for (std::size_t k = 0; k < in.backgrounds.size(); ++k) {
+    const sky::PlateBackground& b = in.backgrounds[k];
+    s.backgrounds.push_back({b.offset, b.slope_u, b.slope_v, b.radial});
+    s.background_rms.push_back(sky::smooth_rms(plates[k], b));
+  }
+  if (!in.backgrounds.empty() && options.note) options.note(sky::backgrounds_note(paths, s.background_rms));
+  return std::move(in.stars);
+}
+
+// A rank's solved rows on their way to rank 0 (MpiRun::gather_writer), with their coverage as a
+// second channel (MosaicRows::coverage_row: the label of the plate a pixel lies inside, 0 where
+// none), which each rank has for the columns it computed only.
+class WithCoverage final : public RowWriter {
+ public:
+  WithCoverage(const sky::MosaicRows& rows, std::unique_ptr<RowWriter> out)
+      : rows_(rows), out_(std::move(out)), row_(2 * static_cast<std::size_t>(rows.window().width)) {}
+  void set_columns(int begin, int end) override { out_->set_columns(begin, end); }
+  void write_row(int y, std::span<const float> row) override {
+    const std::size_t w = row_.size() / 2;
+    std::copy(row.begin(), row.begin() + w, row_.begin());
+    rows_.coverage_row(y, std::span(row_).subspan(w));
+    out_->write_row(y, row_);
+  }
+  void commit() override { out_->commit(); }
+
+ private:
+  const sky::MosaicRows& rows_;
+  std::unique_ptr<RowWriter> out_;
+  std::vector<float> row_;
+};
+
+// Rank 0's rows (value and coverage, WithCoverage) into the PQ store, blank where no plate is
+// (extensions and the unknown region are no sky), counting each plate's pixels.
 class MaskedPqWriter final : public RowWriter {
  public:
-  MaskedPqWriter(const sky::MosaicRows& rows, sky::PqStore& store)
-      : rows_(rows), store_(store), row_(store.window().width), covered_(store.window().width) {}
+  MaskedPqWriter(sky::PqStore& store, std::vector<long long>& chosen)
+      : store_(store), chosen_(chosen), row_(store.window().width) {}
   void write_row(int y, std::span<const float> row) override {
-    rows_.coverage_row(y, covered_);
-    for (std::size_t i = 0; i < row_.size(); ++i) row_[i] = covered_[i] ? row[i] : std::numeric_limits<float>::quiet_NaN();
+    const std::size_t w = row_.size();
+    for (std::size_t i = 0; i < w; ++i) {
+      const float label = row[w + i];
+      row_[i] = label > 0.0f ? row[i] : std::numeric_limits<float>::quiet_NaN();
+      if (label > 0.0f) ++chosen_[static_cast<std::size_t>(label) - 2];
+    }
     store_.write_row(y, row_);
   }
 
  private:
-  const sky::MosaicRows& rows_;
   sky::PqStore& store_;
+  std::vector<long long>& chosen_;
   std::vector<float> row_;
-  std::vector<unsigned char> covered_;
 };
 
 // The seamed mosaic on `win`, solved unless options.blend is off, into `store` (NaN where no
-// plate is). Under mpirun every rank solves its columns and rank 0 gathers the rows into its
-// store (the others' stay empty: they write no output).
-void solve_pq(std::vector<sky::Plate>& plates, sky::PqStore& store, const SkyOptions& options, SolverOptions solver,
-              const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths, SkySummary& s) {
+// plate is). Under mpirun every rank solves its columns, computing the mosaic rows over those
+// and their halo only where the solve says which (a planar window), and rank 0 gathers the rows
+// and their coverage into its store (the others' stay empty: they write no output).
+void solve_pq(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels, sky::PqStore& store, const SkyOptions& options,
+              SolverOptions solver, const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths,
+              SkySummary& s) {
   const sky::PqWindow& win = store.window();
-  sky::MosaicRows rows(plates, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
-  const auto pq_rows = MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(rows, store); }, win.width,
-                                             win.rows, 1);
+  sky::MosaicRows rows(plates, pixels, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
+  std::vector<long long> chosen(plates.size(), 0);  // rank 0's: every rank's columns
+  const auto pq_rows = std::make_unique<WithCoverage>(
+      rows, MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(store, chosen); }, win.width, win.rows, 2));
   if (options.blend) {
     solver.domain = win.whole() ? Domain::Spherical : Domain::Planar;
     StitchOptions stitch_options;
@@ -191,10 +228,11 @@ void solve_pq(std::vector<sky::Plate>& plates, sky::PqStore& store, const SkyOpt
     }
   }
   pq_rows->commit();
-  for (std::size_t k = 0; k < plates.size(); ++k)
-    if (rows.chosen()[k] == 0 && options.note)
+  for (std::size_t k = 0; k < plates.size() && MpiRun::rank() == 0; ++k)
+    if (chosen[k] == 0 && options.note)
       options.note(fmt::format("{}: not used (other plates lie deeper everywhere it reaches)", paths[k]));
-  s.plate_pixels = rows.chosen();
+  s.plate_pixels = chosen;
+  s.mosaic_pixels = rows.pixels_computed();
 }
 
 // The HiPS's tile width and the properties' obs_description and prov_progenitor (the plates' names).
@@ -227,7 +265,7 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   const auto note = [&](const std::string& m) { if (options.note) options.note(m); };
   std::vector<sky::Plate> plates;
   for (const std::string& path : paths) {
-    plates.push_back(sky::load_plate(path, options.plane));
+    plates.push_back(sky::open_plate(path, options.plane));
     if (plates.back().planes > 1)
       note(fmt::format("{}: {} planes; plane {} taken (--plane)", path, plates.back().planes, options.plane + 1));
   }
@@ -259,25 +297,18 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
                                  "{}; gdp sky takes at most {:.0f} Mpixels (about 20 bytes of scratch each): give a "
                                  "smaller --pq-height",
                                  finest_scale(plates) * 3600.0, win.width, win.rows, H, kMaxPqPixels / 1e6));
-  // Stars first: --seams-from plates are checked before anything is fitted or noted.
-  std::vector<std::vector<sky::PlateSource>> sources;
-  const std::optional<sky::SeamSources> stars = seam_stars(plates, paths, options, sources);
-  // The plates' smooth backgrounds off (docs/sky.md), then the levels their extensions fade to.
+  // The plates' pixels come and go with the PQ rows (plate_sweep.h); --seams-from plates are
+  // checked before anything is fitted or noted.
+  std::vector<sky::Plate> finders = seam_plates(plates, paths, options);
+  sky::PlatePixels pixels(plates, finders, win, sky::kReleaseLag);
   SkySummary s;
-  if (options.fit_backgrounds && options.blend) {
-    const std::vector<sky::PlateBackground> b = sky::plate_backgrounds(plates, options.background_damping);
-    sky::subtract_smooth_backgrounds(plates, b);
-    for (std::size_t k = 0; k < plates.size(); ++k) {
-      s.backgrounds.push_back({b[k].offset, b[k].slope_u, b[k].slope_v, b[k].radial});
-      s.background_rms.push_back(sky::smooth_rms(plates[k], b[k]));
-    }
-    note(sky::backgrounds_note(paths, s.background_rms));
-  }
-  sky::prepare_extensions(plates, sources);
+  const std::optional<sky::SeamSources> stars = take_in_plates(plates, pixels, paths, options, solver, s);
   s.pq_height = H;
   s.pq_window = {win.i0, win.j0, win.width, win.rows};
   sky::PqStore pq(win, solver.temp_dir, scratch_limit(solver));
-  solve_pq(plates, pq, options, solver, stars, paths, s);
+  solve_pq(plates, pixels, pq, options, solver, stars, paths, s);
+  s.plates_held = pixels.most_held();
+  s.plates_crossing = pixels.most_crossing();
   if (MpiRun::rank() != 0) return;  // rank 0 gathered the solve and writes the outputs
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {

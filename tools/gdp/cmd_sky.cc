@@ -108,6 +108,9 @@ class Sky final : public Command {
     const auto& w = summary.pq_window;
     stats.set("pq_window", fmt::format("\"{}x{}+{}+{}\"", w[2], w[3], w[0], w[1]));
     stats.set("covered_pixels", std::to_string(summary.covered));
+    stats.set("plates_held_at_once", std::to_string(summary.plates_held));
+    stats.set("plates_crossing_a_row", std::to_string(summary.plates_crossing));
+    stats.set("mosaic_pixels_computed", std::to_string(summary.mosaic_pixels));
     report_backgrounds(summary, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
