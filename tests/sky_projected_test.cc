@@ -80,7 +80,8 @@ class SkyProjected : public test::CliFixture {
     cut("c.fits", 40, 40, 80, 50, c, [](int x, int y) { return x <= 15 && y >= 40; });
   }
 
-  Image run(const std::vector<std::string>& names, Schedule schedule = Schedule::Streaming) {
+  Image run(const std::vector<std::string>& names, Schedule schedule = Schedule::Streaming, bool fit = true,
+            ProjectedSummary* summary = nullptr) {
     std::vector<ProjectedInput> inputs;
     for (const std::string& n : names) inputs.push_back({path(n), ""});
     SolverOptions solver;
@@ -88,7 +89,10 @@ class SkyProjected : public test::CliFixture {
     solver.tolerance = 1e-10;
     solver.schedule = schedule;
     solver.bands = schedule == Schedule::Bands ? 3 : 1;
-    sky_projected(inputs, {path("t.hdr")}, solver, path("out.fits"), WriteOptions{});
+    ProjectedOptions options;
+    options.header = path("t.hdr");
+    options.fit_backgrounds = fit;
+    sky_projected(inputs, options, solver, path("out.fits"), WriteOptions{}, summary);
     return read_image(path("out.fits")).image;
   }
 };
@@ -157,6 +161,34 @@ TEST_F(SkyProjected, PlaneBackgroundsLeaveNoSeams) {
   std::sort(steps.begin(), steps.end());
   EXPECT_LT(steps[steps.size() * 99 / 100], 3e-3);
   EXPECT_LT(steps.back(), 0.03);
+}
+
+// Each image with its own offset + plane + radial term (in its own pixels, the model gdp fits): the
+// fit takes them off, so the output is the sky plus one constant to within the fit's damping; without
+// the fit the planes and bowls stay (the solve keeps each image's own gradients). The two images'
+// backgrounds are opposite, so that the part the overlaps cannot see (common to both) is zero and
+// the least-energy fit is the truth.
+TEST_F(SkyProjected, FittedPlaneAndRadialBackgroundsAreTakenOff) {
+  const auto background = [](double sign) {
+    return [=](int x, int y) {
+      const double u = (x + 0.5 - 35.0) / 90.0, v = (y + 0.5 - 45.0) / 90.0;
+      return sign * (0.25 + 0.08 * u - 0.05 * v + 0.12 * (u * u + v * v));
+    };
+  };
+  two(background(1.0), background(-1.0));
+  ProjectedSummary fitted;
+  const double with_fit = spread_from_sky(run({"a.fits", "b.fits"}, Schedule::Streaming, true, &fitted)).first;
+  const double without = spread_from_sky(run({"a.fits", "b.fits"}, Schedule::Streaming, false)).first;
+  EXPECT_LT(with_fit, 2e-3) << "output = sky + one constant (the backgrounds span " << without << ")";
+  EXPECT_GT(without, 20 * with_fit);
+  ASSERT_EQ(fitted.backgrounds.size(), 2u);
+  EXPECT_NEAR(fitted.backgrounds[0][1], 0.08, 4e-3);  // slope u
+  EXPECT_NEAR(fitted.backgrounds[0][2], -0.05, 4e-3);  // slope v
+  EXPECT_NEAR(fitted.backgrounds[0][3], 0.12, 6e-3);  // radial
+  EXPECT_NEAR(fitted.backgrounds[1][1], -0.08, 4e-3);
+  // The radial basis is u^2 + v^2 less its mean over the image: that mean's share is a level.
+  const double radial_mean = (70.0 * 70.0 - 1.0 + 90.0 * 90.0 - 1.0) / (12.0 * 90.0 * 90.0);
+  EXPECT_NEAR(fitted.offsets[0] - fitted.offsets[1], 0.5 + 2 * 0.12 * radial_mean, 2e-3);
 }
 
 TEST_F(SkyProjected, SchedulesAgreeWithInCore) {

@@ -46,6 +46,13 @@ void ResidualLog::cycle(int c, double norm, const multigrid::CycleProbe& probe) 
   lines_[c].push_back(std::move(line));
 }
 
+bool ResidualLog::settled(int c, double tolerance) const {
+  if (tolerance <= 0.0) return false;
+  const std::vector<double>& r = rel_[c];
+  const std::size_t n = r.size();
+  return r.back() <= tolerance || (n > kStallCycles && r.back() > 0.5 * r[n - 1 - kStallCycles]);
+}
+
 void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) const {
   std::size_t done = 0;
   for (const auto& r : rel_) done = std::max(done, r.size());
