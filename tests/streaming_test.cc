@@ -122,7 +122,9 @@ SolveSummary expect_same_iterations(SolverOptions o, bool reachable = true) {
   const Image b = solve(src2, o, nullptr, &s2);
   EXPECT_EQ(s1.vcycles, s2.vcycles);
   EXPECT_GT(s2.vcycles, 1);
-  if (reachable) EXPECT_LE(s2.relative_residuals.back(), o.tolerance);
+  if (reachable) {
+    EXPECT_LE(s2.relative_residuals.back(), o.tolerance);
+  }
   EXPECT_EQ(test::max_difference(a, b), 0.0);
   return s2;
 }
