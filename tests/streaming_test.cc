@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -151,7 +152,7 @@ TEST(Streaming, NarrowScratchToAToleranceMatchesInCore) {
 }
 
 // A tolerance below what float arithmetic reaches (this problem levels off near 2.7e-6): both
-// schedules stop once three cycles have not halved the residual, not at the cap of 100 cycles
+// schedules stop once three cycles have not lowered the residual by 10 %, not at the cap of 100 cycles
 // (gdp sky's plates: --tolerance 1e-6 ran 100 cycles at 1.65e-5).
 TEST(Streaming, AToleranceBelowTheFloatFloorStopsWhereTheResidualStalls) {
   SolverOptions o;
@@ -160,8 +161,9 @@ TEST(Streaming, AToleranceBelowTheFloatFloorStopsWhereTheResidualStalls) {
   EXPECT_LE(s.vcycles, 8);
   EXPECT_GT(s.relative_residuals.back(), o.tolerance);
   EXPECT_LT(s.relative_residuals.back(), 1e-5);
-  const double before = s.relative_residuals[s.relative_residuals.size() - 1 - 3];
-  EXPECT_GT(s.relative_residuals.back(), 0.5 * before) << "stopped only when stalled";
+  const auto& r = s.relative_residuals;
+  const double recent = *std::min_element(r.end() - 3, r.end()), before = *std::min_element(r.begin(), r.end() - 3);
+  EXPECT_GT(recent, 0.9 * before) << "stopped only when stalled";
 }
 
 TEST(Streaming, KeepsTheStartingGuessMean) {

@@ -49,8 +49,11 @@ void ResidualLog::cycle(int c, double norm, const multigrid::CycleProbe& probe) 
 bool ResidualLog::settled(int c, double tolerance) const {
   if (tolerance <= 0.0) return false;
   const std::vector<double>& r = rel_[c];
-  const std::size_t n = r.size();
-  return r.back() <= tolerance || (n > kStallCycles && r.back() > 0.5 * r[n - 1 - kStallCycles]);
+  if (r.back() <= tolerance) return true;
+  if (r.size() <= kStallCycles) return false;
+  // The best of the last cycles against the best before them: noise at the floor does not count.
+  const auto recent = r.end() - kStallCycles;
+  return *std::min_element(recent, r.end()) > 0.9 * *std::min_element(r.begin(), recent);
 }
 
 void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) const {
