@@ -38,8 +38,9 @@ struct ProjectedOptions {
 struct ProjectedSummary {
   int width = 0, height = 0;    // the template's
   std::vector<double> offsets;  // per image: the constant taken off it, from its overlaps (mean 0)
-  // Per image with fit_backgrounds: the smooth terms taken off (0, slope u, slope v, radial, in
-  // sky/plate_backgrounds.h's basis of its rectangle) and their rms over the image; else empty.
+  // Per image with fit_backgrounds: its level (as `offsets`) and the smooth terms taken off (slope
+  // u, slope v, radial, in sky/plate_backgrounds.h's basis of its rectangle), and their rms over
+  // the image; else empty.
   std::vector<std::array<double, 4>> backgrounds;
   std::vector<double> background_rms;
   long long covered = 0;        // output pixels with a value

@@ -51,7 +51,7 @@ void take_off_backgrounds(const sky::CanvasLevels& levels, const std::vector<Pro
     const sky::PlateBackground& b = levels.backgrounds[k];
     const PlacedLayer& l = plan.layers[k];
     plan.sources[k].background = sky::layer_background(l, b);
-    s.backgrounds.push_back({0.0, b.slope_u, b.slope_v, b.radial});
+    s.backgrounds.push_back({levels.offsets[k], b.slope_u, b.slope_v, b.radial});
     s.background_rms.push_back(sky::smooth_rms(l.width, l.height, b));
     names.push_back(inputs[k].image);
   }
