@@ -48,7 +48,7 @@ ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA
 ap.add_argument("--dec0", type=float, default=0.0)
 ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
 ap.add_argument("--projected", action="store_true", help="gdp sky --projected on Montage's projdir (mProjExec output)")
-ap.add_argument("--gdp-args", default="", help="more options for gdp sky (e.g. '--fit-backgrounds')")
+ap.add_argument("--gdp-args", default="", help="more options for gdp sky (e.g. '--no-fit-backgrounds'; --projected too)")
 args = ap.parse_args()
 out = args.out
 raw = os.path.join(out, "raw")
@@ -177,7 +177,7 @@ def pipelines(raw, base):
         for cmd in project:
             run(cmd, project_log)
         run([args.gdp, "sky", "--projected", m("proj"), "--header", hdr, "-o", m("gdp.fits"), "--tolerance", "1e-4",
-             "--quiet"], gdp_log)
+             "--quiet", *shlex.split(args.gdp_args)], gdp_log)
         for cmd in background:
             run(cmd, montage_log)
         run(["mAdd", "-e", "-p", m("proj"), m("pimages.tbl"), hdr, m("seamed.fits")], seamed_log)
@@ -201,7 +201,7 @@ if args.projected:
                 ["mImgtbl", m("proj_truth"), m("ptimages.tbl")],
                 ["mAdd", "-e", "-p", m("proj_truth"), m("ptimages.tbl"), hdr, m("truth_proj.fits")],
                 [args.gdp, "sky", "--projected", m("proj_truth"), "--header", hdr, "-o", m("truth_gdp.fits"),
-                 "--tolerance", "1e-4", "--quiet"]):
+                 "--tolerance", "1e-4", "--quiet", *shlex.split(args.gdp_args)]):
         run(cmd, [])
     names = {"gdp": "gdp --projected", "montage": "Montage bg+add", "seamed": "mAdd only"}
 else:

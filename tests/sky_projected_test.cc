@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <functional>
 
 #include <fmt/format.h>
@@ -80,7 +81,8 @@ class SkyProjected : public test::CliFixture {
     cut("c.fits", 40, 40, 80, 50, c, [](int x, int y) { return x <= 15 && y >= 40; });
   }
 
-  Image run(const std::vector<std::string>& names, Schedule schedule = Schedule::Streaming) {
+  Image run(const std::vector<std::string>& names, Schedule schedule = Schedule::Streaming, bool fit = true,
+            ProjectedSummary* summary = nullptr) {
     std::vector<ProjectedInput> inputs;
     for (const std::string& n : names) inputs.push_back({path(n), ""});
     SolverOptions solver;
@@ -88,7 +90,10 @@ class SkyProjected : public test::CliFixture {
     solver.tolerance = 1e-10;
     solver.schedule = schedule;
     solver.bands = schedule == Schedule::Bands ? 3 : 1;
-    sky_projected(inputs, {path("t.hdr")}, solver, path("out.fits"), WriteOptions{});
+    ProjectedOptions options;
+    options.header = path("t.hdr");
+    options.fit_backgrounds = fit;
+    sky_projected(inputs, options, solver, path("out.fits"), WriteOptions{}, summary);
     return read_image(path("out.fits")).image;
   }
 };
@@ -108,6 +113,20 @@ std::pair<double, int> spread_from_sky(const Image& out) {
   return {hi - lo, covered};
 }
 
+// |output - sky - their median| over the covered pixels, sorted.
+std::vector<double> off_the_median(const Image& out) {
+  std::vector<double> e;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      if (std::isfinite(out.at(0, x, y))) e.push_back(out.at(0, x, y) - sky_at(x, y));
+  std::sort(e.begin(), e.end());
+  const double median = e[e.size() / 2];
+  std::vector<double> off;
+  for (const double v : e) off.push_back(std::abs(v - median));
+  std::sort(off.begin(), off.end());
+  return off;
+}
+
 // Without the levels taken off first, the gap where the seam ends (its pixels run the composite's
 // differences, 0 - value, as blend's Extend) would make the correction field inconsistent there.
 TEST_F(SkyProjected, AConstantBackgroundDifferenceIsRemovedExactly) {
@@ -125,16 +144,7 @@ TEST_F(SkyProjected, AConstantBackgroundDifferenceIsRemovedExactly) {
 // other labels) and takes zero there: the levels are right, the junction's few edges are not.
 TEST_F(SkyProjected, ThreeImagesLevelToOneConstantAwayFromTheirJunction) {
   three([](int, int) { return 0.3; }, [](int, int) { return -0.2; }, [](int, int) { return 0.05; });
-  const Image out = run({"a.fits", "b.fits", "c.fits"});
-  std::vector<double> e;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      if (std::isfinite(out.at(0, x, y))) e.push_back(out.at(0, x, y) - sky_at(x, y));
-  std::sort(e.begin(), e.end());
-  const double median = e[e.size() / 2];
-  std::vector<double> off;
-  for (const double v : e) off.push_back(std::abs(v - median));
-  std::sort(off.begin(), off.end());
+  const std::vector<double> off = off_the_median(run({"a.fits", "b.fits", "c.fits"}));
   EXPECT_LT(off[off.size() * 99 / 100], 1e-3) << "99 % of the pixels: the jumps were 0.25 to 0.5";
   EXPECT_LT(off.back(), 0.02) << "the junction";
 }
@@ -157,6 +167,41 @@ TEST_F(SkyProjected, PlaneBackgroundsLeaveNoSeams) {
   std::sort(steps.begin(), steps.end());
   EXPECT_LT(steps[steps.size() * 99 / 100], 3e-3);
   EXPECT_LT(steps.back(), 0.03);
+}
+
+// Four images of 80 x 60 in a 2 x 2 grid (overlaps of 40 columns and 30 rows), each with its own
+// offset + plane + radial term in its own pixels (the model gdp fits). Overlaps see the differences
+// of the backgrounds, not what all share (a plane and bowl over the mosaic); the fit takes, among
+// the backgrounds that explain them, the least energetic. These backgrounds' signs alternate so
+// that they are that one: the fit recovers them (to its damping's shrinkage) and the output is the
+// sky plus one constant. Without the fit the planes and bowls stay (the solve keeps each image's
+// own gradients).
+TEST_F(SkyProjected, FittedPlaneAndRadialBackgroundsAreTakenOff) {
+  constexpr double kSlopeU = 0.08, kSlopeV = -0.05, kRadial = 0.12;
+  const auto background = [&](double offset, double sign) {
+    return [=](int x, int y) {
+      const double u = (x + 0.5 - 40.0) / 80.0, v = (y + 0.5 - 30.0) / 80.0;
+      return offset + sign * (kSlopeU * u + kSlopeV * v + kRadial * (u * u + v * v));
+    };
+  };
+  const double offsets[4] = {0.3, -0.2, 0.1, 0.0}, signs[4] = {1, -1, -1, 1};
+  const std::vector<std::string> names = {"tl.fits", "tr.fits", "bl.fits", "br.fits"};
+  for (int k = 0; k < 4; ++k) cut(names[k], 40 * (k % 2), 30 * (k / 2), 80, 60, background(offsets[k], signs[k]));
+  ProjectedSummary fitted;
+  const std::vector<double> with_fit = off_the_median(run(names, Schedule::Streaming, true, &fitted));
+  const std::vector<double> without = off_the_median(run(names, Schedule::Streaming, false));
+  const std::size_t p99 = with_fit.size() * 99 / 100;
+  std::cerr << "off the median, 99th percentile and worst: fitted " << with_fit[p99] << ", " << with_fit.back()
+            << "; without the fit " << without[p99] << ", " << without.back() << "\n";
+  EXPECT_LT(with_fit[p99], 2e-3) << "output = sky + one constant (measured 9.8e-4)";
+  EXPECT_LT(with_fit.back(), 0.03) << "the junction of the four: zero guidance there (measured 0.011)";
+  EXPECT_GT(without[p99], 20 * with_fit[p99]) << "measured 0.044";
+  ASSERT_EQ(fitted.backgrounds.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(fitted.backgrounds[k][1], signs[k] * kSlopeU, 2e-3) << names[k];
+    EXPECT_NEAR(fitted.backgrounds[k][2], signs[k] * kSlopeV, 2e-3) << names[k];
+    EXPECT_NEAR(fitted.backgrounds[k][3], signs[k] * kRadial, 4e-3) << names[k];
+  }
 }
 
 TEST_F(SkyProjected, SchedulesAgreeWithInCore) {

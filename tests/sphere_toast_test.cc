@@ -56,6 +56,44 @@ TEST(SphereToast, TilesAreCopiesAndRotationsOfPqBlocks) {
   EXPECT_FALSE(fs::exists(dir));
 }
 
+// The pyramid from square rows (read once, top to bottom, strips of 256 rows per level) with fewer
+// levels than the PQ height reaches: the one tile of level 0 is the mean of the square's 2 x 2
+// blocks (level 1, the square itself, is not written), and every square row is asked for once, in order.
+TEST(SphereToast, ThePyramidFromRowsAveragesTheSquare) {
+  Image pq(1024, 256, 3);  // top level 1; written: level 0 only
+  for (std::size_t k = 0; k < pq.data.size(); ++k) pq.data[k] = float((k * 53 % 241)) / 241.0f;
+  const Image square = pq_to_square(pq);
+  const fs::path dir = temp_dir("rows");
+  fs::remove_all(dir);
+  ToastPyramidOptions o;
+  o.levels = 0;
+  o.write.sample_type = SampleType::UInt16;
+  int next = 0;
+  write_toast_pyramid(
+      256, 3,
+      [&](int y, std::span<float> row) {
+        EXPECT_EQ(y, next++);
+        for (int c = 0; c < 3; ++c)
+          square_row_from_pq(256, y, pq.row(c, square_row_source(256, y)), row.subspan(c * 512, 512));
+      },
+      dir, o);
+  EXPECT_EQ(next, 512);
+  EXPECT_FALSE(fs::exists(dir / "1"));
+  const Image t = read_image(dir / "0" / "0" / "0_0.png").image;
+  ASSERT_EQ(t.channels, 3);
+  double worst = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < 256; ++y)
+      for (int x = 0; x < 256; ++x) {
+        double mean = 0.0;
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i) mean += square.at(c, 2 * x + i, 2 * y + j) / 4.0;
+        worst = std::max(worst, std::abs(t.at(c, x, y) - mean));
+      }
+  EXPECT_LT(worst, 1.0 / 65535.0) << "16-bit tiles: half a step of rounding";
+  fs::remove_all(dir);
+}
+
 struct Diff {
   double mean = 0, max = 0, psnr = 0;
 };

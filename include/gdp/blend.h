@@ -18,6 +18,15 @@ namespace gdp {
 // One input file: every page of a multi-page TIFF is a layer of its own. Coverage: the alpha
 // channel (2 or 4 channels: the last) and the mask's first channel, each at least 0.5, and
 // finite colour. Placement: `x, y` when `placed`, else the TIFF's XPOSITION/YPOSITION, else 0, 0.
+// A smooth background taken off a layer's colour as it is read (gdp sky --projected): at the
+// layer's own pixel centre (x + 1/2, y + 1/2), u = (x + 1/2 - cx) / scale, v = (y + 1/2 - cy) / scale,
+// constant + slope_u u + slope_v v + radial (u^2 + v^2).
+struct LayerBackground {
+  double cx = 0.0, cy = 0.0, scale = 1.0;
+  double constant = 0.0, slope_u = 0.0, slope_v = 0.0, radial = 0.0;
+  bool active() const { return constant != 0.0 || slope_u != 0.0 || slope_v != 0.0 || radial != 0.0; }
+};
+
 struct LayerSource {
   std::string image;
   std::string mask = "";  // optional: a separate coverage image of the image's size
@@ -25,6 +34,7 @@ struct LayerSource {
   long long x = 0, y = 0;
   float offset = 0.0f;      // added to the colour as it is read (gdp sky --projected: each image's level)
   float mask_scale = 1.0f;  // the mask's samples times this are tested (area images: 1 / the largest area)
+  LayerBackground background;  // subtracted from the colour as it is read (after `offset` is added)
 };
 
 // An in-memory layer (tests, library users): colour channels plus optional alpha as above.

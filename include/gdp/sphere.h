@@ -4,6 +4,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -155,6 +156,22 @@ struct ToastPyramidOptions {
 // 2x2 averages. The directory is built under a temporary name and renamed into place. Throws
 // UsageError for other heights or a non-empty `dir`, OutputError when writing fails.
 void write_toast_pyramid(const Image& pq, const std::filesystem::path& dir, const ToastPyramidOptions& options = {});
+
+// Square row y (0 .. 2H-1) of a PQ image of height H is one half of PQ row square_row_source(H, y):
+// for y >= H the left half of row y - H, else the right half of row H - 1 - y reversed.
+int square_row_source(int height, int y);
+// Square row y (2H values) from that PQ row (4H values), one channel.
+void square_row_from_pq(int height, int y, std::span<const float> pq_row, std::span<float> out);
+
+// Row y (0 .. 2H-1) of the 2H x 2H TOAST square, channel-major (channels x 2H floats): one half
+// row of the PQ image (pq_to_square_pixel), read as the pyramid writer needs it.
+using ToastSquareRows = std::function<void(int y, std::span<float> row)>;
+
+// The same pyramid (the same files, bit for bit) from square rows read once, top to bottom: it
+// holds a strip of 256 rows per level (256 x 2^(n - levels) rows at the finest), so memory grows
+// with the PQ width, not its area.
+void write_toast_pyramid(int height, int channels, const ToastSquareRows& rows, const std::filesystem::path& dir,
+                         const ToastPyramidOptions& options = {});
 
 // The N x N TOAST square image (N = 2H) that a PQ image lays out (no resampling).
 Image pq_to_square(const Image& pq);

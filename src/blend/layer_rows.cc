@@ -34,6 +34,7 @@ LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool 
   } else {
     const LayerSource& s = plan.sources[index];
     offset_ = s.offset;
+    background_ = s.background;
     mask_scale_ = s.mask_scale;
     image_ = std::make_unique<ImageFileReader>(s.image, prefetch, ColumnRange{}, plan.pages[index]);
     if (!s.mask.empty()) mask_ = std::make_unique<ImageFileReader>(s.mask, prefetch);
@@ -81,6 +82,15 @@ void LayerRows::coverage(int y, std::span<unsigned char> covered) {
   if (mask_) cover(mask_row_.data() + where_.skip_x, mask_scale_);
 }
 
+void LayerRows::subtract_background(int row, int x0, int w, float* out) const {
+  const LayerBackground& b = background_;
+  const double v = (row + 0.5 - b.cy) / b.scale, row_part = b.constant + b.slope_v * v + b.radial * v * v;
+  for (int i = 0; i < w; ++i) {
+    const double u = (x0 + i + 0.5 - b.cx) / b.scale;
+    out[i] = static_cast<float>(out[i] - (row_part + b.slope_u * u + b.radial * u * u));
+  }
+}
+
 void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> covered) {
   coverage(y, covered);
   const int r = y - where_.y0 + where_.skip_y, w = where_.width(), lw = image_->width();
@@ -89,6 +99,7 @@ void LayerRows::read(int y, std::span<float> colour, std::span<unsigned char> co
     const float* in = row_.data() + static_cast<std::size_t>(own_ == 1 ? 0 : c) * lw + where_.skip_x;
     float* out = colour.data() + static_cast<std::size_t>(c) * w;
     for (int i = 0; i < w; ++i) out[i] = in[i] + offset;
+    if (background_.active()) subtract_background(r, where_.skip_x, w, out);
   }
   if (calibration_.active()) calibration_.apply(r, where_.skip_x, w, colour_, colour.data());
 }

@@ -43,11 +43,14 @@ class LayerRows {
 
  private:
   int seek(int y);
+  // Layer row `row`, its columns [x0, x0 + w): out -= the layer's LayerBackground.
+  void subtract_background(int row, int x0, int w, float* out) const;
 
   Footprint where_;
   int channels_ = 0, colour_ = 0, next_ = 0;  // next_: the next row of the layer itself
   int own_ = 0;  // the layer's own colour channels (1: grey, promoted when colour_ is 3)
   float offset_ = 0.0f, mask_scale_ = 1.0f;  // LayerSource's
+  LayerBackground background_;
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;
   std::vector<float> row_, mask_row_;

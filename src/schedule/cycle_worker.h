@@ -143,7 +143,7 @@ class CycleWorker {
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < channels_; ++c) {
         log.cycle(c0 + c, vcycle_.final_norm(c), vcycle_.probe(c));
-        converged = converged && log.last(c0 + c) <= opt_.tolerance;
+        converged = converged && log.settled(c0 + c, opt_.tolerance);
       }
       if (surely_last) return true;
       if (converged) {  // the carried result is the answer (every worker sees the same sums)

@@ -99,7 +99,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
       // The streamed schedule carries the result to the next cycle in a store ("result").
       if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u[c].data.data(), u[c].data.size());
       report();
-      if (opt.tolerance > 0.0 && log.last(c) <= opt.tolerance) break;
+      if (log.settled(c, opt.tolerance)) break;
     }
   };
   const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));

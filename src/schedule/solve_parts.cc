@@ -53,6 +53,16 @@ void ResidualLog::cycle(int c, double norm, const multigrid::CycleProbe& probe) 
   lines_[c].push_back(std::move(line));
 }
 
+bool ResidualLog::settled(int c, double tolerance) const {
+  if (tolerance <= 0.0) return false;
+  const std::vector<double>& r = rel_[c];
+  if (r.back() <= tolerance) return true;
+  if (r.size() <= kStallCycles) return false;
+  // The best of the last cycles against the best before them: noise at the floor does not count.
+  const auto recent = r.end() - kStallCycles;
+  return *std::min_element(recent, r.end()) > 0.9 * *std::min_element(r.begin(), recent);
+}
+
 void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) const {
   std::size_t done = 0;
   for (const auto& r : rel_) done = std::max(done, r.size());

@@ -48,6 +48,11 @@ class ResidualLog {
   void initial(int c, double norm);
   void cycle(int c, double norm, const multigrid::CycleProbe& probe);
   double last(int c) const { return rel_[c].back(); }
+  // Iterating to `tolerance` (> 0): channel c is there, or stalled: its last kStallCycles V-cycles
+  // did not bring its residual 10 % below the best before them (the floor of the arithmetic: a
+  // float solve of smooth data stalls near 1e-5, docs/sky.md; more cycles would only repeat it).
+  bool settled(int c, double tolerance) const;
+  static constexpr int kStallCycles = 3;
   // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
   void finish(SolveSummary& summary, const SolverOptions& options) const;
   // Checkpoints: channels c0 .. c0 + n - 1 (one lane's) to a StateWriter or from a StateReader.

@@ -111,19 +111,25 @@ std::pair<double, double> huber_limits(const BackgroundEquations& equations, con
 
 }  // namespace
 
-std::array<double, 4> background_basis(const Plate& plate, double x, double y) {
-  const double w = plate.width, h = plate.height, L = std::max(w, h);
+std::array<double, 4> background_basis(double w, double h, double x, double y) {
+  const double L = std::max(w, h);
   const double u = (x - w / 2) / L, v = (y - h / 2) / L;
   // The mean of u^2 + v^2 over the pixel centres (x + 1/2 for x = 0 .. w-1): ((w^2 - 1) + (h^2 - 1)) / (12 L^2).
   const double mean = (w * w - 1.0 + h * h - 1.0) / (12.0 * L * L);
   return {1.0, u, v, u * u + v * v - mean};
 }
 
-std::array<double, 4> background_energy(const Plate& plate) {
-  const double L = std::max(plate.width, plate.height), a = plate.width / (2.0 * L), b = plate.height / (2.0 * L);
+std::array<double, 4> background_basis(const Plate& plate, double x, double y) {
+  return background_basis(plate.width, plate.height, x, y);
+}
+
+std::array<double, 4> background_energy(double width, double height) {
+  const double L = std::max(width, height), a = width / (2.0 * L), b = height / (2.0 * L);
   // Over [-a, a] x [-b, b]: the mean of u^2 is a^2/3, the variance of u^2 + v^2 is 4 (a^4 + b^4) / 45.
   return {1.0, a * a / 3.0, b * b / 3.0, 4.0 * (a * a * a * a + b * b * b * b) / 45.0};
 }
+
+std::array<double, 4> background_energy(const Plate& plate) { return background_energy(plate.width, plate.height); }
 
 std::vector<PlateBackground> fit_backgrounds(const std::vector<std::array<double, 4>>& energy,
                                              const BackgroundEquations& equations, double damping, bool robust) {
@@ -194,10 +200,12 @@ std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates,
       energy, [&](const auto& visit) { for (const BackgroundEquation& e : equations) visit(e); }, damping, robust);
 }
 
-double smooth_rms(const Plate& plate, const PlateBackground& b) {
-  const auto e = background_energy(plate);
+double smooth_rms(double width, double height, const PlateBackground& b) {
+  const auto e = background_energy(width, height);
   return std::sqrt(e[1] * b.slope_u * b.slope_u + e[2] * b.slope_v * b.slope_v + e[3] * b.radial * b.radial);
 }
+
+double smooth_rms(const Plate& plate, const PlateBackground& b) { return smooth_rms(plate.width, plate.height, b); }
 
 std::string backgrounds_note(const std::vector<std::string>& paths, const std::vector<double>& rms) {
   std::vector<std::size_t> order(rms.size());

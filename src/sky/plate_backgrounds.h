@@ -21,6 +21,8 @@ struct PlateBackground {
 // u^2 + v^2 less its mean over the plate's rectangle, with u = (x - width/2) / L, v = (y -
 // height/2) / L, L = max(width, height). The last three have mean zero over the plate.
 std::array<double, 4> background_basis(const Plate& plate, double x, double y);
+// The same for any rectangle of width x height pixels (gdp sky --projected: an image on the template).
+std::array<double, 4> background_basis(double width, double height, double x, double y);
 
 // One sample of a difference between two plates: b's basis enters with a minus sign.
 struct BackgroundEquation {
@@ -32,6 +34,7 @@ struct BackgroundEquation {
 // The mean square of each basis function over the plate's rectangle (1 for the offset): a
 // background's energy is sum_i energy_i c_i^2 (the basis is orthogonal over the rectangle).
 std::array<double, 4> background_energy(const Plate& plate);
+std::array<double, 4> background_energy(double width, double height);
 
 // Backgrounds of the plates (energy: background_energy of each) minimising
 //   sum over equations (B_a(p) - B_b(p) - difference)^2 + lambda sum over plates (energy of the smooth terms),
@@ -60,6 +63,7 @@ std::vector<PlateBackground> plate_backgrounds(const std::vector<Plate>& plates,
 
 // The rms over the plate of the background's smooth terms (plane and radial; not the offset).
 double smooth_rms(const Plate& plate, const PlateBackground& background);
+double smooth_rms(double width, double height, const PlateBackground& background);
 
 // One line for the user: how many plates' backgrounds were fitted, the median of their smooth
 // terms' rms and the largest three, with the plates' file names.

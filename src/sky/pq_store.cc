@@ -28,12 +28,6 @@ void PqStore::read_row(int j, std::span<float> row) const {
   rows_->read(static_cast<std::size_t>(j) * window_.width * sizeof(float), row.data(), window_.width * sizeof(float));
 }
 
-Image PqStore::whole() const {
-  Image pq(window_.width, window_.rows, 1);
-  for (int j = 0; j < window_.rows; ++j) read_row(j, pq.row(0, j));
-  return pq;
-}
-
 std::pair<float, float> display_range(const PqStore& pq) {
   // Every stride-th pixel of the row-major window, as display_range(const Image&) takes them.
   const std::size_t width = pq.window().width, size = width * pq.window().rows;

@@ -34,8 +34,6 @@ class PqStore {
   const PqWindow& window() const { return window_; }
   void write_row(int j, std::span<const float> row);
   void read_row(int j, std::span<float> row) const;  // thread-safe
-  // The whole window in memory (TOAST's pyramid writer takes one image).
-  Image whole() const;
 
  private:
   PqWindow window_;

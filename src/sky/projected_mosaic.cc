@@ -1,4 +1,4 @@
-// gdp sky --projected: images on one template -> levels from overlaps -> gdp blend's seams and planar solve -> FITS with the template's WCS.
+// gdp sky --projected: images on one template -> smooth backgrounds and levels from overlaps -> gdp blend's seams and planar solve -> FITS with the template's WCS.
 #include <chrono>
 #include <limits>
 
@@ -42,6 +42,22 @@ class NanWhereUncovered final : public RowWriter {
   long long covered_ = 0;
 };
 
+// The fitted smooth backgrounds into the layers (taken off as they are read) and the summary.
+void take_off_backgrounds(const sky::CanvasLevels& levels, const std::vector<ProjectedInput>& inputs, BlendPlan& plan,
+                          ProjectedSummary& s, const std::function<void(const std::string&)>& note) {
+  if (levels.backgrounds.empty()) return;
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    const sky::PlateBackground& b = levels.backgrounds[k];
+    const PlacedLayer& l = plan.layers[k];
+    plan.sources[k].background = sky::layer_background(l, b);
+    s.backgrounds.push_back({levels.offsets[k], b.slope_u, b.slope_v, b.radial});
+    s.background_rms.push_back(sky::smooth_rms(l.width, l.height, b));
+    names.push_back(inputs[k].image);
+  }
+  if (note) note(sky::backgrounds_note(names, s.background_rms));
+}
+
 }  // namespace
 
 void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOptions& options,
@@ -64,7 +80,7 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
   BlendPlan plan = plan_blend(layers, blending);  // InputError for an image outside the template
 
   const auto start = std::chrono::steady_clock::now();
-  const sky::CanvasLevels levels = sky::canvas_levels(plan);
+  const sky::CanvasLevels levels = sky::canvas_levels(plan, options.fit_backgrounds ? options.background_damping : -1.0);
   s.seconds_offsets = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (std::size_t k = 0; k < inputs.size() && inputs.size() > 1; ++k)
     if (!levels.overlapped[k])
@@ -73,6 +89,7 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
                                    inputs[k].image));
   for (std::size_t k = 0; k < inputs.size(); ++k) plan.sources[k].offset = static_cast<float>(-levels.offsets[k]);
   s.offsets = levels.offsets;
+  take_off_backgrounds(levels, inputs, plan, s, options.note);
 
   write.fits_header = cards;
   ImageFileWriter file(out, s.width, s.height, 1, write);

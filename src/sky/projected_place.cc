@@ -92,7 +92,12 @@ LayerSource projected_layer(const ProjectedInput& input, const Wcs& tpl) {
                                  input.image, f->planes()));
   const Wcs wcs(f->header(), f->width(), f->height(), input.image);
   const Shift s = place_on_template(wcs, tpl, input.image);
-  LayerSource layer{input.image, input.area, true, s.x, s.y};
+  LayerSource layer;
+  layer.image = input.image;
+  layer.mask = input.area;
+  layer.placed = true;
+  layer.x = s.x;
+  layer.y = s.y;
   if (!input.area.empty()) layer.mask_scale = static_cast<float>(1.0 / largest_value(input.area));
   return layer;
 }

@@ -1,5 +1,7 @@
 // WorldWideTelescope TOAST tile pyramids from TOAST PQ images (copies, rotations, 2x2 averages).
+#include <algorithm>
 #include <fstream>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -48,6 +50,44 @@ void write_wtml(const fs::path& file, const std::string& name, int levels) {
   if (!f.flush()) throw OutputError(file.string() + ": cannot write the WTML file");
 }
 
+[[noreturn]] void throw_not_toast(int width, int height) {
+  throw UsageError(fmt::format("{}x{} is not a TOAST PQ size (H = 128 * 2^n, W = 4H; make one with "
+                               "gdp sphere to-pq --height 128, 256, 512, ...)",
+                               width, height));
+}
+
+// The levels 0 .. deepest of a pyramid, each a strip of 256 square rows filled top to bottom: a
+// full strip's tiles are written, and its 2x2 average (128 rows) goes into the level above.
+class StripPyramid {
+ public:
+  StripPyramid(const fs::path& root, int deepest, int channels, const WriteOptions& write)
+      : root_(root), write_(write), filled_(deepest + 1, 0), index_(deepest + 1, 0) {
+    for (int level = 0; level <= deepest; ++level) strips_.emplace_back(kTile << level, kTile, channels);
+  }
+
+  // Rows of level `level` (its full width), the next ones of its strip.
+  void add(int level, const Image& rows) {
+    Image& strip = strips_[level];
+    for (int c = 0; c < strip.channels; ++c)
+      std::copy_n(rows.row(c, 0).data(), rows.plane_size(), &strip.at(c, 0, filled_[level]));
+    filled_[level] += rows.height;
+    if (filled_[level] < kTile) return;
+    const fs::path folder = root_ / std::to_string(level) / std::to_string(index_[level]);
+    fs::create_directories(folder);
+    for (int tx = 0; tx < 1 << level; ++tx)
+      write_image(folder / fmt::format("{}_{}.png", index_[level], tx), tile_of(strip, tx, 0), write_);
+    filled_[level] = 0;
+    ++index_[level];
+    if (level > 0) add(level - 1, halve(strip));
+  }
+
+ private:
+  fs::path root_;
+  WriteOptions write_;
+  std::vector<Image> strips_;
+  std::vector<int> filled_, index_;
+};
+
 }  // namespace
 
 Image pq_to_square(const Image& pq) {
@@ -63,33 +103,57 @@ Image pq_to_square(const Image& pq) {
   return sq;
 }
 
+int square_row_source(int height, int y) { return y >= height ? y - height : height - 1 - y; }
+
+void square_row_from_pq(int height, int y, std::span<const float> pq_row, std::span<float> out) {
+  const int n = 2 * height;
+  if (y >= height) {
+    std::copy(pq_row.begin(), pq_row.begin() + n, out.begin());
+    return;
+  }
+  for (int x = 0; x < n; ++x) out[x] = pq_row[4 * height - 1 - x];
+}
+
 void write_toast_pyramid(const Image& pq, const fs::path& dir, const ToastPyramidOptions& options) {
+  if (pq.width != 4 * pq.height) throw_not_toast(pq.width, pq.height);
+  const int n = 2 * pq.height;
+  write_toast_pyramid(
+      pq.height, pq.channels,
+      [&](int y, std::span<float> row) {
+        const int j = square_row_source(pq.height, y);
+        for (int c = 0; c < pq.channels; ++c)
+          square_row_from_pq(pq.height, y, pq.row(c, j), row.subspan(static_cast<std::size_t>(c) * n, n));
+      },
+      dir, options);
+}
+
+void write_toast_pyramid(int height, int channels, const ToastSquareRows& rows, const fs::path& dir,
+                         const ToastPyramidOptions& options) {
   int top = -1;
   for (int n = 0; n < 24; ++n)
-    if (pq.height == (kTile / 2) << n) top = n;
-  if (top < 0 || pq.width != 4 * pq.height)
-    throw UsageError(fmt::format("{}x{} is not a TOAST PQ size (H = 128 * 2^n, W = 4H; make one with "
-                                 "gdp sphere to-pq --height 128, 256, 512, ...)",
-                                 pq.width, pq.height));
+    if (height == (kTile / 2) << n) top = n;
+  if (top < 0) throw_not_toast(4 * height, height);
   const int deepest = options.levels < 0 ? top : options.levels;
   if (deepest > top)
     throw UsageError(fmt::format("--levels {} needs a PQ height of {} (this one, {}, reaches level {})", deepest,
-                                 (kTile / 2) << deepest, pq.height, top));
+                                 (kTile / 2) << deepest, height, top));
   if (fs::exists(dir) && !(fs::is_directory(dir) && fs::is_empty(dir)))
     throw UsageError(dir.string() + ": exists and is not an empty directory");
   // Built next to the destination, renamed at the end: no partial pyramid is ever visible.
   io::write_staged_directory(dir, [&](const fs::path& temp) {
-    Image square = pq_to_square(pq);
-    for (int level = top; level > deepest; --level) square = halve(square);
-    for (int level = deepest; level >= 0; --level) {
-      const int tiles = 1 << level;
-      for (int ty = 0; ty < tiles; ++ty) {
-        fs::create_directories(temp / std::to_string(level) / std::to_string(ty));
-        for (int tx = 0; tx < tiles; ++tx)
-          write_image(temp / std::to_string(level) / std::to_string(ty) / fmt::format("{}_{}.png", ty, tx),
-                      tile_of(square, tx, ty), options.write);
-      }
-      if (level > 0) square = halve(square);
+    StripPyramid pyramid(temp, deepest, channels, options.write);
+    // 2^(top - deepest) square rows average to one row of the deepest level written.
+    const int n = 2 * height, fold = 1 << (top - deepest);
+    Image chunk(n, fold, channels);
+    std::vector<float> row(static_cast<std::size_t>(channels) * n);
+    for (int y = 0; y < n; ++y) {
+      rows(y, row);
+      for (int c = 0; c < channels; ++c)
+        std::copy_n(row.data() + static_cast<std::size_t>(c) * n, n, &chunk.at(c, 0, y % fold));
+      if (y % fold != fold - 1) continue;
+      Image level = chunk;
+      while (level.height > 1) level = halve(level);
+      pyramid.add(deepest, level);
     }
     write_wtml(temp / "toast.wtml", options.name, deepest);
   });

@@ -42,7 +42,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
         ->capture_default_str();
     cmd.add_option("--vcycles", o.solver.vcycles, "number of V-cycles")->capture_default_str();
     cmd.add_option("--tolerance", o.solver.tolerance,
-                   "run V-cycles until the relative residual is below this (overrides --vcycles)");
+                   "run V-cycles until the relative residual is below this (overrides --vcycles), or until three "
+                   "cycles do not lower it by 10% (the arithmetic's floor: a float solve of smooth data stalls near 1e-5; "
+                   "--double goes further; --stats lists the residuals)");
     o.solver.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     cmd.add_option("--threads", o.solver.threads, "threads: in-core, channels in parallel; streaming, one lane per channel beyond the two codec threads; default: all cores")
         ->capture_default_str();

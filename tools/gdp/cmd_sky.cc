@@ -63,7 +63,7 @@ class Sky final : public Command {
                   "--no-blend: only the seamed mosaic (each point from the plate it lies deepest inside), no solve");
     app->add_flag("--fit-backgrounds,!--no-fit-backgrounds", options_.fit_backgrounds,
                   "fit each plate's plane and radial term to the overlaps and take them off before the solve "
-                  "(default; --no-fit-backgrounds: offsets only)");
+                  "(default, with --projected too; --no-fit-backgrounds: offsets only)");
     app->add_option("--background-damping", options_.background_damping,
                     "--fit-backgrounds: damping of the smooth terms, relative to the overlaps' weight")
         ->capture_default_str();
@@ -111,7 +111,7 @@ class Sky final : public Command {
     stats.set("plates_held_at_once", std::to_string(summary.plates_held));
     stats.set("plates_crossing_a_row", std::to_string(summary.plates_crossing));
     stats.set("mosaic_pixels_computed", std::to_string(summary.mosaic_pixels));
-    report_backgrounds(summary, stats);
+    report_backgrounds(plates_, summary.backgrounds, summary.background_rms, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
                                 plates_.size(), summary.pq_height, summary.covered, summary.target_pixels, output_));
@@ -130,6 +130,9 @@ class Sky final : public Command {
     if (MpiRun::size() > 1) throw UsageError("gdp sky --projected does not run under mpirun (every rank would write -o)");
     ProjectedOptions options;
     options.header = options_.target.header;
+    options.fit_backgrounds = options_.fit_backgrounds;
+    options.background_damping = options_.background_damping;
+    options.note = [this](const std::string& m) { note(common_, "gdp sky --projected: " + m); };
     ProjectedSummary summary;
     const std::vector<ProjectedInput> inputs = projected_inputs(plates_);
     stats.time("total", [&] {
@@ -137,6 +140,9 @@ class Sky final : public Command {
     });
     stats.summary(summary.blend.solve);
     stats.set("covered_pixels", std::to_string(summary.covered));
+    std::vector<std::string> names;
+    for (const ProjectedInput& in : inputs) names.push_back(in.image);
+    report_backgrounds(names, summary.backgrounds, summary.background_rms, stats);
     note(common_, fmt::format("sky --projected: {} image(s) on the {}x{} template; {} pixels covered -> {}",
                               inputs.size(), summary.width, summary.height, summary.covered, output_));
     stats.write(common_.stats_path);
@@ -144,18 +150,19 @@ class Sky final : public Command {
   }
 
   // The fitted backgrounds plate by plate: a note each with --verbose, and in --stats.
-  void report_backgrounds(const SkySummary& summary, Stats& stats) const {
-    if (summary.backgrounds.empty()) return;
+  void report_backgrounds(const std::vector<std::string>& plates, const std::vector<std::array<double, 4>>& backgrounds,
+                          const std::vector<double>& rms, Stats& stats) const {
+    if (backgrounds.empty()) return;
     std::string json = "[";
-    for (std::size_t k = 0; k < summary.backgrounds.size(); ++k) {
-      const auto& b = summary.backgrounds[k];
+    for (std::size_t k = 0; k < backgrounds.size(); ++k) {
+      const auto& b = backgrounds[k];
       if (common_.verbose)
         note(common_, fmt::format("gdp sky: {}: background fitted: offset {:.6g}, slope u {:.6g}, slope v {:.6g}, radial "
                                   "{:.6g}",
-                                  plates_[k], b[0], b[1], b[2], b[3]));
+                                  plates[k], b[0], b[1], b[2], b[3]));
       json += fmt::format("{}\n    {{\"plate\": \"{}\", \"offset\": {:.9g}, \"slope_u\": {:.9g}, \"slope_v\": {:.9g}, "
                           "\"radial\": {:.9g}, \"smooth_rms\": {:.9g}}}",
-                          k ? "," : "", json_escaped(plates_[k]), b[0], b[1], b[2], b[3], summary.background_rms[k]);
+                          k ? "," : "", json_escaped(plates[k]), b[0], b[1], b[2], b[3], rms[k]);
     }
     stats.set("plate_backgrounds", json + "\n  ]");
   }
