@@ -2,6 +2,7 @@
 #include "blend/canvas_rows.h"
 
 #include <algorithm>
+#include <exception>
 #include <limits>
 #include <numeric>
 
@@ -22,11 +23,14 @@ CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool w
   std::stable_sort(order_.begin(), order_.end(),
                    [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
   for (auto& r : label_rows_) r.assign(width_, 0);
-  composite_.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
-  across_.assign(composite_.size(), std::numeric_limits<float>::quiet_NaN());
+  ring_.resize(kAhead);
+  for (Row& r : ring_) {
+    r.composite.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
+    r.across.assign(r.composite.size(), std::numeric_limits<float>::quiet_NaN());
+  }
 }
 
-CanvasSweep::~CanvasSweep() = default;
+CanvasSweep::~CanvasSweep() { restart(); }
 
 void CanvasSweep::set_columns(int begin, int end) {
   if (columns_set_) {
@@ -35,31 +39,69 @@ void CanvasSweep::set_columns(int begin, int end) {
   }
   labels_.want_columns(begin, end);
   if (columns_set_ && begin == begin_ && end == end_) return;
+  restart();  // before the producer's columns change
   begin_ = begin;
   end_ = end;
   columns_set_ = true;
-  restart();
 }
 
 void CanvasSweep::restart() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  if (producer_.joinable()) producer_.join();
+}
+
+const CanvasSweep::Row& CanvasSweep::row(int y) {
+  if (y < held_) restart();
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!producer_.joinable()) {
+    ready_ = -1;
+    stop_ = false;
+    error_ = nullptr;
+    producer_ = std::thread([this] { produce(); });
+  }
+  held_ = y;
+  changed_.notify_all();
+  changed_.wait(lock, [&] { return ready_ >= y || error_; });
+  if (ready_ < y) std::rethrow_exception(error_);
+  return ring_[y % kAhead];
+}
+
+std::span<const float> CanvasSweep::composite(int y) { return row(y).composite; }
+
+std::span<const float> CanvasSweep::across(int y) { return row(y).across; }
+
+void CanvasSweep::produce() {
   open_.clear();
   std::fill(slot_.begin(), slot_.end(), nullptr);
   next_ = 0;
   row_ = -1;
+  try {
+    for (int y = 0; y < height_; ++y) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait(lock, [&] { return stop_ || y < held_ + kAhead; });
+        if (stop_) break;
+      }
+      advance(ring_[y % kAhead]);
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        ready_ = y;
+      }
+      changed_.notify_all();
+    }
+  } catch (...) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  changed_.notify_all();
+  open_.clear();  // the layers closed
 }
 
-std::span<const float> CanvasSweep::composite(int y) {
-  if (y < row_) restart();
-  while (row_ < y) advance();
-  return composite_;
-}
-
-std::span<const float> CanvasSweep::across(int y) {
-  composite(y);
-  return across_;
-}
-
-void CanvasSweep::advance() {
+void CanvasSweep::advance(Row& out) {
   const int y = ++row_, b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
   // Open the layers that start here and reach the columns wanted; close those that ended.
   for (; next_ < order_.size() && footprint(plan_, order_[next_]).y0 <= y; ++next_) {
@@ -89,14 +131,16 @@ void CanvasSweep::advance() {
     const Open* o = l ? slot_[l - 1] : nullptr;
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
     for (int c = 0; c < channels_; ++c)
-      composite_[static_cast<std::size_t>(c) * width_ + x] = o ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : 0.0f;
+      out.composite[static_cast<std::size_t>(c) * width_ + x] = o ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : 0.0f;
   }
   if (with_across_)
     compute_across(y > 0 ? std::span<const Label>(label_rows_[(y + 2) % 3]) : std::span<const Label>(),
-                   here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>());
+                   here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>(),
+                   out.across);
 }
 
-void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down) {
+void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
+                                 std::span<float> out) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
   for (int x = b; x < e; ++x) {
@@ -118,7 +162,7 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
     const bool covers = o && x >= fx0 && x < fx0 + fw && o->covered[x - fx0];
     for (int c = 0; c < channels_; ++c)
-      across_[static_cast<std::size_t>(c) * width_ + x] =
+      out[static_cast<std::size_t>(c) * width_ + x] =
           covers ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : nan;
   }
 }
