@@ -126,12 +126,20 @@ void CanvasSweep::advance(Row& out) {
   if (y == 0) labels_.read_row(0, label_rows_[0]);
   if (y + 1 < height_) labels_.read_row(y + 1, label_rows_[(y + 1) % 3]);
   const std::span<const Label> here = label_rows_[y % 3];
-  for (int x = b; x < e; ++x) {
+  for (int x = b, run = b; x < e; x = run) {  // runs of one label: copied (or zeroed) per channel
     const Label l = here[x];
+    while (run < e && here[run] == l) ++run;
     const Open* o = l ? slot_[l - 1] : nullptr;
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    for (int c = 0; c < channels_; ++c)
-      out.composite[static_cast<std::size_t>(c) * width_ + x] = o ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : 0.0f;
+    for (int c = 0; c < channels_; ++c) {
+      float* to = out.composite.data() + static_cast<std::size_t>(c) * width_;
+      if (o) {
+        const float* from = o->colour.data() + static_cast<std::size_t>(c) * fw - fx0;
+        std::copy(from + x, from + run, to + x);
+      } else {
+        std::fill(to + x, to + run, 0.0f);
+      }
+    }
   }
   if (with_across_)
     compute_across(y > 0 ? std::span<const Label>(label_rows_[(y + 2) % 3]) : std::span<const Label>(),
@@ -143,27 +151,31 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
                                  std::span<float> out) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  for (int c = 0; c < channels_; ++c)
+    std::fill(out.begin() + static_cast<std::size_t>(c) * width_ + b, out.begin() + static_cast<std::size_t>(c) * width_ + e,
+              nan);
+  const auto neighbour = [&](int x) -> Label {  // beyond the canvas's sides: none, unless it wraps
+    return x >= 0 && x < width_ ? here[x] : wrap_x_ ? here[(x + width_) % width_] : Label{0};
+  };
   for (int x = b; x < e; ++x) {
     const Label a = here[x];
+    if (a == 0) continue;
+    const Label left = neighbour(x - 1), right = neighbour(x + 1), u = up.empty() ? 0 : up[x],
+                d = down.empty() ? 0 : down[x];
+    const auto same = [a](Label n) { return n == 0 || n == a; };
+    if (same(left) && same(right) && same(u) && same(d)) continue;  // inside a layer's part: NaN
     Label other = 0;
     bool ambiguous = false;
-    const auto see = [&](Label n) {
-      if (n == 0 || n == a) return;
+    for (const Label n : {left, right, u, d}) {
+      if (same(n)) continue;
       if (other != 0 && other != n) ambiguous = true;
       other = n;
-    };
-    if (a != 0) {
-      if (x > 0 || wrap_x_) see(here[x > 0 ? x - 1 : width_ - 1]);
-      if (x + 1 < width_ || wrap_x_) see(here[x + 1 < width_ ? x + 1 : 0]);
-      if (!up.empty()) see(up[x]);
-      if (!down.empty()) see(down[x]);
     }
     const Open* o = other && !ambiguous ? slot_[other - 1] : nullptr;
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    const bool covers = o && x >= fx0 && x < fx0 + fw && o->covered[x - fx0];
+    if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
     for (int c = 0; c < channels_; ++c)
-      out[static_cast<std::size_t>(c) * width_ + x] =
-          covers ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : nan;
+      out[static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
   }
 }
 
