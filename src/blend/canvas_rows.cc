@@ -23,6 +23,8 @@ CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool w
   std::stable_sort(order_.begin(), order_.end(),
                    [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
   for (auto& r : label_rows_) r.assign(width_, 0);
+  none_.assign(width_, 0);
+  edge_.assign(width_, 0);
   ring_.resize(kAhead);
   for (Row& r : ring_) {
     r.composite.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
@@ -157,21 +159,29 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
   const auto neighbour = [&](int x) -> Label {  // beyond the canvas's sides: none, unless it wraps
     return x >= 0 && x < width_ ? here[x] : wrap_x_ ? here[(x + width_) % width_] : Label{0};
   };
+  const Label* u = up.empty() ? none_.data() : up.data();  // no row: no label
+  const Label* d = down.empty() ? none_.data() : down.data();
+  const Label* h = here.data();
+  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>(n != 0 && n != a); };
+  // Pixels with another label beside them (vectorised; the first and last columns by neighbour()).
+  for (int x = std::max(b, 1); x < std::min(e, width_ - 1); ++x)
+    edge_[x] = static_cast<unsigned char>(h[x] != 0) &
+               (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
+  for (const int x : {0, width_ - 1})
+    if (x >= b && x < e)
+      edge_[x] = static_cast<unsigned char>(h[x] != 0) &
+                 (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
+                  other_than(d[x], h[x]));
   for (int x = b; x < e; ++x) {
-    const Label a = here[x];
-    if (a == 0) continue;
-    const Label left = neighbour(x - 1), right = neighbour(x + 1), u = up.empty() ? 0 : up[x],
-                d = down.empty() ? 0 : down[x];
-    const auto same = [a](Label n) { return n == 0 || n == a; };
-    if (same(left) && same(right) && same(u) && same(d)) continue;  // inside a layer's part: NaN
+    if (!edge_[x]) continue;  // inside a layer's part: NaN
     Label other = 0;
     bool ambiguous = false;
-    for (const Label n : {left, right, u, d}) {
-      if (same(n)) continue;
+    for (const Label n : {neighbour(x - 1), neighbour(x + 1), u[x], d[x]}) {
+      if (!other_than(n, h[x])) continue;
       if (other != 0 && other != n) ambiguous = true;
       other = n;
     }
-    const Open* o = other && !ambiguous ? slot_[other - 1] : nullptr;
+    const Open* o = ambiguous ? nullptr : slot_[other - 1];
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
     if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
     for (int c = 0; c < channels_; ++c)

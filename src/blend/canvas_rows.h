@@ -61,6 +61,8 @@ class CanvasSweep {
   std::vector<std::unique_ptr<Open>> open_;
   std::vector<Open*> slot_;  // per layer: its open state, or null
   std::vector<Label> label_rows_[3];  // rows row_-1, row_, row_+1 (by y % 3)
+  std::vector<Label> none_;           // no row (above the first, below the last): no labels
+  std::vector<unsigned char> edge_;   // per column: another label beside the pixel
   // Shared with the caller, under mutex_: row y in ring_[y % kAhead] once ready_ >= y; rows below
   // held_ (the one the caller reads) may be overwritten.
   std::vector<Row> ring_;
