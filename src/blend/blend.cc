@@ -100,8 +100,10 @@ Domain domain_of(Wrap wrap) {
 // labels, by then knowing the columns this process solves (mpirun): only the layers meeting them
 // (and a column either side, for the seams' neighbours) are read. Their time goes to the report.
 // `seams` outlives the solve (deferred seams fill it then).
-void find_seams(const BlendPlan& plan, const BlendOptions& options, const std::filesystem::path& temp, BlendReport& r,
+void find_seams(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver, BlendReport& r,
                 blending::SeamResult& seams) {
+  const std::filesystem::path& temp = solver.temp_dir;
+  const int threads = solver.threads;
   const bool wrap = options.wrap != Wrap::None;
   if (!options.load_seams.empty()) {
     seams = blending::load_seams(plan, options.load_seams, temp);
@@ -109,21 +111,21 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const std::f
   }
   if (options.seams == SeamMethod::Graphcut || !options.save_seams.empty()) {
     seams = options.seams == SeamMethod::Graphcut ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress)
-                                                  : blending::compute_seams(plan, wrap, temp, options.progress);
+                                                  : blending::compute_seams(plan, wrap, temp, options.progress, threads);
     if (!options.save_seams.empty())
       blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
     return;
   }
   seams.labels = std::make_unique<blending::LabelPlane>(temp, plan.canvas.width, plan.canvas.height);
   seams.overlaps.assign(plan.layers.size(), -1);
-  seams.labels->defer([&plan, &options, &seams, &r, temp, wrap](blending::LabelPlane& labels, int begin, int end) {
+  seams.labels->defer([&plan, &options, &seams, &r, temp, wrap, threads](blending::LabelPlane& labels, int begin, int end) {
     const auto start = Clock::now();
     const int W = plan.canvas.width;
     begin = std::max(0, begin - 1);
     end = std::min(W, end + 1);
     if (wrap && (begin == 0 || end == W)) begin = 0, end = W;  // the neighbours wrap around
     const blending::SeamColumns done = blending::compute_seam_columns(plan, wrap, temp, options.progress, begin, end,
-                                                                      labels, seams.overlaps);
+                                                                      labels, seams.overlaps, threads);
     r.seam_layers_read = done.layers_read;
     r.seam_columns = {begin, end};
     r.scratch_bytes = done.distance_bytes + labels.bytes();
@@ -169,7 +171,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
 
   auto start = Clock::now();
   blending::SeamResult seams;
-  find_seams(plan, options, solver.temp_dir, r, seams);
+  find_seams(plan, options, solver, r, seams);
   r.seconds_seams = since(start);
 
   // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN

@@ -2,6 +2,7 @@
 #include "blend/canvas_rows.h"
 
 #include <algorithm>
+#include <exception>
 #include <limits>
 #include <numeric>
 
@@ -22,11 +23,16 @@ CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool w
   std::stable_sort(order_.begin(), order_.end(),
                    [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
   for (auto& r : label_rows_) r.assign(width_, 0);
-  composite_.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
-  across_.assign(composite_.size(), std::numeric_limits<float>::quiet_NaN());
+  none_.assign(width_, 0);
+  edge_.assign(width_, 0);
+  ring_.resize(kAhead);
+  for (Row& r : ring_) {
+    r.composite.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
+    r.across.assign(r.composite.size(), std::numeric_limits<float>::quiet_NaN());
+  }
 }
 
-CanvasSweep::~CanvasSweep() = default;
+CanvasSweep::~CanvasSweep() { restart(); }
 
 void CanvasSweep::set_columns(int begin, int end) {
   if (columns_set_) {
@@ -35,31 +41,69 @@ void CanvasSweep::set_columns(int begin, int end) {
   }
   labels_.want_columns(begin, end);
   if (columns_set_ && begin == begin_ && end == end_) return;
+  restart();  // before the producer's columns change
   begin_ = begin;
   end_ = end;
   columns_set_ = true;
-  restart();
 }
 
 void CanvasSweep::restart() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  if (producer_.joinable()) producer_.join();
+}
+
+const CanvasSweep::Row& CanvasSweep::row(int y) {
+  if (y < held_) restart();
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (!producer_.joinable()) {
+    ready_ = -1;
+    stop_ = false;
+    error_ = nullptr;
+    producer_ = std::thread([this] { produce(); });
+  }
+  held_ = y;
+  changed_.notify_all();
+  changed_.wait(lock, [&] { return ready_ >= y || error_; });
+  if (ready_ < y) std::rethrow_exception(error_);
+  return ring_[y % kAhead];
+}
+
+std::span<const float> CanvasSweep::composite(int y) { return row(y).composite; }
+
+std::span<const float> CanvasSweep::across(int y) { return row(y).across; }
+
+void CanvasSweep::produce() {
   open_.clear();
   std::fill(slot_.begin(), slot_.end(), nullptr);
   next_ = 0;
   row_ = -1;
+  try {
+    for (int y = 0; y < height_; ++y) {
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        changed_.wait(lock, [&] { return stop_ || y < held_ + kAhead; });
+        if (stop_) break;
+      }
+      advance(ring_[y % kAhead]);
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        ready_ = y;
+      }
+      changed_.notify_all();
+    }
+  } catch (...) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  changed_.notify_all();
+  open_.clear();  // the layers closed
 }
 
-std::span<const float> CanvasSweep::composite(int y) {
-  if (y < row_) restart();
-  while (row_ < y) advance();
-  return composite_;
-}
-
-std::span<const float> CanvasSweep::across(int y) {
-  composite(y);
-  return across_;
-}
-
-void CanvasSweep::advance() {
+void CanvasSweep::advance(Row& out) {
   const int y = ++row_, b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
   // Open the layers that start here and reach the columns wanted; close those that ended.
   for (; next_ < order_.size() && footprint(plan_, order_[next_]).y0 <= y; ++next_) {
@@ -84,42 +128,64 @@ void CanvasSweep::advance() {
   if (y == 0) labels_.read_row(0, label_rows_[0]);
   if (y + 1 < height_) labels_.read_row(y + 1, label_rows_[(y + 1) % 3]);
   const std::span<const Label> here = label_rows_[y % 3];
-  for (int x = b; x < e; ++x) {
+  for (int x = b, run = b; x < e; x = run) {  // runs of one label: copied (or zeroed) per channel
     const Label l = here[x];
+    while (run < e && here[run] == l) ++run;
     const Open* o = l ? slot_[l - 1] : nullptr;
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    for (int c = 0; c < channels_; ++c)
-      composite_[static_cast<std::size_t>(c) * width_ + x] = o ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : 0.0f;
+    for (int c = 0; c < channels_; ++c) {
+      float* to = out.composite.data() + static_cast<std::size_t>(c) * width_;
+      if (o) {
+        const float* from = o->colour.data() + static_cast<std::size_t>(c) * fw - fx0;
+        std::copy(from + x, from + run, to + x);
+      } else {
+        std::fill(to + x, to + run, 0.0f);
+      }
+    }
   }
   if (with_across_)
     compute_across(y > 0 ? std::span<const Label>(label_rows_[(y + 2) % 3]) : std::span<const Label>(),
-                   here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>());
+                   here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>(),
+                   out.across);
 }
 
-void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down) {
+void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
+                                 std::span<float> out) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  for (int c = 0; c < channels_; ++c)
+    std::fill(out.begin() + static_cast<std::size_t>(c) * width_ + b, out.begin() + static_cast<std::size_t>(c) * width_ + e,
+              nan);
+  const auto neighbour = [&](int x) -> Label {  // beyond the canvas's sides: none, unless it wraps
+    return x >= 0 && x < width_ ? here[x] : wrap_x_ ? here[(x + width_) % width_] : Label{0};
+  };
+  const Label* u = up.empty() ? none_.data() : up.data();  // no row: no label
+  const Label* d = down.empty() ? none_.data() : down.data();
+  const Label* h = here.data();
+  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>(n != 0 && n != a); };
+  // Pixels with another label beside them (vectorised; the first and last columns by neighbour()).
+  for (int x = std::max(b, 1); x < std::min(e, width_ - 1); ++x)
+    edge_[x] = static_cast<unsigned char>(h[x] != 0) &
+               (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
+  for (const int x : {0, width_ - 1})
+    if (x >= b && x < e)
+      edge_[x] = static_cast<unsigned char>(h[x] != 0) &
+                 (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
+                  other_than(d[x], h[x]));
   for (int x = b; x < e; ++x) {
-    const Label a = here[x];
+    if (!edge_[x]) continue;  // inside a layer's part: NaN
     Label other = 0;
     bool ambiguous = false;
-    const auto see = [&](Label n) {
-      if (n == 0 || n == a) return;
+    for (const Label n : {neighbour(x - 1), neighbour(x + 1), u[x], d[x]}) {
+      if (!other_than(n, h[x])) continue;
       if (other != 0 && other != n) ambiguous = true;
       other = n;
-    };
-    if (a != 0) {
-      if (x > 0 || wrap_x_) see(here[x > 0 ? x - 1 : width_ - 1]);
-      if (x + 1 < width_ || wrap_x_) see(here[x + 1 < width_ ? x + 1 : 0]);
-      if (!up.empty()) see(up[x]);
-      if (!down.empty()) see(down[x]);
     }
-    const Open* o = other && !ambiguous ? slot_[other - 1] : nullptr;
+    const Open* o = ambiguous ? nullptr : slot_[other - 1];
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    const bool covers = o && x >= fx0 && x < fx0 + fw && o->covered[x - fx0];
+    if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
     for (int c = 0; c < channels_; ++c)
-      across_[static_cast<std::size_t>(c) * width_ + x] =
-          covers ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : nan;
+      out[static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
   }
 }
 

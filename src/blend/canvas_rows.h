@@ -1,8 +1,12 @@
 // The rows a blend hands to stitching: composite (each pixel from its layer), labels, and across-seam values.
 #pragma once
 
+#include <condition_variable>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <span>
+#include <thread>
 #include <vector>
 
 #include "blend/layer_rows.h"
@@ -16,7 +20,9 @@ namespace gdp::blending {
 // last, and computes per row: the composite (the labelled layer's pixel, 0 where no layer covers
 // it) and, with `across`, the across-seam values (at a pixel whose neighbours carry exactly one
 // other label, that layer's value there if it covers the pixel; NaN elsewhere). Rows are asked
-// for in order; asking for an earlier row starts the sweep again.
+// for in order; asking for an earlier row starts the sweep again. The rows are computed on a
+// thread of their own, up to kAhead rows ahead of the one asked for (its errors are rethrown to
+// the caller): the layers' rows are converted, calibrated and put together beside the solve.
 class CanvasSweep {
  public:
   CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across);
@@ -31,9 +37,16 @@ class CanvasSweep {
 
  private:
   struct Open;
-  void restart();
-  void advance();  // computes row row_ + 1
-  void compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down);
+  struct Row {  // a computed row: composite and across values
+    std::vector<float> composite, across;
+  };
+  static constexpr int kAhead = 8;
+  const Row& row(int y);
+  void restart();  // stops the producer: the next row asked for starts the sweep again
+  void produce();  // the producer thread: rows 0, 1, ... into the ring
+  void advance(Row& out);  // computes row row_ + 1
+  void compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
+                      std::span<float> out);
 
   const BlendPlan& plan_;
   const LabelPlane& labels_;
@@ -41,13 +54,24 @@ class CanvasSweep {
   int width_, height_, channels_;
   int begin_ = 0, end_ = -1;  // end_ < 0: whole rows
   bool columns_set_ = false;
+  // The producer's own state.
   int row_ = -1;
   std::vector<int> order_;  // layers by first row
   std::size_t next_ = 0;
   std::vector<std::unique_ptr<Open>> open_;
   std::vector<Open*> slot_;  // per layer: its open state, or null
   std::vector<Label> label_rows_[3];  // rows row_-1, row_, row_+1 (by y % 3)
-  std::vector<float> composite_, across_;
+  std::vector<Label> none_;           // no row (above the first, below the last): no labels
+  std::vector<unsigned char> edge_;   // per column: another label beside the pixel
+  // Shared with the caller, under mutex_: row y in ring_[y % kAhead] once ready_ >= y; rows below
+  // held_ (the one the caller reads) may be overwritten.
+  std::vector<Row> ring_;
+  std::thread producer_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int ready_ = -1, held_ = 0;
+  bool stop_ = false;
+  std::exception_ptr error_;
 };
 
 // A view of the sweep as a RowReader: its composite or its across rows.

@@ -2,6 +2,7 @@
 #include "blend/seams.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -9,6 +10,7 @@
 
 #include "blend/layer_rows.h"
 #include "gdp/errors.h"
+#include "schedule/parallel.h"
 
 namespace gdp::blending {
 namespace {
@@ -86,26 +88,53 @@ void chamfer_row(const Edges& e, int dir, const float* base, const PaddedRow& ne
   e.pad(out);
 }
 
+// Runs body(worker, i) for i in [0, n) on up to `threads` workers, each taking the next i; the
+// first failure sets `stop` (bodies may watch it), no more are taken, and it is rethrown here.
+void parallel_for(int threads, int n, std::atomic<bool>& stop, const std::function<void(int, int)>& body) {
+  if (n <= 0) return;
+  std::atomic<int> next{0};
+  schedule::run_workers(
+      std::clamp(threads, 1, n),
+      [&](int t) {
+        for (int i = 0; !stop.load(std::memory_order_relaxed) && (i = next.fetch_add(1)) < n;) body(t, i);
+      },
+      [&](int, const std::string&) { stop = true; });
+}
+
+// A layer in the backward pass: its chamfer rows and its final distances for the current block.
 struct Active {
   int index;
   Footprint where;
   Edges edges;
   std::size_t base;  // byte offset of its first-pass rows in the scratch
-  std::unique_ptr<LayerRows> rows;
   PaddedRow near, far, cur;
-  std::vector<float> start;
-  std::vector<unsigned char> covered;
+  std::vector<float> block;  // rows [block_lo, ...) of the block, first-pass then final distances
+  int block_lo = 0;
   std::size_t offset(int y) const { return base + static_cast<std::size_t>(y - where.y0) * where.width() * sizeof(float); }
+  const float* final_row(int y) const { return block.data() + static_cast<std::size_t>(y - block_lo) * where.width(); }
 };
 
-// The two passes over the canvas, sharing the layers' footprints and the distance scratch.
+// Per worker of the backward pass's merge: one row's deepest distance, label and cover count, and
+// the layers it saw overlapped.
+struct MergeRow {
+  std::vector<float> best;
+  std::vector<Label> label;
+  std::vector<unsigned char> count;
+  std::vector<signed char> overlaps;
+};
+
+// The two passes over the canvas, sharing the layers' footprints and the distance scratch. Both
+// run on `threads` workers and give the one-thread result bit for bit: the forward pass takes
+// whole layers (independent of each other), the backward pass blocks of rows, first each layer's
+// final distances (layers in parallel), then the deepest layer per pixel (rows in parallel, the
+// layers in index order as one thread takes them).
 class SeamPasses {
  public:
   // Only the layers whose footprints meet columns [begin, end) take part.
   SeamPasses(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-             const std::function<void(double)>& progress, int begin, int end)
+             const std::function<void(double)>& progress, int begin, int end, int threads)
       : plan_(plan), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
-        W_(plan.canvas.width), H_(plan.canvas.height), where_(n_), base_(n_ + 1, 0) {
+        W_(plan.canvas.width), H_(plan.canvas.height), threads_(std::max(1, threads)), where_(n_), base_(n_ + 1, 0) {
     for (int k = 0; k < n_; ++k) {
       where_[k] = footprint(plan, k);
       const bool meets = where_[k].x0 < end && where_[k].x1 > begin;
@@ -121,6 +150,10 @@ class SeamPasses {
   void backward(LabelPlane& labels, std::vector<signed char>& overlaps);
 
  private:
+  void forward_layer(int k, bool reports);
+  void backward_block(Active& a, int lo, int hi) const;
+  void merge_row(int y, const std::vector<std::unique_ptr<Active>>& active, MergeRow& m, LabelPlane& labels) const;
+  int block_rows() const;
   // Layer k's state for a pass that starts beyond its top (forward) or bottom row.
   std::unique_ptr<Active> start(int k, bool top) const {
     auto a = std::make_unique<Active>();
@@ -130,7 +163,6 @@ class SeamPasses {
     a->base = base_[k];
     a->near = a->far = a->edges.outside(top);
     a->cur.v.assign(where_[k].width() + 2 * kPad, 0.0f);
-    a->start.resize(where_[k].width());
     return a;
   }
   // Layers taking part by the row a pass meets them first.
@@ -147,84 +179,133 @@ class SeamPasses {
   const BlendPlan& plan_;
   bool wrap_x_;
   const std::function<void(double)>& progress_;
-  int n_, W_, H_;
+  int n_, W_, H_, threads_;
   std::vector<Footprint> where_;
   std::vector<std::size_t> base_;
   std::vector<int> taking_part_;
   std::unique_ptr<Scratch> distances_;
+  std::atomic<long long> rows_done_{0};
+  long long rows_total_ = 1;
+  std::atomic<bool> stop_{false};  // a worker failed
 };
 
-// Top to bottom: each layer opened at its first row, its forward distances into the scratch,
-// closed after its last row.
+// Whole layers in the order they start, each opened, its forward distances (top to bottom) into
+// the scratch, and closed: as many open at once as there are workers.
 void SeamPasses::forward() {
   const std::vector<int> by_top = order(true);
-  std::vector<std::unique_ptr<Active>> active;
-  std::size_t next = 0;
-  for (int y = 0; y < H_; ++y) {
-    for (; next < by_top.size() && where_[by_top[next]].y0 == y; ++next) {
-      auto a = start(by_top[next], true);
-      a->rows = std::make_unique<LayerRows>(plan_, a->index, 0, W_, active.size() < 8);
-      a->covered.resize(a->where.width());
-      active.push_back(std::move(a));
-    }
-    for (auto& a : active) {
-      const int w = a->where.width();
-      a->rows->coverage(y, a->covered);  // the depth needs only where the layer is
-      for (int x = 0; x < w; ++x) a->start[x] = a->covered[x] ? kInf : 0.0f;
-      chamfer_row(a->edges, 1, a->start.data(), a->near, a->far, a->cur);
-      distances_->write(a->offset(y), a->cur.at(), w * sizeof(float));
-      std::swap(a->far, a->near);
-      std::swap(a->near, a->cur);
-    }
-    std::erase_if(active, [&](const auto& a) { return a->where.y1 == y + 1; });
-    report(0.5 * (y + 1) / H_);
+  rows_total_ = 1;
+  for (const int k : by_top) rows_total_ += where_[k].y1 - where_[k].y0;
+  rows_done_ = 0;
+  parallel_for(threads_, static_cast<int>(by_top.size()), stop_,
+               [&](int t, int i) { forward_layer(by_top[i], t == 0); });
+}
+
+void SeamPasses::forward_layer(int k, bool reports) {
+  const std::unique_ptr<Active> a = start(k, true);
+  LayerRows rows(plan_, k, 0, W_, true);
+  const int w = a->where.width();
+  std::vector<unsigned char> covered(w);
+  std::vector<float> base(w);
+  for (int y = a->where.y0; y < a->where.y1 && !stop_.load(std::memory_order_relaxed); ++y) {
+    rows.coverage(y, covered);  // the depth needs only where the layer is
+    for (int x = 0; x < w; ++x) base[x] = covered[x] ? kInf : 0.0f;
+    chamfer_row(a->edges, 1, base.data(), a->near, a->far, a->cur);
+    distances_->write(a->offset(y), a->cur.at(), w * sizeof(float));
+    std::swap(a->far, a->near);
+    std::swap(a->near, a->cur);
+    const long long done = rows_done_.fetch_add(1) + 1;
+    if (reports) report(0.5 * static_cast<double>(done) / rows_total_);
+  }
+}
+// Rows per block of the backward pass: its layers' final distances for the block stay in memory
+// (4 bytes a pixel), about 16 MiB at the widest rows, 8 to 64 rows.
+int SeamPasses::block_rows() const {
+  std::vector<std::pair<int, long long>> events;  // (row, width change) where layers start and end
+  for (const int k : taking_part_) {
+    events.emplace_back(where_[k].y0, where_[k].width());
+    events.emplace_back(where_[k].y1, -where_[k].width());
+  }
+  std::sort(events.begin(), events.end());
+  long long widest = 1, now = 0;
+  for (const auto& [y, dw] : events) widest = std::max(widest, now += dw);
+  return static_cast<int>(std::clamp<long long>((std::size_t{4} << 20) / widest, 8, 64));
+}
+
+// Layer a's final distances for its rows in [lo, hi), bottom to top, into a.block.
+void SeamPasses::backward_block(Active& a, int lo, int hi) const {
+  const int top = std::max(lo, a.where.y0), bottom = std::min(hi, a.where.y1), w = a.where.width();
+  a.block_lo = top;
+  a.block.resize(static_cast<std::size_t>(bottom - top) * w);
+  distances_->read(a.offset(top), a.block.data(), a.block.size() * sizeof(float));
+  for (int y = bottom - 1; y >= top; --y) {
+    float* row = a.block.data() + static_cast<std::size_t>(y - top) * w;
+    chamfer_row(a.edges, -1, row, a.near, a.far, a.cur);
+    std::copy(a.cur.at(), a.cur.at() + w, row);
+    std::swap(a.far, a.near);
+    std::swap(a.near, a.cur);
   }
 }
 
-// Bottom to top: final distances, the deepest layer per pixel into `labels`; `overlaps` marks
-// layers some of whose pixels another layer covers too.
+// Row y's deepest layer per pixel (the layers in index order: ties go to the earlier) into
+// `labels`; marks in m.overlaps the layers some of whose pixels here another layer covers too.
+void SeamPasses::merge_row(int y, const std::vector<std::unique_ptr<Active>>& active, MergeRow& m,
+                           LabelPlane& labels) const {
+  std::fill(m.best.begin(), m.best.end(), 0.0f);
+  std::fill(m.label.begin(), m.label.end(), Label{0});
+  std::fill(m.count.begin(), m.count.end(), 0);
+  const auto crosses = [y](const Active& a) { return a.where.y0 <= y && y < a.where.y1; };
+  for (const auto& a : active) {
+    if (!crosses(*a)) continue;
+    const int w = a->where.width(), x0 = a->where.x0;
+    const float* d = a->final_row(y);
+    for (int x = 0; x < w; ++x) {
+      if (d[x] <= 0.0f) continue;
+      m.count[x0 + x] = static_cast<unsigned char>(std::min(2, m.count[x0 + x] + 1));
+      if (d[x] > m.best[x0 + x]) {
+        m.best[x0 + x] = d[x];
+        m.label[x0 + x] = static_cast<Label>(a->index + 1);
+      }
+    }
+  }
+  for (const auto& a : active) {
+    if (!crosses(*a)) continue;
+    const float* d = a->final_row(y);
+    for (int x = 0; x < a->where.width() && !m.overlaps[a->index]; ++x)
+      if (d[x] > 0.0f && m.count[a->where.x0 + x] > 1) m.overlaps[a->index] = 1;
+  }
+  labels.write_row(y, m.label);
+}
+
+// Bottom to top in blocks of rows: final distances, the deepest layer per pixel into `labels`;
+// `overlaps` marks layers some of whose pixels another layer covers too.
 void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps) {
   const std::vector<int> by_bottom = order(false);
   std::vector<std::unique_ptr<Active>> active;  // by layer index: ties go to the earlier layer
   std::size_t next = 0;
-  std::vector<float> best(W_);
-  std::vector<Label> label(W_);
-  std::vector<unsigned char> count(W_);
-  for (int y = H_ - 1; y >= 0; --y) {
-    for (; next < by_bottom.size() && where_[by_bottom[next]].y1 == y + 1; ++next) {
+  const int R = block_rows();
+  std::vector<MergeRow> merge(threads_);
+  for (MergeRow& m : merge) {
+    m.best.resize(W_);
+    m.label.resize(W_);
+    m.count.resize(W_);
+    m.overlaps.assign(n_, 0);
+  }
+  for (int hi = H_; hi > 0 && !stop_.load(std::memory_order_relaxed); hi -= R) {
+    const int lo = std::max(0, hi - R);
+    for (; next < by_bottom.size() && where_[by_bottom[next]].y1 > lo; ++next) {
       auto a = start(by_bottom[next], false);
       const auto at = std::upper_bound(active.begin(), active.end(), a->index,
                                        [](int v, const auto& b) { return v < b->index; });
       active.insert(at, std::move(a));
     }
-    std::fill(best.begin(), best.end(), 0.0f);
-    std::fill(label.begin(), label.end(), Label{0});
-    std::fill(count.begin(), count.end(), 0);
-    for (auto& a : active) {
-      const int w = a->where.width(), x0 = a->where.x0;
-      distances_->read(a->offset(y), a->start.data(), w * sizeof(float));
-      chamfer_row(a->edges, -1, a->start.data(), a->near, a->far, a->cur);
-      const float* d = a->cur.at();
-      for (int x = 0; x < w; ++x) {
-        if (d[x] <= 0.0f) continue;
-        count[x0 + x] = static_cast<unsigned char>(std::min(2, count[x0 + x] + 1));
-        if (d[x] > best[x0 + x]) {
-          best[x0 + x] = d[x];
-          label[x0 + x] = static_cast<Label>(a->index + 1);
-        }
-      }
-      std::swap(a->far, a->near);
-      std::swap(a->near, a->cur);
-    }
-    for (auto& a : active) {
-      const float* d = a->near.at();  // this row's final distances
-      for (int x = 0; x < a->where.width() && !overlaps[a->index]; ++x)
-        if (d[x] > 0.0f && count[a->where.x0 + x] > 1) overlaps[a->index] = 1;
-    }
-    labels.write_row(y, label);
-    std::erase_if(active, [&](const auto& a) { return a->where.y0 == y; });
-    report(0.5 + 0.5 * (H_ - y) / H_);
+    parallel_for(threads_, static_cast<int>(active.size()), stop_,
+                 [&](int, int i) { backward_block(*active[i], lo, hi); });
+    parallel_for(threads_, hi - lo, stop_, [&](int t, int i) { merge_row(hi - 1 - i, active, merge[t], labels); });
+    std::erase_if(active, [&](const auto& a) { return a->where.y0 >= lo; });
+    report(0.5 + 0.5 * (H_ - lo) / H_);
   }
+  for (const MergeRow& m : merge)
+    for (int k = 0; k < n_; ++k) overlaps[k] |= m.overlaps[k];
 }
 
 }  // namespace
@@ -266,10 +347,10 @@ void LabelPlane::fill() const {
 
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                                  const std::function<void(double)>& progress, int begin, int end, LabelPlane& labels,
-                                 std::vector<signed char>& overlaps) {
+                                 std::vector<signed char>& overlaps, int threads) {
   const int n = static_cast<int>(plan.layers.size());
   if (n > kMaxLayers) throw UsageError(fmt::format("{} layers; gdp blend takes at most {}", n, kMaxLayers));
-  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end);
+  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end, threads);
   overlaps.assign(n, 0);
   passes.forward();
   passes.backward(labels, overlaps);
@@ -284,11 +365,12 @@ SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::
 }
 
 SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-                         const std::function<void(double)>& progress) {
+                         const std::function<void(double)>& progress, int threads) {
   SeamResult result;
   result.labels = std::make_unique<LabelPlane>(temp_dir, plan.canvas.width, plan.canvas.height);
   const SeamColumns done =
-      compute_seam_columns(plan, wrap_x, temp_dir, progress, 0, plan.canvas.width, *result.labels, result.overlaps);
+      compute_seam_columns(plan, wrap_x, temp_dir, progress, 0, plan.canvas.width, *result.labels, result.overlaps,
+                           threads);
   result.layers_read = done.layers_read;
   result.scratch_bytes = done.distance_bytes + result.labels->bytes();
   return result;
