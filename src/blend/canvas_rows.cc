@@ -23,7 +23,7 @@ CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool w
                    [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
   for (auto& r : label_rows_) r.assign(width_, 0);
   composite_.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
-  across_.assign(composite_.size(), std::numeric_limits<float>::quiet_NaN());
+  if (across) across_.assign(2 * composite_.size(), std::numeric_limits<float>::quiet_NaN());
 }
 
 CanvasSweep::~CanvasSweep() = default;
@@ -96,30 +96,39 @@ void CanvasSweep::advance() {
                    here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>());
 }
 
+// Per pixel two across values: of the layer its left and right neighbours carry (plane 0) and of
+// the one its upper and lower neighbours carry (plane 1), so that where three layers meet each
+// seam edge still finds the layer across it. Only seam pixels are written; those of the row
+// before are reset to NaN first.
 void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::size_t plane = static_cast<std::size_t>(channels_) * width_;
+  for (const int x : across_written_)
+    for (int c = 0; c < 2 * channels_; ++c) across_[static_cast<std::size_t>(c) * width_ + x] = nan;
+  across_written_.clear();
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  // The one label other than `a` (and not 0) among two neighbours; 0 if none or two different.
+  const auto other = [](Label a, Label n1, Label n2) -> Label {
+    const bool o1 = n1 != 0 && n1 != a, o2 = n2 != 0 && n2 != a;
+    if (o1 && o2) return n1 == n2 ? n1 : Label{0};
+    return o1 ? n1 : o2 ? n2 : Label{0};
+  };
   for (int x = b; x < e; ++x) {
     const Label a = here[x];
-    Label other = 0;
-    bool ambiguous = false;
-    const auto see = [&](Label n) {
-      if (n == 0 || n == a) return;
-      if (other != 0 && other != n) ambiguous = true;
-      other = n;
-    };
-    if (a != 0) {
-      if (x > 0 || wrap_x_) see(here[x > 0 ? x - 1 : width_ - 1]);
-      if (x + 1 < width_ || wrap_x_) see(here[x + 1 < width_ ? x + 1 : 0]);
-      if (!up.empty()) see(up[x]);
-      if (!down.empty()) see(down[x]);
+    if (a == 0) continue;
+    const Label left = x > 0 || wrap_x_ ? here[x > 0 ? x - 1 : width_ - 1] : Label{0};
+    const Label right = x + 1 < width_ || wrap_x_ ? here[x + 1 < width_ ? x + 1 : 0] : Label{0};
+    const Label h = other(a, left, right), v = other(a, up.empty() ? Label{0} : up[x], down.empty() ? Label{0} : down[x]);
+    if (h == 0 && v == 0) continue;
+    across_written_.push_back(x);
+    const Label across[2] = {h, v};
+    for (int d = 0; d < 2; ++d) {
+      const Open* o = across[d] ? slot_[across[d] - 1] : nullptr;
+      const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
+      if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
+      for (int c = 0; c < channels_; ++c)
+        across_[d * plane + static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
     }
-    const Open* o = other && !ambiguous ? slot_[other - 1] : nullptr;
-    const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    const bool covers = o && x >= fx0 && x < fx0 + fw && o->covered[x - fx0];
-    for (int c = 0; c < channels_; ++c)
-      across_[static_cast<std::size_t>(c) * width_ + x] =
-          covers ? o->colour[static_cast<std::size_t>(c) * fw + x - fx0] : nan;
   }
 }
 

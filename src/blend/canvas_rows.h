@@ -14,9 +14,11 @@ namespace gdp::blending {
 
 // Sweeps the canvas top to bottom, opening each layer at its first row and closing it after its
 // last, and computes per row: the composite (the labelled layer's pixel, 0 where no layer covers
-// it) and, with `across`, the across-seam values (at a pixel whose neighbours carry exactly one
-// other label, that layer's value there if it covers the pixel; NaN elsewhere). Rows are asked
-// for in order; asking for an earlier row starts the sweep again.
+// it) and, with `across`, the across-seam values, twice the channels: at a pixel whose left and
+// right neighbours carry exactly one other label, that layer's value there if it covers the
+// pixel (the first channels), and the same for its upper and lower neighbours (the next ones);
+// NaN elsewhere (StitchOptions::across). Rows are asked for in order; asking for an earlier row
+// starts the sweep again.
 class CanvasSweep {
  public:
   CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across);
@@ -47,7 +49,8 @@ class CanvasSweep {
   std::vector<std::unique_ptr<Open>> open_;
   std::vector<Open*> slot_;  // per layer: its open state, or null
   std::vector<Label> label_rows_[3];  // rows row_-1, row_, row_+1 (by y % 3)
-  std::vector<float> composite_, across_;
+  std::vector<float> composite_, across_;  // across: 2 x channels planes (horizontal, vertical)
+  std::vector<int> across_written_;        // the columns whose across values are set
 };
 
 // A view of the sweep as a RowReader: its composite or its across rows.
@@ -56,7 +59,7 @@ class SweepReader final : public RowReader {
   SweepReader(CanvasSweep& sweep, bool across) : sweep_(sweep), across_(across) {}
   int width() const override { return sweep_.width(); }
   int height() const override { return sweep_.height(); }
-  int channels() const override { return sweep_.channels(); }
+  int channels() const override { return (across_ ? 2 : 1) * sweep_.channels(); }
   void read_row(int y, std::span<float> out) override;
   void rewind() override {}
   void set_columns(int begin, int end) override { sweep_.set_columns(begin, end); }
