@@ -148,7 +148,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const std::f
 }
 
 // What the seams found: layers read, scratch, costs, layers known to overlap no other.
-void report_seams(const BlendPlan& plan, const blending::SeamResult& seams, BlendReport& r) {
+void report_seams(const BlendPlan& plan, blending::SeamResult& seams, BlendReport& r) {
   if (seams.labels) seams.labels->fill();  // a solve that never read labels (none: kept for safety)
   if (r.seam_layers_read == 0) {
     r.seam_layers_read = seams.layers_read ? seams.layers_read : static_cast<int>(plan.layers.size());
