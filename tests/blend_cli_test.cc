@@ -124,12 +124,27 @@ TEST_F(BlendCli, PinAndWeightsByLayerOrImage) {
   expect_failure("blend --pin " + path("l0.tif") + " -o " + path("o.tif") + layers, "l0.tif");  // 60x40, not the canvas
 }
 
+// mpirun with 2 processes, or "" where it cannot start them.
+std::string mpirun_two() {
+  const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
+  if (std::system((mpirun + " -np 2 true > /dev/null 2>&1").c_str()) != 0) return "";
+  return mpirun + " -np 2 ";
+}
+
+// A number from a --stats file ("key": N), -1 when absent.
+double stat_of(const std::string& file, const std::string& key) {
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto at = text.find("\"" + key + "\": ");
+  return at == std::string::npos ? -1 : std::stod(text.substr(at + key.size() + 4));
+}
+
 // Under mpirun every rank finds the seams of its own columns only (reading the layers that meet
 // them) and solves them; rank 0 writes the file: within 1e-4 of one process. Six layers across a
 // 400-wide canvas: rank 0 (the left half, plus margins) reads four of them at most.
 TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
-  const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
-  if (std::system((mpirun + " -np 2 true > /dev/null 2>&1").c_str()) != 0) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  const std::string mpirun = mpirun_two();
+  if (mpirun.empty()) GTEST_SKIP() << "mpirun cannot start 2 processes";
   std::string layers;
   for (int k = 0; k < 6; ++k) {
     Image l(90, 50, 4, 1.0f);
@@ -143,21 +158,53 @@ TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
   }
   const auto one_run = gdp("blend -q --depth float --stats " + path("one.json") + " -o " + path("one.tif") + layers);
   ASSERT_EQ(one_run.code, 0) << one_run.err;
-  const std::string cmd = mpirun + " -np 2 " + GDP_CLI_PATH + " blend -q --bands 1 --depth float --stats " +
-                          path("two.json") + " -o " + path("two.tif") + layers + " > /dev/null 2>&1";
+  const std::string cmd = mpirun + GDP_CLI_PATH + " blend -q --bands 1 --depth float --stats " + path("two.json") +
+                          " -o " + path("two.tif") + layers + " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   const Image one = read_image(path("one.tif")).image, two = read_image(path("two.tif")).image;
   EXPECT_LT(test::max_difference(one, two), 1e-4);
-  const auto layers_read = [&](const std::string& json) {
-    std::ifstream in(path(json));
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const auto at = text.find("\"seam_layers_read\": ");
-    return at == std::string::npos ? -1 : std::stoi(text.substr(at + 20));
-  };
-  EXPECT_EQ(layers_read("one.json"), 6);
-  const int rank0 = layers_read("two.json");
+  EXPECT_EQ(stat_of(path("one.json"), "seam_layers_read"), 6);
+  const double rank0 = stat_of(path("two.json"), "seam_layers_read");
   EXPECT_GE(rank0, 3);  // the left half's layers, each read whole
   EXPECT_LE(rank0, 4);
+}
+
+// Graph-cut seams under mpirun: rank 0 finds the cut (it is global) and shares it, so 2 ranks give
+// one process's result within 1e-4. Five layers that disagree (offsets and each its own grain) in
+// a row, and three that overlap no other below them: one in each rank's columns and one across
+// both. Every rank's columns count for the isolated layers: all three are named, with depth seams
+// too (where rank 0 alone used to name only the layer wholly in its columns).
+TEST_F(BlendCli, UnderMpirunGraphcutSeamsAndIsolatedLayersAgreeWithOneProcess) {
+  const std::string mpirun = mpirun_two();
+  if (mpirun.empty()) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  std::string layers;
+  const auto add = [&](int k, int x0, int y0, int w, int h) {
+    Image l(w, h, 4, 1.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const float grain = 0.04f * std::sin(1.7f * x * (k + 1) + 2.3f * y + c);
+          l.at(c, x, y) = 0.4f + 0.2f * std::sin(0.05f * (x + x0) + c) * std::cos(0.07f * (y + y0)) + 0.03f * k + grain;
+        }
+    const std::string name = path("g" + std::to_string(k) + ".tif");
+    test::write_nona_tiff(name, {{&l, x0, y0, 8}}, 400, 90);
+    layers += " " + name;
+  };
+  for (int k = 0; k < 5; ++k) add(k, 76 * k, 0, 96, 50);
+  add(5, 20, 60, 60, 30);   // rank 0's columns
+  add(6, 170, 60, 60, 30);  // across the middle
+  add(7, 300, 60, 60, 30);  // rank 1's columns
+  const std::string common = " -q --depth float --tolerance 1e-6 --stats ";
+  const auto run_one = gdp("blend" + common + path("one.json") + " --seams graphcut -o " + path("one.tif") + layers);
+  ASSERT_EQ(run_one.code, 0) << run_one.err;
+  const std::string two = mpirun + GDP_CLI_PATH + " blend --bands 1" + common;
+  ASSERT_EQ(std::system((two + path("two.json") + " --seams graphcut -o " + path("two.tif") + layers + " > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((two + path("depth.json") + " -o " + path("depth.tif") + layers + " > /dev/null 2>&1").c_str()), 0);
+  EXPECT_LT(stat_of(path("one.json"), "seam_cost"), 0.9 * stat_of(path("one.json"), "seam_cost_depth"));  // the cut moved
+  EXPECT_LT(test::max_difference(read_image(path("one.tif")).image, read_image(path("two.tif")).image), 1e-4);
+  EXPECT_EQ(stat_of(path("one.json"), "isolated_layers"), 3);
+  EXPECT_EQ(stat_of(path("two.json"), "isolated_layers"), 3);
+  EXPECT_EQ(stat_of(path("depth.json"), "isolated_layers"), 3);
 }
 
 TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {

@@ -51,11 +51,15 @@ struct StitchOptions {
   bool deramp = false;            // subtract each label's mean gradient (removes linear ramps)
   bool start_from_composite = true;  // initial guess: the composite (else zero)
   BlendSpace space;
-  // Optional: at each pixel next to a label change, the value there of the source across it (the
-  // composite's size and channels; non-finite where unknown). Gradients across a label change
-  // are then the mean of the composite's and this image's differences where both ends have
-  // finite values (the mean of both sources' gradients), the one source's gradient that is known
-  // where only one end has (that source covers both pixels), zero where neither has (gdp blend).
+  // Optional: at each pixel next to a label change, the value there of the source across it: the
+  // composite's size and twice its channels, the first ones for the source its left and right
+  // neighbours carry, the next for the one its upper and lower neighbours carry (so that where
+  // three sources meet each edge finds its own); non-finite where unknown or where both
+  // neighbours of a pair carry different other sources. Gradients across a label change are then
+  // the mean of the composite's and this image's differences (of the edge's direction) where both
+  // ends have finite values (the mean of both sources' gradients), the one source's gradient that
+  // is known where only one end has (that source covers both pixels), zero where neither has
+  // (gdp blend).
   RowReader* across = nullptr;
   std::string labels_name = "the label map";  // in messages
   std::string composite_name;                 // in messages (a file's name; empty: none)

@@ -18,13 +18,16 @@ void from_space(const BlendSpace& space, std::span<float> row, int width, int ch
 // A reader whose rows come converted into the space.
 class SpaceReader final : public RowReader {
  public:
-  SpaceReader(RowReader& in, const BlendSpace& space) : in_(in), space_(space) {}
+  // `groups`: the row holds that many images of in.channels() / groups channels each, converted alike.
+  SpaceReader(RowReader& in, const BlendSpace& space, int groups = 1) : in_(in), space_(space), groups_(groups) {}
   int width() const override { return in_.width(); }
   int height() const override { return in_.height(); }
   int channels() const override { return in_.channels(); }
   void read_row(int y, std::span<float> out) override {
     in_.read_row(y, out);
-    to_space(space_, out, width(), channels());
+    const int ch = channels() / groups_;
+    const std::size_t n = static_cast<std::size_t>(ch) * width();
+    for (int g = 0; g < groups_; ++g) to_space(space_, out.subspan(g * n, n), width(), ch);
   }
   void rewind() override { in_.rewind(); }
   void set_columns(int begin, int end) override { in_.set_columns(begin, end); }
@@ -32,6 +35,7 @@ class SpaceReader final : public RowReader {
  private:
   RowReader& in_;
   BlendSpace space_;
+  int groups_;
 };
 
 // A writer that converts rows back from the space before passing them on.

@@ -82,7 +82,7 @@ class StitchGuidance final : public apps::ImageGuidance {
   void set_slots(int slots) override {
     ImageGuidance::set_slots(slots);
     row_ids_.assign(slots, std::vector<int>(width()));
-    across_rows_.assign(across_ ? slots : 0, std::vector<float>(static_cast<std::size_t>(channels()) * width(), 0.0f));
+    across_rows_.assign(across_ ? slots : 0, std::vector<float>(2 * static_cast<std::size_t>(channels()) * width(), 0.0f));
   }
   void compute(int j, GuidanceRow& out, int begin, int end) const override {
     ImageGuidance::compute(j, out, begin, end);
@@ -109,8 +109,8 @@ class StitchGuidance final : public apps::ImageGuidance {
     const int last = j + 1 < height() ? j + 1 : j;
     for (int i = begin; i < end; ++i) {
       const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
-      right[i] = joined(a, here[r]) || across_either(i, j, r, j);
-      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last)));
+      right[i] = joined(a, here[r]) || across_either(i, j, r, j, true);
+      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last, false)));
     }
     for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
@@ -129,16 +129,17 @@ class StitchGuidance final : public apps::ImageGuidance {
   }
   // Across a label change (with `across`) from p (source A) to q (source B), the composite's
   // difference B(q) - A(p) less the guidance kept: the mean of A's and B's differences where the
-  // across values A(q) and B(p) are both finite, else the one source's difference that is known
-  // (A's where only A(q) is: B does not reach p; B's where only B(p) is). Inside a label: its
-  // ramp (--deramp).
+  // across values A(q) and B(p) (of the edge's direction) are both finite, else the one source's
+  // difference that is known (A's where only A(q) is: B does not reach p; B's where only B(p) is).
+  // Inside a label: its ramp (--deramp).
   double offset(int c, int i, int j, bool horizontal) const override {
     const int a = id(i, j), i2 = horizontal ? (i + 1 < width() ? i + 1 : 0) : i, j2 = horizontal ? j : j + 1;
     const int b = id(i2, j2);
     if (a != b && a != kUnknown && b != kUnknown) {
       const std::size_t p = static_cast<std::size_t>(c) * width() + i, q = static_cast<std::size_t>(c) * width() + i2;
+      const std::size_t plane = horizontal ? 0 : static_cast<std::size_t>(channels()) * width();
       const double a_p = source_row(j)[p], b_q = source_row(j2)[q];
-      const double b_p = across_rows_[slot(j)][p], a_q = across_rows_[slot(j2)][q];
+      const double b_p = across_rows_[slot(j)][plane + p], a_q = across_rows_[slot(j2)][plane + q];
       if (!std::isfinite(b_p)) return b_q - a_q;  // keeps A(q) - A(p)
       if (!std::isfinite(a_q)) return b_p - a_p;  // keeps B(q) - B(p)
       return 0.5 * ((b_q - a_p) - (a_q - b_p));
@@ -151,12 +152,14 @@ class StitchGuidance final : public apps::ImageGuidance {
   int id(int i, int j) const { return row_ids_[slot(j)][i]; }
   // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
   bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
-  // With `across`, a label change whose across values are finite at either end (first channel).
-  bool across_either(int i, int j, int i2, int j2) const {
+  // With `across`, a label change whose across values (of the edge's direction) are finite at
+  // either end (first channel).
+  bool across_either(int i, int j, int i2, int j2, bool horizontal) const {
     if (!across_) return false;
     const int a = id(i, j), b = id(i2, j2);
+    const std::size_t plane = horizontal ? 0 : static_cast<std::size_t>(channels()) * width();
     return a != b && a != kUnknown && b != kUnknown &&
-           (std::isfinite(across_rows_[slot(j)][i]) || std::isfinite(across_rows_[slot(j2)][i2]));
+           (std::isfinite(across_rows_[slot(j)][plane + i]) || std::isfinite(across_rows_[slot(j2)][plane + i2]));
   }
 
   // A first pass over both inputs: the mean horizontal and vertical difference inside each
@@ -223,14 +226,14 @@ void stitch(RowReader& composite, RowReader& labels, const StitchOptions& option
   if (options.space.kind == BlendSpace::Kind::Lab && composite.channels() < 3)
     throw UsageError(fmt::format("--space lab needs an RGB composite, this one has {} channel(s)", composite.channels()));
   if (options.across && (options.across->width() != composite.width() || options.across->height() != composite.height() ||
-                         options.across->channels() != composite.channels()))
-    throw InputError(fmt::format("across image is {}x{}x{} but the composite is {}x{}x{}", options.across->width(),
-                                 options.across->height(), options.across->channels(), composite.width(),
-                                 composite.height(), composite.channels()));
+                         options.across->channels() != 2 * composite.channels()))
+    throw InputError(fmt::format("across image is {}x{}x{} but the composite is {}x{}x{} (across: twice its channels)",
+                                 options.across->width(), options.across->height(), options.across->channels(),
+                                 composite.width(), composite.height(), composite.channels()));
   apps::OutputFixups fixups(out, composite.width(), composite.height(), composite.channels(), solver);
   apps::SpaceReader in_space(composite, options.space);
   std::optional<apps::SpaceReader> across_space;
-  if (options.across) across_space.emplace(*options.across, options.space);
+  if (options.across) across_space.emplace(*options.across, options.space, 2);
   apps::SpaceWriter out_space(fixups, options.space, composite.width(), composite.channels());
   StitchGuidance guidance(in_space, labels, across_space ? &*across_space : nullptr, options, fixups);
   apps::solve_with_fidelity(guidance, fidelity, solver, out_space, summary);

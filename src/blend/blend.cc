@@ -11,10 +11,12 @@
 #include "blend/layer_fidelity.h"
 #include "blend/photometric.h"
 #include "blend/seam_files.h"
+#include "blend/seam_share.h"
 #include "blend/graphcut_seams.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 #include "gdp/sphere_rows.h"
 
 namespace gdp {
@@ -109,6 +111,20 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
     seams = blending::load_seams(plan, options.load_seams, temp);
     return;
   }
+  if (options.seams == SeamMethod::Graphcut && blending::several_ranks()) {
+    // A cut is global (each move's minimum cut spans the canvas): rank 0 finds it, the others take it.
+    if (MpiRun::rank() == 0) {
+      seams = blending::compute_graphcut_seams(plan, wrap, temp, options.progress);
+    } else {
+      seams.labels = std::make_unique<blending::LabelPlane>(temp, plan.canvas.width, plan.canvas.height);
+      seams.overlaps.assign(plan.layers.size(), -1);
+      seams.layers_read = 0;
+    }
+    blending::share_labels(*seams.labels);
+    if (!options.save_seams.empty())
+      blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
+    return;
+  }
   if (options.seams == SeamMethod::Graphcut || !options.save_seams.empty()) {
     seams = options.seams == SeamMethod::Graphcut ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress)
                                                   : blending::compute_seams(plan, wrap, temp, options.progress, threads);
@@ -134,7 +150,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
 }
 
 // What the seams found: layers read, scratch, costs, layers known to overlap no other.
-void report_seams(const BlendPlan& plan, const blending::SeamResult& seams, BlendReport& r) {
+void report_seams(const BlendPlan& plan, blending::SeamResult& seams, BlendReport& r) {
   if (seams.labels) seams.labels->fill();  // a solve that never read labels (none: kept for safety)
   if (r.seam_layers_read == 0) {
     r.seam_layers_read = seams.layers_read ? seams.layers_read : static_cast<int>(plan.layers.size());
@@ -143,6 +159,7 @@ void report_seams(const BlendPlan& plan, const blending::SeamResult& seams, Blen
   }
   r.seam_cost_depth = seams.depth_cost;
   r.seam_cost = seams.cost;
+  blending::gather_overlaps(seams.overlaps);  // mpirun: what every rank's columns saw
   if (plan.layers.size() > 1)
     for (std::size_t k = 0; k < plan.layers.size(); ++k)
       if (seams.overlaps[k] == 0) r.isolated.push_back(plan.layers[k].name);

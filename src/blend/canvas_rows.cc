@@ -28,7 +28,7 @@ CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool w
   ring_.resize(kAhead);
   for (Row& r : ring_) {
     r.composite.assign(static_cast<std::size_t>(channels_) * width_, 0.0f);
-    r.across.assign(r.composite.size(), std::numeric_limits<float>::quiet_NaN());
+    r.across.assign(across ? 2 * r.composite.size() : 0, std::numeric_limits<float>::quiet_NaN());
   }
 }
 
@@ -149,11 +149,15 @@ void CanvasSweep::advance(Row& out) {
                    out.across);
 }
 
+// Per pixel two across values: of the layer its left and right neighbours carry (plane 0) and of
+// the one its upper and lower neighbours carry (plane 1), so that where three layers meet each
+// seam edge still finds the layer across it. NaN elsewhere.
 void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
                                  std::span<float> out) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::size_t plane = static_cast<std::size_t>(channels_) * width_;
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
-  for (int c = 0; c < channels_; ++c)
+  for (int c = 0; c < 2 * channels_; ++c)
     std::fill(out.begin() + static_cast<std::size_t>(c) * width_ + b, out.begin() + static_cast<std::size_t>(c) * width_ + e,
               nan);
   const auto neighbour = [&](int x) -> Label {  // beyond the canvas's sides: none, unless it wraps
@@ -172,20 +176,22 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
       edge_[x] = static_cast<unsigned char>(h[x] != 0) &
                  (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
                   other_than(d[x], h[x]));
+  // The one label other than `a` (and not 0) among two neighbours; 0 if none or two different.
+  const auto other = [](Label a, Label n1, Label n2) -> Label {
+    const bool o1 = n1 != 0 && n1 != a, o2 = n2 != 0 && n2 != a;
+    if (o1 && o2) return n1 == n2 ? n1 : Label{0};
+    return o1 ? n1 : o2 ? n2 : Label{0};
+  };
   for (int x = b; x < e; ++x) {
     if (!edge_[x]) continue;  // inside a layer's part: NaN
-    Label other = 0;
-    bool ambiguous = false;
-    for (const Label n : {neighbour(x - 1), neighbour(x + 1), u[x], d[x]}) {
-      if (!other_than(n, h[x])) continue;
-      if (other != 0 && other != n) ambiguous = true;
-      other = n;
+    const Label across[2] = {other(h[x], neighbour(x - 1), neighbour(x + 1)), other(h[x], u[x], d[x])};
+    for (int k = 0; k < 2; ++k) {
+      const Open* o = across[k] ? slot_[across[k] - 1] : nullptr;
+      const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
+      if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
+      for (int c = 0; c < channels_; ++c)
+        out[k * plane + static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
     }
-    const Open* o = ambiguous ? nullptr : slot_[other - 1];
-    const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
-    if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
-    for (int c = 0; c < channels_; ++c)
-      out[static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
   }
 }
 

@@ -18,11 +18,13 @@ namespace gdp::blending {
 
 // Sweeps the canvas top to bottom, opening each layer at its first row and closing it after its
 // last, and computes per row: the composite (the labelled layer's pixel, 0 where no layer covers
-// it) and, with `across`, the across-seam values (at a pixel whose neighbours carry exactly one
-// other label, that layer's value there if it covers the pixel; NaN elsewhere). Rows are asked
-// for in order; asking for an earlier row starts the sweep again. The rows are computed on a
-// thread of their own, up to kAhead rows ahead of the one asked for (its errors are rethrown to
-// the caller): the layers' rows are converted, calibrated and put together beside the solve.
+// it) and, with `across`, the across-seam values, twice the channels: at a pixel whose left and
+// right neighbours carry exactly one other label, that layer's value there if it covers the
+// pixel (the first channels), and the same for its upper and lower neighbours (the next ones);
+// NaN elsewhere (StitchOptions::across). Rows are asked for in order; asking for an earlier row
+// starts the sweep again. The rows are computed on a thread of their own, up to kAhead rows ahead
+// of the one asked for (its errors are rethrown to the caller): the layers' rows are converted,
+// calibrated and put together beside the solve.
 class CanvasSweep {
  public:
   CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across);
@@ -80,7 +82,7 @@ class SweepReader final : public RowReader {
   SweepReader(CanvasSweep& sweep, bool across) : sweep_(sweep), across_(across) {}
   int width() const override { return sweep_.width(); }
   int height() const override { return sweep_.height(); }
-  int channels() const override { return sweep_.channels(); }
+  int channels() const override { return (across_ ? 2 : 1) * sweep_.channels(); }
   void read_row(int y, std::span<float> out) override;
   void rewind() override {}
   void set_columns(int begin, int end) override { sweep_.set_columns(begin, end); }

@@ -354,13 +354,13 @@ SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::
   overlaps.assign(n, 0);
   passes.forward();
   passes.backward(labels, overlaps);
-  // A layer reaching outside the columns may overlap layers that did not take part there.
+  // A layer taking part is checked against every layer meeting the columns: where it reaches
+  // outside them a layer that did not take part may overlap it there (gather_overlaps then asks
+  // the processes solving those columns).
   std::vector<char> part(n, 0);
   for (const int k : passes.taking_part()) part[k] = 1;
-  for (int k = 0; k < n; ++k) {
-    const Footprint f = footprint(plan, k);
-    if (!part[k] || (!overlaps[k] && (f.x0 < begin || f.x1 > end))) overlaps[k] = -1;
-  }
+  for (int k = 0; k < n; ++k)
+    if (!part[k]) overlaps[k] = -1;
   return {static_cast<int>(passes.taking_part().size()), passes.scratch_bytes()};
 }
 

@@ -72,8 +72,11 @@ SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesyst
 
 // The depth seams of columns [begin, end) only, into `labels` (the canvas's size): only the layers
 // whose footprints meet those columns are read, each whole (a pixel's depth in a layer depends on
-// all of it), so labels there are exactly compute_seams'. `overlaps` as SeamResult's. For a
-// process that solves only some columns (mpirun).
+// all of it), so labels there are exactly compute_seams'. `overlaps`: 1 for a layer some pixel of
+// which another layer taking part covers too, 0 for one taking part with none, -1 for the others;
+// the 0s are exactly the isolated layers when the columns are the canvas's, or after
+// gather_overlaps over processes whose columns together are. For a process that solves only some
+// columns (mpirun).
 struct SeamColumns {
   int layers_read = 0;
   std::size_t distance_bytes = 0;  // the first pass's scratch

@@ -21,7 +21,7 @@ class View final : public RowReader {
   View(MosaicRows& rows, Kind kind) : rows_(rows), kind_(kind) {}
   int width() const override { return rows_.window().width; }
   int height() const override { return rows_.window().rows; }
-  int channels() const override { return 1; }
+  int channels() const override { return kind_ == Kind::Across ? 2 : 1; }
   void read_row(int y, std::span<float> out) override {
     const std::vector<float>& v = kind_ == Kind::Across ? rows_.across_row(y)
                                   : kind_ == Kind::Label  ? rows_.row(y).label
@@ -94,25 +94,24 @@ const std::vector<float>& MosaicRows::across_row(int j) {
   const std::vector<float> up = j > 0 ? row(j - 1).label : std::vector<float>(w, kNoPlate);
   const std::vector<float> down = j + 1 < window_.rows ? row(j + 1).label : std::vector<float>(w, kNoPlate);
   Row& r = fetch(j);
-  r.across.assign(w, std::numeric_limits<float>::quiet_NaN());
+  r.across.assign(2 * static_cast<std::size_t>(w), std::numeric_limits<float>::quiet_NaN());
+  // The one plate other than `own` of two neighbours; kNoPlate for none or two different.
+  const auto other = [](float own, float n1, float n2) {
+    const bool o1 = n1 != own && n1 != kNoPlate, o2 = n2 != own && n2 != kNoPlate;
+    return o1 && o2 ? (n1 == n2 ? n1 : kNoPlate) : o1 ? n1 : o2 ? n2 : kNoPlate;
+  };
   for (int i = begin_; i < end_; ++i) {
     const float own = r.label[i];
     if (own == kNoPlate) continue;
     // The whole PQ image's rows are periodic (the stitch's right neighbour of the last column is column 0).
     const int left = i > 0 ? i - 1 : (window_.whole() ? w - 1 : i), right = i + 1 < w ? i + 1 : (window_.whole() ? 0 : i);
-    float other = kNoPlate;
-    bool single = true;
-    for (const float n : {r.label[left], r.label[right], up[i], down[i]}) {
-      if (n == own || n == kNoPlate) continue;
-      single = single && (other == kNoPlate || other == n);
-      other = n;
-    }
-    if (other == kNoPlate || !single) continue;
-    for (const PlateHit& h : r.hits[i])
-      if (h.plate + 2 == static_cast<int>(other)) {
-        const Plate& p = plates_[h.plate];
-        r.across[i] = p.extended(h.x, h.y, kExtension * std::max(p.width, p.height));
-      }
+    const float across[2] = {other(own, r.label[left], r.label[right]), other(own, up[i], down[i])};
+    for (int d = 0; d < 2; ++d)
+      for (const PlateHit& h : r.hits[i])
+        if (across[d] != kNoPlate && h.plate + 2 == static_cast<int>(across[d])) {
+          const Plate& p = plates_[h.plate];
+          r.across[static_cast<std::size_t>(d) * w + i] = p.extended(h.x, h.y, kExtension * std::max(p.width, p.height));
+        }
   }
   return r.across;
 }

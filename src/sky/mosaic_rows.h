@@ -53,10 +53,11 @@ class MosaicRows {
   ~MosaicRows();
   RowReader& composite() { return *composite_; }
   RowReader& labels() { return *labels_; }
-  // Stitch's `across` image: at a pixel whose 4-neighbours in the row and the rows above and
-  // below that belong to another plate all belong to one plate M, M's (extended) value there;
-  // NaN elsewhere (no neighbour of another plate, or two: a three-plate junction). A seam edge
-  // then gets the mean of both plates' differences as guidance, zero only at junctions.
+  // Stitch's `across` image, two channels: at a pixel whose left and right neighbours that belong
+  // to another plate belong to one plate M, M's (extended) value there (the first channel), and
+  // the same for its neighbours in the rows above and below (the second); NaN elsewhere (no
+  // neighbour of another plate, or two different ones in a pair). A seam edge then gets the mean
+  // of both plates' differences as guidance, also where three plates meet.
   RowReader& across() { return *across_; }
   const PqWindow& window() const { return window_; }
   // Row j's coverage (computed before): inside a plate with a value, its label (plate + 2), else 0

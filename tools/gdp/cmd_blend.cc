@@ -245,6 +245,7 @@ class Blend final : public Command {
     }
     stats.set("blend_scratch_bytes", std::to_string(report.scratch_bytes));
     stats.set("seam_layers_read", std::to_string(report.seam_layers_read));
+    stats.set("isolated_layers", std::to_string(report.isolated.size()));
     stats.set("seam_columns", fmt::format("[{}, {}]", report.seam_columns.first, report.seam_columns.second));
     note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
                               "residual {:.2e} -> {}",
