@@ -117,7 +117,9 @@ CanvasLevels canvas_levels(const BlendPlan& plan, double damping) {
   if (damping >= 0.0) {
     std::vector<std::array<double, 4>> energy;
     for (const PlacedLayer& l : plan.layers) energy.push_back(background_energy(l.width, l.height));
-    levels.backgrounds = fit_backgrounds(energy, sweep.equations(), damping);
+    const std::vector<BackgroundEquation>& equations = sweep.equations();
+    levels.backgrounds = fit_backgrounds(
+        energy, [&](const auto& each) { std::for_each(equations.begin(), equations.end(), each); }, damping);
   }
   std::vector<OverlapSum> pairs;
   levels.overlapped.assign(m, 0);
