@@ -65,6 +65,31 @@ TEST(ScratchBudget, StoresSpillToFilesBeyondTheBudget) {
   EXPECT_EQ(budget.peak_on_disk(), n * rows * sizeof(float));
 }
 
+// In-memory stores map their pages a few MB at a time as rows arrive (ScratchMemory::prepare):
+// rows that straddle those steps, and a store written again after clear(), read back exactly.
+TEST(ScratchBudget, MemoryStoresKeepRowsAcrossTheirMappingSteps) {
+  ScratchBudget budget(std::size_t{64} << 20);
+  StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 100003, rows = 27;  // 10.8 MB of 400 KB rows: no row ends on a step
+  RowStore<float> store(policy, n, rows, "steps");
+  ASSERT_FALSE(store.on_disk());
+  std::vector<float> row(n);
+  for (int pass = 0; pass < 2; ++pass) {
+    store.clear();
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (std::size_t i = 0; i < n; ++i) row[i] = static_cast<float>(pass * 1000003 + r * n + i);
+      store.append(row);
+    }
+    store.rewind();
+    for (std::size_t r = 0; r < rows; ++r) {
+      store.read(row);
+      for (std::size_t i = 0; i < n; i += 997) ASSERT_EQ(row[i], static_cast<float>(pass * 1000003 + r * n + i));
+      ASSERT_EQ(row[n - 1], static_cast<float>(pass * 1000003 + r * n + n - 1));
+    }
+  }
+}
+
 TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gdp-budget-test-keep";
   std::filesystem::remove_all(dir);
