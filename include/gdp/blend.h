@@ -34,7 +34,7 @@ struct LayerSource {
   long long x = 0, y = 0;
   float offset = 0.0f;      // added to the colour as it is read (gdp sky --projected: each image's level)
   float mask_scale = 1.0f;  // the mask's samples times this are tested (area images: 1 / the largest area)
-  LayerBackground background;  // subtracted from the colour as it is read (after `offset` is added)
+  LayerBackground background{};  // subtracted from the colour as it is read (after `offset` is added)
 };
 
 // An in-memory layer (tests, library users): colour channels plus optional alpha as above.

@@ -1,5 +1,6 @@
 // The canvas sweep: layers opened and closed as rows pass, composite and across-seam rows from the label plane.
 #include "blend/canvas_rows.h"
+#include "blend/across_label.h"
 
 #include <algorithm>
 #include <exception>
@@ -176,12 +177,7 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
       edge_[x] = static_cast<unsigned char>(h[x] != 0) &
                  (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
                   other_than(d[x], h[x]));
-  // The one label other than `a` (and not 0) among two neighbours; 0 if none or two different.
-  const auto other = [](Label a, Label n1, Label n2) -> Label {
-    const bool o1 = n1 != 0 && n1 != a, o2 = n2 != 0 && n2 != a;
-    if (o1 && o2) return n1 == n2 ? n1 : Label{0};
-    return o1 ? n1 : o2 ? n2 : Label{0};
-  };
+  const auto other = [](Label a, Label n1, Label n2) { return across_label(a, n1, n2, Label{0}); };
   for (int x = b; x < e; ++x) {
     if (!edge_[x]) continue;  // inside a layer's part: NaN
     const Label across[2] = {other(h[x], neighbour(x - 1), neighbour(x + 1)), other(h[x], u[x], d[x])};

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "blend/across_label.h"
 #include "blend/scratch.h"
 #include "sphere/vec3.h"
 
@@ -95,11 +96,7 @@ const std::vector<float>& MosaicRows::across_row(int j) {
   const std::vector<float> down = j + 1 < window_.rows ? row(j + 1).label : std::vector<float>(w, kNoPlate);
   Row& r = fetch(j);
   r.across.assign(2 * static_cast<std::size_t>(w), std::numeric_limits<float>::quiet_NaN());
-  // The one plate other than `own` of two neighbours; kNoPlate for none or two different.
-  const auto other = [](float own, float n1, float n2) {
-    const bool o1 = n1 != own && n1 != kNoPlate, o2 = n2 != own && n2 != kNoPlate;
-    return o1 && o2 ? (n1 == n2 ? n1 : kNoPlate) : o1 ? n1 : o2 ? n2 : kNoPlate;
-  };
+  const auto other = [](float own, float n1, float n2) { return blending::across_label(own, n1, n2, kNoPlate); };
   for (int i = begin_; i < end_; ++i) {
     const float own = r.label[i];
     if (own == kNoPlate) continue;
