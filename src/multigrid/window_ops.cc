@@ -37,19 +37,15 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
   return v.data();
 }
 
-// The vertical combinations at columns [begin - 2, end + 2), zero beyond a non-periodic level, wrapped for
-// Wrap: e_k = sum_d (sx_in[k] my[d] + mx_in[k] cy[d]) scale u_{j+d} (k = 0, 1, 2: the interior filter's
-// centre, +-1 and +-2 terms, so the filter only adds) in s.line's three stretches; a = sum_d my[d] u_{j+d},
-// c = sum_d cy[d] u_{j+d} (s.a, s.c) only on the columns whose filter has per-column coefficients and
-// their two neighbours each side (by the level's ends).
+// a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d} at columns [begin - 2, end + 2), from s.a[0]:
+// from the rows where they hold the columns, zero beyond a non-periodic level, wrapped for Wrap.
 template <class T>
-GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s,
-                        T scale) {
+GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
   const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
   const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
   const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
   const int count = std::max(to - from, 0);
-  T *a = grow(s.a, len), *c = grow(s.c, len), *e = grow(s.line, 3 * len);
+  T *a = grow(s.a, len), *c = grow(s.c, len);
   std::array<const T*, 5> u;
   std::array<T, 5> m{}, k{};
   const std::array<T, 5> &my = op.my[j], &cy = op.cy[j];  // row tables: one lookup each, not one per row
@@ -72,38 +68,29 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
     }
     u[d] = copy;
   }
-  std::array<std::array<T, 5>, 3> p;  // e_k's row weights
-  for (int t = 0; t < 3; ++t)
-    for (int d = 0; d < 5; ++d) p[t][d] = (op.sx_in[t] * m[d] + op.mx_in[t] * k[d]) * scale;
-  T* E[3] = {e + (from - lo), e + len + (from - lo), e + 2 * len + (from - lo)};
+  T* A = a + (from - lo);
+  T* C = c + (from - lo);
   if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
     // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
 #pragma GCC ivdep
     for (int i = 0; i < count; ++i) {
-      const T v0 = u[2][i], v1 = u[1][i] + u[3][i], v2 = u[0][i] + u[4][i];
-      E[0][i] = p[0][2] * v0 + p[0][1] * v1 + p[0][0] * v2;
-      E[1][i] = p[1][2] * v0 + p[1][1] * v1 + p[1][0] * v2;
-      E[2][i] = p[2][2] * v0 + p[2][1] * v1 + p[2][0] * v2;
+      const T p1 = u[1][i] + u[3][i], p2 = u[0][i] + u[4][i];
+      A[i] = m[2] * u[2][i] + m[1] * p1 + m[0] * p2;
+      C[i] = k[2] * u[2][i] + k[1] * p1 + k[0] * p2;
     }
   } else {
 #pragma GCC ivdep
-    for (int i = 0; i < count; ++i)
-      for (int t = 0; t < 3; ++t)
-        E[t][i] = p[t][0] * u[0][i] + p[t][1] * u[1][i] + p[t][2] * u[2][i] + p[t][3] * u[3][i] + p[t][4] * u[4][i];
-  }
-  // a and c by the level's ends: per copy q, from column interior_end - 2 to the next copy's interior_begin + 2.
-  for (int q = floor_div(from, std::max(n, 1)) - 1; q <= floor_div(to - 1, std::max(n, 1)); ++q) {
-    const int x0 = std::max(from, q * n + op.interior_end - 2), x1 = std::min(to, (q + 1) * n + op.interior_begin + 2);
-    for (int i = x0 - from; i < x1 - from; ++i) {
-      a[i + from - lo] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
-      c[i + from - lo] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
+    for (int i = 0; i < count; ++i) {
+      A[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
+      C[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
     }
   }
-  for (T* v : {a, c, e, e + len, e + 2 * len}) {
-    std::fill(v, v + (from - lo), T(0)), std::fill(v + (to - lo), v + len, T(0));
-    if (wrap)
-      for (int g = 1; g <= 2; ++g)  // the ghost samples of a whole periodic row (v[2] is column 0)
-        v[2 - g] = v[2 + fem::wrap_index(-g, n)], v[1 + n + g] = v[2 + fem::wrap_index(n - 1 + g, n)];
+  std::fill(a, A, T(0)), std::fill(c, C, T(0));
+  std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
+  if (!wrap) return;
+  for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
+    a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
+    a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
   }
 }
 
@@ -121,29 +108,32 @@ GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c
            m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
 }
 
-// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients from a and c by the level's ends,
-// the interior's one symmetric stencil from e elsewhere. With `b` (b[i]: column i), the interior's q is
-// b inv - (A u) scale, scale combine's: relax's t = (b - A u) / K_0 (inv = scale = the interior's 1 / K_0),
-// residual's b - A u (1).
+// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
+// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. With
+// `b` (b[i]: column i), the interior's q is relax's t = (b - A u) inv, inv the interior's 1 / K_0.
 template <class T>
 GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
                          const T* b = nullptr, T inv = T(0)) {
-  const int len = cols.end - cols.begin + 4;
   const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
   const T* c = s.c.data() + 2 - cols.begin;
-  const T *e0 = s.line.data() + 2 - cols.begin, *e1 = e0 + len, *e2 = e1 + len;
   q -= cols.begin;
+  const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
+  const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
   for (int i = cols.begin; i < cols.end;) {
     const Run r = copy_run(op.width, cols.periodic, i, cols.end);
     const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
     const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
     general(op, q + i, a + i, c + i, ib - i, i - r.base);
+    const auto at = [&](int x) __attribute__((always_inline)) {
+      return sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+             m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+    };
     if (b) {
 #pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = b[x] * inv - (e0[x] + (e1[x - 1] + e1[x + 1]) + (e2[x - 2] + e2[x + 2]));
+      for (int x = ib; x < ie; ++x) q[x] = (b[x] - at(x)) * inv;
     } else {
 #pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = e0[x] + (e1[x - 1] + e1[x + 1]) + (e2[x - 2] + e2[x + 2]);
+      for (int x = ib; x < ie; ++x) q[x] = at(x);
     }
     general(op, q + ie, a + ie, c + ie, r.end - ie, ie - r.base);
     i = r.end;
@@ -337,7 +327,7 @@ GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Col
                       const T* diag) {
   if (cols.end <= cols.begin) return;
   const int o = cols.begin - w.origin[2];
-  combine(op, j, w, cols, s, T(1));
+  combine(op, j, w, cols, s);
   convolve(op, cols, s, out + o);
   if (diag)
     for (int x = o; x < o + cols.end - cols.begin; ++x) out[x] += diag[x] * w.rows[2][x];
@@ -348,8 +338,8 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
                          Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
-  combine(op, j, w, cols, s, T(1));
-  if (!diag) {  // r = b - A u straight from the filter loop on the interior (b times 1 - q: the same bits)
+  combine(op, j, w, cols, s);
+  if (!diag) {  // r = b - A u straight from the filter loop on the interior (b - q times 1: the same bits)
     T* out = r + o - cols.begin;
     const T* bc = b + o - cols.begin;
     convolve(op, cols, s, r + o, bc, T(1));
@@ -383,9 +373,8 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   // q = A u on the columns, already t on the interior without a diagonal term
   const bool folded = !diag && op.interior_begin < op.interior_end;
   T* q = grow(s.q, len);
-  const T scale = folded ? K->inv[op.interior_begin] : T(1);
-  combine(op, j, w, cols, s, scale);
-  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, scale);
+  combine(op, j, w, cols, s);
+  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, folded ? K->inv[op.interior_begin] : T(0));
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
