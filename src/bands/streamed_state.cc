@@ -20,8 +20,7 @@ void StreamedVCycle<T>::state(Archive& a) {
     a.io(L->inputs_stored);
     a.io(L->rr);
     a.io(L->dots);
-    for (RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
-      schedule::store_state(a, store);
+    for (RowStore<T>* store : L->stores()) schedule::store_state(a, store);
   }
   for (auto* planes : {&tail_u_, &tail_b_})
     for (multigrid::Plane<T>& p : *planes) a.io_sized(p.data);

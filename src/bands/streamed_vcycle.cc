@@ -183,15 +183,9 @@ void StreamedVCycle<T>::begin_cycle() {
     L.dots.assign(channels, 0.0);
     if (!L.u_store) continue;  // the level handed to the merged stage
     L.u_store->clear();
-    if (L.inputs_stored) {  // level 0 only
-      L.b_store->rewind();
-      if (L.w_store) L.w_store->rewind();
-      if (L.d_store) L.d_store->rewind();
-    } else {
-      L.b_store->clear();
-      if (L.w_store) L.w_store->clear();
-      if (L.d_store) L.d_store->clear();
-    }
+    for (schedule::RowStore<T>* store : {L.b_store.get(), L.w_store.get(), L.d_store.get()})
+      if (store && L.inputs_stored) store->rewind();  // level 0 only
+      else if (store) store->clear();
   }
   if (merged_) merged_->begin_cycle();
   for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
@@ -234,16 +228,9 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
     if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);
-    const auto measure_row = [&](int j) {
-      for (int c = 0; c < set_.channels; ++c) {
-        multigrid::residual(*L.op, j, window(0, c, j, true), columns(0, L.A, L.B), b_row(0, c, j), r_.data(),
-                            L.scratch, d_row(0, j));
-        initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
-      }
-    };
-    if (r >= 2) measure_row(r - 2);
+    if (r >= 2) measure(r - 2, true, initial_rr_);
     if (r == L.height - 1)
-      for (int j = std::max(0, r - 1); j < L.height; ++j) measure_row(j);
+      for (int j = std::max(0, r - 1); j < L.height; ++j) measure(j, true, initial_rr_);
   }
   ++L.arrived;
   advance(0);
@@ -318,12 +305,16 @@ void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
 template <class T>
 void StreamedVCycle<T>::finish_row(int l, int j) {
   if (!prolongation_) return restrict_row(l, j);
-  Level& L = *levels_[l];
-  if (l != 0 || !set_.measure_final) return;
+  if (l == 0 && set_.measure_final) measure(j, false, final_rr_);
+}
+
+template <class T>
+void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
+  Level& L = *levels_[0];
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual(*L.op, j, window(l, c, j), columns(l, L.A, L.B), b_row(l, c, j), r_.data(), L.scratch,
-                        d_row(l, j));
-    final_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
+    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(0, L.A, L.B), b_row(0, c, j), r_.data(), L.scratch,
+                        d_row(0, j));
+    rr[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
 
@@ -461,8 +452,7 @@ template <class T>
 std::size_t StreamedVCycle<T>::store_bytes() const {
   std::size_t n = merged_ ? merged_->store_bytes() : 0;
   for (const auto& L : levels_)
-    for (const schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
-      n += store ? store->bytes() : 0;
+    for (const schedule::RowStore<T>* store : L->stores()) n += store ? store->bytes() : 0;
   return n;
 }
 

@@ -85,6 +85,8 @@ class StreamedVCycle {
   template <class F>
   void strip_rows(int l, int p, bool left, bool outgoing, F&& f);
   void finish_row(int l, int j);
+  // |b - A u|^2 of level 0's row j (`initial`: as pushed in the first cycle) added to rr per channel.
+  void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);
   // The pieces of the gathered level band `band` contributes, as (row pointer, count).
