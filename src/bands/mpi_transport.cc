@@ -3,27 +3,16 @@
 
 #include <mpi.h>
 
-#include <cstdio>
 #include <deque>
 #include <mutex>
 
 #include <fmt/format.h>
 
-#include "bands/mpi_wait.h"
+#include "mpi/ranks.h"
+#include "mpi/wait.h"
 #include "bands/thread_transport.h"
-#include "gdp/cleanup.h"
 
 namespace gdp::bands {
-
-void abort_ranks(const std::string& why) {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  std::fprintf(stderr, "gdp: rank %d: %s\n", rank, why.c_str());
-  std::fflush(stderr);
-  cleanup::remove_tracked();  // MPI_Abort skips every destructor: this rank's temporary output goes now
-  MPI_Abort(MPI_COMM_WORLD, 2);
-  std::abort();  // MPI_Abort does not return
-}
 
 struct MpiHub::Impl {
   class Endpoint;
@@ -62,7 +51,7 @@ struct MpiHub::Impl {
 
   Bytes receive(int from, int to, int tag) {
     Bytes data;
-    receive_message(from / local, mpi_tag(tag, from, to), comm, data, [&] {
+    mpi::receive_message(from / local, mpi_tag(tag, from, to), comm, data, [&] {
       const std::lock_guard<std::mutex> lock(mutex);
       reap();
     });
@@ -86,7 +75,7 @@ class MpiHub::Impl::Endpoint final : public Transport {
       return impl_.hub.endpoint(worker_ % impl_.local).receive(from % impl_.local, tag);
     return impl_.receive(from, worker_, tag);
   }
-  void abort(const std::string& why) override { abort_ranks(why); }
+  void abort(const std::string& why) override { mpi::abort_ranks(why); }
 
  private:
   Impl& impl_;
@@ -103,7 +92,7 @@ MpiHub::MpiHub(int local) : impl_(std::make_unique<Impl>(local)) {
 MpiHub::~MpiHub() {
   {
     const std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (auto& p : impl_->sends) wait_request(p.request);
+    for (auto& p : impl_->sends) mpi::wait_request(p.request);
     impl_->sends.clear();
   }
   MPI_Comm_free(&impl_->comm);

@@ -12,7 +12,7 @@ namespace gdp::bands {
 // workers of one rank go through a ThreadHub; the others through MPI on a duplicate of
 // MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
-// (tag * local + from % local) * local + to % local. abort() ends every rank (abort_ranks).
+// (tag * local + from % local) * local + to % local. abort() ends every rank (mpi::abort_ranks).
 // Needs MPI initialised with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective.
 class MpiHub {
  public:
@@ -25,11 +25,5 @@ class MpiHub {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// Prints "gdp: rank R: why" on stderr and calls MPI_Abort(MPI_COMM_WORLD, 2): every rank ends with
-// a non-zero status instead of waiting for messages that will never come. The only place the
-// library ends the process; used by MpiHub's abort() and gdp::MpiRun::abort(). Tracked files (the
-// temporary output) are removed first (gdp/cleanup.h): MPI_Abort runs no destructor.
-[[noreturn]] void abort_ranks(const std::string& why);
 
 }  // namespace gdp::bands

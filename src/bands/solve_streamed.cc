@@ -10,13 +10,13 @@
 
 #include <fmt/format.h>
 
-#include "bands/mpi_agree.h"
 #include "bands/mpi_transport.h"
 #include "bands/streamed_checkpoint.h"
 #include "bands/streamed_vcycle.h"
 #include "bands/thread_transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
+#include "mpi/ranks.h"
 #include "schedule/cycle_worker.h"
 #include "schedule/input_ring.h"
 #include "schedule/input_rows.h"
@@ -36,19 +36,12 @@ constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcyc
 // reads the guidance of the columns within two of it.
 constexpr int kInputMargin = 4;
 
-// Input sums as message parts and back.
-void put(Packer& p, const InputTotals& t) {
-  p.put(t.weighted_sums);
-  p.put(t.rhs_norms2);
-  p.put(t.weight_total);
-}
-
-InputTotals get_totals(Unpacker& u) {
-  InputTotals t;
-  u.get(t.weighted_sums);
-  u.get(t.rhs_norms2);
-  t.weight_total = u.get();
-  return t;
+// Input sums as message parts and back (Archive: a ByteWriter or a ByteReader).
+template <class Archive, class Totals>
+void io(Archive& a, Totals& t) {
+  a.io(t.weighted_sums);
+  a.io(t.rhs_norms2);
+  a.io(t.weight_total);
 }
 
 // The workers of this process: bands [first, first + local) of the plan (all of them on threads,
@@ -66,26 +59,20 @@ struct Team {
 };
 
 // The input sums of all bands, added in band order (the same bits however the bands are spread
-// over processes) from this process's bands' sums: under mpirun the first band of every rank
-// sends its rank's to band 0, whose rank adds them all up and sends the total back.
+// over processes) from this process's bands' sums: every rank's go to every rank (one rank:
+// nothing to send).
 InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team) {
+  ByteWriter mine;
+  for (const InputTotals& t : local) io(mine, t);
   InputTotals total;
-  if (!team.ranks) {
-    for (const InputTotals& t : local) total.add(t);
-    return total;
+  for (Bytes& part : all_gather(team.endpoint(0, team.first), kTotals, std::move(mine.bytes), team.local)) {
+    ByteReader r(std::move(part));
+    while (!r.at_end()) {
+      InputTotals t;
+      io(r, t);
+      total.add(t);
+    }
   }
-  Transport& me = team.endpoint(0, team.first);
-  Packer mine, reply;
-  for (const InputTotals& t : local) put(mine, t);
-  for (Bytes& part : gather(me, kTotals, std::move(mine.bytes), team.local)) {  // rank 0: every rank's
-    Unpacker u(std::move(part));
-    for (int i = 0; i < team.local; ++i) total.add(get_totals(u));
-    u.finish();
-  }
-  put(reply, total);
-  Unpacker u(broadcast(me, kTotals, std::move(reply.bytes), team.local));
-  total = get_totals(u);
-  u.finish();
   return total;
 }
 
@@ -136,7 +123,6 @@ struct Setup {
   std::unique_ptr<schedule::Problem<T>> problem;
   std::optional<BandLayout> layout;
   bool distributed = false;
-  std::pair<int, int> input_columns;  // of the input rows this process computes
 };
 
 template <class T>
@@ -161,7 +147,7 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
     setup_error = e.what();
   }
   if (s.distributed)
-    agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
+    mpi::agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
                                        opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
                                        static_cast<long long>(sizeof(T)),
                                        s.problem ? s.problem->ops.count() : -1});
@@ -198,17 +184,12 @@ InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
   return {{std::max(0, from), std::min(w, to)}, {std::max(0, from - kInputMargin), std::min(w, to + kInputMargin)}};
 }
 
-// This process's bands and columns: every band, or under mpirun a contiguous share of them,
-// whose own columns it writes and whose rows it reads (plus margins).
-template <class T>
-void share_columns(Setup<T>& s, const Team& team, GuidanceSource& source, RowWriter& out) {
-  const BandLayout& layout = *s.layout;
-  const int w = source.width(), last_local = team.first + team.local - 1;
-  s.input_columns = {0, w};
-  if (!s.distributed) return;
-  const InputWindow window = input_window(layout, team.first, last_local, w);
+// Under mpirun, this process's bands are a contiguous share of the plan: it writes their own
+// columns and reads their rows' (plus margins).
+void share_columns(const BandLayout& layout, const Team& team, GuidanceSource& source, RowWriter& out) {
+  const int last_local = team.first + team.local - 1;
+  const InputWindow window = input_window(layout, team.first, last_local, source.width());
   if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
-  s.input_columns = window.rows;
   out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
@@ -233,9 +214,8 @@ struct InputPass {
 };
 
 template <class T>
-InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const Setup<T>& setup,
+InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const BandLayout& layout,
                              const Team& team) {
-  const BandLayout& layout = *setup.layout;
   const int w = source.width(), count = source.splits() && !layout.folded ? team.local : 1;
   InputPass<T> pass;
   std::vector<InputWindow> windows;
@@ -243,7 +223,6 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
     pass.readers.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
     const Reader<T>& r = pass.readers[l];
     windows.push_back(input_window(layout, team.first + r.first, team.first + r.last - 1, w));
-    if (count == 1) windows[l].rows = setup.input_columns;
   }
   std::vector<std::pair<int, int>> guidance;
   for (const InputWindow& window : windows) guidance.push_back(window.guidance);
@@ -337,7 +316,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
 
   Team team = make_team(opt, layout, setup.distributed, channels);
-  share_columns(setup, team, source, out);
+  if (setup.distributed) share_columns(layout, team, source, out);
   const std::unique_ptr<StreamedCheckpoint> checkpoint =
       open_streamed_checkpoint(opt, ops, channels, layout.bands, team.local, team.first, team.groups, settings.stores);
   if (!setup.distributed)
@@ -362,7 +341,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
 
   // The input pass: this thread decodes every input row (then writes the results), readers make
   // their bands' input rows from them (run_workers' workers 1 .. readers), the others solve.
-  InputPass<T> input = make_input_pass(source, problem, setup, team);
+  InputPass<T> input = make_input_pass(source, problem, layout, team);
   std::vector<Reader<T>>& readers = input.readers;
   schedule::InputRing& ring = *input.ring;
   const int reader_count = static_cast<int>(readers.size());

@@ -15,7 +15,6 @@
 #include "gdp/mpi_run.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/checkpoint.h"
 #include "schedule/cycle_worker.h"
 
 namespace gdp::bands {
@@ -29,7 +28,7 @@ class StreamedCheckpoint {
   StreamedCheckpoint(const SolverOptions& opt, const std::string& sizes, int local, int first, int& groups)
       : first_(first), local_(local) {
     int lanes = local * groups;
-    cp_ = std::make_unique<schedule::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(),
+    cp_ = std::make_unique<io::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(),
                                                  lanes * MpiRun::size());
     if (lanes < 1 || lanes % local != 0)
       throw InputError(fmt::format("--resume {}: the manifest is corrupt (lanes)", opt.checkpoint_dir.string()));
@@ -75,20 +74,17 @@ class StreamedCheckpoint {
   // The generations every rank has (ranks are every local_-th worker of `net`).
   std::vector<long long> across_ranks(Transport& net, std::vector<long long> mine) const {
     constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
-    Packer p, reply;
-    p.put(mine);
-    for (Bytes& part : gather(net, kGenerations, std::move(p.bytes), local_)) {  // rank 0: every rank's
-      Unpacker u(std::move(part));
+    ByteWriter w;
+    w.io(mine);
+    for (Bytes& part : all_gather(net, kGenerations, std::move(w.bytes), local_)) {
+      ByteReader r(std::move(part));
       std::vector<long long> theirs;
-      u.get(theirs);
+      r.io(theirs);
       mine = intersect(mine, theirs);
     }
-    reply.put(mine);
-    Unpacker u(broadcast(net, kGenerations, std::move(reply.bytes), local_));
-    u.get(mine);
     return mine;
   }
-  std::unique_ptr<schedule::Checkpoint> cp_;
+  std::unique_ptr<io::Checkpoint> cp_;
   int first_, local_, groups_ = 1;
 };
 

@@ -16,14 +16,14 @@ void exchange(Transport& net, const FoldPlan& plan, int tag, Pack&& pack, Own&& 
   const int me = net.rank();
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.sends(b)) continue;
-    Packer pk;
+    ByteWriter pk;
     pack(plan.to[b], pk);
     net.send(b, tag, std::move(pk.bytes));
   }
   own(plan.from[me]);
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.receives(b)) continue;
-    Unpacker un(net.receive(b, tag));
+    ByteReader un(net.receive(b, tag));
     unpack(plan.from[b], un);
     un.finish();
   }
@@ -70,13 +70,13 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
   const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
   exchange(
       net_, plan, kFoldRows + l,
-      [&](const ColumnRuns& runs, Packer& pk) {
+      [&](const ColumnRuns& runs, ByteWriter& pk) {
         pieces(runs, [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
       },
       [&](const ColumnRuns& runs) {
         pieces(runs, [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
       },
-      [&](const ColumnRuns& runs, Unpacker& un) {
+      [&](const ColumnRuns& runs, ByteReader& un) {
         pieces(runs, [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
       });
 }
@@ -88,32 +88,25 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
   const FoldPlan& plan = levels_[l]->fold[side].sums;
-  const bool tail = gathered(l);
-  const int m = ops_.levels[base_ + l + 1].width, channels = set_.channels;
-  const int parts = channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0);
-  const int corigin = tail ? 0 : levels_[l + 1]->origin;
-  const auto coarse = [&](int k) -> T* {  // part k of coarse row `row`, at column corigin
-    if (k < channels) return tail ? tail_b_[k].row(row) : b_row(l + 1, k, row);
-    if (k == channels && set_.weights) return tail ? tail_w_.row(row) : w_row(l + 1, row);
-    return tail ? tail_d_.row(row) : d_row(l + 1, row);
-  };
+  const int m = ops_.levels[base_ + l + 1].width, parts = this->parts();
+  const int corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
   const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
     for (int k = 0; k < parts; ++k)
       for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
   };
   const auto add = [&](int k, int x, const T* v, std::size_t n) {
-    T* to = coarse(k) + (x - corigin);
+    T* to = part_row(l + 1, k, row) + (x - corigin);
     for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
   };
   const auto part = [&](int k, int x) { return sums.data() + static_cast<std::size_t>(k) * m + x; };
   std::vector<T> got;
   exchange(
       net_, plan, kFoldSums + l,
-      [&](const ColumnRuns& runs, Packer& pk) {
+      [&](const ColumnRuns& runs, ByteWriter& pk) {
         pieces(runs, [&](int k, int x, std::size_t n) { pk.put(part(k, x), n); });
       },
       [&](const ColumnRuns& runs) { pieces(runs, [&](int k, int x, std::size_t n) { add(k, x, part(k, x), n); }); },
-      [&](const ColumnRuns& runs, Unpacker& un) {
+      [&](const ColumnRuns& runs, ByteReader& un) {
         pieces(runs, [&](int k, int x, std::size_t n) {
           got.resize(n);
           un.get(got.data(), n);
@@ -132,23 +125,16 @@ template <class T>
 void StreamedVCycle<T>::hand_off(int row) {
   const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
   Level& H = *levels_[tl];
-  // Band m's columns of the row, piece by piece: f(kind, channel, first column, count) for b of
-  // every channel (kind 0), then w (1) and d (2) where the settings have them.
+  // Band m's columns of the row, part by part (b of every channel, w, d).
   const auto pieces = [&](int m, auto&& f) {
     const int a = layout_.begin(tl, m);
-    const auto n = static_cast<std::size_t>(layout_.end(tl, m) - a);
-    for (int c = 0; c < set_.channels; ++c) f(0, c, a, n);
-    if (set_.weights) f(1, 0, a, n);
-    if (set_.diagonal) f(2, 0, a, n);
+    for (int k = 0; k < parts(); ++k) f(k, a, static_cast<std::size_t>(layout_.end(tl, m) - a));
   };
-  const auto mine = [&](int kind, int c, int a) {
-    T* r = kind == 0 ? b_row(tl, c, row) : kind == 1 ? w_row(tl, row) : d_row(tl, row);
-    return r + (a - H.origin);
-  };
+  const auto mine = [&](int k, int a) { return part_row(tl, k, row) + (a - H.origin); };
   ++H.finished;
   if (band_ != owner) {
-    Packer pk;
-    pieces(band_, [&](int kind, int c, int a, std::size_t n) { pk.put(mine(kind, c, a), n); });
+    ByteWriter pk;
+    pieces(band_, [&](int k, int a, std::size_t n) { pk.put(mine(k, a), n); });
     net_.send(owner, kHandOff, std::move(pk.bytes));
     return;
   }
@@ -157,19 +143,16 @@ void StreamedVCycle<T>::hand_off(int row) {
   const int origin = M.origin(0, g);
   // The merged band's row: u zero (a correction), b, w, d of the group's columns; the halo's b
   // comes in the merged stage's strips.
-  std::vector<T> u(set_.channels * len, T(0)), b(set_.channels * len, T(0)), w(set_.weights ? len : 0, T(0)),
-      d(set_.diagonal ? len : 0, T(0));
-  const auto merged = [&](int kind, int c, int a) {
-    T* r = kind == 0 ? b.data() + c * len : kind == 1 ? w.data() : d.data();
-    return r + (a - origin);
-  };
-  pieces(band_, [&](int kind, int c, int a, std::size_t n) { std::copy_n(mine(kind, c, a), n, merged(kind, c, a)); });
+  std::vector<T> u(set_.channels * len, T(0)), in(parts() * len, T(0));
+  const auto merged = [&](int k, int a) { return in.data() + k * len + (a - origin); };
+  pieces(band_, [&](int k, int a, std::size_t n) { std::copy_n(mine(k, a), n, merged(k, a)); });
   for (int m = owner + 1; m < layout_.group_end(g); ++m) {
-    Unpacker un(net_.receive(m, kHandOff));
-    pieces(m, [&](int kind, int c, int a, std::size_t n) { un.get(merged(kind, c, a), n); });
+    ByteReader un(net_.receive(m, kHandOff));
+    pieces(m, [&](int k, int a, std::size_t n) { un.get(merged(k, a), n); });
     un.finish();
   }
-  merged_->push(u, b, w, d);
+  const auto part = [&](int k, bool has) { return has ? std::span<const T>(in.data() + k * len, len) : std::span<const T>(); };
+  merged_->push(u, {in.data(), set_.channels * len}, part(set_.channels, set_.weights), part(parts() - 1, set_.diagonal));
 }
 
 // Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
@@ -188,11 +171,11 @@ void StreamedVCycle<T>::take_back(int row) {
       throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
     if (band_ == owner) {
       merged_->pull(got);
-      Packer pk;
+      ByteWriter pk;
       pk.put(got.data(), got.size());
       for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, pk.bytes);
     } else {
-      Unpacker un(net_.receive(owner, kHandBack));
+      ByteReader un(net_.receive(owner, kHandBack));
       un.get(got.data(), got.size());
       un.finish();
     }

@@ -1,14 +1,13 @@
 // A streamed V-cycle's state for checkpoints: rings, counters, the whole level below, stores' lengths.
-#include <type_traits>
-
 #include "bands/streamed_vcycle_parts.h"
+#include "schedule/cycle_worker.h"
 
 namespace gdp::bands {
 
 using schedule::CorruptState;
 using schedule::RowStore;
 
-// Written (StateWriter) and read back (StateReader) by the same steps.
+// Written (ByteWriter) and read back (ByteReader) by the same steps.
 template <class T>
 template <class Archive>
 void StreamedVCycle<T>::state(Archive& a) {
@@ -21,15 +20,7 @@ void StreamedVCycle<T>::state(Archive& a) {
     a.io(L->inputs_stored);
     a.io(L->rr);
     a.io(L->dots);
-    for (RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()}) {
-      std::size_t bytes = 0;  // the stream's length
-      if constexpr (std::is_same_v<Archive, schedule::StateWriter>) bytes = store ? store->make_durable() : 0;
-      a.io(bytes);
-      if constexpr (std::is_same_v<Archive, schedule::StateReader>) {
-        if (store) store->restore(bytes);
-        else if (bytes) throw CorruptState("a store this level does not have");
-      }
-    }
+    for (RowStore<T>* store : L->stores()) schedule::store_state(a, store);
   }
   for (auto* planes : {&tail_u_, &tail_b_})
     for (multigrid::Plane<T>& p : *planes) a.io_sized(p.data);
@@ -49,14 +40,13 @@ void StreamedVCycle<T>::state(Archive& a) {
 
 template <class T>
 void StreamedVCycle<T>::saved() {
-  gather(net_, kSaved, {});
-  broadcast(net_, kSaved, {});
+  all_gather(net_, kSaved, {});
 }
 
-template void StreamedVCycle<float>::state(schedule::StateWriter&);
-template void StreamedVCycle<float>::state(schedule::StateReader&);
-template void StreamedVCycle<double>::state(schedule::StateWriter&);
-template void StreamedVCycle<double>::state(schedule::StateReader&);
+template void StreamedVCycle<float>::state(schedule::ByteWriter&);
+template void StreamedVCycle<float>::state(schedule::ByteReader&);
+template void StreamedVCycle<double>::state(schedule::ByteWriter&);
+template void StreamedVCycle<double>::state(schedule::ByteReader&);
 template void StreamedVCycle<float>::saved();
 template void StreamedVCycle<double>::saved();
 

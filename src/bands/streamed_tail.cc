@@ -15,12 +15,8 @@ void StreamedVCycle<T>::tail_parts(int band, F&& f) {
   const int tl = layout_.levels, th = ops_.levels[base_ + tl].height;
   const int a = layout_.begin(tl, band);
   const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
-  for (int c = 0; c < set_.channels; ++c)
-    for (int row = 0; row < th; ++row) f(tail_b_[c].row(row) + a, n);
-  if (set_.weights)
-    for (int row = 0; row < th; ++row) f(tail_w_.row(row) + a, n);
-  if (set_.diagonal)
-    for (int row = 0; row < th; ++row) f(tail_d_.row(row) + a, n);
+  for (int k = 0; k < parts(); ++k)
+    for (int row = 0; row < th; ++row) f(part_row(tl, k, row) + a, n);
 }
 
 // The level below the bands: every worker's partial sums are added in band order (the same bits
@@ -41,18 +37,18 @@ void StreamedVCycle<T>::run_tail() {
   }
   sum_in_order(net_, kSums, total);
   if (whole) {  // worker 0's own part is in place already
-    Packer mine;
+    ByteWriter mine;
     if (band_ != 0) tail_parts(band_, [&](const T* row, std::size_t n) { mine.put(row, n); });
     std::vector<Bytes> parts = gather(net_, kGather, std::move(mine.bytes));
     for (int b = 1; b < static_cast<int>(parts.size()); ++b) {
-      Unpacker u(std::move(parts[b]));
+      ByteReader u(std::move(parts[b]));
       tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
       u.finish();
     }
   }
-  Packer reply;
+  ByteWriter reply;
   if (band_ == 0) solve_tail(reply);
-  Unpacker u(broadcast(net_, kGather, std::move(reply.bytes)));
+  ByteReader u(broadcast(net_, kGather, std::move(reply.bytes)));
   const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
   for (int c = 0; c < channels; ++c) {
     if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
@@ -64,8 +60,8 @@ void StreamedVCycle<T>::run_tail() {
       p.level_norms.push_back(std::sqrt(sums[1 + 2 * l]));
     }
     std::vector<double> dots, norms;  // the levels below
-    u.get(dots);
-    u.get(norms);
+    u.io(dots);
+    u.io(norms);
     p.dots.insert(p.dots.end(), dots.begin(), dots.end());
     p.level_norms.insert(p.level_norms.end(), norms.begin(), norms.end());
     initial_rr_[c] = sums[0];
@@ -76,7 +72,7 @@ void StreamedVCycle<T>::run_tail() {
 // Worker 0: every channel's correction and probe of the levels below, solved in-core (or the
 // merged stage's, added over its bands), into `reply`.
 template <class T>
-void StreamedVCycle<T>::solve_tail(Packer& reply) {
+void StreamedVCycle<T>::solve_tail(ByteWriter& reply) {
   const int tl = base_ + layout_.levels;
   const bool whole = !layout_.merged;
   std::vector<Plane<T>> weights;
@@ -94,8 +90,8 @@ void StreamedVCycle<T>::solve_tail(Packer& reply) {
     } else {
       tail = merged_->probe(c);
     }
-    reply.put(tail.dots);
-    reply.put(tail.level_norms);
+    reply.io(tail.dots);
+    reply.io(tail.level_norms);
   }
 }
 

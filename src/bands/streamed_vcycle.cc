@@ -33,18 +33,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
   for (int l = 0; l < layout.levels; ++l) levels_.push_back(make_level(l));
   const LevelOperator<T>& tail = ops.levels[base_ + layout.levels];
   if (layout.merged) {
-    // The level below, handed to the merged stage row by row: this band's columns (b, w, d as
-    // restricted; u as handed back), a few rows deep.
-    auto H = std::make_unique<Level>();
-    H->op = &tail;
-    H->width = tail.width;
-    H->height = tail.height;
-    H->A = layout.begin(layout.levels, band_);
-    H->B = layout.end(layout.levels, band_);
-    H->origin = H->A - layout.halo;
-    H->len = H->B - H->A + 2 * layout.halo;
-    allocate_ring(*H, 8);
-    levels_.push_back(std::move(H));
+    levels_.push_back(make_level(layout.levels));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
       merged_net_ = merged_transport(transport, layout.merged->bands);
       Settings inner = set_;
@@ -81,7 +70,9 @@ void StreamedVCycle<T>::allocate_ring(Level& L, int ring) {
   if (set_.diagonal) L.d.assign(slots, T(0));
 }
 
-// Banded level l: its columns, ring, fold plans, restriction bookkeeping and row stores.
+// Banded level l: its columns, ring, fold plans, restriction bookkeeping and row stores; level
+// `layout.levels` when merged: this band's columns handed to the merged stage row by row (b, w, d
+// as restricted; u as handed back), a few rows deep.
 template <class T>
 std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level(int l) {
   const multigrid::LevelGeometry* geo = ops_.hierarchy->levels.data() + base_;
@@ -94,6 +85,10 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   L->B = layout_.end(l, band_);
   L->origin = layout_.origin(l, band_);
   L->len = layout_.row_length(l, band_);
+  if (l == layout_.levels) {
+    allocate_ring(*L, 8);
+    return L;
+  }
   for (int j = 0; j < op.height; ++j)
     for (int d = 0; d < 5; ++d)
       if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
@@ -145,6 +140,13 @@ T* StreamedVCycle<T>::w_row(int l, int j) { return ring_row(levels_[l]->w, l, j,
 template <class T>
 T* StreamedVCycle<T>::d_row(int l, int j) { return ring_row(levels_[l]->d, l, j, 0, 1); }
 template <class T>
+T* StreamedVCycle<T>::part_row(int l, int k, int j) {
+  const int c = set_.channels;
+  if (l == layout_.levels && !layout_.merged)  // the whole level below
+    return k < c ? tail_b_[k].row(j) : k == c && set_.weights ? tail_w_.row(j) : tail_d_.row(j);
+  return k < c ? b_row(l, k, j) : k == c && set_.weights ? w_row(l, j) : d_row(l, j);
+}
+template <class T>
 Columns StreamedVCycle<T>::columns(int l, int begin, int end, bool forward) const {
   if (!layout_.single) return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
   Columns whole = Columns::whole(levels_[l]->width, layout_.periodic);  // the one-band plan's only columns
@@ -181,15 +183,9 @@ void StreamedVCycle<T>::begin_cycle() {
     L.dots.assign(channels, 0.0);
     if (!L.u_store) continue;  // the level handed to the merged stage
     L.u_store->clear();
-    if (L.inputs_stored) {  // level 0 only
-      L.b_store->rewind();
-      if (L.w_store) L.w_store->rewind();
-      if (L.d_store) L.d_store->rewind();
-    } else {
-      L.b_store->clear();
-      if (L.w_store) L.w_store->clear();
-      if (L.d_store) L.d_store->clear();
-    }
+    for (schedule::RowStore<T>* store : {L.b_store.get(), L.w_store.get(), L.d_store.get()})
+      if (store && L.inputs_stored) store->rewind();  // level 0 only
+      else if (store) store->clear();
   }
   if (merged_) merged_->begin_cycle();
   for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
@@ -232,16 +228,9 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
     if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);
-    const auto measure_row = [&](int j) {
-      for (int c = 0; c < set_.channels; ++c) {
-        multigrid::residual(*L.op, j, window(0, c, j, true), columns(0, L.A, L.B), b_row(0, c, j), r_.data(),
-                            L.scratch, d_row(0, j));
-        initial_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
-      }
-    };
-    if (r >= 2) measure_row(r - 2);
+    if (r >= 2) measure(r - 2, true, initial_rr_);
     if (r == L.height - 1)
-      for (int j = std::max(0, r - 1); j < L.height; ++j) measure_row(j);
+      for (int j = std::max(0, r - 1); j < L.height; ++j) measure(j, true, initial_rr_);
   }
   ++L.arrived;
   advance(0);
@@ -291,19 +280,15 @@ void StreamedVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f
   const int at = s.u_cols[0] - L.origin, bat = s.b_cols[0] - L.origin;
   for (int c = 0; c < set_.channels; ++c)
     for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) f(u_row(l, c, row) + at, n);
-  for (int c = 0; c < set_.channels; ++c)
-    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(b_row(l, c, row) + bat, m);
-  if (set_.weights)
-    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(w_row(l, row) + bat, m);
-  if (set_.diagonal)
-    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(d_row(l, row) + bat, m);
+  for (int k = 0; k < parts(); ++k)
+    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(part_row(l, k, row) + bat, m);
 }
 
 template <class T>
 void StreamedVCycle<T>::send_strips(int l, int p, bool to_left) {
   const int to = to_left ? layout_.left(band_) : layout_.right(band_);
   if (to < 0) return;
-  Packer pk;
+  ByteWriter pk;
   strip_rows(l, p, to_left, true, [&](const T* row, std::size_t n) { pk.put(row, n); });
   net_.send(to, l, std::move(pk.bytes));
 }
@@ -312,7 +297,7 @@ template <class T>
 void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
   const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
   if (from_worker < 0) return;
-  Unpacker un(net_.receive(from_worker, l));
+  ByteReader un(net_.receive(from_worker, l));
   strip_rows(l, p, from_left, false, [&](T* row, std::size_t n) { un.get(row, n); });
   un.finish();
 }
@@ -320,12 +305,16 @@ void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
 template <class T>
 void StreamedVCycle<T>::finish_row(int l, int j) {
   if (!prolongation_) return restrict_row(l, j);
-  Level& L = *levels_[l];
-  if (l != 0 || !set_.measure_final) return;
+  if (l == 0 && set_.measure_final) measure(j, false, final_rr_);
+}
+
+template <class T>
+void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
+  Level& L = *levels_[0];
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual(*L.op, j, window(l, c, j), columns(l, L.A, L.B), b_row(l, c, j), r_.data(), L.scratch,
-                        d_row(l, j));
-    final_rr_[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
+    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(0, L.A, L.B), b_row(0, c, j), r_.data(), L.scratch,
+                        d_row(0, j));
+    rr[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
 
@@ -341,9 +330,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     Level& C = *levels_[l + 1];
     for (; C.zeroed <= std::max(py.index[0], py.index[1]); ++C.zeroed) {
       check_slot(l + 1, C.zeroed);
-      std::fill_n(b_row(l + 1, 0, C.zeroed), static_cast<std::size_t>(set_.channels) * C.len, T(0));
-      if (set_.weights) std::fill_n(w_row(l + 1, C.zeroed), C.len, T(0));
-      if (set_.diagonal) std::fill_n(d_row(l + 1, C.zeroed), C.len, T(0));
+      for (int k = 0; k < parts(); ++k) std::fill_n(part_row(l + 1, k, C.zeroed), C.len, T(0));
     }
   }
   const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
@@ -355,29 +342,22 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   const bool across = layout_.folded && py.mirror != fem::Mirror::None;
   const int m = g.width();
   std::vector<T> fold;
-  if (across) fold.assign(static_cast<std::size_t>(set_.channels + 2) * m, T(0));
-  const auto restrict_part = [&](int k, const T* fine, T* coarse0, T* coarse1) {
-    if (across) coarse1 = fold.data() + static_cast<std::size_t>(k) * m;
-    const Columns cols = layout_.single ? Columns::whole(g.width(), periodic) : Columns::range(g.width(), periodic, ca, cb);
-    multigrid::restrict_rows(g.px, py, fine, L.origin, cols, coarse0, coarse1,
+  if (across) fold.assign(static_cast<std::size_t>(parts()) * m, T(0));
+  const Columns cols = layout_.single ? Columns::whole(m, periodic) : Columns::range(m, periodic, ca, cb);
+  // b of every channel (the residual's restriction), then w and d.
+  for (int k = 0; k < parts(); ++k) {
+    const T* fine = part_row(l, k, j);
+    if (k < set_.channels) {
+      multigrid::residual(op, j, window(l, k, j), columns(l, L.A - 2, L.B + 2), b_row(l, k, j), r_.data(), L.scratch,
+                          d_row(l, j));
+      L.rr[k] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
+      fine = r_.data();
+    }
+    T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);
+    multigrid::restrict_rows(g.px, py, fine, L.origin, cols, part_row(l + 1, k, py.index[0]), coarse1,
                              {corigin, across ? 0 : corigin}, L.scratch);
-  };
-  for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual(op, j, window(l, c, j), columns(l, L.A - 2, L.B + 2), b_row(l, c, j), r_.data(), L.scratch,
-                        d_row(l, j));
-    L.rr[c] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
-    const auto coarse = [&](int row) { return tail ? tail_b_[c].row(row) : b_row(l + 1, c, row); };
-    restrict_part(c, r_.data(), coarse(py.index[0]), coarse(py.index[1]));
-    if (set_.weights) L.dots[c] += multigrid::row_dot(w_row(l, j) + own, u_row(l, c, j) + own, L.B - L.A);
-  }
-  int part = set_.channels;
-  if (set_.weights) {
-    const auto coarse = [&](int row) { return tail ? tail_w_.row(row) : w_row(l + 1, row); };
-    restrict_part(part++, w_row(l, j), coarse(py.index[0]), coarse(py.index[1]));
-  }
-  if (set_.diagonal) {
-    const auto coarse = [&](int row) { return tail ? tail_d_.row(row) : d_row(l + 1, row); };
-    restrict_part(part, d_row(l, j), coarse(py.index[0]), coarse(py.index[1]));
+    if (k < set_.channels && set_.weights)
+      L.dots[k] += multigrid::row_dot(w_row(l, j) + own, u_row(l, k, j) + own, L.B - L.A);
   }
   if (across) add_fold_sums(l, side_of(py.mirror), fold, py.index[1]);
   L.u_store->append({u_row(l, 0, j), slot});
@@ -472,8 +452,7 @@ template <class T>
 std::size_t StreamedVCycle<T>::store_bytes() const {
   std::size_t n = merged_ ? merged_->store_bytes() : 0;
   for (const auto& L : levels_)
-    for (const schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()})
-      n += store ? store->bytes() : 0;
+    for (const schedule::RowStore<T>* store : L->stores()) n += store ? store->bytes() : 0;
   return n;
 }
 

@@ -13,7 +13,7 @@
 #include "multigrid/incore_vcycle.h"
 #include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
-#include "schedule/state_io.h"
+#include "schedule/bytes.h"
 
 namespace gdp::bands {
 
@@ -65,7 +65,7 @@ class StreamedVCycle {
   // counters, the whole level below, probes, the stores' lengths; a merged stage's too); loading
   // puts it back and truncates the stores to those lengths. CorruptState when the blob does not
   // fit this cycle's shape. Every band of a plan saves at the same row (docs/resume.md).
-  // (save: a StateWriter, load: a StateReader).
+  // (save: a ByteWriter, load: a ByteReader).
   template <class Archive>
   void state(Archive& archive);
   // After every band's save: returns once all bands of the plan have saved (so that no band is
@@ -85,13 +85,15 @@ class StreamedVCycle {
   template <class F>
   void strip_rows(int l, int p, bool left, bool outgoing, F&& f);
   void finish_row(int l, int j);
+  // |b - A u|^2 of level 0's row j (`initial`: as pushed in the first cycle) added to rr per channel.
+  void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);
   // The pieces of the gathered level band `band` contributes, as (row pointer, count).
   template <class F>
   void tail_parts(int band, F&& f);
   void run_tail();
-  void solve_tail(Packer& reply);
+  void solve_tail(ByteWriter& reply);
   // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
   // level 0, handed to it row by row (restriction) and back (prolongation).
   bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
@@ -114,6 +116,10 @@ class StreamedVCycle {
   T* b_row(int l, int c, int j);
   T* w_row(int l, int j);
   T* d_row(int l, int j);  // null without a diagonal term
+  // The inputs of level l's row j as parts: b of channel k < channels, then w and d where the
+  // settings have them; level layout_.levels when gathered: the whole planes.
+  int parts() const { return set_.channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0); }
+  T* part_row(int l, int k, int j);
 
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;

@@ -1,6 +1,7 @@
 // What the band V-cycle's source files share: a level's storage, message tags, byte packing.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct StreamedVCycle<T>::Level {
   int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
   std::vector<int> last_touch;
   std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
+  std::array<schedule::RowStore<T>*, 4> stores() const { return {u_store.get(), b_store.get(), w_store.get(), d_store.get()}; }
   bool inputs_stored = false;
   std::vector<double> rr, dots;
   // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the

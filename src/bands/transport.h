@@ -2,17 +2,19 @@
 #pragma once
 
 #include <cstddef>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "schedule/bytes.h"
 #include "schedule/parallel.h"
 
 namespace gdp::bands {
 
-using Bytes = std::vector<unsigned char>;
+using schedule::ByteReader;
+using schedule::ByteWriter;
+using schedule::Bytes;
 
 // Thrown by a transport's calls once any worker has stopped the solve (abort()); what() says
 // which worker stopped it and why.
@@ -32,54 +34,6 @@ class Transport {
   virtual Bytes receive(int from, int tag) = 0;
   // Stops every worker: their pending and later calls throw TransportStopped(why).
   virtual void abort(const std::string& why) = 0;
-};
-
-// A message as bytes: values appended in order (Packer), read back in the same order (Unpacker).
-class Packer {
- public:
-  template <class V>
-  void put(const V* p, std::size_t n) {
-    const std::size_t at = bytes.size();
-    bytes.resize(at + n * sizeof(V));
-    if (n) std::memcpy(bytes.data() + at, p, n * sizeof(V));
-  }
-  void put(double v) { put(&v, 1); }
-  // A vector with its length.
-  template <class V>
-  void put(const std::vector<V>& v) {
-    put(static_cast<double>(v.size()));
-    put(v.data(), v.size());
-  }
-  Bytes bytes;
-};
-
-class Unpacker {
- public:
-  explicit Unpacker(Bytes b) : b_(std::move(b)) {}
-  template <class V>
-  void get(V* p, std::size_t n) {
-    if (at_ + n * sizeof(V) > b_.size()) throw std::logic_error("band message shorter than expected");
-    if (n) std::memcpy(p, b_.data() + at_, n * sizeof(V));
-    at_ += n * sizeof(V);
-  }
-  double get() {
-    double v;
-    get(&v, 1);
-    return v;
-  }
-  // A vector Packer::put(const std::vector&) wrote.
-  template <class V>
-  void get(std::vector<V>& v) {
-    v.resize(static_cast<std::size_t>(get()));
-    get(v.data(), v.size());
-  }
-  void finish() const {
-    if (at_ != b_.size()) throw std::logic_error("band message longer than expected");
-  }
-
- private:
-  Bytes b_;
-  std::size_t at_ = 0;
 };
 
 // The collectives, over the members 0, step, 2 step, ... of `net` (every worker, or the first
@@ -103,23 +57,28 @@ inline Bytes broadcast(Transport& net, int tag, Bytes reply, int step = 1) {
   return reply;
 }
 
+// Every member's `mine`, in member order, on every member (a gather and a broadcast of the lot):
+// what each member makes of the list in order is the same bits wherever the members run.
+inline std::vector<Bytes> all_gather(Transport& net, int tag, Bytes mine, int step = 1) {
+  ByteWriter all;
+  for (Bytes& part : gather(net, tag, std::move(mine), step)) all.io(part);
+  ByteReader r(broadcast(net, tag, std::move(all.bytes), step));
+  std::vector<Bytes> parts;
+  while (!r.at_end()) r.io(parts.emplace_back());
+  return parts;
+}
+
 // Every member's `v` becomes the elementwise sum of all members' `v`, added in member order.
 inline void sum_in_order(Transport& net, int tag, std::vector<double>& v, int step = 1) {
-  Packer mine;
-  mine.put(v.data(), v.size());
-  std::vector<Bytes> parts = gather(net, tag, std::move(mine.bytes), step);
-  std::vector<double> part(v.size());
-  for (std::size_t m = 1; m < parts.size(); ++m) {
-    Unpacker u(std::move(parts[m]));
-    u.get(part.data(), part.size());
-    u.finish();
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] += part[i];
+  ByteWriter mine;
+  mine.io(v);
+  std::vector<double> part;
+  const std::vector<Bytes> parts = all_gather(net, tag, std::move(mine.bytes), step);
+  for (std::size_t m = 0; m < parts.size(); ++m) {
+    ByteReader r(parts[m]);
+    r.io(part);
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = m == 0 ? part[i] : v[i] + part[i];
   }
-  Packer sum;
-  sum.put(v.data(), v.size());
-  Unpacker u(broadcast(net, tag, std::move(sum.bytes), step));
-  u.get(v.data(), v.size());
-  u.finish();
 }
 
 }  // namespace gdp::bands

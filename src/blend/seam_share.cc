@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "bands/mpi_wait.h"
+#include "mpi/wait.h"
 #include "gdp/mpi_run.h"
 
 namespace gdp::blending {
@@ -25,7 +25,7 @@ void share_labels(LabelPlane& labels) {
     MPI_Request request;
     MPI_Ibcast(rows.data(), static_cast<int>(static_cast<std::size_t>(n) * W * sizeof(Label)), MPI_BYTE, 0,
                MPI_COMM_WORLD, &request);
-    bands::wait_request(request);
+    mpi::wait_request(request);
     if (!root)
       for (int y = 0; y < n; ++y) labels.write_row(y0 + y, std::span<const Label>(rows).subspan(static_cast<std::size_t>(y) * W, W));
   }
@@ -37,7 +37,7 @@ void gather_overlaps(std::vector<signed char>& overlaps) {
   MPI_Request request;
   MPI_Iallreduce(mine.data(), overlaps.data(), static_cast<int>(overlaps.size()), MPI_SIGNED_CHAR, MPI_MAX,
                  MPI_COMM_WORLD, &request);
-  bands::wait_request(request);
+  mpi::wait_request(request);
 }
 
 }  // namespace gdp::blending

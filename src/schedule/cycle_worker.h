@@ -17,7 +17,7 @@
 
 #include "gdp/errors.h"
 #include "schedule/bounded_queue.h"
-#include "schedule/checkpoint.h"
+#include "io/checkpoint_dir.h"
 #include "schedule/input_rows.h"
 #include "schedule/recycle_pool.h"
 #include "schedule/row_store.h"
@@ -38,6 +38,19 @@ struct CycleMark {
     return fmt::format("V-cycle {} done", cycle + 1);
   }
 };
+
+// A row store's length in a checkpoint state (Archive: ByteWriter or ByteReader): saving makes
+// the store durable and writes its length, loading truncates the store to it.
+template <class Archive, class T>
+void store_state(Archive& a, RowStore<T>* store) {
+  std::size_t bytes = 0;
+  if constexpr (std::is_same_v<Archive, ByteWriter>) bytes = store ? store->make_durable() : 0;
+  a.io(bytes);
+  if constexpr (std::is_same_v<Archive, ByteReader>) {
+    if (store) store->restore(bytes);
+    else if (bytes) throw CorruptState("a store this state does not have");
+  }
+}
 
 // Rows handed between threads at a time: about 256K samples (1 MB of floats), 1 to 16 rows.
 inline int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
@@ -87,7 +100,7 @@ class CycleWorker {
   // every V-cycle whose result is stored for the next; `log`'s channels c0 .. c0 + channels - 1
   // are saved with them. When `cp` resumes, the lane's last saved state is restored. Returns the
   // input rows (first cycle's) the lane already has: they are not to be pushed again.
-  int use_checkpoint(Checkpoint& cp, int lane, int unit_rows, ResidualLog& log, int c0) {
+  int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows, ResidualLog& log, int c0) {
     checkpoint_ = &cp;
     lane_ = lane;
     unit_rows_ = std::max(1, unit_rows);
@@ -97,9 +110,9 @@ class CycleWorker {
     const std::optional<std::string> saved = cp.load(lane);
     if (!saved) return 0;
     try {
-      StateReader in(*saved);
+      ByteReader in(Bytes(saved->begin(), saved->end()));
       state(in, mark_);
-      if (!in.at_end()) throw CorruptState("it is longer than expected");
+      in.finish();
     } catch (const CorruptState& e) {
       throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp.dir().string(), cp.state_name(lane), e.what()));
     }
@@ -205,12 +218,12 @@ class CycleWorker {
   // The worker's state at a unit's end into the checkpoint (when there is one).
   void save(CycleMark m) {
     if (!checkpoint_) return;
-    StateWriter out;
+    ByteWriter out;
     state(out, m);
-    checkpoint_->save(lane_, out.bytes(), m.describe(height_));
+    checkpoint_->save(lane_, {out.bytes.begin(), out.bytes.end()}, m.describe(height_));
     vcycle_.saved();  // every band of the plan has saved
   }
-  // Written (StateWriter) and read back (StateReader) by the same steps: where the worker is, its
+  // Written (ByteWriter) and read back (ByteReader) by the same steps: where the worker is, its
   // V-cycle's state, the carried result's length and the log's channels.
   template <class Archive>
   void state(Archive& a, CycleMark& mark) {
@@ -221,11 +234,7 @@ class CycleWorker {
         mark.rows < 0 || mark.rows > height_)
       throw CorruptState("unknown version or position");
     vcycle_.state(a);
-    std::size_t carried = 0;
-    if constexpr (std::is_same_v<Archive, StateWriter>) carried = carry_ ? carry_->make_durable() : 0;
-    a.io(carried);
-    if constexpr (std::is_same_v<Archive, StateReader>)
-      if (carry_) carry_->restore(carried);
+    store_state(a, carry_.get());
     log_->state(a, c0_, channels_);
   }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
@@ -251,7 +260,7 @@ class CycleWorker {
   // Checkpoints: where to save (none: null), this lane's number, log and first channel; where a
   // resumed run starts.
   static constexpr int kStateVersion = 1;
-  Checkpoint* checkpoint_ = nullptr;
+  io::Checkpoint* checkpoint_ = nullptr;
   int lane_ = 0, unit_rows_ = 1 << 30, c0_ = 0;
   ResidualLog* log_ = nullptr;
   CycleMark mark_;

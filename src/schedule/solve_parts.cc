@@ -93,8 +93,8 @@ void ResidualLog::state(Archive& a, int c0, int n) {
     lines_[c] = std::move(lines);
   }
 }
-template void ResidualLog::state(StateWriter&, int, int);
-template void ResidualLog::state(StateReader&, int, int);
+template void ResidualLog::state(ByteWriter&, int, int);
+template void ResidualLog::state(ByteReader&, int, int);
 
 template struct Problem<float>;
 template struct Problem<double>;

@@ -9,7 +9,7 @@
 #include "gdp/guidance.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/state_io.h"
+#include "schedule/bytes.h"
 #include "topology/topology.h"
 
 namespace gdp::schedule {
@@ -55,7 +55,7 @@ class ResidualLog {
   static constexpr int kStallCycles = 3;
   // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
   void finish(SolveSummary& summary, const SolverOptions& options) const;
-  // Checkpoints: channels c0 .. c0 + n - 1 (one lane's) to a StateWriter or from a StateReader.
+  // Checkpoints: channels c0 .. c0 + n - 1 (one lane's) to a ByteWriter or from a ByteReader.
   template <class Archive>
   void state(Archive& archive, int c0, int n);
 

@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-namespace gdp::bands {
+namespace gdp::mpi {
 
 // Calls `ready()` until it returns true. Open MPI's blocking calls (MPI_Wait, MPI_Mprobe,
 // MPI_Mrecv of a large message, collectives) spin on the progress engine at 100 % of a core for
@@ -29,4 +29,4 @@ void wait_request(MPI_Request& request, const std::function<void()>& between = {
 void receive_message(int source, int tag, MPI_Comm comm, std::vector<unsigned char>& data,
                      const std::function<void()>& between = {});
 
-}  // namespace gdp::bands
+}  // namespace gdp::mpi

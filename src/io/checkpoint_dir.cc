@@ -1,5 +1,5 @@
 // Checkpoint directories: the manifest (text), atomic state files, the checks before a resume, removal.
-#include "schedule/checkpoint.h"
+#include "io/checkpoint_dir.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -19,7 +19,7 @@
 #include "gdp/errors.h"
 
 namespace gdp {
-namespace schedule {
+namespace io {
 namespace {
 
 constexpr const char* kMagic = "gdp checkpoint 1";
@@ -240,7 +240,7 @@ void Checkpoint::write_manifest() {
   write_atomically(dir_ / manifest_name(rank_), text);
 }
 
-}  // namespace schedule
+}  // namespace io
 
 std::string file_identity(const std::filesystem::path& path) {
   struct stat st {};
@@ -250,7 +250,7 @@ std::string file_identity(const std::filesystem::path& path) {
 }
 
 void check_resume(const std::filesystem::path& dir, const CheckpointIdentity& identity) {
-  const schedule::Manifest m = schedule::read_manifest(dir);
+  const io::Manifest m = io::read_manifest(dir);
   const std::string where = fmt::format("--resume {}", dir.string());
   for (const auto& [key, value] : m.identity) {
     const auto now = identity.find(key);
@@ -269,7 +269,7 @@ void remove_checkpoint(const std::filesystem::path& dir) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return;
   for (const auto& e : std::filesystem::directory_iterator(dir, ec))
-    if (schedule::is_checkpoint_file(e.path().filename().string())) std::filesystem::remove(e.path(), ec);
+    if (io::is_checkpoint_file(e.path().filename().string())) std::filesystem::remove(e.path(), ec);
   if (std::filesystem::is_empty(dir, ec)) std::filesystem::remove(dir, ec);
 }
 

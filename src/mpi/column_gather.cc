@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "bands/mpi_wait.h"
+#include "mpi/wait.h"
 #include "gdp/mpi_run.h"
 
 namespace gdp {
@@ -104,7 +104,7 @@ class ColumnGather final : public RowWriter {
   }
 
   void wait_oldest() {
-    bands::wait_request(sending_.front().request);
+    mpi::wait_request(sending_.front().request);
     spare_.swap(sending_.front().bytes);
     spare_.clear();
     sending_.pop_front();
@@ -114,7 +114,7 @@ class ColumnGather final : public RowWriter {
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
-      bands::receive_message(r, kTag, MPI_COMM_WORLD, m.bytes);  // into the last message's bytes
+      mpi::receive_message(r, kTag, MPI_COMM_WORLD, m.bytes);  // into the last message's bytes
       const std::vector<unsigned char>& buffer = m.bytes;
       if (buffer.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
       std::memcpy(&m.h, buffer.data(), sizeof(Header));

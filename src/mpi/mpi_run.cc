@@ -4,14 +4,15 @@
 #include <mpi.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
 
 #include <fmt/format.h>
 
-#include "bands/mpi_agree.h"
-#include "bands/mpi_transport.h"
-#include "bands/mpi_wait.h"
+#include "gdp/cleanup.h"
 #include "gdp/errors.h"
+#include "mpi/ranks.h"
+#include "mpi/wait.h"
 
 namespace gdp {
 namespace {
@@ -21,7 +22,17 @@ int the_rank = 0, the_size = 1;
 
 }  // namespace
 
-namespace bands {
+namespace mpi {
+
+void abort_ranks(const std::string& why) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::fprintf(stderr, "gdp: rank %d: %s\n", rank, why.c_str());
+  std::fflush(stderr);
+  cleanup::remove_tracked();  // MPI_Abort skips every destructor: this rank's temporary output goes now
+  MPI_Abort(MPI_COMM_WORLD, 2);
+  std::abort();  // MPI_Abort does not return
+}
 
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint) {
   int rank = 0, ranks = 1;
@@ -50,7 +61,7 @@ void agree_before_solving(const std::string& error, const std::vector<long long>
   }
 }
 
-}  // namespace bands
+}  // namespace mpi
 
 bool MpiRun::launched() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
@@ -68,7 +79,7 @@ MpiRun::MpiRun(int& argc, char**& argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &the_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &the_size);
   if (provided < MPI_THREAD_MULTIPLE && the_size > 1)
-    bands::abort_ranks("this MPI library does not provide MPI_THREAD_MULTIPLE, which the band schedule needs");
+    mpi::abort_ranks("this MPI library does not provide MPI_THREAD_MULTIPLE, which the band schedule needs");
 }
 
 MpiRun::~MpiRun() {
@@ -79,7 +90,7 @@ MpiRun::~MpiRun() {
   // MPI_Abort, which ends all).
   MPI_Request request;
   MPI_Ibarrier(MPI_COMM_WORLD, &request);
-  bands::wait_request(request);
+  mpi::wait_request(request);
   MPI_Finalize();
 }
 
@@ -88,12 +99,12 @@ int MpiRun::size() { return the_size; }
 bool MpiRun::failed_together() { return together; }
 
 void MpiRun::agree(const std::string& error) {
-  if (the_size > 1) bands::agree_before_solving(error, {});
+  if (the_size > 1) mpi::agree_before_solving(error, {});
   else if (!error.empty()) throw UsageError(error);
 }
 
 void MpiRun::abort(const std::string& why) {
-  if (started) bands::abort_ranks(why);
+  if (started) mpi::abort_ranks(why);
 }
 
 }  // namespace gdp

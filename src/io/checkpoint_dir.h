@@ -1,4 +1,4 @@
-// A checkpoint directory of a streaming solve: manifest, per-lane state files written atomically, named scratch.
+// A checkpoint directory on disk: manifest, per-lane state files written atomically, named scratch (the schedule decides what and when).
 #pragma once
 
 #include <atomic>
@@ -11,7 +11,7 @@
 
 #include "gdp/solver.h"
 
-namespace gdp::schedule {
+namespace gdp::io {
 
 // The directory of --checkpoint DIR / --resume DIR (docs/resume.md). Holds
 //   manifest            text: identity (inputs, options), the solver's sizes and lane count,
@@ -76,4 +76,4 @@ Manifest read_manifest(const std::filesystem::path& dir, int rank = 0);
 // Writes `bytes` to `path` through a temporary file, synced, then renamed over it.
 void write_atomically(const std::filesystem::path& path, const std::string& bytes);
 
-}  // namespace gdp::schedule
+}  // namespace gdp::io

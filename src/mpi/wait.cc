@@ -1,11 +1,11 @@
 // Polls with a growing sleep: the MPI waits of the band transport, the column gather and the end of a run.
-#include "bands/mpi_wait.h"
+#include "mpi/wait.h"
 
 #include <algorithm>
 #include <chrono>
 #include <thread>
 
-namespace gdp::bands {
+namespace gdp::mpi {
 
 void wait_until(const std::function<bool()>& ready, const std::function<void()>& between) {
   constexpr int kYields = 8;
@@ -51,4 +51,4 @@ void receive_message(int source, int tag, MPI_Comm comm, std::vector<unsigned ch
   wait_request(request, between);
 }
 
-}  // namespace gdp::bands
+}  // namespace gdp::mpi
