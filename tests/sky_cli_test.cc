@@ -135,6 +135,42 @@ TEST_F(SkyCli, BandsAndMpirunGiveTheOneBandResult) {
   if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
 }
 
+// --seams graphcut (rank 0 cuts, the others take its labels): --bands 2 and mpirun -np 2 give the
+// one-band result within 1e-4, on the plates' PQ window and on the whole sphere (rows wrap); the
+// cut costs no more than the distance seams (--stats).
+TEST_F(SkyCli, GraphcutSeamsUnderBandsAndMpirunGiveTheOneBandResult) {
+  plate("a.fits", 120.0, -30.0);
+  plate("b.fits", 129.0, -30.0);
+  plate("c.fits", 124.0, -22.0);
+  const std::string run = "sky " + path("a.fits") + " " + path("b.fits") + " " + path("c.fits") +
+                          " --center 125,-27 --size 50,40 --scale 0.5 --vcycles 4 --quiet --seams graphcut";
+  const bool mpi = test::mpirun_works();
+  for (const bool sphere : {false, true}) {
+    const std::string kind = sphere ? "sphere" : "window";
+    const auto solve = [&](const std::string& prefix, const std::string& name, const std::string& more) {
+      std::filesystem::remove_all(path("toast"));
+      const std::string toast = sphere ? " --toast " + path("toast") + " --pq-height 128" : "";
+      const std::string cmd = prefix + GDP_CLI_PATH + " " + run + toast + " -o " + path(name + kind + ".fits") + more;
+      const test::CliRun r = run_capturing_stderr(cmd);
+      EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+      return read_image(path(name + kind + ".fits")).image;
+    };
+    const Image one = solve("", "one", " --stats " + path("gc.json"));
+    std::ifstream in(path("gc.json"));
+    const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto number = [&](const std::string& key) {
+      const std::size_t at = json.find("\"" + key + "\": ");
+      return at == std::string::npos ? -1.0 : std::stod(json.substr(at + key.size() + 4));
+    };
+    EXPECT_GT(number("seam_cost_depth"), 0.0) << json;
+    EXPECT_LE(number("seam_cost"), number("seam_cost_depth")) << json;
+    EXPECT_GE(number("seam_cost"), 0.0) << json;
+    EXPECT_GT(expect_same_sky(one, solve("", "bands", " --bands 2"), 1e-4, kind + ": graphcut, --bands 2"), 1000);
+    if (mpi) expect_same_sky(one, solve(test::kMpirun + " -np 2 ", "mpi", ""), 1e-4, kind + ": graphcut, mpirun -np 2");
+  }
+  if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
+}
+
 TEST_F(SkyCli, TheBackgroundFitIsOneNoteAndEachPlateWithVerboseAndInStats) {
   plate("a.fits", 120.0, -30.0);
   plate("b.fits", 128.0, -30.0);
@@ -174,6 +210,7 @@ TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {
   expect_failure("sky " + path("a.fits") + " -o " + path("out.fits"), "--header");
   expect_failure("sky " + path("a.fits") + target + " --plane 2", "a.fits: --plane 2 but the image has 1 plane");
   expect_failure("sky " + path("a.fits") + target + " --seams bogus", "--seams");
+  expect_failure("sky " + path("a.fits") + target + " --seams graph", "--seams: graph not in {stars,deepest,graphcut}");
   expect_failure("sky " + path("a.fits") + " --seams deepest --seams-from " + path("a.fits") + target,
                  "--seams-from needs --seams stars");
   expect_failure("sky " + path("a.fits") + " --seams-from " + path("a.fits") + " " + path("a.fits") + target,
