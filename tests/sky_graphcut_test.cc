@@ -1,4 +1,4 @@
-// gdp sky --seams graphcut: seams that cost no more than the distance seams, moved off a disagreement, and pixels one plate covers keep it.
+// gdp sky --seams graphcut: no costlier than the distance seams, off a disagreement; one plate's pixels keep it.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,8 @@
-// Graph-cut seams: alpha-expansion on a coarse grid of the layers' rows, then at full resolution in a band around the coarse seams.
+// Graph-cut seams: alpha-expansion on a coarse grid of the layers, then at full resolution around the coarse seams.
 #include "blend/graphcut_seams.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "blend/layer_window.h"
@@ -111,7 +112,8 @@ struct CellRows {
         const std::size_t cell = static_cast<std::size_t>(cy - p.y0) * p.w + (cx - p.x0);
         const int area = (std::min((cx + 1) * k, W) - cx * k) * (std::min((cy + 1) * k, H) - cy * k);
         p.covers[cell] = count == area;
-        for (int ch = 0; ch < c && count > 0; ++ch) p.colour[cell * c + ch] = r.sum[i * c + ch] / static_cast<float>(count);
+        for (int ch = 0; ch < c && count > 0; ++ch)
+          p.colour[cell * c + ch] = r.sum[i * c + ch] / static_cast<float>(count);
       }
       r = Row{};
     }
@@ -218,22 +220,33 @@ class Refinement {
              const LabelPlane& depth, bool wrap_x)
       : layers_(layers), coarse_(coarse), band_(band), k_(k), depth_(depth), wrap_x_(wrap_x) {}
 
-  void run(LabelPlane& out, const std::function<void(double)>& progress) {
+  // Writes the labels to `out`; returns the seam costs (grid_cost over the whole grid, strip by
+  // strip with the layers held) of the depth labels and of those written.
+  std::array<double, 2> run(LabelPlane& out, const std::function<void(double)>& progress) {
     const int H = layers_.height(), W = layers_.width();
     layers_.restart();
     const int strip = std::max(64, 4 * k_), lookahead = std::max(32, 2 * k_);
-    std::vector<Label> above;
+    std::vector<Label> above, depth;
+    std::array<double, 2> costs{0.0, 0.0};
     for (int y0 = 0; y0 < H; y0 += strip) {
       const int y1 = std::min(H, y0 + strip), end = std::min(H, y1 + lookahead), top = y0 > 0 ? y0 - 1 : 0;
       layers_.slide(top, end);
       SeamGrid g = grid(top, end, y0, above);
       expand_labels(g);
+      costs[1] += grid_cost(g, y0 - top, y1 - top);
+      depth.resize(static_cast<std::size_t>(end - top) * W);
+      for (int y = top; y < y1; ++y)
+        depth_.read_row(y, std::span<Label>(depth).subspan(static_cast<std::size_t>(y - top) * W, W));
+      std::swap(g.labels, depth);  // the depth labels on the same rows and layers
+      costs[0] += grid_cost(g, y0 - top, y1 - top);
+      std::swap(g.labels, depth);
       for (int y = y0; y < y1; ++y)
         out.write_row(y, std::span<const Label>(g.labels.data() + static_cast<std::size_t>(y - top) * W, W));
       above.assign(g.labels.begin() + static_cast<std::ptrdiff_t>(y1 - 1 - top) * W,
                    g.labels.begin() + static_cast<std::ptrdiff_t>(y1 - top) * W);
       if (progress) progress(static_cast<double>(y1) / H);
     }
+    return costs;
   }
 
  private:
@@ -334,14 +347,13 @@ GraphcutLabels graphcut_labels(SeamLayers& layers, const LabelPlane& depth, bool
     });
   };
   const int k = options.scale > 0 ? options.scale : std::clamp(std::min(W, H) / 128, 1, 8);
-  const CoarseGrid cg = coarse_layers(layers, k, part(0.0, 2.0 / 7));
+  const CoarseGrid cg = coarse_layers(layers, k, part(0.0, 0.4));
   std::vector<unsigned char> band;
   SeamGrid coarse = coarse_labels(layers, cg, depth, wrap_x, band);
   expand_labels(coarse);
   mark_band(coarse, band);
   auto labels = std::make_unique<LabelPlane>(temp_dir, W, H);
-  Refinement(layers, coarse, band, k, depth, wrap_x).run(*labels, part(2.0 / 7, 5.0 / 7));
-  const std::vector<double> costs = seam_costs(layers, {&depth, labels.get()}, wrap_x);
+  const std::array<double, 2> costs = Refinement(layers, coarse, band, k, depth, wrap_x).run(*labels, part(0.4, 1.0));
   if (progress) progress(1.0);
   GraphcutLabels out;
   out.depth_cost = costs[0];

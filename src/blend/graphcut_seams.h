@@ -47,7 +47,8 @@ struct GraphcutLabels {
 // mean colour per cell it wholly covers; held whole: about (4 x channels + 5) bytes per cell per
 // layer covering it), then again at full resolution in a band of cells around the coarse seams,
 // strip by strip down the grid (the layers crossing 64 + 32 rows held). Only pixels two or more
-// layers cover change, each only to a layer that covers it. Three passes over `layers`.
+// layers cover change, each only to a layer that covers it. Two passes over `layers` (the costs are
+// summed in the refinement's strips).
 GraphcutLabels graphcut_labels(SeamLayers& layers, const LabelPlane& depth, bool wrap_x,
                                const std::filesystem::path& temp_dir, const std::function<void(double)>& progress,
                                const GraphcutOptions& options = {});

@@ -28,10 +28,10 @@ struct PqSeams {
 // (fade_to: its fitted offset, its background already off), so the cost is the plates'
 // disagreement after the fit; inside a star's disk only that star's plate counts as covering (the
 // star stays whole); a pixel only one plate covers keeps that plate. Rows wrap when the window is
-// the whole PQ image. Three passes over the rows (the first writes the distance labels), the plates crossing the current ones held
-// (`pixels`; all released after each pass); the labels and distance labels in scratch (2 bytes a
-// pixel each, under `temp_dir`), the coarse grid held whole (blend/graphcut_seams.h). The
-// plates must be levelled (plate_passes.h) first.
+// the whole PQ image. Two passes over the rows (the first writes the distance labels), each
+// holding the plates crossing the current rows (`pixels`; all released after each pass); the
+// labels and distance labels in scratch (2 bytes a pixel each, under `temp_dir`), the coarse grid
+// held whole (blend/graphcut_seams.h). The plates must be levelled (plate_passes.h) first.
 PqSeams graphcut_pq_seams(std::vector<Plate>& plates, PlatePixels& pixels, const PqWindow& window,
                           const SeamSources* stars, const std::filesystem::path& temp_dir, std::size_t memory_limit);
 
