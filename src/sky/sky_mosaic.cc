@@ -7,12 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "blend/seam_share.h"
+#include "blend/seams.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
-#include "blend/seam_share.h"
-#include "blend/seams.h"
 #include "gdp/sky.h"
 #include "sky/header.h"
 #include "sky/hips_geometry.h"
