@@ -19,6 +19,8 @@ With --projected, gdp starts where Montage's background steps do: Montage's proj
 images on the template, with their area images) goes to `gdp sky --projected`, beside mOverlaps,
 mDiffExec, mFitExec, mBgModel, mBgExec and mAdd on the same directory, and beside mAdd alone (no
 correction); mProjExec's time is shared and reported apart.
+With --graphcut, gdp also runs with --seams graphcut (its result "gdp_gc.fits", compared and
+timed beside the others; not with --stars' flux runs).
 Needs Debian python3-astropy, python3-numpy and montage.
 """
 import argparse
@@ -48,6 +50,7 @@ ap.add_argument("--ra0", type=float, default=0.0, help="centre of the mosaic (RA
 ap.add_argument("--dec0", type=float, default=0.0)
 ap.add_argument("--stars", type=int, default=0, help="Gaussian stars added to the truth: the flux check")
 ap.add_argument("--projected", action="store_true", help="gdp sky --projected on Montage's projdir (mProjExec output)")
+ap.add_argument("--graphcut", action="store_true", help="also gdp with --seams graphcut, compared beside the others")
 ap.add_argument("--gdp-args", default="", help="more options for gdp sky (e.g. '--no-fit-backgrounds'; --projected too)")
 args = ap.parse_args()
 out = args.out
@@ -172,6 +175,14 @@ def pipelines(raw, base):
                   ["mImgtbl", m("corr"), m("cimages.tbl")],
                   ["mAdd", "-e", "-p", m("corr"), m("cimages.tbl"), hdr, m("montage.fits")]]
     gdp_log, seamed_log, montage_log, project_log = [], [], [], []
+    if args.graphcut and base == out:
+        more = ["--projected", m("proj")] if args.projected else plates
+        if args.projected:
+            run(project[0], project_log)
+            run(project[1], project_log)
+        run([args.gdp, "sky", *more, "--header", hdr, "-o", m("gdp_gc.fits"), "--tolerance", "1e-4", "--quiet",
+             "--seams", "graphcut", *shlex.split(args.gdp_args)], graphcut_log)
+        project = project if not args.projected else []
     if args.projected:
         # Both start from mProjExec's directory; "mAdd only" co-adds it uncorrected.
         for cmd in project:
@@ -191,6 +202,7 @@ def pipelines(raw, base):
     return gdp_log, seamed_log, montage_log, project_log
 
 
+graphcut_log = []  # gdp --seams graphcut's run (--graphcut)
 fitted = {}  # gdp's notes (its fitted backgrounds with --fit-backgrounds) per plate set
 m = lambda *p: os.path.join(out, *p)
 gdp_log, seamed_log, montage_log, project_log = pipelines(m("raw"), out)
@@ -203,12 +215,19 @@ if args.projected:
                 [args.gdp, "sky", "--projected", m("proj_truth"), "--header", hdr, "-o", m("truth_gdp.fits"),
                  "--tolerance", "1e-4", "--quiet", *shlex.split(args.gdp_args)]):
         run(cmd, [])
+    if args.graphcut:  # the truth through the graph cut's own seams
+        run([args.gdp, "sky", "--projected", m("proj_truth"), "--header", hdr, "-o", m("truth_gdp_gc.fits"),
+             "--tolerance", "1e-4", "--quiet", "--seams", "graphcut", *shlex.split(args.gdp_args)], [])
     names = {"gdp": "gdp --projected", "montage": "Montage bg+add", "seamed": "mAdd only"}
+    if args.graphcut:
+        names["gdp_gc"] = "gdp --projected --seams graphcut"
 else:
     # The sky alone through gdp's resampling (plate -> PQ -> target): the seam measure's floor.
     run([args.gdp, "sky", *sorted(glob.glob(m("raw_truth", "*.fits"))), "--header", hdr, "-o", m("floor.fits"),
          "--no-blend", "--quiet"], [])
     names = {"gdp": "gdp sky", "montage": "Montage", "seamed": "gdp --no-blend", "floor": "sky alone, gdp --no-blend"}
+    if args.graphcut:
+        names["gdp_gc"] = "gdp sky --seams graphcut"
 if args.stars:
     os.makedirs(m("stars"), exist_ok=True)
     pipelines(m("raw_stars"), m("stars"))
@@ -278,7 +297,8 @@ truths = [("the truth", {name: truth_t[::-1] for name in results})]
 if args.projected:
     added = rows_top_down(m("truth_proj.fits"))
     truths.append(("the truth through mProjExec -q and the same co-addition",
-                   {"gdp": rows_top_down(m("truth_gdp.fits")), "montage": added, "seamed": added}))
+                   {"gdp": rows_top_down(m("truth_gdp.fits")), "montage": added, "seamed": added,
+                    "gdp_gc": rows_top_down(m("truth_gdp_gc.fits")) if args.graphcut else None}))
 for label, truth_of in truths:
     print(f"{'against ' + label:56s} {'bg rms':>9s} {'seam p99.9':>11s}")
     for name, r in results.items():
@@ -334,6 +354,8 @@ if args.stars:
         print(f"  {label:32s} {np.median(rel):+.2e} {np.median(np.abs(rel)):.2e} {np.max(np.abs(rel)):.2e} "
               f"({len(rel)} stars)")
 logs = [(names["gdp"], gdp_log), (names["seamed"], seamed_log), (names["montage"], montage_log)]
+if args.graphcut:
+    logs.append((names["gdp_gc"], graphcut_log))
 for name, log in logs + ([("mProjExec (shared)", project_log)] if args.projected else []):
     wall, cpu, rss = sum(x[1] for x in log), sum(x[2] for x in log), max(x[3] for x in log)
     print(f"{name:18s} wall {wall:6.2f} s  cpu {cpu:6.2f} s  peak {rss:6.1f} MiB  ({len(log)} command(s))")

@@ -33,6 +33,22 @@ class SkyCli : public test::CliFixture {
     options.fits_header = sky::target_header({{}, lon, lat, 24, 24, 0.5, "TAN"});
     write_image(path(name), image, options);
   }
+  // Three such plates overlapping around (125, -27), and gdp sky's arguments for them on a 50 x 40
+  // target of 0.5 degree pixels, 4 V-cycles.
+  std::string three_plates() {
+    plate("a.fits", 120.0, -30.0);
+    plate("b.fits", 129.0, -30.0);
+    plate("c.fits", 124.0, -22.0);
+    return "sky " + path("a.fits") + " " + path("b.fits") + " " + path("c.fits") +
+           " --center 125,-27 --size 50,40 --scale 0.5 --vcycles 4 --quiet";
+  }
+  // The number after "key": in a --stats file, -1 where it has none.
+  double stat(const std::string& file, const std::string& key) {
+    std::ifstream in(path(file));
+    const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = json.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1.0 : std::stod(json.substr(at + key.size() + 4));
+  }
 };
 
 TEST_F(SkyCli, WritesTheTargetWcsIntoTheFitsHeader) {
@@ -91,11 +107,7 @@ long long expect_same_sky(const Image& a, const Image& b, double tolerance, cons
 // gathers the PQ rows and writes the output) give the one-band result within 1e-4 (the values
 // span 1..2), on the plates' PQ window (planar) and on the whole PQ sphere (--toast: its folds).
 TEST_F(SkyCli, BandsAndMpirunGiveTheOneBandResult) {
-  plate("a.fits", 120.0, -30.0);
-  plate("b.fits", 129.0, -30.0);
-  plate("c.fits", 124.0, -22.0);
-  const std::string run = "sky " + path("a.fits") + " " + path("b.fits") + " " + path("c.fits") +
-                          " --center 125,-27 --size 50,40 --scale 0.5 --vcycles 4 --quiet";
+  const std::string run = three_plates();
   const auto solve = [&](const std::string& prefix, const std::string& name, const std::string& more) {
     const std::string cmd = prefix + GDP_CLI_PATH + " " + run + " -o " + path(name) + more;
     const test::CliRun r = run_capturing_stderr(cmd);
@@ -131,6 +143,32 @@ TEST_F(SkyCli, BandsAndMpirunGiveTheOneBandResult) {
       EXPECT_LT(number("mosaic_pixels_computed"), 0.75 * cols * rows) << "rank 0 built whole mosaic rows";
     }
     if (mpi) expect_same_sky(one, solve(mpirun, fresh("mpi-bands"), toast + " --bands 2"), 1e-4, kind + ": mpirun x bands 2");
+  }
+  if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
+}
+
+// --seams graphcut (rank 0 cuts, the others take its labels): --bands 2 and mpirun -np 2 give the
+// one-band result within 1e-4, on the plates' PQ window and on the whole sphere (rows wrap); the
+// cut costs no more than the distance seams (--stats).
+TEST_F(SkyCli, GraphcutSeamsUnderBandsAndMpirunGiveTheOneBandResult) {
+  const std::string run = three_plates() + " --seams graphcut";
+  const bool mpi = test::mpirun_works();
+  for (const bool sphere : {false, true}) {
+    const std::string kind = sphere ? "sphere" : "window";
+    const auto solve = [&](const std::string& prefix, const std::string& name, const std::string& more) {
+      std::filesystem::remove_all(path("toast"));
+      const std::string toast = sphere ? " --toast " + path("toast") + " --pq-height 128" : "";
+      const std::string cmd = prefix + GDP_CLI_PATH + " " + run + toast + " -o " + path(name + kind + ".fits") + more;
+      const test::CliRun r = run_capturing_stderr(cmd);
+      EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+      return read_image(path(name + kind + ".fits")).image;
+    };
+    const Image one = solve("", "one", " --stats " + path("gc.json"));
+    EXPECT_GT(stat("gc.json", "seam_cost_depth"), 0.0);
+    EXPECT_LE(stat("gc.json", "seam_cost"), stat("gc.json", "seam_cost_depth"));
+    EXPECT_GE(stat("gc.json", "seam_cost"), 0.0);
+    EXPECT_GT(expect_same_sky(one, solve("", "bands", " --bands 2"), 1e-4, kind + ": graphcut, --bands 2"), 1000);
+    if (mpi) expect_same_sky(one, solve(test::kMpirun + " -np 2 ", "mpi", ""), 1e-4, kind + ": graphcut, mpirun -np 2");
   }
   if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
 }
@@ -174,6 +212,7 @@ TEST_F(SkyCli, BadInputExitsTwoWithOneLine) {
   expect_failure("sky " + path("a.fits") + " -o " + path("out.fits"), "--header");
   expect_failure("sky " + path("a.fits") + target + " --plane 2", "a.fits: --plane 2 but the image has 1 plane");
   expect_failure("sky " + path("a.fits") + target + " --seams bogus", "--seams");
+  expect_failure("sky " + path("a.fits") + target + " --seams graph", "--seams: graph not in {stars,deepest,graphcut}");
   expect_failure("sky " + path("a.fits") + " --seams deepest --seams-from " + path("a.fits") + target,
                  "--seams-from needs --seams stars");
   expect_failure("sky " + path("a.fits") + " --seams-from " + path("a.fits") + " " + path("a.fits") + target,

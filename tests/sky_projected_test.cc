@@ -93,9 +93,12 @@ class SkyProjected : public test::CliFixture {
     ProjectedOptions options;
     options.header = path("t.hdr");
     options.fit_backgrounds = fit;
+    options.graphcut_seams = graphcut_;
     sky_projected(inputs, options, solver, path("out.fits"), WriteOptions{}, summary);
     return read_image(path("out.fits")).image;
   }
+
+  bool graphcut_ = false;  // --seams graphcut
 };
 
 // Sky minus output over the covered pixels: {max - min after removing the mean, covered count}.
@@ -138,6 +141,22 @@ TEST_F(SkyProjected, AConstantBackgroundDifferenceIsRemovedExactly) {
   EXPECT_LT(spread, 1e-5) << "output = sky + one constant";
   EXPECT_EQ(covered, kW * kH - 308) << "the blank corners and the gap stay NaN";
   EXPECT_TRUE(std::isnan(out.at(0, 0, 89)) && std::isnan(out.at(0, 119, 0)) && std::isnan(out.at(0, 55, 85)));
+}
+
+// --seams graphcut (gdp blend's cut on the levelled images): a constant difference is still removed
+// exactly, and with a ridge (not a plane: the fit leaves it) along the middle of the overlap, where
+// the depth seams run, the cut leaves it and costs under 0.7 of the depth seams.
+TEST_F(SkyProjected, GraphcutSeamsKeepTheLevelsExactAndLeaveADisagreement) {
+  graphcut_ = true;
+  two([](int, int) { return 0.3; }, [](int, int) { return -0.2; });
+  ProjectedSummary flat;
+  EXPECT_LT(spread_from_sky(run({"a.fits", "b.fits"}, Schedule::Streaming, true, &flat)).first, 1e-5);
+  EXPECT_LE(flat.blend.seam_cost, flat.blend.seam_cost_depth);
+  two([](int, int) { return 0.3; }, [](int x, int) { return -0.2 + 0.3 * std::exp(-(x - 10) * (x - 10) / 4.5); });
+  ProjectedSummary ridge;
+  run({"a.fits", "b.fits"}, Schedule::Streaming, true, &ridge);
+  std::printf("seam cost: depth %.4g, graph cut %.4g\n", ridge.blend.seam_cost_depth, ridge.blend.seam_cost);
+  EXPECT_LT(ridge.blend.seam_cost, 0.7 * ridge.blend.seam_cost_depth);
 }
 
 // Where three images meet, blend's seam guidance has no single across value (a pixel next to two

@@ -38,6 +38,9 @@ struct SkyOptions {
   // Seams go around the stars in the overlaps (each star from one plate: docs/sky.md, "Seams
   // around stars"); false: the plain rule, each point from the plate it lies deepest inside.
   bool star_seams = true;
+  // Graph-cut seams (docs/sky.md, "Graph-cut seams"): the seams above moved through the overlaps
+  // to where the plates (levelled, backgrounds off) agree best; stars still kept whole.
+  bool graphcut_seams = false;
   // Non-empty: the stars that place the seams are found in these plates (one per plate, in the
   // same order, on the same grids: e.g. another band of the same plates), not in the plates.
   std::vector<std::string> seam_plates;
@@ -68,6 +71,8 @@ struct SkySummary {
   // PQ pixels of the seamed mosaic this process computed: under mpirun on a PQ window, each rank
   // its columns and their halo only.
   long long mosaic_pixels = 0;
+  // graphcut_seams: the seam cost of the distance seams and of the seams taken (rank 0's).
+  double seam_cost_depth = 0, seam_cost = 0;
   SolveSummary solve;
 };
 

@@ -32,6 +32,7 @@ struct ProjectedOptions {
   // take it off as the image is read (gdp sky's plate fit: damped, robust; docs/sky.md).
   bool fit_backgrounds = true;
   double background_damping = 1e-3;
+  bool graphcut_seams = false;  // gdp blend's graph-cut seams (on the levelled images), not its depth seams
   std::function<void(const std::string&)> note;  // the fit's summary line
 };
 
@@ -52,7 +53,7 @@ struct ProjectedSummary {
 // rotation to 1e-6, offsets whole to 1e-3 pixel), takes each image's smooth background (with
 // fit_backgrounds) and constant level against its overlaps off (least squares on the overlap
 // graph: constant differences vanish exactly),
-// chooses seams by depth (gdp blend's), solves the planar gradient-domain stitch and writes `out`
+// chooses seams by depth or graph cut (gdp blend's), solves the planar gradient-domain stitch and writes `out`
 // on the template's grid, one channel, the template's cards in FITS headers, NaN where no image
 // covers a pixel. Streams like gdp blend: rows of the images crossing the current row.
 // Throws InputError naming the file (no WCS, another grid, not one 2-D image, an image that

@@ -126,7 +126,7 @@ double cell_cost(const SeamGrid& g, int x, int r, Label a, Label b) {
   const Patch* pa = g.layers[a - 1];
   const Patch* pb = g.layers[b - 1];
   const int y = g.row0 + r;
-  if (!pa || !pb || !pa->has(x, y) || !pb->has(x, y)) return g.channels;
+  if (!pa || !pb || !pa->has(x, y) || !pb->has(x, y)) return g.uncovered;
   const float* ca = pa->at(x, y, g.channels);
   const float* cb = pb->at(x, y, g.channels);
   double d = 0;

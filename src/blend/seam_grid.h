@@ -26,6 +26,9 @@ struct Patch {
 // cells may change, and only to a layer that covers them.
 struct SeamGrid {
   int width = 0, height = 0, row0 = 0, channels = 1;
+  // The cost of a cell for a label whose layer does not cover it (cell_cost): the largest
+  // difference of the layers' values (blend: `channels`, its values lying in [0, 1]).
+  double uncovered = 1.0;
   bool wrap_x = false;
   std::vector<const Patch*> layers;
   std::vector<Label> labels;
@@ -35,8 +38,7 @@ struct SeamGrid {
 };
 
 // The seam cost of a cell for labels a, b (1 + layer): the colour difference of the two layers
-// there (sum over channels of |A - B|) where both cover it, else the largest difference of
-// values in [0, 1], `channels`. The cost of two 4-neighbours labelled a != b (neither 0) is the
+// there (sum over channels of |A - B|) where both cover it, else `uncovered`. The cost of two 4-neighbours labelled a != b (neither 0) is the
 // sum of that at both cells (Kwatra et al. 2003): a metric in the labels, so alpha-expansion
 // applies.
 double cell_cost(const SeamGrid& g, int x, int r, Label a, Label b);

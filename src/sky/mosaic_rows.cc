@@ -9,6 +9,7 @@
 
 #include "blend/across_label.h"
 #include "blend/scratch.h"
+#include "blend/seams.h"
 #include "sphere/vec3.h"
 
 namespace gdp::sky {
@@ -36,6 +37,13 @@ class View final : public RowReader {
   MosaicRows& rows_;
   Kind kind_;
 };
+
+// The index into `hits` of plate k's hit, or -1.
+int plate_hit(const std::vector<PlateHit>& hits, int k) {
+  for (std::size_t n = 0; n < hits.size(); ++n)
+    if (hits[n].plate == k) return static_cast<int>(n);
+  return -1;
+}
 
 }  // namespace
 
@@ -153,9 +161,14 @@ void MosaicRows::compute(int j, Row& out) {
   out.label.assign(w, kNoPlate);
   out.covered.assign(w, 0.0f);
   out.across.clear();
+  out.preferred.assign(w, -1);
+  std::vector<blending::Label> seam(seams_ ? w : 0);
+  if (seams_) seams_->read_row(j, seam, begin_, end_);
   for (int i = begin_; i < end_; ++i) {
     const int preferred = sources_ && hits[i].size() >= 2 ? sources_->plate_at(dirs[i]) : -1;
-    const int best = choose_plate(hits[i], sizes_, preferred);
+    out.preferred[i] = preferred;
+    int best = seams_ ? plate_hit(hits[i], seam[i] - 1) : -1;
+    if (best < 0) best = choose_plate(hits[i], sizes_, preferred);
     if (best < 0) continue;
     const PlateHit& h = hits[i][best];
     const Plate& p = plates_[h.plate];

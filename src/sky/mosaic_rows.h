@@ -19,6 +19,7 @@
 
 namespace gdp::blending {
 class Scratch;
+class LabelPlane;
 }
 
 namespace gdp::sky {
@@ -68,6 +69,9 @@ class MosaicRows {
   // of the three views: a rank of a distributed solve). Rows are then computed over those columns
   // and one more on each side (across() needs its neighbours' labels), the rest left blank.
   void want_columns(int begin, int end);
+  // From now on each pixel takes the plate `seams` labels it with (1 + the plate, the window's
+  // size: graph-cut seams, sky/pq_graphcut.h) where that plate reaches it, else the rule above.
+  void use_seams(const blending::LabelPlane* seams) { seams_ = seams; }
   // PQ pixels computed so far (rows computed again counted again).
   long long pixels_computed() const { return pixels_computed_; }
 
@@ -75,6 +79,7 @@ class MosaicRows {
     std::vector<float> value, label;
     std::vector<float> covered;  // inside a plate: its label (else 0: an extension, or no plate)
     std::vector<std::vector<PlateHit>> hits;  // per pixel, the plates reaching it
+    std::vector<int> preferred;               // per pixel, the plate of a star's disk there (else -1)
     std::vector<float> across;                // across_row(): empty until asked for
   };
   const Row& row(int j) { return fetch(j); }
@@ -92,6 +97,7 @@ class MosaicRows {
   std::vector<char> released_;
   std::vector<int> sizes_;
   const SeamSources* sources_;  // stars in the overlaps: each wholly from one plate
+  const blending::LabelPlane* seams_ = nullptr;
   int begin_ = 0, end_ = 0;     // the columns computed
   std::array<int, 2> wanted_{};  // the union of want_columns
   bool columns_set_ = false;

@@ -77,6 +77,7 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
   for (const ProjectedInput& in : inputs) layers.push_back(sky::projected_layer(in, tpl));
   BlendOptions blending;
   blending.canvas = CanvasRect{0, 0, s.width, s.height};
+  blending.seams = options.graphcut_seams ? SeamMethod::Graphcut : SeamMethod::Depth;
   BlendPlan plan = plan_blend(layers, blending);  // InputError for an image outside the template
 
   const auto start = std::chrono::steady_clock::now();

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "blend/seam_share.h"
+#include "blend/seams.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
@@ -20,6 +22,7 @@
 #include "sky/plate_backgrounds.h"
 #include "sky/plate_passes.h"
 #include "sky/plate_sweep.h"
+#include "sky/pq_graphcut.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
 #include "sky/reproject.h"
@@ -202,6 +205,27 @@ class MaskedPqWriter final : public RowWriter {
   std::vector<float> row_;
 };
 
+// --seams graphcut on `win`: rank 0 cuts (a cut spans the window), the others wait and take its
+// labels (blend/seam_share.h), as gdp blend does.
+std::unique_ptr<blending::LabelPlane> graphcut_seams(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels,
+                                                     const sky::PqWindow& win, const sky::SeamSources* stars,
+                                                     const SkyOptions& options, const SolverOptions& solver,
+                                                     SkySummary& s) {
+  if (MpiRun::rank() != 0) {
+    auto labels = std::make_unique<blending::LabelPlane>(solver.temp_dir, win.width, win.rows);
+    blending::share_labels(*labels);
+    return labels;
+  }
+  sky::PqSeams cut = sky::graphcut_pq_seams(plates, pixels, win, stars, solver.temp_dir, scratch_limit(solver));
+  s.seam_cost_depth = cut.depth_cost;
+  s.seam_cost = cut.cost;
+  if (options.note)
+    options.note(fmt::format("graph-cut seams: cost {:.6g} ({:.3g} of the distance seams' {:.6g})", cut.cost,
+                             cut.depth_cost > 0 ? cut.cost / cut.depth_cost : 1.0, cut.depth_cost));
+  blending::share_labels(*cut.labels);
+  return std::move(cut.labels);
+}
+
 // The seamed mosaic on `win`, solved unless options.blend is off, into `store` (NaN where no
 // plate is). Under mpirun every rank solves its columns, computing the mosaic rows over those
 // and their halo only where the solve says which (a planar window), and rank 0 gathers the rows
@@ -210,7 +234,10 @@ void solve_pq(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels, sky::Pq
               SolverOptions solver, const std::optional<sky::SeamSources>& stars, const std::vector<std::string>& paths,
               SkySummary& s) {
   const sky::PqWindow& win = store.window();
-  sky::MosaicRows rows(plates, pixels, win, stars ? &*stars : nullptr, solver.temp_dir, scratch_limit(solver));
+  const sky::SeamSources* star_disks = stars ? &*stars : nullptr;
+  const auto cut = options.graphcut_seams ? graphcut_seams(plates, pixels, win, star_disks, options, solver, s) : nullptr;
+  sky::MosaicRows rows(plates, pixels, win, star_disks, solver.temp_dir, scratch_limit(solver));
+  rows.use_seams(cut.get());
   std::vector<long long> chosen(plates.size(), 0);  // rank 0's: every rank's columns
   const auto pq_rows = std::make_unique<WithCoverage>(
       rows, MpiRun::gather_writer([&] { return std::make_unique<MaskedPqWriter>(store, chosen); }, win.width, win.rows, 2));

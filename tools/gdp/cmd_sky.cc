@@ -68,8 +68,10 @@ class Sky final : public Command {
                     "--fit-backgrounds: damping of the smooth terms, relative to the overlaps' weight")
         ->capture_default_str();
     app->add_option("--seams", seams_, "stars: seams go around the stars in the overlaps (each star from one plate); "
-                                       "deepest: each point from the plate it lies deepest inside")
-        ->check(CLI::IsMember({"stars", "deepest"}))
+                                       "deepest: each point from the plate it lies deepest inside; graphcut: the "
+                                       "stars' seams moved by a graph cut to where the plates agree best (with "
+                                       "--projected: gdp blend's graph-cut seams)")
+        ->check(CLI::IsMember({"stars", "deepest", "graphcut"}))
         ->capture_default_str();
     app->add_option("--seams-from", options_.seam_plates,
                     "find the stars that place the seams in these plates (one per plate, same order and grids: e.g. "
@@ -96,8 +98,10 @@ class Sky final : public Command {
     if (!size_.empty()) std::tie(options_.target.width, options_.target.height) = pair_of<int>(size_, "--size");
     if (plane_ < 1) throw UsageError(fmt::format("--plane counts from 1, got {}", plane_));
     options_.plane = plane_ - 1;
-    options_.star_seams = seams_ == "stars";
-    if (!options_.star_seams && !options_.seam_plates.empty()) throw UsageError("--seams-from needs --seams stars");
+    options_.star_seams = seams_ != "deepest";
+    options_.graphcut_seams = seams_ == "graphcut";
+    if (!options_.star_seams && !options_.seam_plates.empty())
+      throw UsageError("--seams-from needs --seams stars or graphcut");
     options_.pq_height = common_.pq_height;
     options_.note = [this](const std::string& m) { note(common_, "gdp sky: " + m); };
     ImageFileInfo info;  // plates are read as floats: the output defaults to float
@@ -111,6 +115,10 @@ class Sky final : public Command {
     stats.set("plates_held_at_once", std::to_string(summary.plates_held));
     stats.set("plates_crossing_a_row", std::to_string(summary.plates_crossing));
     stats.set("mosaic_pixels_computed", std::to_string(summary.mosaic_pixels));
+    if (options_.graphcut_seams) {
+      stats.set("seam_cost_depth", fmt::format("{:.9g}", summary.seam_cost_depth));
+      stats.set("seam_cost", fmt::format("{:.9g}", summary.seam_cost));
+    }
     report_backgrounds(plates_, summary.backgrounds, summary.background_rms, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
@@ -123,15 +131,16 @@ class Sky final : public Command {
   // --projected: images on the template, blended planar (gdp/sky_projected.h).
   int run_projected(Stats& stats, const SolverOptions& solver) {
     if (!center_.empty() || !options_.toast.empty() || !options_.hips.empty() || !options_.blend ||
-        common_.pq_height > 0 || plane_ != 1 || seams_ != "stars" || !options_.seam_plates.empty())
-      throw UsageError("gdp sky --projected takes --header and solver options, not --center, --toast, --hips, "
-                       "--no-blend, --pq-height, --plane, --seams or --seams-from");
+        common_.pq_height > 0 || plane_ != 1 || seams_ == "deepest" || !options_.seam_plates.empty())
+      throw UsageError("gdp sky --projected takes --header, --seams graphcut and solver options, not --center, "
+                       "--toast, --hips, --no-blend, --pq-height, --plane, --seams deepest or --seams-from");
     if (output_.empty()) throw UsageError("gdp sky --projected needs -o OUTPUT");
     if (MpiRun::size() > 1) throw UsageError("gdp sky --projected does not run under mpirun (every rank would write -o)");
     ProjectedOptions options;
     options.header = options_.target.header;
     options.fit_backgrounds = options_.fit_backgrounds;
     options.background_damping = options_.background_damping;
+    options.graphcut_seams = seams_ == "graphcut";
     options.note = [this](const std::string& m) { note(common_, "gdp sky --projected: " + m); };
     ProjectedSummary summary;
     const std::vector<ProjectedInput> inputs = projected_inputs(plates_);
@@ -140,6 +149,10 @@ class Sky final : public Command {
     });
     stats.summary(summary.blend.solve);
     stats.set("covered_pixels", std::to_string(summary.covered));
+    if (options.graphcut_seams) {
+      stats.set("seam_cost_depth", fmt::format("{:.9g}", summary.blend.seam_cost_depth));
+      stats.set("seam_cost", fmt::format("{:.9g}", summary.blend.seam_cost));
+    }
     std::vector<std::string> names;
     for (const ProjectedInput& in : inputs) names.push_back(in.image);
     report_backgrounds(names, summary.backgrounds, summary.background_rms, stats);
