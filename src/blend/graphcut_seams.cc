@@ -242,7 +242,7 @@ SeamResult compute_graphcut_seams(const BlendPlan& plan, bool wrap_x, const std:
       if (progress) progress(from + (to - from) * f);
     });
   };
-  SeamResult depth = compute_seams(plan, wrap_x, temp_dir, part(0.0, 0.3));
+  SeamResult depth = compute_seams(plan, wrap_x, temp_dir, part(0.0, 0.3), options.threads);
   const int k = options.scale > 0 ? options.scale : std::clamp(std::min(W, H) / 128, 1, 8);
   const CoarseGrid cg = coarse_layers(plan, k, part(0.3, 0.5));
   std::vector<unsigned char> band;
