@@ -1,4 +1,4 @@
-// Workers on threads: every one runs, an exception reaches the caller instead of terminating, and steps run in order on kept workers.
+// Workers on threads: each runs, an exception reaches the caller (no terminate), steps run in order on kept workers.
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -127,8 +127,9 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
     return;
   }
   if (options.seams == SeamMethod::Graphcut || !options.save_seams.empty()) {
-    seams = options.seams == SeamMethod::Graphcut ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress, cut)
-                                                  : blending::compute_seams(plan, wrap, temp, options.progress, threads);
+    seams = options.seams == SeamMethod::Graphcut
+                ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress, cut)
+                : blending::compute_seams(plan, wrap, temp, options.progress, threads);
     if (!options.save_seams.empty())
       blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
     return;
