@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "blend/canvas_rows.h"
+#include "blend/graphcut_seams.h"
 #include "blend/seams.h"
 #include "gdp/blend.h"
 #include "gdp/errors.h"
@@ -128,6 +129,18 @@ TEST(BlendParallel, SeamsOnSeveralWorkersAreTheOneThreadLabels) {
       EXPECT_EQ(many.overlaps, one.overlaps) << threads << " workers, wrap " << wrap;
     }
   }
+}
+
+// Graph-cut seams start from the depth seams on its workers: the same cut on any number.
+TEST(BlendParallel, GraphcutSeamsOnSeveralWorkersAreTheOneThreadCut) {
+  const std::vector<Image> images = random_layers(8, 21);
+  const BlendPlan plan = plan_blend(placed(images, 4), {});
+  const auto one = blending::compute_graphcut_seams(plan, false, {}, nullptr, {.scale = 2, .threads = 1});
+  const auto many = blending::compute_graphcut_seams(plan, false, {}, nullptr, {.scale = 2, .threads = 3});
+  EXPECT_EQ(all_labels(*many.labels), all_labels(*one.labels));
+  EXPECT_EQ(many.overlaps, one.overlaps);
+  EXPECT_EQ(many.cost, one.cost);
+  EXPECT_EQ(many.depth_cost, one.depth_cost);
 }
 
 // Columns only (a rank of mpirun): the same on several workers, and within the columns as the

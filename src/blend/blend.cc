@@ -107,6 +107,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
   const std::filesystem::path& temp = solver.temp_dir;
   const int threads = solver.threads;
   const bool wrap = options.wrap != Wrap::None;
+  const blending::GraphcutOptions cut{.threads = threads};
   if (!options.load_seams.empty()) {
     seams = blending::load_seams(plan, options.load_seams, temp);
     return;
@@ -114,7 +115,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
   if (options.seams == SeamMethod::Graphcut && blending::several_ranks()) {
     // A cut is global (each move's minimum cut spans the canvas): rank 0 finds it, the others take it.
     if (MpiRun::rank() == 0) {
-      seams = blending::compute_graphcut_seams(plan, wrap, temp, options.progress);
+      seams = blending::compute_graphcut_seams(plan, wrap, temp, options.progress, cut);
     } else {
       seams.labels = std::make_unique<blending::LabelPlane>(temp, plan.canvas.width, plan.canvas.height);
       seams.overlaps.assign(plan.layers.size(), -1);
@@ -126,8 +127,9 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
     return;
   }
   if (options.seams == SeamMethod::Graphcut || !options.save_seams.empty()) {
-    seams = options.seams == SeamMethod::Graphcut ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress)
-                                                  : blending::compute_seams(plan, wrap, temp, options.progress, threads);
+    seams = options.seams == SeamMethod::Graphcut
+                ? blending::compute_graphcut_seams(plan, wrap, temp, options.progress, cut)
+                : blending::compute_seams(plan, wrap, temp, options.progress, threads);
     if (!options.save_seams.empty())
       blending::save_seams(*seams.labels, static_cast<int>(plan.layers.size()), options.save_seams);
     return;

@@ -366,7 +366,7 @@ SeamResult compute_graphcut_seams(const BlendPlan& plan, bool wrap_x, const std:
                                   const std::function<void(double)>& progress, const GraphcutOptions& options) {
   SeamResult depth = compute_seams(plan, wrap_x, temp_dir, [&progress](double f) {
     if (progress) progress(0.3 * f);
-  });
+  }, options.threads);
   CanvasLayers layers(plan);
   GraphcutLabels cut = graphcut_labels(layers, *depth.labels, wrap_x, temp_dir, [&progress](double f) {
     if (progress) progress(0.3 + 0.7 * f);

@@ -13,6 +13,7 @@ namespace gdp::blending {
 
 struct GraphcutOptions {
   int scale = 0;  // the coarse grid's cell size in pixels (0: min(W, H) / 128, clamped to 1..8)
+  int threads = 1;  // workers of the depth seams it starts from (the same labels on any number)
 };
 
 // The layers the graph cut reads, a window of rows at a time: gdp blend's canvas (LayerWindow)

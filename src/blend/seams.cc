@@ -58,29 +58,29 @@ Edges edges_of(const Footprint& f, int canvas_w, int canvas_h, bool wrap_x) {
 
 // One pass over a row: `near` the previous row in the pass's direction, `far` the one before;
 // dir +1 scans left to right (forward pass), -1 right to left (backward). `base[x]` is 0 for an
-// uncovered pixel (stays 0) or the starting value.
+// uncovered pixel (stays 0) or the starting value. First the paths through the rows before, for
+// the whole row at once (vectorised), then the one along the row, pixel after pixel: the same
+// minimum of the same sums as taking all nine terms per pixel, so the same floats.
 void chamfer_row(const Edges& e, int dir, const float* base, const PaddedRow& near, const PaddedRow& far,
                  PaddedRow& out) {
   const int w = e.width;
-  float* d = out.at();
-  const float* n = near.at();
-  const float* f = far.at();
-  d[-1] = e.periodic ? kInf : e.left;  // behind the first pixel scanned (a periodic row: the second lap)
-  d[w] = e.periodic ? kInf : e.right;
-  const int start = dir > 0 ? 0 : w - 1;
-  for (int k = 0, x = start; k < w; ++k, x += dir) {
-    if (base[x] <= 0.0f) {
-      d[x] = 0.0f;
-      continue;
-    }
-    float v = std::min({base[x], d[x - dir] + kA, n[x] + kA, n[x - 1] + kB, n[x + 1] + kB});
+  float* __restrict d = out.at();
+  const float* __restrict n = near.at();
+  const float* __restrict f = far.at();
+  for (int x = 0; x < w; ++x) {
+    float v = std::min({base[x], n[x] + kA, n[x - 1] + kB, n[x + 1] + kB});
     v = std::min({v, n[x - 2] + kC, n[x + 2] + kC, f[x - 1] + kC, f[x + 1] + kC});
-    d[x] = v;
+    d[x] = base[x] <= 0.0f ? 0.0f : v;
   }
+  // Behind the first pixel scanned (a periodic row: the second lap). An uncovered pixel stays 0:
+  // what comes along the row is at least kA.
+  float behind = e.periodic ? kInf : dir > 0 ? e.left : e.right;
+  const int start = dir > 0 ? 0 : w - 1;
+  for (int k = 0, x = start; k < w; ++k, x += dir) behind = d[x] = std::min(d[x], behind + kA);
   if (e.periodic) {  // a second lap carries distances across the wrap
     for (int k = 0, x = start; k < w; ++k, x += dir) {
-      const int behind = ((x - dir) % w + w) % w;
-      const float v = std::min(d[x], d[behind] + kA);
+      const int back = ((x - dir) % w + w) % w;
+      const float v = std::min(d[x], d[back] + kA);
       if (v == d[x]) break;
       d[x] = v;
     }
@@ -257,14 +257,16 @@ void SeamPasses::merge_row(int y, const std::vector<std::unique_ptr<Active>>& ac
   for (const auto& a : active) {
     if (!crosses(*a)) continue;
     const int w = a->where.width(), x0 = a->where.x0;
-    const float* d = a->final_row(y);
-    for (int x = 0; x < w; ++x) {
-      if (d[x] <= 0.0f) continue;
-      m.count[x0 + x] = static_cast<unsigned char>(std::min(2, m.count[x0 + x] + 1));
-      if (d[x] > m.best[x0 + x]) {
-        m.best[x0 + x] = d[x];
-        m.label[x0 + x] = static_cast<Label>(a->index + 1);
-      }
+    const float* __restrict d = a->final_row(y);
+    float* __restrict best = m.best.data() + x0;
+    Label* __restrict label = m.label.data() + x0;
+    unsigned char* __restrict count = m.count.data() + x0;
+    const Label mine = static_cast<Label>(a->index + 1);
+    for (int x = 0; x < w; ++x) {  // without branches (vectorised); best >= 0, so deeper means covered
+      const bool deeper = d[x] > best[x];
+      count[x] = static_cast<unsigned char>(count[x] + (d[x] > 0.0f && count[x] < 2));
+      best[x] = deeper ? d[x] : best[x];
+      label[x] = deeper ? mine : label[x];
     }
   }
   for (const auto& a : active) {
@@ -290,20 +292,37 @@ void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps
     m.count.resize(W_);
     m.overlaps.assign(n_, 0);
   }
-  for (int hi = H_; hi > 0 && !stop_.load(std::memory_order_relaxed); hi -= R) {
-    const int lo = std::max(0, hi - R);
+  // On workers kept for the whole pass: per block, the layers it meets join (in one worker while
+  // the others wait), then the workers take its layers, then its rows.
+  int lo = H_, hi = H_;
+  bool layers = false;  // the current step takes the block's layers (else its rows)
+  const auto next_step = [&]() -> int {
+    if (layers) {
+      layers = false;
+      return hi - lo;
+    }
+    if (lo < hi) {  // the block just merged: the layers starting in it are done
+      std::erase_if(active, [&](const auto& a) { return a->where.y0 >= lo; });
+      report(0.5 + 0.5 * (H_ - lo) / H_);
+    }
+    if (lo == 0) return -1;
+    hi = lo;
+    lo = std::max(0, hi - R);
     for (; next < by_bottom.size() && where_[by_bottom[next]].y1 > lo; ++next) {
       auto a = start(by_bottom[next], false);
       const auto at = std::upper_bound(active.begin(), active.end(), a->index,
                                        [](int v, const auto& b) { return v < b->index; });
       active.insert(at, std::move(a));
     }
-    parallel_for(threads_, static_cast<int>(active.size()), stop_,
-                 [&](int, int i) { backward_block(*active[i], lo, hi); });
-    parallel_for(threads_, hi - lo, stop_, [&](int t, int i) { merge_row(hi - 1 - i, active, merge[t], labels); });
-    std::erase_if(active, [&](const auto& a) { return a->where.y0 >= lo; });
-    report(0.5 + 0.5 * (H_ - lo) / H_);
-  }
+    layers = true;
+    return static_cast<int>(active.size());
+  };
+  schedule::run_steps(threads_, next_step, [&](int t, int i) {
+    if (layers)
+      backward_block(*active[i], lo, hi);
+    else
+      merge_row(hi - 1 - i, active, merge[t], labels);
+  });
   for (const MergeRow& m : merge)
     for (int k = 0; k < n_; ++k) overlaps[k] |= m.overlaps[k];
 }

@@ -1,4 +1,4 @@
-// Streaming image output: bands of rows encoded by a codec (io/codecs.h) on a thread into a temporary file, renamed at the end.
+// Streaming image output: bands of rows converted and encoded by a codec (io/codecs.h) on a thread into a temporary file, renamed at the end.
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 struct Band {
   int y0 = 0, y1 = 0;
-  std::vector<unsigned char> bytes;  // interleaved samples of the writer's band type
+  std::vector<float> rows;  // the rows as written (channel-major), converted by the encoder
 };
 
 // A channel-major row into interleaved samples of type T.
@@ -51,7 +51,8 @@ struct ImageFileWriter::Impl {
   bool integer_file = false, tiled = false, committed = false, opened = false, write_behind = true;
   Band band;
   schedule::BoundedQueue<Band> queue{1};  // with the band encoded and the band filled: three
-  schedule::RecyclePool<std::vector<unsigned char>> spent;  // encoded bands' bytes, allocated once
+  schedule::RecyclePool<std::vector<float>> spent;  // encoded bands' rows, allocated once
+  std::vector<unsigned char> packed;  // the band being encoded, interleaved samples of band_type
   std::thread encoder;
   std::atomic<bool> encoder_failed{false};
   std::string error;  // the encoder's first error, written before encoder_failed is set
@@ -59,9 +60,26 @@ struct ImageFileWriter::Impl {
   OutputError fail(std::string_view problem) const { return OutputError(fmt::format("{}: {}", name, problem)); }
   void open();
 
+  // A band's rows into interleaved samples of the band type, then to the codec (on the encoder's
+  // thread with write-behind: the conversion is off the writing thread too).
   void encode(const Band& b) {
+    const std::size_t samples = static_cast<std::size_t>(width) * channels;
+    packed.resize(static_cast<std::size_t>(b.y1 - b.y0) * row_bytes);
+    for (int r = 0; r < b.y1 - b.y0; ++r) {
+      const float* row = b.rows.data() + r * samples;
+      unsigned char* dst = packed.data() + r * row_bytes;
+      if (band_type == SampleType::UInt8) {
+        interleave<std::uint8_t>(row, width, channels, dst, io::to_u8);
+      } else if (band_type == SampleType::UInt16) {
+        interleave<std::uint16_t>(row, width, channels, dst, io::to_u16);
+      } else if (integer_file) {
+        interleave<float>(row, width, channels, dst, io::clamp01);
+      } else {
+        interleave<float>(row, width, channels, dst, [](float v) { return v; });
+      }
+    }
     try {
-      output->write(b.y0, b.y1, b.bytes.data());
+      output->write(b.y0, b.y1, packed.data());
     } catch (const std::exception& e) {
       throw fail(e.what());
     }
@@ -71,8 +89,8 @@ struct ImageFileWriter::Impl {
     while (auto b = queue.pop()) {
       try {
         encode(*b);
-        b->bytes.clear();  // keeps its capacity for a later band
-        spent.give(std::move(b->bytes));
+        b->rows.clear();  // keeps its capacity for a later band
+        spent.give(std::move(b->rows));
       } catch (const std::exception& e) {
         error = e.what();
         encoder_failed.store(true, std::memory_order_release);
@@ -97,7 +115,7 @@ struct ImageFileWriter::Impl {
         throw;
       }
       band.y0 = y1;
-      band.bytes.clear();
+      band.rows.clear();
       return;
     }
     if (!queue.push(std::move(band))) {
@@ -207,19 +225,9 @@ void ImageFileWriter::write_row(int y, std::span<const float> row) {
     throw std::logic_error(fmt::format("{}: row of {} samples, {} needed", m.name, row.size(), w * ch));
   m.check();
   if (!m.opened) m.open();
-  if (m.band.bytes.empty()) m.band.bytes.reserve(m.band_rows * m.row_bytes);
-  const std::size_t at = m.band.bytes.size();
-  m.band.bytes.resize(at + m.row_bytes);
-  unsigned char* dst = m.band.bytes.data() + at;
-  if (m.band_type == SampleType::UInt8) {
-    interleave<std::uint8_t>(row.data(), w, ch, dst, io::to_u8);
-  } else if (m.band_type == SampleType::UInt16) {
-    interleave<std::uint16_t>(row.data(), w, ch, dst, io::to_u16);
-  } else if (m.integer_file) {
-    interleave<float>(row.data(), w, ch, dst, io::clamp01);
-  } else {
-    interleave<float>(row.data(), w, ch, dst, [](float v) { return v; });
-  }
+  const std::size_t samples = static_cast<std::size_t>(w) * ch;
+  if (m.band.rows.empty()) m.band.rows.reserve(m.band_rows * samples);
+  m.band.rows.insert(m.band.rows.end(), row.begin(), row.begin() + static_cast<std::ptrdiff_t>(samples));
   m.band.y1 = ++m.next_row;
   if (m.band.y1 - m.band.y0 == m.band_rows || m.next_row == m.height) m.send();
 }

@@ -1,6 +1,9 @@
 // Workers on threads with the first exception carried back to the caller.
 #include "schedule/parallel.h"
 
+#include <algorithm>
+#include <atomic>
+#include <barrier>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -39,6 +42,45 @@ void run_workers(int count, const std::function<void(int)>& worker,
     }
   }
   if (!errors.empty()) std::rethrow_exception(errors.front());
+}
+
+void run_steps(int count, const std::function<int()>& next, const std::function<void(int, int)>& task) {
+  count = std::max(count, 1);
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  std::atomic<bool> failed{false};
+  const auto keep = [&] {
+    const std::lock_guard<std::mutex> lock(error_mutex);
+    if (!error) error = std::current_exception();
+    failed.store(true);
+  };
+  int tasks = -1;  // the current step's (written only while every worker waits)
+  std::atomic<int> taken{0};
+  std::barrier sync(count, [&]() noexcept {
+    tasks = -1;
+    taken.store(0);
+    if (failed.load()) return;
+    try {
+      tasks = next();
+    } catch (...) {
+      keep();
+      tasks = -1;
+    }
+  });
+  run_workers(count, [&](int t) {
+    for (;;) {
+      sync.arrive_and_wait();
+      if (tasks < 0) return;
+      for (int i = 0; !failed.load(std::memory_order_relaxed) && (i = taken.fetch_add(1)) < tasks;) {
+        try {
+          task(t, i);
+        } catch (...) {
+          keep();
+        }
+      }
+    }
+  });
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace gdp::schedule

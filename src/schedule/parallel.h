@@ -22,4 +22,11 @@ class Stopped : public Error {
 void run_workers(int count, const std::function<void(int)>& worker,
                  const std::function<void(int, const std::string&)>& stop = {});
 
+// Runs `count` workers, kept for the whole run, through steps one after another: before each,
+// next() runs on one worker while the others wait and returns the step's number of tasks (-1:
+// no more steps); then the workers take its tasks, task(worker, i) for each i in [0, tasks), each
+// the next not yet taken. Everything next() and the tasks of a step write is seen by the next
+// step. The first exception stops the run (no more tasks or steps) and is rethrown here.
+void run_steps(int count, const std::function<int()>& next, const std::function<void(int, int)>& task);
+
 }  // namespace gdp::schedule
