@@ -105,12 +105,27 @@ class StitchGuidance final : public apps::ImageGuidance {
                   std::span<unsigned char> above) const override {
     const int w = width();
     const std::vector<int>& here = row_ids_[slot(j)];
-    const std::vector<int>& next = j + 1 < height() ? row_ids_[slot(j + 1)] : here;  // spherical: folded
-    const int last = j + 1 < height() ? j + 1 : j;
-    for (int i = begin; i < end; ++i) {
-      const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
-      right[i] = joined(a, here[r]) || across_either(i, j, r, j, true);
-      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last, false)));
+    if (j + 1 < height()) {  // vectorised: whether labels join, then across values where they change
+      const int* h = here.data();
+      const int* n = row_ids_[slot(j + 1)].data();
+      const int inner = std::min(end, w - 1);
+      const bool extend = extend_;  // a local: the flags' stores could alias a member
+      unsigned char* r = right.data();
+      unsigned char* d = down.data();
+      for (int i = begin; i < inner; ++i) r[i] = joins(h[i], h[i + 1], extend);
+      for (int i = std::max(begin, inner); i < end; ++i) r[i] = joins(h[i], h[0], extend);  // the periodic row's last
+      for (int i = begin; i < end; ++i) d[i] &= joins(h[i], n[i], extend);
+      if (across_)
+        for (int i = begin; i < end; ++i) {
+          if (!right[i]) right[i] = across_either(i, j, i + 1 < w ? i + 1 : 0, j, true);
+          if (!down[i] && h[i] != n[i]) down[i] = across_either(i, j, i, j + 1, false);
+        }
+    } else {  // the last row: only a spherical domain's folded edges go down
+      for (int i = begin; i < end; ++i) {
+        const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
+        right[i] = joined(a, here[r]) || across_either(i, j, r, j, true);
+        down[i] = down[i] && joined(a, here[d]);
+      }
     }
     for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
@@ -121,10 +136,19 @@ class StitchGuidance final : public apps::ImageGuidance {
     if (!ramp_.empty()) return false;
     const int w = width();
     const std::vector<int>& here = row_ids_[slot(j)];
-    const auto change = [](int a, int b) { return a != b && a != kUnknown && b != kUnknown; };
-    for (int i = begin; i < end; ++i) right[i] = change(here[i], here[i + 1 < w ? i + 1 : 0]);
-    if (j + 1 < height())
-      for (int i = begin; i < end; ++i) down[i] = change(here[i], row_ids_[slot(j + 1)][i]);
+    const auto change = [](int a, int b) {  // vectorised
+      return static_cast<unsigned char>((a != b) & (a != kUnknown) & (b != kUnknown));
+    };
+    const int inner = std::min(end, w - 1);
+    const int* h = here.data();
+    unsigned char* r = right.data();
+    for (int i = begin; i < inner; ++i) r[i] = change(h[i], h[i + 1]);
+    for (int i = std::max(begin, inner); i < end; ++i) r[i] = change(h[i], h[0]);  // the periodic row's last
+    if (j + 1 < height()) {
+      const int* n = row_ids_[slot(j + 1)].data();
+      unsigned char* d = down.data();
+      for (int i = begin; i < end; ++i) d[i] = change(h[i], n[i]);
+    }
     return true;
   }
   // Across a label change (with `across`) from p (source A) to q (source B), the composite's
@@ -152,6 +176,11 @@ class StitchGuidance final : public apps::ImageGuidance {
   int id(int i, int j) const { return row_ids_[slot(j)][i]; }
   // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
   bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
+  // The same without branches (vectorised), as a flag.
+  static unsigned char joins(int a, int b, bool extend) {
+    return static_cast<unsigned char>(((a == b) & (a != kUnknown)) |
+                                      ((a != b) & extend & ((a == kUnknown) | (b == kUnknown))));
+  }
   // With `across`, a label change whose across values (of the edge's direction) are finite at
   // either end (first channel).
   bool across_either(int i, int j, int i2, int j2, bool horizontal) const {
