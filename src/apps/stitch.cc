@@ -28,30 +28,36 @@ class LabelIds {
   // ids[i] for the columns [begin, end) of a label row (the others are left as they are).
   void assign(std::span<const float> labels, std::vector<int>& ids, int begin, int end) {
     ids.resize(width_);
-    for (int i = begin; i < end; ++i) {
-      bool same = i > begin;
-      for (int c = 0; c < channels_ && same; ++c)
-        same = labels[static_cast<std::size_t>(c) * width_ + i] == labels[static_cast<std::size_t>(c) * width_ + i - 1];
-      if (same) {  // most pixels share their left neighbour's label
-        ids[i] = ids[i - 1];
-        continue;
-      }
-      bool white = true;
-      for (int c = 0; c < channels_; ++c) {
-        const float v = labels[static_cast<std::size_t>(c) * width_ + i];
-        white = white && v == 1.0f;
-        std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
-      }
-      if (white && !white_is_label_) {
-        ids[i] = kUnknown;
-      } else {
-        ids[i] = ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
-      }
+    for (int i = begin; i < end;) {
+      ids[i] = id_at(labels, i);
+      int run = i + 1;  // most pixels share their left neighbour's label: runs of one label
+      if (channels_ == 1)
+        while (run < end && labels[run] == labels[i]) ++run;
+      else
+        while (run < end && same_as_left(labels, run)) ++run;
+      std::fill(ids.begin() + i + 1, ids.begin() + run, ids[i]);
+      i = run;
     }
   }
   int count() const { return static_cast<int>(ids_.size()); }
 
  private:
+  bool same_as_left(std::span<const float> labels, int i) const {
+    for (int c = 0; c < channels_; ++c)
+      if (labels[static_cast<std::size_t>(c) * width_ + i] != labels[static_cast<std::size_t>(c) * width_ + i - 1]) return false;
+    return true;
+  }
+  int id_at(std::span<const float> labels, int i) {
+    bool white = true;
+    for (int c = 0; c < channels_; ++c) {
+      const float v = labels[static_cast<std::size_t>(c) * width_ + i];
+      white = white && v == 1.0f;
+      std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
+    }
+    if (white && !white_is_label_) return kUnknown;
+    return ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
+  }
+
   int width_, channels_;
   bool white_is_label_;
   std::string key_;

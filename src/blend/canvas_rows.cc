@@ -171,9 +171,10 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
   const Label* d = down.empty() ? none_.data() : down.data();
   const Label* h = here.data();
   unsigned char* edge = edge_.data();
-  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>(n != 0 && n != a); };
+  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>((n != 0) & (n != a)); };
   // Pixels with another label beside them (vectorised; the first and last columns by neighbour()).
-  for (int x = std::max(b, 1); x < std::min(e, width_ - 1); ++x)
+  // The bounds are locals: the flags' stores could alias the members.
+  for (int x = std::max(b, 1), x_end = std::min(e, width_ - 1); x < x_end; ++x)
     edge[x] = static_cast<unsigned char>(h[x] != 0) &
               (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
   for (const int x : {0, width_ - 1})
