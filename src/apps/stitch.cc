@@ -1,6 +1,7 @@
 // Seamless stitching, streamed: composite gradients, cut where labels change.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -123,6 +124,15 @@ class StitchGuidance final : public apps::ImageGuidance {
       for (int i = begin; i < end; ++i) d[i] &= joins(h[i], n[i], extend);
       if (across_)
         for (int i = begin; i < end; ++i) {
+          if (i % 8 == 0 && i + 8 <= end) {  // eight pixels at a time while every edge is kept
+            std::uint64_t kept_right, kept_down;
+            std::memcpy(&kept_right, r + i, 8);
+            std::memcpy(&kept_down, d + i, 8);
+            if ((kept_right & kept_down) == 0x0101010101010101u) {
+              i += 7;
+              continue;
+            }
+          }
           if (!right[i]) right[i] = across_either(i, j, i + 1 < w ? i + 1 : 0, j, true);
           if (!down[i] && h[i] != n[i]) down[i] = across_either(i, j, i, j + 1, false);
         }
