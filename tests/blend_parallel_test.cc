@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "blend/across_label.h"
 #include "blend/canvas_rows.h"
 #include "blend/graphcut_seams.h"
 #include "blend/seams.h"
@@ -194,6 +195,47 @@ TEST(BlendParallel, TheSweepAheadGivesEachPixelItsLayer) {
   one.threads = 1;
   many.threads = 4;
   EXPECT_EQ(test::max_difference(blend(layers, {}, one), blend(layers, {}, many)), 0.0);
+}
+
+// The sweep's across values, row after row through its ring (whose rows keep the values they were
+// given only until they are reset), are those the whole label plane defines: at a pixel of layer a,
+// per direction, the value of the one other layer its two neighbours carry (across_label) where
+// that layer covers the pixel; NaN everywhere else.
+TEST(BlendParallel, TheSweepsAcrossValuesAreThoseOfTheWholeLabelPlane) {
+  const std::vector<Image> images = random_layers(8, 33);
+  const std::vector<ImageLayer> layers = placed(images, 9);
+  const BlendPlan plan = plan_blend(layers, {});
+  const auto seams = blending::compute_seams(plan, false, {}, nullptr, 2);
+  const std::vector<blending::Label> all = all_labels(*seams.labels);
+  const int W = plan.canvas.width, H = plan.canvas.height;
+  const auto label = [&](int x, int y) -> blending::Label {
+    return x < 0 || x >= W || y < 0 || y >= H ? 0 : all[static_cast<std::size_t>(y) * W + x];
+  };
+  const auto value = [&](int l, int x, int y) {  // layer l's grey at canvas (x, y), NaN where it does not cover it
+    const Image& img = images[l - 1];
+    const int lx = x - static_cast<int>(layers[l - 1].x - plan.canvas.x), ly = y - static_cast<int>(layers[l - 1].y - plan.canvas.y);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    if (lx < 0 || lx >= img.width || ly < 0 || ly >= img.height || !(img.at(1, lx, ly) >= 0.5f)) return nan;
+    return img.at(0, lx, ly);
+  };
+  blending::CanvasSweep sweep(plan, *seams.labels, false, true);
+  int seam_values = 0;
+  for (int y = 0; y < H; ++y) {
+    const auto row = sweep.across(y);
+    for (int x = 0; x < W; ++x) {
+      const blending::Label a = label(x, y);
+      const blending::Label across[2] = {blending::across_label(a, label(x - 1, y), label(x + 1, y), blending::Label{0}),
+                                         blending::across_label(a, label(x, y - 1), label(x, y + 1), blending::Label{0})};
+      for (int k = 0; k < 2; ++k) {
+        const float want = a != 0 && across[k] != 0 ? value(across[k], x, y) : std::numeric_limits<float>::quiet_NaN();
+        const float got = row[static_cast<std::size_t>(k) * W + x];
+        seam_values += std::isfinite(want);
+        if (std::isnan(want)) ASSERT_TRUE(std::isnan(got)) << x << "," << y << " plane " << k << ": " << got;
+        else ASSERT_EQ(got, want) << x << "," << y << " plane " << k;
+      }
+    }
+  }
+  EXPECT_GT(seam_values, 100);  // seams in both directions
 }
 
 // A layer that fails mid-run while only the sweep reads it (seams loaded from a file): the

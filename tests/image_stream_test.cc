@@ -46,6 +46,7 @@ TEST_F(ImageStream, StreamedRowsEqualWholeImageReadsForEveryFormat) {
   for (const Case& k : {Case{"8.png", OIIO::TypeDesc::UINT8, 3, 0}, Case{"16.png", OIIO::TypeDesc::UINT16, 4, 0},
                         Case{"a.jpg", OIIO::TypeDesc::UINT8, 3, 0}, Case{"strips.tif", OIIO::TypeDesc::UINT16, 2, 0},
                         Case{"tiles.tif", OIIO::TypeDesc::FLOAT, 3, 64}, Case{"tiles8.tif", OIIO::TypeDesc::UINT8, 1, 16},
+                        Case{"rgba8.tif", OIIO::TypeDesc::UINT8, 4, 0}, Case{"grey16.tif", OIIO::TypeDesc::UINT16, 1, 0},
                         Case{"a.exr", OIIO::TypeDesc::FLOAT, 3, 0},
                         Case{"tiles.exr", OIIO::TypeDesc::HALF, 1, 32}}) {  // FITS: fits_test.cc
     SCOPED_TRACE(k.name);

@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "multigrid/masked.h"
 
 namespace gdp::apps {
 
@@ -33,6 +37,32 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
   compute(j, out, column_begin(), column_end());
 }
 
+namespace {
+
+// The indices i in [begin, end) where keep[i] (and mark[i] unless mark is empty) are set, into
+// `at`: offsets are asked at these edges only, a list made once per row for every channel. Eight
+// flags at a time are skipped while they are all clear (seams are few).
+void edges_to_ask(std::span<const unsigned char> keep, std::span<const unsigned char> mark, int begin, int end,
+                  std::vector<int>& at) {
+  at.clear();
+  int i = begin;
+  const auto flag = [&](int k) { return keep[k] && (mark.empty() || mark[k]); };
+  for (; i < end && i % 8 != 0; ++i)
+    if (flag(i)) at.push_back(i);
+  for (; i + 8 <= end; i += 8) {
+    std::uint64_t k, m = ~std::uint64_t{0};
+    std::memcpy(&k, keep.data() + i, 8);
+    if (!mark.empty()) std::memcpy(&m, mark.data() + i, 8);
+    if ((k & m) == 0) continue;
+    for (int n = i; n < i + 8; ++n)
+      if (flag(n)) at.push_back(n);
+  }
+  for (; i < end; ++i)
+    if (flag(i)) at.push_back(i);
+}
+
+}  // namespace
+
 void ImageGuidance::compute(int j, GuidanceRow& out, int x0, int x1) const {
   const int w = width(), h = height(), e = out.x_edges;
   const bool fold_top = out.spherical && j == 0, fold_bottom = out.spherical && j + 1 == h;
@@ -47,38 +77,37 @@ void ImageGuidance::compute(int j, GuidanceRow& out, int x0, int x1) const {
   std::fill(down.begin() + x0, down.begin() + x1, j + 1 < h || fold_bottom ? 1 : 0);
   std::fill(up.begin(), up.end(), 1);
   keep_edges(j, x0, x1, right, down, up);
-  const bool offsets = has_offsets();
-  bool marked = false;  // offsets only at the edges offset_edges marks
-  if (offsets) {
-    std::fill(offset_right.begin() + x0, offset_right.begin() + x1, 0);
-    std::fill(offset_down.begin() + x0, offset_down.begin() + x1, 0);
-    marked = offset_edges(j, x0, x1, offset_right, offset_down);
-  }
-  const auto ask = [&](std::span<const unsigned char> keep, std::span<const unsigned char> mark, int i) {
-    return keep[i] && (!marked || mark[i]);
-  };
-  const std::span<const float> here = source_row(j);
   // Horizontal edges [x0, ex): to the row's last where the columns reach its end.
   const int ex = x1 == w ? e : std::min(e, x1 - 1);
+  // The edges whose offset is asked (per thread: rows are computed on several at once).
+  thread_local std::vector<int> ask_right, ask_down;
+  ask_right.clear();
+  ask_down.clear();
+  if (has_offsets()) {
+    std::fill(offset_right.begin() + x0, offset_right.begin() + x1, 0);
+    std::fill(offset_down.begin() + x0, offset_down.begin() + x1, 0);
+    const bool marked = offset_edges(j, x0, x1, offset_right, offset_down);  // else: at every kept edge
+    edges_to_ask(right, marked ? offset_right : std::span<unsigned char>(), x0, ex, ask_right);
+    if (j + 1 < h) edges_to_ask(down, marked ? offset_down : std::span<unsigned char>(), x0, x1, ask_down);
+  }
+  const std::span<const float> here = source_row(j);
   for (int c = 0; c < channels(); ++c) {
     const float* row = here.data() + static_cast<std::size_t>(c) * w;
     double* gx = out.gx.data() + static_cast<std::size_t>(c) * e;
-    // d - d == 0 exactly when d is finite: a test the compiler vectorises (std::isfinite is not).
-    const auto kept = [&](double d, unsigned char keep) { return d - d == 0.0 && keep ? beta_ * d : 0.0; };
+    const auto kept = [&](double d, unsigned char keep) {  // vectorised
+      return multigrid::masked(beta_ * d, multigrid::finite(d) & (keep != 0));
+    };
     const int inner = std::min(ex, w - 1);  // edges to the next column; a periodic row's last wraps
     for (int i = x0; i < inner; ++i) gx[i] = kept(double(row[i + 1]) - row[i], right[i]);
     for (int i = std::max(x0, inner); i < ex; ++i) gx[i] = kept(double(row[0]) - row[i], right[i]);
-    if (offsets)
-      for (int i = x0; i < ex; ++i)
-        if (ask(right, offset_right, i) && std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i]))
-          gx[i] -= offset(c, i, j, true);
+    for (const int i : ask_right)
+      if (std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i])) gx[i] -= offset(c, i, j, true);
     if (j + 1 < h) {
       const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
       double* gy = out.gy.data() + static_cast<std::size_t>(c) * w;
       for (int i = x0; i < x1; ++i) gy[i] = kept(double(next[i]) - row[i], down[i]);
-      if (offsets)
-        for (int i = x0; i < x1; ++i)
-          if (ask(down, offset_down, i) && std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
+      for (const int i : ask_down)
+        if (std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }
     // Across the folded edges of a spherical domain (no offsets: a per-label ramp has no
     // direction there).

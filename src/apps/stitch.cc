@@ -1,6 +1,7 @@
 // Seamless stitching, streamed: composite gradients, cut where labels change.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -28,30 +29,36 @@ class LabelIds {
   // ids[i] for the columns [begin, end) of a label row (the others are left as they are).
   void assign(std::span<const float> labels, std::vector<int>& ids, int begin, int end) {
     ids.resize(width_);
-    for (int i = begin; i < end; ++i) {
-      bool same = i > begin;
-      for (int c = 0; c < channels_ && same; ++c)
-        same = labels[static_cast<std::size_t>(c) * width_ + i] == labels[static_cast<std::size_t>(c) * width_ + i - 1];
-      if (same) {  // most pixels share their left neighbour's label
-        ids[i] = ids[i - 1];
-        continue;
-      }
-      bool white = true;
-      for (int c = 0; c < channels_; ++c) {
-        const float v = labels[static_cast<std::size_t>(c) * width_ + i];
-        white = white && v == 1.0f;
-        std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
-      }
-      if (white && !white_is_label_) {
-        ids[i] = kUnknown;
-      } else {
-        ids[i] = ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
-      }
+    for (int i = begin; i < end;) {
+      ids[i] = id_at(labels, i);
+      int run = i + 1;  // most pixels share their left neighbour's label: runs of one label
+      if (channels_ == 1)
+        while (run < end && labels[run] == labels[i]) ++run;
+      else
+        while (run < end && same_as_left(labels, run)) ++run;
+      std::fill(ids.begin() + i + 1, ids.begin() + run, ids[i]);
+      i = run;
     }
   }
   int count() const { return static_cast<int>(ids_.size()); }
 
  private:
+  bool same_as_left(std::span<const float> labels, int i) const {
+    for (int c = 0; c < channels_; ++c)
+      if (labels[static_cast<std::size_t>(c) * width_ + i] != labels[static_cast<std::size_t>(c) * width_ + i - 1]) return false;
+    return true;
+  }
+  int id_at(std::span<const float> labels, int i) {
+    bool white = true;
+    for (int c = 0; c < channels_; ++c) {
+      const float v = labels[static_cast<std::size_t>(c) * width_ + i];
+      white = white && v == 1.0f;
+      std::memcpy(key_.data() + c * sizeof(float), &v, sizeof(float));
+    }
+    if (white && !white_is_label_) return kUnknown;
+    return ids_.try_emplace(key_, static_cast<int>(ids_.size())).first->second;
+  }
+
   int width_, channels_;
   bool white_is_label_;
   std::string key_;
@@ -105,12 +112,36 @@ class StitchGuidance final : public apps::ImageGuidance {
                   std::span<unsigned char> above) const override {
     const int w = width();
     const std::vector<int>& here = row_ids_[slot(j)];
-    const std::vector<int>& next = j + 1 < height() ? row_ids_[slot(j + 1)] : here;  // spherical: folded
-    const int last = j + 1 < height() ? j + 1 : j;
-    for (int i = begin; i < end; ++i) {
-      const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
-      right[i] = joined(a, here[r]) || across_either(i, j, r, j, true);
-      down[i] = down[i] && (joined(a, next[d]) || (j + 1 < height() && across_either(i, j, d, last, false)));
+    if (j + 1 < height()) {  // vectorised: whether labels join, then across values where they change
+      const int* h = here.data();
+      const int* n = row_ids_[slot(j + 1)].data();
+      const int inner = std::min(end, w - 1);
+      const bool extend = extend_;  // a local: the flags' stores could alias a member
+      unsigned char* r = right.data();
+      unsigned char* d = down.data();
+      for (int i = begin; i < inner; ++i) r[i] = joins(h[i], h[i + 1], extend);
+      for (int i = std::max(begin, inner); i < end; ++i) r[i] = joins(h[i], h[0], extend);  // the periodic row's last
+      for (int i = begin; i < end; ++i) d[i] &= joins(h[i], n[i], extend);
+      if (across_)
+        for (int i = begin; i < end; ++i) {
+          if (i % 8 == 0 && i + 8 <= end) {  // eight pixels at a time while every edge is kept
+            std::uint64_t kept_right, kept_down;
+            std::memcpy(&kept_right, r + i, 8);
+            std::memcpy(&kept_down, d + i, 8);
+            if ((kept_right & kept_down) == 0x0101010101010101u) {
+              i += 7;
+              continue;
+            }
+          }
+          if (!right[i]) right[i] = across_either(i, j, i + 1 < w ? i + 1 : 0, j, true);
+          if (!down[i] && h[i] != n[i]) down[i] = across_either(i, j, i, j + 1, false);
+        }
+    } else {  // the last row: only a spherical domain's folded edges go down
+      for (int i = begin; i < end; ++i) {
+        const int a = here[i], r = i + 1 < w ? i + 1 : 0, d = below(i, j);
+        right[i] = joined(a, here[r]) || across_either(i, j, r, j, true);
+        down[i] = down[i] && joined(a, here[d]);
+      }
     }
     for (std::size_t i = 0; i < above.size(); ++i) above[i] = joined(here[i], here[this->above(static_cast<int>(i))]);
   }
@@ -121,10 +152,19 @@ class StitchGuidance final : public apps::ImageGuidance {
     if (!ramp_.empty()) return false;
     const int w = width();
     const std::vector<int>& here = row_ids_[slot(j)];
-    const auto change = [](int a, int b) { return a != b && a != kUnknown && b != kUnknown; };
-    for (int i = begin; i < end; ++i) right[i] = change(here[i], here[i + 1 < w ? i + 1 : 0]);
-    if (j + 1 < height())
-      for (int i = begin; i < end; ++i) down[i] = change(here[i], row_ids_[slot(j + 1)][i]);
+    const auto change = [](int a, int b) {  // vectorised
+      return static_cast<unsigned char>((a != b) & (a != kUnknown) & (b != kUnknown));
+    };
+    const int inner = std::min(end, w - 1);
+    const int* h = here.data();
+    unsigned char* r = right.data();
+    for (int i = begin; i < inner; ++i) r[i] = change(h[i], h[i + 1]);
+    for (int i = std::max(begin, inner); i < end; ++i) r[i] = change(h[i], h[0]);  // the periodic row's last
+    if (j + 1 < height()) {
+      const int* n = row_ids_[slot(j + 1)].data();
+      unsigned char* d = down.data();
+      for (int i = begin; i < end; ++i) d[i] = change(h[i], n[i]);
+    }
     return true;
   }
   // Across a label change (with `across`) from p (source A) to q (source B), the composite's
@@ -152,6 +192,11 @@ class StitchGuidance final : public apps::ImageGuidance {
   int id(int i, int j) const { return row_ids_[slot(j)][i]; }
   // The edge between two pixels keeps the composite's difference: same label, or (Extend) either unknown.
   bool joined(int a, int b) const { return a == b ? a != kUnknown : extend_ && (a == kUnknown || b == kUnknown); }
+  // The same without branches (vectorised), as a flag.
+  static unsigned char joins(int a, int b, bool extend) {
+    return static_cast<unsigned char>(((a == b) & (a != kUnknown)) |
+                                      ((a != b) & extend & ((a == kUnknown) | (b == kUnknown))));
+  }
   // With `across`, a label change whose across values (of the edge's direction) are finite at
   // either end (first channel).
   bool across_either(int i, int j, int i2, int j2, bool horizontal) const {

@@ -3,6 +3,8 @@
 #include "blend/across_label.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <numeric>
@@ -147,46 +149,58 @@ void CanvasSweep::advance(Row& out) {
   if (with_across_)
     compute_across(y > 0 ? std::span<const Label>(label_rows_[(y + 2) % 3]) : std::span<const Label>(),
                    here, y + 1 < height_ ? std::span<const Label>(label_rows_[(y + 1) % 3]) : std::span<const Label>(),
-                   out.across);
+                   out);
 }
 
 // Per pixel two across values: of the layer its left and right neighbours carry (plane 0) and of
 // the one its upper and lower neighbours carry (plane 1), so that where three layers meet each
-// seam edge still finds the layer across it. NaN elsewhere.
+// seam edge still finds the layer across it. NaN elsewhere: the ring's row is NaN but at the
+// columns it was given last time (out.set), which are reset first.
 void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
-                                 std::span<float> out) {
+                                 Row& out) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const std::size_t plane = static_cast<std::size_t>(channels_) * width_;
   const int b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
-  for (int c = 0; c < 2 * channels_; ++c)
-    std::fill(out.begin() + static_cast<std::size_t>(c) * width_ + b, out.begin() + static_cast<std::size_t>(c) * width_ + e,
-              nan);
+  for (const int x : out.set)
+    for (int c = 0; c < 2 * channels_; ++c) out.across[static_cast<std::size_t>(c) * width_ + x] = nan;
+  out.set.clear();
   const auto neighbour = [&](int x) -> Label {  // beyond the canvas's sides: none, unless it wraps
     return x >= 0 && x < width_ ? here[x] : wrap_x_ ? here[(x + width_) % width_] : Label{0};
   };
   const Label* u = up.empty() ? none_.data() : up.data();  // no row: no label
   const Label* d = down.empty() ? none_.data() : down.data();
   const Label* h = here.data();
-  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>(n != 0 && n != a); };
+  unsigned char* edge = edge_.data();
+  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>((n != 0) & (n != a)); };
   // Pixels with another label beside them (vectorised; the first and last columns by neighbour()).
-  for (int x = std::max(b, 1); x < std::min(e, width_ - 1); ++x)
-    edge_[x] = static_cast<unsigned char>(h[x] != 0) &
-               (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
+  // The bounds are locals: the flags' stores could alias the members.
+  for (int x = std::max(b, 1), x_end = std::min(e, width_ - 1); x < x_end; ++x)
+    edge[x] = static_cast<unsigned char>(h[x] != 0) &
+              (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
   for (const int x : {0, width_ - 1})
     if (x >= b && x < e)
-      edge_[x] = static_cast<unsigned char>(h[x] != 0) &
-                 (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
-                  other_than(d[x], h[x]));
+      edge[x] = static_cast<unsigned char>(h[x] != 0) &
+                (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
+                 other_than(d[x], h[x]));
   const auto other = [](Label a, Label n1, Label n2) { return across_label(a, n1, n2, Label{0}); };
   for (int x = b; x < e; ++x) {
-    if (!edge_[x]) continue;  // inside a layer's part: NaN
+    if (x % 8 == 0 && x + 8 <= e) {  // eight pixels at a time while none is beside a seam
+      std::uint64_t any;
+      std::memcpy(&any, edge + x, sizeof any);
+      if (any == 0) {
+        x += 7;
+        continue;
+      }
+    }
+    if (!edge[x]) continue;  // inside a layer's part: NaN
     const Label across[2] = {other(h[x], neighbour(x - 1), neighbour(x + 1)), other(h[x], u[x], d[x])};
     for (int k = 0; k < 2; ++k) {
       const Open* o = across[k] ? slot_[across[k] - 1] : nullptr;
       const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
       if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
+      if (out.set.empty() || out.set.back() != x) out.set.push_back(x);
       for (int c = 0; c < channels_; ++c)
-        out[k * plane + static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
+        out.across[k * plane + static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
     }
   }
 }

@@ -39,16 +39,16 @@ class CanvasSweep {
 
  private:
   struct Open;
-  struct Row {  // a computed row: composite and across values
+  struct Row {  // a computed row: composite and across values (NaN but at the columns `set`)
     std::vector<float> composite, across;
+    std::vector<int> set;
   };
   static constexpr int kAhead = 8;
   const Row& row(int y);
   void restart();  // stops the producer: the next row asked for starts the sweep again
   void produce();  // the producer thread: rows 0, 1, ... into the ring
   void advance(Row& out);  // computes row row_ + 1
-  void compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down,
-                      std::span<float> out);
+  void compute_across(std::span<const Label> up, std::span<const Label> here, std::span<const Label> down, Row& out);
 
   const BlendPlan& plan_;
   const LabelPlane& labels_;

@@ -31,13 +31,27 @@ struct Band {
   std::string error;  // non-empty: decoding failed here
 };
 
+// Channels [0, Ch) of `ch` interleaved (Ch == ch, a constant, lets the loop vectorise) into
+// channel-major rows `stride` apart.
+template <int Ch, class T, class Convert>
+void deinterleave_n(const T* src, int w, int ch, std::size_t stride, float* out, Convert convert) {
+  for (int c = 0; c < (Ch > 0 ? Ch : ch); ++c) {
+    float* dst = out + c * stride;
+    const int n = Ch > 0 ? Ch : ch;
+    for (int x = 0; x < w; ++x) dst[x] = convert(src[static_cast<std::size_t>(x) * n + c]);
+  }
+}
+
 // One row of a band (w columns) into a channel-major row of floats, channels `stride` apart.
 template <class T, class Convert>
 void deinterleave(const unsigned char* band_row, int w, int ch, std::size_t stride, float* out, Convert convert) {
   const T* src = reinterpret_cast<const T*>(band_row);
-  for (int c = 0; c < ch; ++c) {
-    float* dst = out + c * stride;
-    for (int x = 0; x < w; ++x) dst[x] = convert(src[static_cast<std::size_t>(x) * ch + c]);
+  switch (ch) {
+    case 1: return deinterleave_n<1>(src, w, ch, stride, out, convert);
+    case 2: return deinterleave_n<2>(src, w, ch, stride, out, convert);
+    case 3: return deinterleave_n<3>(src, w, ch, stride, out, convert);
+    case 4: return deinterleave_n<4>(src, w, ch, stride, out, convert);
+    default: return deinterleave_n<0>(src, w, ch, stride, out, convert);
   }
 }
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "multigrid/incore_vcycle.h"
+#include "multigrid/masked.h"
 
 namespace gdp::schedule {
 
@@ -56,6 +57,7 @@ InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hier
     counted_[k].assign(width_, 1);
     b_[k].assign(n, 0.0);
   }
+  known_.assign(width_, 0);
 }
 
 template <class T>
@@ -106,16 +108,22 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   }
   if (weights)
     for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
-  const std::vector<float>& init = initial_[k];
-  for (int i = begin_; i < end_; ++i) {
-    bool finite = true;
-    for (int c = 0; c < channels_; ++c) {
-      const float v = init[static_cast<std::size_t>(c) * width_ + i];
-      finite = finite && std::isfinite(v);
-      u[static_cast<std::size_t>(c) * width_ + i] = std::isfinite(v) ? static_cast<T>(v) : T(0);
+  // u: the starting guess, 0 where not finite; w: 1 where counted and every channel is finite
+  // (vectorised, a channel at a time).
+  const int x0 = begin_, x1 = end_;  // locals: the flags' stores could alias the members
+  unsigned char* known = known_.data();
+  const unsigned char* counted = counted_[k].data();
+  for (int i = x0; i < x1; ++i) known[i] = counted[i] != 0;
+  for (int c = 0; c < channels_; ++c) {
+    const float* in = initial_[k].data() + static_cast<std::size_t>(c) * width_;
+    T* uc = u.data() + static_cast<std::size_t>(c) * width_;
+    for (int i = x0; i < x1; ++i) {
+      const bool finite = multigrid::finite(in[i]);
+      known[i] &= static_cast<unsigned char>(finite);
+      uc[i] = multigrid::masked(static_cast<T>(in[i]), finite);
     }
-    w[i] = finite && counted_[k][i] ? T(1) : T(0);
   }
+  for (int i = x0; i < x1; ++i) w[i] = known[i] ? T(1) : T(0);
   for (std::size_t r = 0; r < ranges_.size(); ++r) {
     const auto [a, e] = ranges_[r];
     for (int c = 0; c < channels_; ++c) {
