@@ -39,7 +39,7 @@ class SkySweep : public test::TempDirTest {
         const double u = (x - kSize / 2.0) / kSize, v = (y - kSize / 2.0) / kSize;
         return su * u + sv * v + r * (u * u + v * v);
       };
-      paths.push_back(test::write_plate(dir_, "p" + std::to_string(k) + ".fits", 90.0, lat(k), kSize, kScale, sky,
+      paths.push_back(test::write_plate(dir_, std::string("p").append(std::to_string(k)).append(".fits"), 90.0, lat(k), kSize, kScale, sky,
                                         0.1 * k * (k % 2 ? -1 : 1), background));
     }
     return paths;
