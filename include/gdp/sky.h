@@ -68,6 +68,10 @@ struct SkySummary {
   // PQ pixels of the seamed mosaic this process computed: under mpirun on a PQ window, each rank
   // its columns and their halo only.
   long long mosaic_pixels = 0;
+  // Plate pixels each rank read from the files over every pass and the solve (a plate read again
+  // counted again; one entry without mpirun), and the pixels of all plates (--seams-from's too).
+  std::vector<long long> plate_pixels_read;
+  long long plate_pixels_in_files = 0;
   SolveSummary solve;
 };
 

@@ -1,5 +1,6 @@
 // `gdp sky`: FITS plates with WCS blended on the sphere, written for a target header (docs/sky.md).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -111,6 +112,8 @@ class Sky final : public Command {
     stats.set("plates_held_at_once", std::to_string(summary.plates_held));
     stats.set("plates_crossing_a_row", std::to_string(summary.plates_crossing));
     stats.set("mosaic_pixels_computed", std::to_string(summary.mosaic_pixels));
+    stats.set("plate_pixels_read", fmt::format("[{}]", fmt::join(summary.plate_pixels_read, ", ")));
+    stats.set("plate_pixels_in_files", std::to_string(summary.plate_pixels_in_files));
     report_backgrounds(plates_, summary.backgrounds, summary.background_rms, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
