@@ -1,6 +1,7 @@
 // gdp sky on the command line: the output's header carries the target WCS; bad input exits 2 with one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -174,6 +175,17 @@ TEST_F(SkyCli, UnderMpirunEachRankReadsOnlyThePlatesNearItsColumns) {
     EXPECT_GT(r, 0);
     EXPECT_LT(r, 0.9 * one_read[0]) << "a rank read (nearly) every plate";
   }
+  // A blank plate that only one rank reads fails every rank with its message: exit 2, no output.
+  Image blank(24, 24, 1);
+  std::fill(blank.data.begin(), blank.data.end(), std::nanf(""));
+  WriteOptions options;
+  options.fits_header = sky::target_header({{}, 90.0 + 3 * 10.0 / std::cos(M_PI / 6), 30.0, 24, 24, 0.5, "TAN"});
+  write_image(path("p6.fits"), blank, options);
+  const test::CliRun r = run_capturing_stderr(test::kMpirun + " -np 2 " + GDP_CLI_PATH + " sky" + plates +
+                                              " --center 90,30 --size 150,30 --scale 0.5 --quiet -o " + path("bad.fits"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("p6.fits: every pixel is blank"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("bad.fits")));
 }
 
 TEST_F(SkyCli, TheBackgroundFitIsOneNoteAndEachPlateWithVerboseAndInStats) {
