@@ -12,6 +12,8 @@ rows are not parallels) and has more rows. gdp sky runs on each under bench/meas
 --stats; printed per run: plates, PQ window, peak RSS, wall, CPU (user + sys), the solver's scratch
 in memory. --memory 0 (the default here) keeps the solver's scratch in files, so what is left is
 what gdp sky itself holds; --memory '' leaves the solver's default (a quarter of physical memory).
+--mpirun N runs gdp sky under `mpirun -np N` (CPU seconds are then every rank's); the line then
+ends with the plate pixels each rank read (--stats plate_pixels_read) against the plates' own.
 Needs python3-numpy and python3-astropy.
 """
 import argparse
@@ -38,6 +40,7 @@ ap.add_argument("--dec0", type=float, default=30.0)
 ap.add_argument("--memory", default="0", help="gdp's --memory ('' for its default)")
 ap.add_argument("--gdp-args", default="", help="more options for gdp sky")
 ap.add_argument("--keep", action="store_true", help="keep the plates and outputs")
+ap.add_argument("--mpirun", type=int, default=0, help="run gdp under mpirun -np N (N ranks)")
 ap.add_argument("--plates-only", action="store_true", help="write the plates (and region.hdr) and stop")
 args = ap.parse_args()
 
@@ -107,12 +110,14 @@ for config in args.configs.split(","):
         continue
     plates = sorted(os.path.join(d, f) for f in os.listdir(d) if f.endswith(".fits") and f.startswith("plate"))
     stats = os.path.join(d, "stats.json")
-    cmd = [args.gdp, "sky", "-q", "--header", os.path.join(d, "region.hdr"), "-o", os.path.join(d, "out.fits"),
+    mpi = ["mpirun", "--oversubscribe", "--allow-run-as-root", "-np", str(args.mpirun)] if args.mpirun else []
+    cmd = mpi + [args.gdp, "sky", "-q", "--header", os.path.join(d, "region.hdr"), "-o", os.path.join(d, "out.fits"),
            "--stats", stats] + (["--memory", args.memory] if args.memory else []) + args.gdp_args.split() + plates
     wall, cpu, rss = run(cmd, os.path.join(d, "run.json"))
     s = json.load(open(stats))
     win = s.get("pq_window", "")
     print(f"{len(plates):>7} {s.get('pq_height', '?'):>6} {str(win):>13} {rss:>12.1f} {wall:>7.2f} {cpu:>6.2f} "
-          f"{float(s.get('scratch_memory_mb', 0)):>11.1f}", flush=True)
+          f"{float(s.get('scratch_memory_mb', 0)):>11.1f}  plate pixels read {s.get('plate_pixels_read')} "
+          f"of {s.get('plate_pixels_in_files')}", flush=True)
     if not args.keep:
         shutil.rmtree(d)

@@ -1,11 +1,14 @@
 // gdp sky on the command line: the output's header carries the target WCS; bad input exits 2 with one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <string>
@@ -171,6 +174,56 @@ TEST_F(SkyCli, GraphcutSeamsUnderBandsAndMpirunGiveTheOneBandResult) {
     if (mpi) expect_same_sky(one, solve(test::kMpirun + " -np 2 ", "mpi", ""), 1e-4, kind + ": graphcut, mpirun -np 2");
   }
   if (!mpi) GTEST_SKIP() << "mpirun cannot start 2 processes: --bands 2 checked only";
+}
+
+// Under mpirun -np 2 each rank reads only the plates near its share of the PQ columns (its own,
+// their neighbours, and in the solve those reaching its columns): each reads fewer plate pixels
+// than one process, and the output is the one process's within 1e-4 (the passes before the solve
+// give every rank the one process's bits: SkySweep.RanksSharingThePasses...; the solve under
+// mpirun differs by its rounding).
+TEST_F(SkyCli, UnderMpirunEachRankReadsOnlyThePlatesNearItsColumns) {
+  if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  std::string plates;
+  for (int k = 0; k < 7; ++k) {  // along the parallel Dec 30 (across the PQ columns there), 10 degrees apart
+    const std::string name = fmt::format("p{}.fits", k);
+    plate(name, 90.0 + (k - 3) * 10.0 / std::cos(M_PI / 6), 30.0);
+    plates += fmt::format(" {}", path(name));
+  }
+  const auto solve = [&](const std::string& prefix, const std::string& name) {
+    const std::string cmd = prefix + GDP_CLI_PATH + " sky" + plates + " --center 90,30 --size 150,30 --scale 0.5 " +
+                            "--vcycles 4 --quiet -o " + path(name + ".fits") + " --stats " + path(name + ".json");
+    const test::CliRun r = run_capturing_stderr(cmd);
+    EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+    std::ifstream in(path(name + ".json"));
+    const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = json.find("\"plate_pixels_read\": [");
+    EXPECT_NE(at, std::string::npos) << json;
+    std::vector<long long> read;
+    for (std::size_t p = at + 22; at != std::string::npos && json[p - 1] != ']'; p = json.find_first_of(",]", p) + 1)
+      read.push_back(std::stoll(json.substr(p)));
+    return std::pair(read_image(path(name + ".fits")).image, read);
+  };
+  const auto [one, one_read] = solve("", "one");
+  const auto [two, two_read] = solve(test::kMpirun + " -np 2 ", "two");
+  EXPECT_GT(expect_same_sky(one, two, 1e-4, "mpirun -np 2"), 1000);
+  ASSERT_EQ(one_read.size(), 1u);
+  ASSERT_EQ(two_read.size(), 2u);
+  std::printf("plate pixels read: one process %lld, ranks %lld and %lld\n", one_read[0], two_read[0], two_read[1]);
+  for (const long long r : two_read) {
+    EXPECT_GT(r, 0);
+    EXPECT_LT(r, 0.9 * one_read[0]) << "a rank read (nearly) every plate";
+  }
+  // A blank plate that only one rank reads fails every rank with its message: exit 2, no output.
+  Image blank(24, 24, 1);
+  std::fill(blank.data.begin(), blank.data.end(), std::nanf(""));
+  WriteOptions options;
+  options.fits_header = sky::target_header({{}, 90.0 + 3 * 10.0 / std::cos(M_PI / 6), 30.0, 24, 24, 0.5, "TAN"});
+  write_image(path("p6.fits"), blank, options);
+  const test::CliRun r = run_capturing_stderr(test::kMpirun + " -np 2 " + GDP_CLI_PATH + " sky" + plates +
+                                              " --center 90,30 --size 150,30 --scale 0.5 --quiet -o " + path("bad.fits"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("p6.fits: every pixel is blank"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("bad.fits")));
 }
 
 TEST_F(SkyCli, TheBackgroundFitIsOneNoteAndEachPlateWithVerboseAndInStats) {

@@ -3,12 +3,21 @@
 
 #include <cmath>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "bands/thread_transport.h"
+#include "gdp/errors.h"
 #include "gdp/sky.h"
 #include "image_stream_util.h"
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
+#include "sky/mosaic_rows.h"
+#include "sky/plate_passes.h"
+#include "sky/plate_sweep.h"
+#include "sky/pq_window.h"
 #include "sky_test_util.h"
 #include "sphere/vec3.h"
 
@@ -39,7 +48,7 @@ class SkySweep : public test::TempDirTest {
         const double u = (x - kSize / 2.0) / kSize, v = (y - kSize / 2.0) / kSize;
         return su * u + sv * v + r * (u * u + v * v);
       };
-      paths.push_back(test::write_plate(dir_, std::string("p").append(std::to_string(k)).append(".fits"), 90.0, lat(k), kSize, kScale, sky,
+      paths.push_back(test::write_plate(dir_, fmt::format("p{}.fits", k), 90.0, lat(k), kSize, kScale, sky,
                                         0.1 * k * (k % 2 ? -1 : 1), background));
     }
     return paths;
@@ -70,6 +79,93 @@ TEST_F(SkySweep, OnlyThePlatesCrossingARowAreHeldAndTheFitIsTheWholePlatesFit) {
     const auto& b = summary.backgrounds[k];
     const std::array<double, 4> r = {reference[k].offset, reference[k].slope_u, reference[k].slope_v, reference[k].radial};
     for (int i = 0; i < 4; ++i) EXPECT_EQ(b[i], r[i]) << "plate " << k << " term " << i;
+  }
+}
+
+// One rank's (or the one process's) plate passes over the column's plates: the plates with their
+// levels and edge corrections, the fit and stars, and the plate pixels it read.
+struct Intake {
+  std::vector<sky::Plate> plates;
+  sky::PlateIntake in;
+  long long pixels_read = 0;
+};
+
+Intake take_in(const std::vector<std::string>& paths, const std::filesystem::path& temp, const sky::PlateShare& share) {
+  Intake r;
+  for (const std::string& p : paths) r.plates.push_back(sky::open_plate(p));
+  std::vector<sky::Plate> finders;
+  const sky::PqWindow win = *sky::plate_window(r.plates, 2048, sky::kExtension);
+  sky::PlatePixels pixels(r.plates, finders, win, sky::kReleaseLag);
+  sky::IntakeOptions options;
+  options.temp_dir = temp;
+  r.in = sky::take_in_plates(r.plates, pixels, options, share);
+  r.pixels_read = pixels.pixels_read();
+  return r;
+}
+
+// Two ranks (threads on the band transport) share the passes, each owning the plates `owners`
+// gives it: each reads fewer plate pixels than one process, and both end with the one process's
+// backgrounds, levels, edge corrections and stars, bit for bit.
+TEST_F(SkySweep, RanksSharingThePassesGetTheOneProcessResultsBitForBit) {
+  const std::vector<std::string> paths = write_column();
+  const Intake one = take_in(paths, dir_, {});
+  ASSERT_TRUE(one.in.stars.has_value());
+  ASSERT_GT(one.in.stars->size(), 0u) << "stars in the overlaps";
+  for (const bool halves : {true, false}) {
+    std::vector<int> owners;
+    for (int k = 0; k < kPlates; ++k) owners.push_back(halves ? k >= kPlates / 2 : k % 2);
+    bands::ThreadHub hub(2);
+    Intake ranks[2];
+    std::string failed[2];
+    std::vector<std::thread> threads;
+    for (int r = 0; r < 2; ++r)
+      threads.emplace_back([&, r] {
+        sky::PlateShare share;
+        share.net = &hub.endpoint(r);
+        share.owners = owners;
+        share.agree = [&, r](const std::string& error) {  // the first rank's error, on both
+          bands::Bytes first;
+          for (bands::Bytes& b : bands::all_gather(*share.net, 99, bands::Bytes(error.begin(), error.end())))
+            if (first.empty()) first = b;
+          if (!first.empty()) throw UsageError(std::string(first.begin(), first.end()));
+        };
+        try {
+          ranks[r] = take_in(paths, dir_, share);
+        } catch (const std::exception& e) {
+          failed[r] = e.what();
+        }
+      });
+    for (std::thread& t : threads) t.join();
+    const std::string how = halves ? "plates 0-4 and 5-9" : "alternate plates";
+    for (int r = 0; r < 2; ++r) {
+      ASSERT_EQ(failed[r], "") << how << ", rank " << r;
+      std::printf("%s: rank %d read %lld plate pixels, one process %lld\n", how.c_str(), r, ranks[r].pixels_read,
+                  one.pixels_read);
+      if (halves) {
+        EXPECT_LT(ranks[r].pixels_read, one.pixels_read) << how << ": rank " << r << " read every plate";
+      }
+      const Intake& got = ranks[r];
+      EXPECT_EQ(got.in.overlap_samples, one.in.overlap_samples) << how;
+      ASSERT_EQ(got.in.backgrounds.size(), one.in.backgrounds.size());
+      for (int k = 0; k < kPlates; ++k) {
+        const auto &a = got.in.backgrounds[k], &b = one.in.backgrounds[k];
+        EXPECT_EQ(a.offset, b.offset) << how << ", rank " << r << ", plate " << k;
+        EXPECT_EQ(a.slope_u, b.slope_u);
+        EXPECT_EQ(a.slope_v, b.slope_v);
+        EXPECT_EQ(a.radial, b.radial);
+        EXPECT_EQ(got.plates[k].mean, one.plates[k].mean) << how << ", rank " << r << ", plate " << k;
+        EXPECT_EQ(got.plates[k].fade_to, one.plates[k].fade_to) << how << ", rank " << r << ", plate " << k;
+        EXPECT_EQ(got.plates[k].edge_correction, one.plates[k].edge_correction) << how << ", plate " << k;
+      }
+      ASSERT_TRUE(got.in.stars.has_value());
+      EXPECT_EQ(got.in.stars->size(), one.in.stars->size()) << how;
+      for (int k = 0; k + 1 < kPlates; ++k)  // around each overlap's star: the same plate at every point
+        for (int a = -8; a <= 8; ++a)
+          for (int b = -8; b <= 8; ++b) {
+            const sphere::Vec3 d = sky::direction(90.3 + 0.05 * a, lat(k) + kStep / 2 + 0.05 * b);
+            EXPECT_EQ(got.in.stars->plate_at(d), one.in.stars->plate_at(d)) << how << ", star " << k;
+          }
+    }
   }
 }
 

@@ -73,6 +73,10 @@ struct SkySummary {
   long long mosaic_pixels = 0;
   // graphcut_seams: the seam cost of the distance seams and of the seams taken (rank 0's).
   double seam_cost_depth = 0, seam_cost = 0;
+  // Plate pixels each rank read from the files over every pass and the solve (a plate read again
+  // counted again; one entry without mpirun), and the pixels of all plates (--seams-from's too).
+  std::vector<long long> plate_pixels_read;
+  long long plate_pixels_in_files = 0;
   SolveSummary solve;
 };
 

@@ -140,6 +140,7 @@ void MosaicRows::compute(int j, Row& out) {
   for (std::size_t k = 0; k < plates_.size(); ++k) {
     const Plate& p = plates_[k];
     if (j < pixels_.rows(k)[0] || j > pixels_.rows(k)[1]) continue;  // the plate reaches no pixel of this row
+    if (pixels_.columns(k)[1] < begin_ || pixels_.columns(k)[0] >= end_) continue;  // ... nor of the columns computed
     pixels_.hold(k);
     pixels.clear();
     for (int i = begin_; i < end_; ++i)

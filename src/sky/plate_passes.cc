@@ -2,12 +2,14 @@
 #include "sky/plate_passes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <utility>
 
 #include "blend/scratch.h"
 #include "sky/overlap_samples.h"
 #include "sky/plate_extension.h"
+#include "sphere/vec3.h"
 #include "sky/plate_offsets.h"
 
 namespace gdp::sky {
@@ -75,11 +77,13 @@ void each_pair(const std::vector<Plate>& plates, std::size_t k, const std::vecto
 }
 
 // Pass 3's work on plate k (held, backgrounds off): its edge corrections and the overlap sums
-// with the plates held with it; the plate's mean was set as it was read.
+// with the plates held with it (those this rank owns); the plate's mean was set as it was read.
 void level_plate(std::vector<Plate>& plates, std::size_t k, const std::vector<std::size_t>& others,
-                 const std::vector<std::vector<PlateSource>>& sources, std::map<std::pair<int, int>, OverlapSum>& sums) {
-  plates[k].edge_correction = edge_corrections(plates[k], sources[k]);
+                 const std::vector<std::vector<PlateSource>>& sources, std::map<std::pair<int, int>, OverlapSum>& sums,
+                 const PlateShare& share) {
+  if (share.owns(k)) plates[k].edge_correction = edge_corrections(plates[k], sources[k]);
   each_pair(plates, k, others, [&](std::size_t a, std::size_t b) {
+    if (!share.owns(a)) return;
     const OverlapSum o = overlap_sum(plates[a], static_cast<int>(a), plates[b], static_cast<int>(b));
     if (o.n > 0) sums[{o.a, o.b}] = o;
   });
@@ -96,25 +100,62 @@ void detect_stars(const PlatePixels& pixels, std::size_t k, const std::vector<st
   }
 }
 
+// A star of plate k's finder (radius at most max(2, min(32, size / 8)) + 1 of its pixels, seam_sources.h)
+// may be reached by plate q (add_reach) only if their centres lie within this angle (radians):
+// both footprints' cones and twice that radius.
+double star_reach(const Plate& k, const Plate& q) {
+  const double radius = std::max(2.0, std::min(32.0, std::min(k.width, k.height) / 8.0)) + 1.0;
+  return std::acos(std::clamp(k.cos_radius, -1.0, 1.0)) + std::acos(std::clamp(q.cos_radius, -1.0, 1.0)) +
+         2.0 * radius * k.scale * M_PI / 180.0;
+}
+
+// The plates this rank sweeps (empty: every plate, one process): those it owns and every plate
+// whose rows meet theirs and that could share a point or reach a star with one (cones_meet,
+// star_reach), so that its plates' pairs and stars see every plate they would see in one process.
+std::vector<char> swept_plates(const std::vector<Plate>& plates, const PlatePixels& pixels, const PlateShare& share) {
+  if (share.size() == 1) return {};
+  std::vector<char> swept(plates.size(), 0);
+  for (std::size_t k = 0; k < plates.size(); ++k) {
+    if (!share.owns(k)) continue;
+    swept[k] = 1;
+    for (std::size_t q = 0; q < plates.size(); ++q) {
+      if (swept[q] || !rows_meet(pixels, k, q)) continue;
+      const Plate &fk = pixels.finder(k), &fq = pixels.finder(q);
+      const double apart = sphere::angle(fk.centre, fq.centre);
+      if (cones_meet(plates[k], plates[q]) || apart <= star_reach(fk, fq) || apart <= star_reach(fq, fk)) swept[q] = 1;
+    }
+  }
+  return swept;
+}
+
 }  // namespace
 
-PlateIntake take_in_plates(std::vector<Plate>& plates, PlatePixels& pixels, const IntakeOptions& options) {
+PlateIntake take_in_plates(std::vector<Plate>& plates, PlatePixels& pixels, const IntakeOptions& options,
+                           const PlateShare& share) {
   const std::size_t n = plates.size();
   PlateIntake out;
   std::vector<std::vector<PlateSource>> sources(n);
   std::vector<std::vector<SourceDetection>> detections(n);
   std::map<std::pair<int, int>, OverlapSum> sums;
-  OverlapStore store(options.fit_backgrounds ? sample_bound(plates, pixels) : 0, options.temp_dir,
-                     options.memory_limit);
-  pixels.sweep([&](std::size_t k, const std::vector<std::size_t>& others) {
-    sources[k] = plate_sources(pixels.finder(k));
-    if (options.star_seams) detect_stars(pixels, k, others, sources[k], detections);
-    if (!options.fit_backgrounds) return level_plate(plates, k, others, sources, sums);
-    each_pair(plates, k, others, [&](std::size_t a, std::size_t b) {
-      store.add(static_cast<int>(a), static_cast<int>(b), overlap_samples(plates[a], plates[b]));
-    });
+  const bool gathers = options.fit_backgrounds && share.rank() == 0;  // rank 0 fits every pair's samples
+  OverlapStore store(gathers ? sample_bound(plates, pixels) : 0, options.temp_dir, options.memory_limit);
+  SampleBlocks outgoing;  // the other ranks' samples, for rank 0
+  const std::vector<char> swept = swept_plates(plates, pixels, share);
+  share.run([&] {
+    pixels.sweep([&](std::size_t k, const std::vector<std::size_t>& others) {
+      if (share.owns(k)) sources[k] = plate_sources(pixels.finder(k));  // no sources: no stars of k here
+      if (options.star_seams) detect_stars(pixels, k, others, sources[k], detections);
+      if (!options.fit_backgrounds) return level_plate(plates, k, others, sources, sums, share);
+      each_pair(plates, k, others, [&](std::size_t a, std::size_t b) {
+        if (!share.owns(a)) return;
+        const auto samples = overlap_samples(plates[a], plates[b]);
+        if (gathers) store.add(static_cast<int>(a), static_cast<int>(b), samples);
+        else if (!samples.empty()) outgoing.add(static_cast<int>(a), static_cast<int>(b), samples);
+      });
+    }, swept);
   });
   if (options.star_seams) {
+    share_detections(share, detections);
     std::vector<int> sizes;
     std::vector<double> scales;
     for (std::size_t k = 0; k < n; ++k) {
@@ -124,13 +165,23 @@ PlateIntake take_in_plates(std::vector<Plate>& plates, PlatePixels& pixels, cons
     out.stars.emplace(detections, sizes, scales);
   }
   if (options.fit_backgrounds) {
-    std::vector<std::array<double, 4>> energy;
-    for (const Plate& p : plates) energy.push_back(background_energy(p));
-    out.overlap_samples = store.size();
-    out.backgrounds = fit_backgrounds(energy, [&](const auto& visit) { store.visit(plates, visit); }, options.damping);
+    gather_samples(share, outgoing, [&](int a, int b, const auto& samples) { store.add(a, b, samples); });
+    share.run([&] {
+      if (!gathers) return;
+      std::vector<std::array<double, 4>> energy;
+      for (const Plate& p : plates) energy.push_back(background_energy(p));
+      out.overlap_samples = store.size();
+      out.backgrounds = fit_backgrounds(energy, [&](const auto& visit) { store.visit(plates, visit); }, options.damping);
+    });
+    share_backgrounds(share, out.backgrounds, out.overlap_samples);
     pixels.set_backgrounds(out.backgrounds);
-    pixels.sweep([&](std::size_t k, const std::vector<std::size_t>& others) { level_plate(plates, k, others, sources, sums); });
+    share.run([&] {
+      pixels.sweep([&](std::size_t k, const std::vector<std::size_t>& others) {
+        level_plate(plates, k, others, sources, sums, share);
+      }, swept);
+    });
   }
+  share_levels(share, plates, sums);
   std::vector<OverlapSum> pairs;
   for (const auto& [ab, o] : sums) pairs.push_back(o);
   set_fade_levels(plates, offsets_from_overlaps(n, pairs));

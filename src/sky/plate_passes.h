@@ -8,6 +8,7 @@
 
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
+#include "sky/plate_exchange.h"
 #include "sky/plate_sweep.h"
 #include "sky/seam_sources.h"
 
@@ -38,7 +39,11 @@ struct PlateIntake {
 //  3. a sweep over the corrected plates: their means, edge corrections (plate_extension.h) and
 //     the overlap sums of the levels (plate_offsets.h), then every plate's fade level.
 // Without a background fit, passes 1 and 3 are one sweep. Pairs and detections are visited in
-// plate order, so the results are those of the plates held whole.
-PlateIntake take_in_plates(std::vector<Plate>& plates, PlatePixels& pixels, const IntakeOptions& options);
+// plate order, so the results are those of the plates held whole. Shared by ranks (`share`), each
+// sweeps only the plates it owns and their neighbours, runs the owned plates' and pairs' parts,
+// and the exchanges (plate_exchange.h: rank 0 fits every pair's samples) leave every rank with
+// the one process's results, bit for bit.
+PlateIntake take_in_plates(std::vector<Plate>& plates, PlatePixels& pixels, const IntakeOptions& options,
+                           const PlateShare& share = {});
 
 }  // namespace gdp::sky

@@ -2,7 +2,6 @@
 #include "sky/plate_sweep.h"
 
 #include <algorithm>
-#include <numeric>
 
 namespace gdp::sky {
 
@@ -10,9 +9,11 @@ PlatePixels::PlatePixels(std::vector<Plate>& plates, std::vector<Plate>& finders
     : plates_(plates), finders_(finders), holding_(plates.size(), 0), lag_(lag) {
   for (std::size_t k = 0; k < plates.size(); ++k) {
     rows_.push_back(plate_rows(plates[k], window, kExtension));
+    columns_.push_back(plate_columns(plates[k], window, kExtension));
     if (!finders.empty()) {
-      const auto f = plate_rows(finders[k], window, kExtension);
+      const auto f = plate_rows(finders[k], window, kExtension), c = plate_columns(finders[k], window, kExtension);
       rows_[k] = {std::min(rows_[k][0], f[0]), std::max(rows_[k][1], f[1])};
+      columns_[k] = {std::min(columns_[k][0], c[0]), std::max(columns_[k][1], c[1])};
     }
   }
 }
@@ -22,6 +23,7 @@ void PlatePixels::hold(std::size_t k) {
   read_pixels(plates_[k]);
   if (!backgrounds_.empty()) subtract_smooth_background(plates_[k], backgrounds_[k]);
   if (!finders_.empty()) read_pixels(finders_[k]);
+  pixels_read_ += (finders_.empty() ? 1LL : 2LL) * plates_[k].width * plates_[k].height;
   holding_[k] = 1;
   most_held_ = std::max(most_held_, ++held_);
 }
@@ -46,9 +48,10 @@ std::size_t PlatePixels::most_crossing() const {
   return static_cast<std::size_t>(most);
 }
 
-void PlatePixels::sweep(const std::function<void(std::size_t k, const std::vector<std::size_t>& others)>& visit) {
-  std::vector<std::size_t> order(plates_.size()), held;
-  std::iota(order.begin(), order.end(), std::size_t{0});
+void PlatePixels::sweep(const Visit& visit, const std::vector<char>& only) {
+  std::vector<std::size_t> order, held;
+  for (std::size_t k = 0; k < plates_.size(); ++k)
+    if (only.empty() || only[k]) order.push_back(k);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rows_[a][0] < rows_[b][0]; });
   for (const std::size_t k : order) {
     std::erase_if(held, [&](std::size_t q) {

@@ -26,6 +26,8 @@ class PlatePixels {
   std::size_t size() const { return plates_.size(); }
   // The first and last window row plate k (or its finder) reaches, with its extension (plate_rows).
   const std::array<int, 2>& rows(std::size_t k) const { return rows_[k]; }
+  // The same for the window's columns (plate_columns; every column on the whole sphere).
+  const std::array<int, 2>& columns(std::size_t k) const { return columns_[k]; }
   // The plate whose stars place the seams: finders[k], or plate k itself.
   const Plate& finder(std::size_t k) const { return finders_.empty() ? plates_[k] : finders_[k]; }
   // Taken off every plate read from now on (subtract_smooth_background); empty: none.
@@ -38,21 +40,27 @@ class PlatePixels {
   // after their last included, meet one PQ row: the first never exceeds the second.
   std::size_t most_held() const { return most_held_; }
   std::size_t most_crossing() const;
+  // Plate pixels read from the files so far (finders' included; a plate read again counted again).
+  long long pixels_read() const { return pixels_read_; }
 
   // Visits every plate in order of its first row (ties: plate order) with its pixels held and
   // `others`: the plates visited before whose rows reach that row, held too; plates whose rows
   // end above it are released first, and all at the end. Every pair of plates that share a point
   // of the sky is held together when the later one is visited (both reach that point's row).
-  void sweep(const std::function<void(std::size_t k, const std::vector<std::size_t>& others)>& visit);
+  // `only`: empty, or one flag per plate: only the flagged plates are visited and held (a rank's
+  // plates under mpirun, plate_passes.h).
+  using Visit = std::function<void(std::size_t k, const std::vector<std::size_t>& others)>;
+  void sweep(const Visit& visit, const std::vector<char>& only = {});
 
  private:
   std::vector<Plate>& plates_;
   std::vector<Plate>& finders_;
-  std::vector<std::array<int, 2>> rows_;
+  std::vector<std::array<int, 2>> rows_, columns_;
   std::vector<PlateBackground> backgrounds_;
   std::vector<char> holding_;
   int lag_ = 0;
   std::size_t held_ = 0, most_held_ = 0;
+  long long pixels_read_ = 0;
 };
 
 }  // namespace gdp::sky

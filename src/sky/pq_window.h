@@ -33,5 +33,11 @@ std::optional<PqWindow> plate_window(const std::vector<Plate>& plates, int heigh
 // grid of points over the extended plate, widened by one and a half grid cells (TOAST pixels vary
 // 1.45x in size) and 4 rows, clipped to the window; every row when a point has no sky position.
 std::array<int, 2> plate_rows(const Plate& plate, const PqWindow& window, double extension);
+// The same for the window's columns (first, last); every column on the whole sphere (its rows wrap).
+std::array<int, 2> plate_columns(const Plate& plate, const PqWindow& window, double extension);
+
+// Which of `ranks` equal shares of the window's columns holds each plate's centre: the rank that
+// runs that plate's part of the passes before the solve under mpirun (plate_passes.h).
+std::vector<int> plate_owners(const std::vector<Plate>& plates, const PqWindow& window, int ranks);
 
 }  // namespace gdp::sky

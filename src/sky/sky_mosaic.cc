@@ -9,6 +9,7 @@
 
 #include "blend/seam_share.h"
 #include "blend/seams.h"
+#include "bands/mpi_transport.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
@@ -20,6 +21,7 @@
 #include "sky/mosaic_rows.h"
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
+#include "sky/plate_exchange.h"
 #include "sky/plate_passes.h"
 #include "sky/plate_sweep.h"
 #include "sky/pq_graphcut.h"
@@ -142,15 +144,15 @@ std::size_t scratch_limit(const SolverOptions& solver) { return std::min(sky::kS
 // backgrounds off (with a note), the levels and edges of their extensions; the plates' pixels
 // read a few at a time (plate_passes.h).
 std::optional<sky::SeamSources> take_in_plates(std::vector<sky::Plate>& plates, sky::PlatePixels& pixels,
-                                               const std::vector<std::string>& paths, const SkyOptions& options,
-                                               const SolverOptions& solver, SkySummary& s) {
+                                               const sky::PlateShare& share, const std::vector<std::string>& paths,
+                                               const SkyOptions& options, const SolverOptions& solver, SkySummary& s) {
   sky::IntakeOptions o;
   o.star_seams = options.star_seams;
   o.fit_backgrounds = options.fit_backgrounds && options.blend;
   o.damping = options.background_damping;
   o.temp_dir = solver.temp_dir;
   o.memory_limit = scratch_limit(solver);
-  sky::PlateIntake in = sky::take_in_plates(plates, pixels, o);
+  sky::PlateIntake in = sky::take_in_plates(plates, pixels, o, share);
   if (in.stars && options.note) options.note(fmt::format("{} star(s) in the overlaps kept whole by the seams", in.stars->size()));
   for (std::size_t k = 0; k < in.backgrounds.size(); ++k) {
     const sky::PlateBackground& b = in.backgrounds[k];
@@ -328,14 +330,27 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   // checked before anything is fitted or noted.
   std::vector<sky::Plate> finders = seam_plates(plates, paths, options);
   sky::PlatePixels pixels(plates, finders, win, sky::kReleaseLag);
+  // Under mpirun each rank runs the passes for the plates whose centres lie in its share of the
+  // columns, reading only those and their neighbours (plate_exchange.h).
+  std::unique_ptr<bands::MpiHub> hub;
+  sky::PlateShare share;
+  if (MpiRun::size() > 1) {
+    hub = std::make_unique<bands::MpiHub>(1);
+    share.net = &hub->endpoint(hub->first());
+    share.owners = sky::plate_owners(plates, win, MpiRun::size());
+    share.agree = MpiRun::agree;
+  }
   SkySummary s;
-  const std::optional<sky::SeamSources> stars = take_in_plates(plates, pixels, paths, options, solver, s);
+  const std::optional<sky::SeamSources> stars = take_in_plates(plates, pixels, share, paths, options, solver, s);
   s.pq_height = H;
   s.pq_window = {win.i0, win.j0, win.width, win.rows};
   sky::PqStore pq(win, solver.temp_dir, scratch_limit(solver));
   solve_pq(plates, pixels, pq, options, solver, stars, paths, s);
   s.plates_held = pixels.most_held();
   s.plates_crossing = pixels.most_crossing();
+  s.plate_pixels_read = sky::counts_by_rank(share, pixels.pixels_read());
+  for (std::size_t k = 0; k < plates.size(); ++k)
+    s.plate_pixels_in_files += (finders.empty() ? 1LL : 2LL) * plates[k].width * plates[k].height;
   if (MpiRun::rank() != 0) return;  // rank 0 gathered the solve and writes the outputs
   if (!options.toast.empty()) sky::write_sky_toast(pq, options.toast);
   if (!options.hips.empty()) {

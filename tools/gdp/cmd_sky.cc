@@ -1,5 +1,6 @@
 // `gdp sky`: FITS plates with WCS blended on the sphere, written for a target header (docs/sky.md).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli_common.h"
 #include "commands.h"
@@ -119,6 +120,8 @@ class Sky final : public Command {
       stats.set("seam_cost_depth", fmt::format("{:.9g}", summary.seam_cost_depth));
       stats.set("seam_cost", fmt::format("{:.9g}", summary.seam_cost));
     }
+    stats.set("plate_pixels_read", fmt::format("[{}]", fmt::join(summary.plate_pixels_read, ", ")));
+    stats.set("plate_pixels_in_files", std::to_string(summary.plate_pixels_in_files));
     report_backgrounds(plates_, summary.backgrounds, summary.background_rms, stats);
     if (!output_.empty())
       note(common_, fmt::format("sky: {} plate(s) on a PQ sphere of height {}; {} of {} target pixels covered -> {}",
