@@ -7,8 +7,8 @@
 // of the whole machine (from /proc/stat: includes the kernel's writeback and reclaim threads,
 // which run on the same two cores, and other processes: compare it only on a quiet machine).
 //   buffered    plain write()/read() through the page cache (what RowStore did first)
-//   dropbehind  the same, but written ranges are pushed to the disk (sync_file_range) and dropped
-//               from the cache (posix_fadvise DONTNEED) a few MB behind, and read ranges too
+//   dropbehind  the same, with RowStore's schedule::DropBehind (32 MB window): written ranges
+//               pushed to the disk and dropped from the cache behind the writer, read ones too
 //   direct      O_DIRECT: no page cache, 1 MB aligned blocks (the last one padded)
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -23,10 +23,12 @@
 #include <string>
 #include <vector>
 
+#include "schedule/drop_behind.h"
+
 namespace {
 
 constexpr std::size_t kBlock = std::size_t{1} << 20;
-constexpr std::size_t kWindow = std::size_t{32} << 20;  // dropbehind's write-behind distance
+constexpr std::size_t kWindow = std::size_t{32} << 20;  // as schedule::StorePolicy's
 
 struct Sample {
   double wall, user, sys, machine_sys;
@@ -79,32 +81,24 @@ unsigned long run(const std::string& dir, std::size_t blocks, const std::string&
   must(posix_memalign(&raw, 4096, kBlock) == 0, "posix_memalign");
   auto* buffer = static_cast<unsigned char*>(raw);
   const double gb = static_cast<double>(blocks * kBlock) / 1e9;
+  gdp::schedule::DropBehind behind(drop ? kWindow : 0);
   Sample a = now();
   for (std::size_t i = 0; i < blocks; ++i) {
     std::memset(buffer, static_cast<int>(i & 0xff), kBlock);
     must(write(fd, buffer, kBlock) == static_cast<ssize_t>(kBlock), "write");
-    const std::size_t end = (i + 1) * kBlock;
-    if (drop && end % kWindow == 0) {
-      sync_file_range(fd, static_cast<off_t>(end - kWindow), kWindow, SYNC_FILE_RANGE_WRITE);
-      if (end >= 2 * kWindow) {
-        const off_t behind = static_cast<off_t>(end - 2 * kWindow);
-        sync_file_range(fd, behind, kWindow,
-                        SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
-        posix_fadvise(fd, behind, kWindow, POSIX_FADV_DONTNEED);
-      }
-    }
+    must(behind.wrote(fd, (i + 1) * kBlock), "sync_file_range");
   }
   Sample b = now();
   report(method.c_str(), "write", a, b, gb);
   must(lseek(fd, 0, SEEK_SET) == 0, "lseek");
   if (drop) posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
+  behind.restart(0);
   unsigned long sum = 0;
   a = now();
   for (std::size_t i = 0; i < blocks; ++i) {
     must(read(fd, buffer, kBlock) == static_cast<ssize_t>(kBlock), "read");
     sum += buffer[i % kBlock];
-    if (drop && (i + 1) * kBlock % kWindow == 0)
-      posix_fadvise(fd, static_cast<off_t>((i + 1) * kBlock - kWindow), kWindow, POSIX_FADV_DONTNEED);
+    behind.read(fd, (i + 1) * kBlock);
   }
   b = now();
   report(method.c_str(), "read", a, b, gb);
