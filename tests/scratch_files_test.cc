@@ -1,5 +1,6 @@
 // Scratch files keep only a window of their stream in the page cache (RowStore's drop-behind).
 #include <dirent.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/magic.h>
 #include <sys/mman.h>
