@@ -45,6 +45,8 @@ void OutputFile::put(const char* data, std::size_t size, std::int64_t offset) {
     size -= static_cast<std::size_t>(n);
     offset += n;
   }
+  put_end_ = std::max(put_end_, static_cast<std::size_t>(offset));
+  if (!failed() && !drop_behind_.wrote(fd_, put_end_)) record(errno);
 }
 
 void OutputFile::drain() {

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "schedule/drop_behind.h"
+
 namespace gdp::io {
 
 // Some codecs ignore failed writes (OpenImageIO 2.4's PNG and BMP writers leave a truncated file
@@ -40,6 +42,10 @@ class OutputFile {
   std::vector<char> buffer_;  // bytes for [buffer_at_, buffer_at_ + buffer_.size())
   std::int64_t buffer_at_ = 0;
   std::int64_t end_ = 0;
+  std::size_t put_end_ = 0;  // the furthest byte put() has written
+  // What was written goes to the disk and out of the page cache 32 MB behind (a gigapixel output
+  // would otherwise take GBs of fresh cache pages: schedule/drop_behind.h).
+  schedule::DropBehind drop_behind_{std::size_t{32} << 20};
   std::string problem_;
   std::atomic<bool> failed_{false};
 };

@@ -34,7 +34,10 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
 
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
-    : name_(policy.name_prefix + name), row_length_(row_length), encoding_(policy.encoding_of(name)) {
+    : name_(policy.name_prefix + name),
+      row_length_(row_length),
+      encoding_(policy.encoding_of(name)),
+      drop_behind_(policy.drop_behind) {
   const std::size_t total = encoded_bytes() * rows;
   disk_budget_ = policy.budget ? policy.budget : &ScratchBudget::process();
   if (!policy.keep_dir.empty()) {
@@ -69,6 +72,7 @@ void RowStore<T>::open_file(const StorePolicy& policy) {
     dir_ = policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
     fd_ = open_unlinked(dir_, name_);
   }
+  ::posix_fadvise(fd_, 0, 0, POSIX_FADV_SEQUENTIAL);  // read back front to back: a larger readahead
   file_buffer_.resize(std::max(kFileBuffer, encoded_bytes()));
   buffer_ = file_buffer_.data();
   capacity_ = file_buffer_.size();
@@ -128,6 +132,8 @@ void RowStore<T>::flush() {
   }
   buffered_ = 0;
   count_disk(written_);
+  if (!drop_behind_.wrote(fd_, written_))
+    throw OutputError(fmt::format("{}: cannot write: {}", where(), system_message()));
 }
 
 template <class T>
@@ -137,6 +143,7 @@ void RowStore<T>::rewind() {
     if (::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(fmt::format("{}: {}", where(), system_message()));
     buffered_ = 0;
     file_read_ = 0;
+    drop_behind_.restart(0);
   }
   cursor_ = 0;
   reading_ = true;
@@ -158,6 +165,7 @@ void RowStore<T>::fill() {
     buffered_ += static_cast<std::size_t>(k);
     file_read_ += static_cast<std::size_t>(k);
   }
+  drop_behind_.read(fd_, file_read_);
 }
 
 template <class T>
@@ -179,6 +187,7 @@ template <class T>
 void RowStore<T>::clear() {
   if (fd_ >= 0) ::lseek(fd_, 0, SEEK_SET);  // later reads never pass written_
   buffered_ = cursor_ = written_ = file_read_ = 0;
+  drop_behind_.restart(0);
   reading_ = false;
 }
 
@@ -201,6 +210,7 @@ void RowStore<T>::restore(std::size_t bytes) {
     throw OutputError(fmt::format("{}: {}", where(), system_message()));
   buffered_ = cursor_ = file_read_ = 0;
   written_ = bytes;
+  drop_behind_.restart(bytes);
   count_disk(bytes);
   reading_ = false;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "multigrid/half_policy.h"
+#include "schedule/drop_behind.h"
 #include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
@@ -37,6 +38,10 @@ struct StorePolicy {
   // kept after the process ends, whatever its size (docs/resume.md).
   std::filesystem::path keep_dir;
   std::string name_prefix;  // put before every store's name (a lane's, "lane0-")
+  // A file's bytes are pushed to the disk and dropped from the page cache this far behind the
+  // write position (and the read position): a stream larger than memory neither churns the cache
+  // nor takes fresh pages for it (drop_behind.h). 0: the page cache keeps what it likes.
+  std::size_t drop_behind = std::size_t{32} << 20;
 };
 
 // A sequential stream of equal-length rows of T: append them, rewind(), read them back in the
@@ -89,6 +94,7 @@ class RowStore {
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream
   std::size_t file_read_ = 0;              // bytes of the file consumed by fill()
+  DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
   bool reading_ = false;
 };
 
