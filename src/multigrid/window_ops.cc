@@ -31,6 +31,18 @@ GDP_INLINE Run mirror_run(fem::Mirror m, int n, int x, int hi) {
   return {std::min(hi, (k + 1) * n), h - 1 + k * n + n};
 }
 
+// Runs of columns [begin, end), one per periodic copy of a table n wide (column i: table column i - base),
+// each cut where the table's interior [lo, hi) begins and ends: f(i, ib, ie, run), [ib, ie) interior.
+template <class F>
+GDP_INLINE void runs(int n, bool periodic, int begin, int end, int lo, int hi, F&& f) {
+  for (int i = begin; i < end;) {
+    const Run r = copy_run(n, periodic, i, end);
+    const int ib = std::clamp(lo + r.base, i, r.end);
+    f(i, ib, std::clamp(hi + r.base, ib, r.end), r);
+    i = r.end;
+  }
+}
+
 template <class T>
 GDP_INLINE T* grow(std::vector<T>& v, int n) {
   if (static_cast<int>(v.size()) < n) v.resize(n);
@@ -94,50 +106,54 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   }
 }
 
-// q[x] = sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column g + x.
-template <class T>
-GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, int count, int g) {
+// What convolve writes per column: A u, the residual b - A u, or relax's t = (b - A u) / K_0.
+enum class Out { Au, Residual, Correction };
+
+// Column x of q, a, c: sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column
+// g + x (for Out::Correction its 1 / K_0 from inv[g + x]); b[i + x] is the column's b.
+template <Out O, class T>
+GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, const T* b, const T* inv, int i,
+                        int count, int g) {
   const T *s0 = op.sx[0].data() + g, *s1 = op.sx[1].data() + g, *s2 = op.sx[2].data() + g,
           *s3 = op.sx[3].data() + g, *s4 = op.sx[4].data() + g;
   const T *m0 = op.mx[0].data() + g, *m1 = op.mx[1].data() + g, *m2 = op.mx[2].data() + g,
           *m3 = op.mx[3].data() + g, *m4 = op.mx[4].data() + g;
-  // The 20 input streams never alias q; without this GCC gives up on vectorising.
+  // The input streams never alias q; without this GCC gives up on vectorising.
 #pragma GCC ivdep
-  for (int i = 0; i < count; ++i)
-    q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
-           m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+  for (int x = 0; x < count; ++x) {
+    const T v = s0[x] * a[x - 2] + s1[x] * a[x - 1] + s2[x] * a[x] + s3[x] * a[x + 1] + s4[x] * a[x + 2] +
+                m0[x] * c[x - 2] + m1[x] * c[x - 1] + m2[x] * c[x] + m3[x] * c[x + 1] + m4[x] * c[x + 2];
+    if constexpr (O == Out::Au) q[x] = v;
+    else if constexpr (O == Out::Residual) q[x] = b[i + x] - v;
+    else q[x] = (b[i + x] - v) * inv[g + x];
+  }
 }
 
-// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
-// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. With
-// `b` (b[i]: column i), the interior's q is relax's t = (b - A u) inv, inv the interior's 1 / K_0.
-template <class T>
+// q[x] for column begin + x from the combined rows: per-column coefficients by the level's ends, the
+// interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. b[i] is column
+// i's b, inv the table of 1 / K_0 (relax's, cached per level and row coupling).
+template <Out O, class T>
 GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
-                         const T* b = nullptr, T inv = T(0)) {
+                         const T* b = nullptr, const T* inv = nullptr) {
   const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
   const T* c = s.c.data() + 2 - cols.begin;
   q -= cols.begin;
   const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
   const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
-  for (int i = cols.begin; i < cols.end;) {
-    const Run r = copy_run(op.width, cols.periodic, i, cols.end);
-    const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
-    const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
-    general(op, q + i, a + i, c + i, ib - i, i - r.base);
-    const auto at = [&](int x) __attribute__((always_inline)) {
-      return sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
-             m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
-    };
-    if (b) {
+  runs(op.width, cols.periodic, cols.begin, cols.end, op.interior_begin, op.interior_end,
+       [&](int i, int ib, int ie, Run r) __attribute__((always_inline)) {
+         general<O>(op, q + i, a + i, c + i, b, inv, i, ib - i, i - r.base);
+         const T in = O == Out::Correction && ib < ie ? inv[op.interior_begin] : T(1);
 #pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = (b[x] - at(x)) * inv;
-    } else {
-#pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = at(x);
-    }
-    general(op, q + ie, a + ie, c + ie, r.end - ie, ie - r.base);
-    i = r.end;
-  }
+         for (int x = ib; x < ie; ++x) {
+           const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+                       m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+           if constexpr (O == Out::Au) q[x] = v;
+           else if constexpr (O == Out::Residual) q[x] = b[x] - v;
+           else q[x] = (b[x] - v) * in;
+         }
+         general<O>(op, q + ie, a + ie, c + ie, b, inv, ie, r.end - ie, ie - r.base);
+       });
 }
 
 // The recurrence's terms of table columns [g0, g0 + count) into K[0..) (diag likewise), one direction.
@@ -328,7 +344,7 @@ GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   if (cols.end <= cols.begin) return;
   const int o = cols.begin - w.origin[2];
   combine(op, j, w, cols, s);
-  convolve(op, cols, s, out + o);
+  convolve<Out::Au>(op, cols, s, out + o);
   if (diag)
     for (int x = o; x < o + cols.end - cols.begin; ++x) out[x] += diag[x] * w.rows[2][x];
 }
@@ -339,25 +355,12 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
   combine(op, j, w, cols, s);
-  if (!diag) {  // r = b - A u straight from the filter loop on the interior (b - q times 1: the same bits)
-    T* out = r + o - cols.begin;
-    const T* bc = b + o - cols.begin;
-    convolve(op, cols, s, r + o, bc, T(1));
-    for (int i = cols.begin; i < cols.end;) {  // the columns by the level's ends
-      const Run run = copy_run(op.width, cols.periodic, i, cols.end);
-      const int ib = std::clamp(op.interior_begin + run.base, i, run.end);
-      for (const auto& [lo, hi] : {std::pair{i, ib}, std::pair{std::clamp(op.interior_end + run.base, ib, run.end), run.end}})
-        for (int x = lo; x < hi; ++x) out[x] = bc[x] - out[x];
-      i = run.end;
-    }
-    return;
-  }
+  if (!diag) return convolve<Out::Residual>(op, cols, s, r + o, b + o - cols.begin);
   T* q = grow(s.q, len);  // q = A u on the columns
-  convolve(op, cols, s, q);
+  convolve<Out::Au>(op, cols, s, q);
   // Pinned pixels hold u = value (to ~1e-6); b - A u - D u there is round-off that would swamp the norms: 0.
   const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
-  for (int x = 0, i = o; x < len; ++x, ++i)
-    r[i] = diag && diag[i] >= pinned ? T(0) : b[i] - q[x] - (diag ? diag[i] * u[i] : T(0));
+  for (int x = 0, i = o; x < len; ++x, ++i) r[i] = diag[i] >= pinned ? T(0) : b[i] - q[x] - diag[i] * u[i];
 }
 
 // Gauss-Seidel as a recurrence on the corrections: with q = A u before the sweep, dx_i = (b_i - q_i
@@ -370,11 +373,10 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   if (len <= 0) return;
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
-  // q = A u on the columns, already t on the interior without a diagonal term
-  const bool folded = !diag && op.interior_begin < op.interior_end;
-  T* q = grow(s.q, len);
+  T* q = grow(s.q, len);  // t = (b - A u) / K_0 on the columns; with a diagonal term A u, t formed per run below
   combine(op, j, w, cols, s);
-  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, folded ? K->inv[op.interior_begin] : T(0));
+  if (diag) convolve<Out::Au>(op, cols, s, q);
+  else convolve<Out::Correction>(op, cols, s, q, b + o - cols.begin, K->inv.data());
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
@@ -389,11 +391,8 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     const int at = diag ? 0 : g0;  // K's column for x0
     inv = K->inv.data() + at;
     T* t = q + x0;
-    // The interior's t came with q: [f0, f1) (relative to x0).
-    const int f0 = folded ? std::clamp(op.interior_begin - g0, 0, count) : count;
-    const int f1 = folded ? std::clamp(op.interior_end - g0, f0, count) : count;
-    for (const auto& [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
-      for (int x = lo, i = o + x0 + lo; x < hi; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
+    if (diag)
+      for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - diag[i] * u[i]) * inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
       recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
