@@ -54,7 +54,7 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
 template <class T>
 GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
   const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
-  const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
+  const bool clip = cols.left == Edge::Wrap || !cols.periodic;
   const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
   const int count = std::max(to - from, 0);
   T *a = grow(s.a, len), *c = grow(s.c, len);
@@ -99,7 +99,7 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   }
   std::fill(a, A, T(0)), std::fill(c, C, T(0));
   std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
-  if (!wrap) return;
+  if (cols.left != Edge::Wrap) return;
   for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
     a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
     a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
@@ -173,15 +173,10 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
   T *B = grow(forward ? K.fb : K.bb, count), *C = grow(forward ? K.fc : K.bc, count);
   const int s = forward ? 1 : -1;
   for (int b = (4 - g0 % 4) % 4; b + 4 <= count; b += 4) {
-    const int e = forward ? b : b + 3;
-    B[e] = -k1[e];
-    C[e] = -k2[e];
-    B[e + s] = -k1[e + s] * B[e] - k2[e + s];
-    C[e + s] = -k1[e + s] * C[e];
-    for (int r = 2; r < 4; ++r) {
-      const int x = e + s * r;
-      B[x] = -k1[x] * B[x - s] - k2[x] * B[x - 2 * s];
-      C[x] = -k1[x] * C[x - s] - k2[x] * C[x - 2 * s];
+    T b1 = T(1), b2 = T(0), c1 = T(0), c2 = T(1);  // B, C one and two samples back (dx[b - 1], dx[b - 2] alone)
+    for (int x = forward ? b : b + 3, r = 0; r < 4; ++r, x += s) {
+      B[x] = -k1[x] * b1 - k2[x] * b2, C[x] = -k1[x] * c1 - k2[x] * c2;
+      b2 = b1, b1 = B[x], c2 = c1, c1 = C[x];
     }
   }
 }
@@ -190,8 +185,10 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
 // count, carrying d1 = dx[x - S], d2 = dx[x - 2S]; blocks of four from step `lead` on (the only
 // chain carried from block to block is two multiply-adds). Add: out[x] += dx[x] (u), else out[x] = dx[x].
 template <int S, bool Add, class T>
-GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* out,
+GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const T* t, int count, int lead, T* out,
                       T& d1, T& d2) {
+  const T *kn = K.k[S > 0 ? 1 : 3].data() + at, *kf = K.k[S > 0 ? 0 : 4].data() + at;
+  const T *B = (S > 0 ? K.fb : K.bb).data() + at, *C = (S > 0 ? K.fc : K.bc).data() + at;
   const auto put = [out](int x, T v) __attribute__((always_inline)) {
     if constexpr (Add) out[x] += v;
     else out[x] = v;
@@ -200,8 +197,7 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     const int x = S * n;
     if (n < lead || n + 4 > count) {  // one sample
       const T v = t[x] - kf[x] * d2;
-      d2 = d1;
-      d1 = v - kn[x] * d1;
+      d2 = d1, d1 = v - kn[x] * d1;
       put(x, d1);
       ++n;
       continue;
@@ -216,9 +212,7 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
     put(x + 2 * S, n2);
     put(x + 3 * S, n1);
-    d2 = n2;
-    d1 = n1;
-    n += 4;
+    d2 = n2, d1 = n1, n += 4;
   }
 }
 
@@ -273,13 +267,8 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
   }
   const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
     if (hi <= lo) return;
-    const int a = at + lo, top = hi - 1 - lo;
-    if (fwd)
-      recur<1, Add>(t + lo, K.k[1].data() + a, K.k[0].data() + a, K.fb.data() + a, K.fc.data() + a, hi - lo,
-                    (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
-    else
-      recur<-1, Add>(t + lo + top, K.k[3].data() + a + top, K.k[4].data() + a + top, K.bb.data() + a + top,
-                     K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
+    if (fwd) recur<1, Add>(K, at + lo, t + lo, hi - lo, (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
+    else recur<-1, Add>(K, at + hi - 1, t + hi - 1, hi - lo, (g0 + hi) % 4, out + hi - 1, d1, d2);
   };
   four(fwd ? 0 : v1, fwd ? v0 : count);
   if (v1 > v0 && fwd) recur_blocks<Add, true>(t, M.data(), v0, v1, out, d1, d2);
@@ -294,13 +283,10 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
   if (op.interior_end - op.interior_begin < kBlock) return;
   for (int dir = 0; dir < 2; ++dir) {
     const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
-    T h[8], B[8], C[8];  // sample r of a block: h from t, B and C from the two corrections before it
-    h[0] = T(1), h[1] = -kn;
-    B[0] = -kn, C[0] = -kf, B[1] = -kn * B[0] - kf, C[1] = -kn * C[0];
-    for (int r = 2; r < 8; ++r) {
-      h[r] = -kn * h[r - 1] - kf * h[r - 2];
-      B[r] = -kn * B[r - 1] - kf * B[r - 2], C[r] = -kn * C[r - 1] - kf * C[r - 2];
-    }
+    T h[9], C[8];  // sample r of a block: h[r] from its first t, h[r + 1] and C[r] from the corrections before it
+    h[0] = T(1), h[1] = -kn, C[0] = -kf, C[1] = -kn * C[0];
+    for (int r = 2; r < 9; ++r) h[r] = -kn * h[r - 1] - kf * h[r - 2];
+    for (int r = 2; r < 8; ++r) C[r] = -kn * C[r - 1] - kf * C[r - 2];
     std::vector<T>& M = K.block[dir];
     M.assign(80, T(0));
     for (int k = 0; k < 8; ++k)  // lane p of column k: sample p takes h[steps from sample k to it]
@@ -308,7 +294,7 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
         const int r = dir ? k - p : p - k;
         M[8 * k + p] = r >= 0 ? h[r] : T(0);
       }
-    for (int p = 0; p < 8; ++p) M[64 + p] = B[dir ? 7 - p : p], M[72 + p] = C[dir ? 7 - p : p];
+    for (int p = 0; p < 8; ++p) M[64 + p] = h[dir ? 8 - p : p + 1], M[72 + p] = C[dir ? 7 - p : p];
   }
 }
 
@@ -382,28 +368,26 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
   const int swept = wrap ? std::max(len - 2, 0) : len;
   T d1 = T(0), d2 = T(0);
-  const T* inv = nullptr;
   for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
     const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
     const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
     const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
     if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
     const int at = diag ? 0 : g0;  // K's column for x0
-    inv = K->inv.data() + at;
     T* t = q + x0;
     if (diag)
-      for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - diag[i] * u[i]) * inv[x];
+      for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - diag[i] * u[i]) * K->inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
       recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
       recur_run<true>(op, *K, at, g0, t, count, fwd, u + o + x0, d1, d2);
     done += count;
   }
-  for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)
+  for (int i = swept; i < len; ++i) {  // wrap: the last two samples (one run, K's columns from 0)
     T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
     for (int d = len - i; d <= 2; ++d) {
       const int col = fem::wrap_index(i + d, len);
-      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * inv[i] * dx[col];
+      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * K->inv[i] * dx[col];
     }
     dx[i] = v;
   }
@@ -421,30 +405,28 @@ GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   if (len <= 0) return;
   T* tmp = grow(s.line, len) - cols.begin;  // tmp[J]
   const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
-  for (int J = cols.begin; J < cols.end;) {
-    const Run r = copy_run(m, cols.periodic, J, cols.end);
-    const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
-    if (m == n) {
-      for (; J < r.end; ++J) tmp[J] = fine[J - fine_origin];
-      continue;
-    }
-    const auto edge = [&](int Jw) __attribute__((always_inline)) {
-      T v = T(0);
-      for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
-        const int at = unwrap ? i + n * floor_div(2 * Jw + n / 2 - i, n) : i;
-        for (int a = 0; a < 2; ++a)
-          if (px.rows[i].index[a] == Jw) v += static_cast<T>(px.rows[i].weight[a]) * fine[off + at];
-      }
-      return v;
-    };
-    const int j0 = std::clamp(1 + r.base, J, r.end), j1 = std::clamp(m - 1 + r.base, j0, r.end);
-    if (J < j0) tmp[J] = edge(J - r.base);
-    const T* f = fine + (off - 2 * r.base);  // f[2J + d]: fine column 2(J - base) + d of copy k
+  runs(m, cols.periodic, cols.begin, cols.end, m == n ? 0 : 1, m == n ? m : m - 1,
+       [&](int J, int j0, int j1, Run r) __attribute__((always_inline)) {
+         const int off = r.base / std::max(m, 1) * n - fine_origin;  // fine[off + i]: this copy's column i
+         const auto edge = [&](int Jw) __attribute__((always_inline)) {
+           T v = T(0);
+           for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
+             const int at = unwrap ? i + n * floor_div(2 * Jw + n / 2 - i, n) : i;
+             for (int a = 0; a < 2; ++a)
+               if (px.rows[i].index[a] == Jw) v += static_cast<T>(px.rows[i].weight[a]) * fine[off + at];
+           }
+           return v;
+         };
+         if (J < j0) tmp[J] = edge(J - r.base);
+         const T* f = fine + (off - 2 * r.base);  // f[2J + d]: fine column 2(J - base) + d of this copy
+         if (m == n)
+           for (int x = j0; x < j1; ++x) tmp[x] = fine[x - fine_origin];
+         else
 #pragma GCC ivdep
-    for (int x = j0; x < j1; ++x) tmp[x] = T(0.25) * (f[2 * x - 1] + f[2 * x + 2]) + T(0.75) * (f[2 * x] + f[2 * x + 1]);
-    if (j1 < r.end) tmp[j1] = edge(j1 - r.base);
-    J = r.end;
-  }
+           for (int x = j0; x < j1; ++x)
+             tmp[x] = T(0.25) * (f[2 * x - 1] + f[2 * x + 2]) + T(0.75) * (f[2 * x] + f[2 * x + 1]);
+         if (j1 < r.end) tmp[j1] = edge(j1 - r.base);
+       });
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   for (int J = cols.begin; J < cols.end; ++J) coarse0[J - origin[0]] += w0 * tmp[J];
   if (w1 == T(0)) return;
@@ -486,10 +468,8 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
     }
   }
   fine -= fine_origin;
-  for (int i = cols.begin; i < cols.end;) {
-    const Run r = copy_run(n, cols.periodic, i, cols.end);
+  const auto pairs = [&](int i, int ib, int ie, Run r) __attribute__((always_inline)) {
     const int base = r.base / n * m;  // coarse copy of this fine copy
-    int ib = std::clamp(m == n ? n : 3 + r.base, i, r.end), ie = std::clamp(n - 3 + r.base, ib, r.end);
     ib += (ib - r.base) % 2 && ib < ie, ie -= (ie - ib) % 2;  // pairs 2J, 2J + 1 between them
     const auto general = [&](int from, int to) __attribute__((always_inline)) {
       for (int x = from; x < to; ++x) {
@@ -510,8 +490,8 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
       fr[x + 1] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 + 1];
     }
     general(ie, r.end);
-    i = r.end;
-  }
+  };
+  runs(n, cols.periodic, cols.begin, cols.end, m == n ? n : 3, n - 3, pairs);
 }
 
 #define GDP_INSTANTIATE(T)                                                                                     \
