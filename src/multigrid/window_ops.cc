@@ -405,28 +405,30 @@ GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   if (len <= 0) return;
   T* tmp = grow(s.line, len) - cols.begin;  // tmp[J]
   const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
-  runs(m, cols.periodic, cols.begin, cols.end, m == n ? 0 : 1, m == n ? m : m - 1,
-       [&](int J, int j0, int j1, Run r) __attribute__((always_inline)) {
-         const int off = r.base / std::max(m, 1) * n - fine_origin;  // fine[off + i]: this copy's column i
-         const auto edge = [&](int Jw) __attribute__((always_inline)) {
-           T v = T(0);
-           for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
-             const int at = unwrap ? i + n * floor_div(2 * Jw + n / 2 - i, n) : i;
-             for (int a = 0; a < 2; ++a)
-               if (px.rows[i].index[a] == Jw) v += static_cast<T>(px.rows[i].weight[a]) * fine[off + at];
-           }
-           return v;
-         };
-         if (J < j0) tmp[J] = edge(J - r.base);
-         const T* f = fine + (off - 2 * r.base);  // f[2J + d]: fine column 2(J - base) + d of this copy
-         if (m == n)
-           for (int x = j0; x < j1; ++x) tmp[x] = fine[x - fine_origin];
-         else
+  for (int J = cols.begin; J < cols.end;) {
+    const Run r = copy_run(m, cols.periodic, J, cols.end);
+    const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
+    if (m == n) {
+      for (; J < r.end; ++J) tmp[J] = fine[J - fine_origin];
+      continue;
+    }
+    const auto edge = [&](int Jw) __attribute__((always_inline)) {
+      T v = T(0);
+      for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
+        const int at = unwrap ? i + n * floor_div(2 * Jw + n / 2 - i, n) : i;
+        for (int a = 0; a < 2; ++a)
+          if (px.rows[i].index[a] == Jw) v += static_cast<T>(px.rows[i].weight[a]) * fine[off + at];
+      }
+      return v;
+    };
+    const int j0 = std::clamp(1 + r.base, J, r.end), j1 = std::clamp(m - 1 + r.base, j0, r.end);
+    if (J < j0) tmp[J] = edge(J - r.base);
+    const T* f = fine + (off - 2 * r.base);  // f[2J + d]: fine column 2(J - base) + d of copy k
 #pragma GCC ivdep
-           for (int x = j0; x < j1; ++x)
-             tmp[x] = T(0.25) * (f[2 * x - 1] + f[2 * x + 2]) + T(0.75) * (f[2 * x] + f[2 * x + 1]);
-         if (j1 < r.end) tmp[j1] = edge(j1 - r.base);
-       });
+    for (int x = j0; x < j1; ++x) tmp[x] = T(0.25) * (f[2 * x - 1] + f[2 * x + 2]) + T(0.75) * (f[2 * x] + f[2 * x + 1]);
+    if (j1 < r.end) tmp[j1] = edge(j1 - r.base);
+    J = r.end;
+  }
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   for (int J = cols.begin; J < cols.end; ++J) coarse0[J - origin[0]] += w0 * tmp[J];
   if (w1 == T(0)) return;
