@@ -470,8 +470,10 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
     }
   }
   fine -= fine_origin;
-  const auto pairs = [&](int i, int ib, int ie, Run r) __attribute__((always_inline)) {
+  for (int i = cols.begin; i < cols.end;) {
+    const Run r = copy_run(n, cols.periodic, i, cols.end);
     const int base = r.base / n * m;  // coarse copy of this fine copy
+    int ib = std::clamp(m == n ? n : 3 + r.base, i, r.end), ie = std::clamp(n - 3 + r.base, ib, r.end);
     ib += (ib - r.base) % 2 && ib < ie, ie -= (ie - ib) % 2;  // pairs 2J, 2J + 1 between them
     const auto general = [&](int from, int to) __attribute__((always_inline)) {
       for (int x = from; x < to; ++x) {
@@ -492,8 +494,8 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
       fr[x + 1] += T(0.75) * tb[x / 2] + T(0.25) * tb[x / 2 + 1];
     }
     general(ie, r.end);
-  };
-  runs(n, cols.periodic, cols.begin, cols.end, m == n ? n : 3, n - 3, pairs);
+    i = r.end;
+  }
 }
 
 #define GDP_INSTANTIATE(T)                                                                                     \
