@@ -31,18 +31,6 @@ GDP_INLINE Run mirror_run(fem::Mirror m, int n, int x, int hi) {
   return {std::min(hi, (k + 1) * n), h - 1 + k * n + n};
 }
 
-// Runs of columns [begin, end), one per periodic copy of a table n wide (column i: table column i - base),
-// each cut where the table's interior [lo, hi) begins and ends: f(i, ib, ie, run), [ib, ie) interior.
-template <class F>
-GDP_INLINE void runs(int n, bool periodic, int begin, int end, int lo, int hi, F&& f) {
-  for (int i = begin; i < end;) {
-    const Run r = copy_run(n, periodic, i, end);
-    const int ib = std::clamp(lo + r.base, i, r.end);
-    f(i, ib, std::clamp(hi + r.base, ib, r.end), r);
-    i = r.end;
-  }
-}
-
 template <class T>
 GDP_INLINE T* grow(std::vector<T>& v, int n) {
   if (static_cast<int>(v.size()) < n) v.resize(n);
@@ -140,20 +128,23 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
   q -= cols.begin;
   const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
   const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
-  runs(op.width, cols.periodic, cols.begin, cols.end, op.interior_begin, op.interior_end,
-       [&](int i, int ib, int ie, Run r) __attribute__((always_inline)) {
-         general<O>(op, q + i, a + i, c + i, b, inv, i, ib - i, i - r.base);
-         const T in = O == Out::Correction && ib < ie ? inv[op.interior_begin] : T(1);
+  const T in = O == Out::Correction && op.interior_begin < op.interior_end ? inv[op.interior_begin] : T(1);
+  for (int i = cols.begin; i < cols.end;) {  // run by run (one per periodic copy), each cut at the interior
+    const Run r = copy_run(op.width, cols.periodic, i, cols.end);
+    const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
+    const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
+    general<O>(op, q + i, a + i, c + i, b, inv, i, ib - i, i - r.base);
 #pragma GCC ivdep
-         for (int x = ib; x < ie; ++x) {
-           const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
-                       m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
-           if constexpr (O == Out::Au) q[x] = v;
-           else if constexpr (O == Out::Residual) q[x] = b[x] - v;
-           else q[x] = (b[x] - v) * in;
-         }
-         general<O>(op, q + ie, a + ie, c + ie, b, inv, ie, r.end - ie, ie - r.base);
-       });
+    for (int x = ib; x < ie; ++x) {
+      const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+                  m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+      if constexpr (O == Out::Au) q[x] = v;
+      else if constexpr (O == Out::Residual) q[x] = b[x] - v;
+      else q[x] = (b[x] - v) * in;
+    }
+    general<O>(op, q + ie, a + ie, c + ie, b, inv, ie, r.end - ie, ie - r.base);
+    i = r.end;
+  }
 }
 
 // The recurrence's terms of table columns [g0, g0 + count) into K[0..) (diag likewise), one direction.
