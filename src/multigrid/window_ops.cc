@@ -42,7 +42,7 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
 template <class T>
 GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
   const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
-  const bool wrap = cols.left == Edge::Wrap, clip = wrap || !cols.periodic;
+  const bool clip = cols.left == Edge::Wrap || !cols.periodic;
   const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
   const int count = std::max(to - from, 0);
   T *a = grow(s.a, len), *c = grow(s.c, len);
@@ -87,55 +87,62 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   }
   std::fill(a, A, T(0)), std::fill(c, C, T(0));
   std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
-  if (!wrap) return;
+  if (cols.left != Edge::Wrap) return;
   for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
     a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
     a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
   }
 }
 
-// q[x] = sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column g + x.
-template <class T>
-GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, int count, int g) {
+// What convolve writes per column: A u, the residual b - A u, or relax's t = (b - A u) / K_0.
+enum class Out { Au, Residual, Correction };
+
+// Column x of q, a, c: sum_d sx[d] a[x + d - 2] + mx[d] c[x + d - 2] with the coefficients of table column
+// g + x (for Out::Correction its 1 / K_0 from inv[g + x]); b[i + x] is the column's b.
+template <Out O, class T>
+GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, const T* b, const T* inv, int i,
+                        int count, int g) {
   const T *s0 = op.sx[0].data() + g, *s1 = op.sx[1].data() + g, *s2 = op.sx[2].data() + g,
           *s3 = op.sx[3].data() + g, *s4 = op.sx[4].data() + g;
   const T *m0 = op.mx[0].data() + g, *m1 = op.mx[1].data() + g, *m2 = op.mx[2].data() + g,
           *m3 = op.mx[3].data() + g, *m4 = op.mx[4].data() + g;
-  // The 20 input streams never alias q; without this GCC gives up on vectorising.
+  // The input streams never alias q; without this GCC gives up on vectorising.
 #pragma GCC ivdep
-  for (int i = 0; i < count; ++i)
-    q[i] = s0[i] * a[i - 2] + s1[i] * a[i - 1] + s2[i] * a[i] + s3[i] * a[i + 1] + s4[i] * a[i + 2] +
-           m0[i] * c[i - 2] + m1[i] * c[i - 1] + m2[i] * c[i] + m3[i] * c[i + 1] + m4[i] * c[i + 2];
+  for (int x = 0; x < count; ++x) {
+    const T v = s0[x] * a[x - 2] + s1[x] * a[x - 1] + s2[x] * a[x] + s3[x] * a[x + 1] + s4[x] * a[x + 2] +
+                m0[x] * c[x - 2] + m1[x] * c[x - 1] + m2[x] * c[x] + m3[x] * c[x + 1] + m4[x] * c[x + 2];
+    if constexpr (O == Out::Au) q[x] = v;
+    else if constexpr (O == Out::Residual) q[x] = b[i + x] - v;
+    else q[x] = (b[i + x] - v) * inv[g + x];
+  }
 }
 
-// q[x] = (A u)[begin + x] from the combined rows: per-column coefficients by the level's ends,
-// the interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. With
-// `b` (b[i]: column i), the interior's q is relax's t = (b - A u) inv, inv the interior's 1 / K_0.
-template <class T>
+// q[x] for column begin + x from the combined rows: per-column coefficients by the level's ends, the
+// interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. b[i] is column
+// i's b, inv the table of 1 / K_0 (relax's, cached per level and row coupling).
+template <Out O, class T>
 GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
-                         const T* b = nullptr, T inv = T(0)) {
+                         const T* b = nullptr, const T* inv = nullptr) {
   const T* a = s.a.data() + 2 - cols.begin;  // a[i]: column i
   const T* c = s.c.data() + 2 - cols.begin;
   q -= cols.begin;
   const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
   const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
-  for (int i = cols.begin; i < cols.end;) {
+  const T in = O == Out::Correction && op.interior_begin < op.interior_end ? inv[op.interior_begin] : T(1);
+  for (int i = cols.begin; i < cols.end;) {  // run by run (one per periodic copy), each cut at the interior
     const Run r = copy_run(op.width, cols.periodic, i, cols.end);
     const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
     const int ie = std::clamp(op.interior_end + r.base, ib, r.end);
-    general(op, q + i, a + i, c + i, ib - i, i - r.base);
-    const auto at = [&](int x) __attribute__((always_inline)) {
-      return sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
-             m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
-    };
-    if (b) {
+    general<O>(op, q + i, a + i, c + i, b, inv, i, ib - i, i - r.base);
 #pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = (b[x] - at(x)) * inv;
-    } else {
-#pragma GCC ivdep
-      for (int x = ib; x < ie; ++x) q[x] = at(x);
+    for (int x = ib; x < ie; ++x) {
+      const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
+                  m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+      if constexpr (O == Out::Au) q[x] = v;
+      else if constexpr (O == Out::Residual) q[x] = b[x] - v;
+      else q[x] = (b[x] - v) * in;
     }
-    general(op, q + ie, a + ie, c + ie, r.end - ie, ie - r.base);
+    general<O>(op, q + ie, a + ie, c + ie, b, inv, ie, r.end - ie, ie - r.base);
     i = r.end;
   }
 }
@@ -157,15 +164,10 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
   T *B = grow(forward ? K.fb : K.bb, count), *C = grow(forward ? K.fc : K.bc, count);
   const int s = forward ? 1 : -1;
   for (int b = (4 - g0 % 4) % 4; b + 4 <= count; b += 4) {
-    const int e = forward ? b : b + 3;
-    B[e] = -k1[e];
-    C[e] = -k2[e];
-    B[e + s] = -k1[e + s] * B[e] - k2[e + s];
-    C[e + s] = -k1[e + s] * C[e];
-    for (int r = 2; r < 4; ++r) {
-      const int x = e + s * r;
-      B[x] = -k1[x] * B[x - s] - k2[x] * B[x - 2 * s];
-      C[x] = -k1[x] * C[x - s] - k2[x] * C[x - 2 * s];
+    T b1 = T(1), b2 = T(0), c1 = T(0), c2 = T(1);  // B, C one and two samples back (dx[b - 1], dx[b - 2] alone)
+    for (int x = forward ? b : b + 3, r = 0; r < 4; ++r, x += s) {
+      B[x] = -k1[x] * b1 - k2[x] * b2, C[x] = -k1[x] * c1 - k2[x] * c2;
+      b2 = b1, b1 = B[x], c2 = c1, c1 = C[x];
     }
   }
 }
@@ -174,8 +176,10 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
 // count, carrying d1 = dx[x - S], d2 = dx[x - 2S]; blocks of four from step `lead` on (the only
 // chain carried from block to block is two multiply-adds). Add: out[x] += dx[x] (u), else out[x] = dx[x].
 template <int S, bool Add, class T>
-GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T* C, int count, int lead, T* out,
+GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const T* t, int count, int lead, T* out,
                       T& d1, T& d2) {
+  const T *kn = K.k[S > 0 ? 1 : 3].data() + at, *kf = K.k[S > 0 ? 0 : 4].data() + at;
+  const T *B = (S > 0 ? K.fb : K.bb).data() + at, *C = (S > 0 ? K.fc : K.bc).data() + at;
   const auto put = [out](int x, T v) __attribute__((always_inline)) {
     if constexpr (Add) out[x] += v;
     else out[x] = v;
@@ -184,8 +188,7 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     const int x = S * n;
     if (n < lead || n + 4 > count) {  // one sample
       const T v = t[x] - kf[x] * d2;
-      d2 = d1;
-      d1 = v - kn[x] * d1;
+      d2 = d1, d1 = v - kn[x] * d1;
       put(x, d1);
       ++n;
       continue;
@@ -200,9 +203,7 @@ GDP_INLINE void recur(const T* t, const T* kn, const T* kf, const T* B, const T*
     const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
     put(x + 2 * S, n2);
     put(x + 3 * S, n1);
-    d2 = n2;
-    d1 = n1;
-    n += 4;
+    d2 = n2, d1 = n1, n += 4;
   }
 }
 
@@ -257,13 +258,8 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
   }
   const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
     if (hi <= lo) return;
-    const int a = at + lo, top = hi - 1 - lo;
-    if (fwd)
-      recur<1, Add>(t + lo, K.k[1].data() + a, K.k[0].data() + a, K.fb.data() + a, K.fc.data() + a, hi - lo,
-                    (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
-    else
-      recur<-1, Add>(t + lo + top, K.k[3].data() + a + top, K.k[4].data() + a + top, K.bb.data() + a + top,
-                     K.bc.data() + a + top, hi - lo, ((g0 + lo + top) % 4 + 1) % 4, out + lo + top, d1, d2);
+    if (fwd) recur<1, Add>(K, at + lo, t + lo, hi - lo, (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
+    else recur<-1, Add>(K, at + hi - 1, t + hi - 1, hi - lo, (g0 + hi) % 4, out + hi - 1, d1, d2);
   };
   four(fwd ? 0 : v1, fwd ? v0 : count);
   if (v1 > v0 && fwd) recur_blocks<Add, true>(t, M.data(), v0, v1, out, d1, d2);
@@ -278,13 +274,10 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
   if (op.interior_end - op.interior_begin < kBlock) return;
   for (int dir = 0; dir < 2; ++dir) {
     const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
-    T h[8], B[8], C[8];  // sample r of a block: h from t, B and C from the two corrections before it
-    h[0] = T(1), h[1] = -kn;
-    B[0] = -kn, C[0] = -kf, B[1] = -kn * B[0] - kf, C[1] = -kn * C[0];
-    for (int r = 2; r < 8; ++r) {
-      h[r] = -kn * h[r - 1] - kf * h[r - 2];
-      B[r] = -kn * B[r - 1] - kf * B[r - 2], C[r] = -kn * C[r - 1] - kf * C[r - 2];
-    }
+    T h[9], C[8];  // sample r of a block: h[r] from its first t, h[r + 1] and C[r] from the corrections before it
+    h[0] = T(1), h[1] = -kn, C[0] = -kf, C[1] = -kn * C[0];
+    for (int r = 2; r < 9; ++r) h[r] = -kn * h[r - 1] - kf * h[r - 2];
+    for (int r = 2; r < 8; ++r) C[r] = -kn * C[r - 1] - kf * C[r - 2];
     std::vector<T>& M = K.block[dir];
     M.assign(80, T(0));
     for (int k = 0; k < 8; ++k)  // lane p of column k: sample p takes h[steps from sample k to it]
@@ -292,7 +285,7 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
         const int r = dir ? k - p : p - k;
         M[8 * k + p] = r >= 0 ? h[r] : T(0);
       }
-    for (int p = 0; p < 8; ++p) M[64 + p] = B[dir ? 7 - p : p], M[72 + p] = C[dir ? 7 - p : p];
+    for (int p = 0; p < 8; ++p) M[64 + p] = h[dir ? 8 - p : p + 1], M[72 + p] = C[dir ? 7 - p : p];
   }
 }
 
@@ -328,7 +321,7 @@ GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   if (cols.end <= cols.begin) return;
   const int o = cols.begin - w.origin[2];
   combine(op, j, w, cols, s);
-  convolve(op, cols, s, out + o);
+  convolve<Out::Au>(op, cols, s, out + o);
   if (diag)
     for (int x = o; x < o + cols.end - cols.begin; ++x) out[x] += diag[x] * w.rows[2][x];
 }
@@ -339,25 +332,12 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
   combine(op, j, w, cols, s);
-  if (!diag) {  // r = b - A u straight from the filter loop on the interior (b - q times 1: the same bits)
-    T* out = r + o - cols.begin;
-    const T* bc = b + o - cols.begin;
-    convolve(op, cols, s, r + o, bc, T(1));
-    for (int i = cols.begin; i < cols.end;) {  // the columns by the level's ends
-      const Run run = copy_run(op.width, cols.periodic, i, cols.end);
-      const int ib = std::clamp(op.interior_begin + run.base, i, run.end);
-      for (const auto& [lo, hi] : {std::pair{i, ib}, std::pair{std::clamp(op.interior_end + run.base, ib, run.end), run.end}})
-        for (int x = lo; x < hi; ++x) out[x] = bc[x] - out[x];
-      i = run.end;
-    }
-    return;
-  }
+  if (!diag) return convolve<Out::Residual>(op, cols, s, r + o, b + o - cols.begin);
   T* q = grow(s.q, len);  // q = A u on the columns
-  convolve(op, cols, s, q);
+  convolve<Out::Au>(op, cols, s, q);
   // Pinned pixels hold u = value (to ~1e-6); b - A u - D u there is round-off that would swamp the norms: 0.
   const T pinned = static_cast<T>(LevelOperator<T>::kPinnedDiagonal), *u = w.rows[2];
-  for (int x = 0, i = o; x < len; ++x, ++i)
-    r[i] = diag && diag[i] >= pinned ? T(0) : b[i] - q[x] - (diag ? diag[i] * u[i] : T(0));
+  for (int x = 0, i = o; x < len; ++x, ++i) r[i] = diag[i] >= pinned ? T(0) : b[i] - q[x] - diag[i] * u[i];
 }
 
 // Gauss-Seidel as a recurrence on the corrections: with q = A u before the sweep, dx_i = (b_i - q_i
@@ -370,41 +350,35 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   if (len <= 0) return;
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
-  // q = A u on the columns, already t on the interior without a diagonal term
-  const bool folded = !diag && op.interior_begin < op.interior_end;
-  T* q = grow(s.q, len);
+  T* q = grow(s.q, len);  // t = (b - A u) / K_0 on the columns; with a diagonal term A u, t formed per run below
   combine(op, j, w, cols, s);
-  convolve(op, cols, s, q, folded ? b + o - cols.begin : nullptr, folded ? K->inv[op.interior_begin] : T(0));
+  if (diag) convolve<Out::Au>(op, cols, s, q);
+  else convolve<Out::Correction>(op, cols, s, q, b + o - cols.begin, K->inv.data());
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
   const int swept = wrap ? std::max(len - 2, 0) : len;
   T d1 = T(0), d2 = T(0);
-  const T* inv = nullptr;
   for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
     const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
     const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
     const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
     if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
     const int at = diag ? 0 : g0;  // K's column for x0
-    inv = K->inv.data() + at;
     T* t = q + x0;
-    // The interior's t came with q: [f0, f1) (relative to x0).
-    const int f0 = folded ? std::clamp(op.interior_begin - g0, 0, count) : count;
-    const int f1 = folded ? std::clamp(op.interior_end - g0, f0, count) : count;
-    for (const auto& [lo, hi] : {std::pair{0, f0}, std::pair{f1, count}})
-      for (int x = lo, i = o + x0 + lo; x < hi; ++x, ++i) t[x] = (b[i] - t[x] - (diag ? diag[i] * u[i] : T(0))) * inv[x];
+    if (diag)
+      for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - diag[i] * u[i]) * K->inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
       recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
       recur_run<true>(op, *K, at, g0, t, count, fwd, u + o + x0, d1, d2);
     done += count;
   }
-  for (int i = swept; i < len; ++i) {  // Wrap: the last two samples (one run; inv is its table)
+  for (int i = swept; i < len; ++i) {  // wrap: the last two samples (one run, K's columns from 0)
     T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
     for (int d = len - i; d <= 2; ++d) {
       const int col = fem::wrap_index(i + d, len);
-      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * inv[i] * dx[col];
+      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * K->inv[i] * dx[col];
     }
     dx[i] = v;
   }
