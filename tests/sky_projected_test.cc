@@ -238,6 +238,35 @@ TEST_F(SkyProjected, SchedulesAgreeWithInCore) {
   }
 }
 
+// The CLI under mpirun -np 2 (one band per rank), with the distance and the graph-cut seams, gives
+// the one-process result within 1e-4, blanks at the same pixels.
+TEST_F(SkyProjected, UnderMpirunTheCliGivesTheOneProcessResult) {
+  if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes";
+  const auto plane = [](double a, double b) { return [=](int x, int y) { return a + b * (x - y); }; };
+  three(plane(0.3, 1e-3), plane(-0.2, -8e-4), plane(0.1, 5e-4));
+  const std::string inputs = " sky --projected " + path("a.fits") + " " + path("b.fits") + " " + path("c.fits") +
+                             " --header " + path("t.hdr") + " --tolerance 1e-6 --quiet";
+  for (const std::string seams : {"", " --seams graphcut"}) {
+    const auto solve = [&](const std::string& prefix, const std::string& name) {
+      const std::string cmd = prefix + GDP_CLI_PATH + inputs + seams + " -o " + path(name);
+      const test::CliRun r = run_capturing_stderr(cmd);
+      EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+      return read_image(path(name)).image;
+    };
+    const Image one = solve("", "one.fits");
+    const Image two = solve(test::kMpirun + " -np 2 ", "two.fits");
+    ASSERT_EQ(one.data.size(), two.data.size());
+    int covered = 0;
+    for (std::size_t k = 0; k < one.data.size(); ++k) {
+      ASSERT_EQ(std::isnan(one.data[k]), std::isnan(two.data[k])) << k << seams;
+      if (std::isnan(one.data[k])) continue;
+      EXPECT_NEAR(one.data[k], two.data[k], 1e-4) << k << seams;
+      ++covered;
+    }
+    EXPECT_GT(covered, 5000) << seams;
+  }
+}
+
 TEST_F(SkyProjected, OneImageIsThatImage) {
   cut("a.fits", 10, 5, 70, 60, [](int, int) { return 0.0; });
   const Image out = run({"a.fits"});

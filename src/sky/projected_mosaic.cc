@@ -1,11 +1,13 @@
 // gdp sky --projected: images on one template -> smooth backgrounds and levels from overlaps -> gdp blend's seams and planar solve -> FITS with the template's WCS.
 #include <chrono>
 #include <limits>
+#include <memory>
 
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
+#include "gdp/mpi_run.h"
 #include "gdp/sky_projected.h"
 #include "sky/header.h"
 #include "sky/projected_levels.h"
@@ -93,8 +95,11 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
   take_off_backgrounds(levels, inputs, plan, s, options.note);
 
   write.fits_header = cards;
-  ImageFileWriter file(out, s.width, s.height, 1, write);
-  NanWhereUncovered writer(file, s.width);
+  // Under mpirun rank 0 writes the file from every rank's columns.
+  const std::unique_ptr<RowWriter> file = MpiRun::gather_writer(
+      [&]() -> std::unique_ptr<RowWriter> { return std::make_unique<ImageFileWriter>(out, s.width, s.height, 1, write); },
+      s.width, s.height, 1);
+  NanWhereUncovered writer(*file, s.width);
   blend(plan, blending, solver, writer, &s.blend);
   s.covered = writer.covered();
   if (summary) *summary = std::move(s);

@@ -5,7 +5,6 @@
 #include "cli_common.h"
 #include "commands.h"
 #include "gdp/errors.h"
-#include "gdp/mpi_run.h"
 #include "gdp/sky.h"
 #include "gdp/sky_projected.h"
 
@@ -138,7 +137,6 @@ class Sky final : public Command {
       throw UsageError("gdp sky --projected takes --header, --seams graphcut and solver options, not --center, "
                        "--toast, --hips, --no-blend, --pq-height, --plane, --seams deepest or --seams-from");
     if (output_.empty()) throw UsageError("gdp sky --projected needs -o OUTPUT");
-    if (MpiRun::size() > 1) throw UsageError("gdp sky --projected does not run under mpirun (every rank would write -o)");
     ProjectedOptions options;
     options.header = options_.target.header;
     options.fit_backgrounds = options_.fit_backgrounds;
