@@ -11,6 +11,7 @@
 #include "gdp/errors.h"
 #include "gdp/image_io.h"
 #include "nona_tiff.h"
+#include "stats_file.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -131,14 +132,6 @@ std::string mpirun_two() {
   return mpirun + " -np 2 ";
 }
 
-// A number from a --stats file ("key": N), -1 when absent.
-double stat_of(const std::string& file, const std::string& key) {
-  std::ifstream in(file);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto at = text.find("\"" + key + "\": ");
-  return at == std::string::npos ? -1 : std::stod(text.substr(at + key.size() + 4));
-}
-
 // Under mpirun every rank finds the seams of its own columns only (reading the layers that meet
 // them) and solves them; rank 0 writes the file: within 1e-4 of one process. Six layers across a
 // 400-wide canvas: rank 0 (the left half, plus margins) reads four of them at most.
@@ -163,8 +156,8 @@ TEST_F(BlendCli, UnderMpirunAgreesWithOneProcess) {
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   const Image one = read_image(path("one.tif")).image, two = read_image(path("two.tif")).image;
   EXPECT_LT(test::max_difference(one, two), 1e-4);
-  EXPECT_EQ(stat_of(path("one.json"), "seam_layers_read"), 6);
-  const double rank0 = stat_of(path("two.json"), "seam_layers_read");
+  EXPECT_EQ(test::stat_of(path("one.json"), "seam_layers_read"), 6);
+  const double rank0 = test::stat_of(path("two.json"), "seam_layers_read");
   EXPECT_GE(rank0, 3);  // the left half's layers, each read whole
   EXPECT_LE(rank0, 4);
 }
@@ -200,11 +193,11 @@ TEST_F(BlendCli, UnderMpirunGraphcutSeamsAndIsolatedLayersAgreeWithOneProcess) {
   const std::string two = mpirun + GDP_CLI_PATH + " blend --bands 1" + common;
   ASSERT_EQ(std::system((two + path("two.json") + " --seams graphcut -o " + path("two.tif") + layers + " > /dev/null 2>&1").c_str()), 0);
   ASSERT_EQ(std::system((two + path("depth.json") + " -o " + path("depth.tif") + layers + " > /dev/null 2>&1").c_str()), 0);
-  EXPECT_LT(stat_of(path("one.json"), "seam_cost"), 0.9 * stat_of(path("one.json"), "seam_cost_depth"));  // the cut moved
+  EXPECT_LT(test::stat_of(path("one.json"), "seam_cost"), 0.9 * test::stat_of(path("one.json"), "seam_cost_depth"));  // the cut moved
   EXPECT_LT(test::max_difference(read_image(path("one.tif")).image, read_image(path("two.tif")).image), 1e-4);
-  EXPECT_EQ(stat_of(path("one.json"), "isolated_layers"), 3);
-  EXPECT_EQ(stat_of(path("two.json"), "isolated_layers"), 3);
-  EXPECT_EQ(stat_of(path("depth.json"), "isolated_layers"), 3);
+  EXPECT_EQ(test::stat_of(path("one.json"), "isolated_layers"), 3);
+  EXPECT_EQ(test::stat_of(path("two.json"), "isolated_layers"), 3);
+  EXPECT_EQ(test::stat_of(path("depth.json"), "isolated_layers"), 3);
 }
 
 TEST_F(BlendCli, BadInputIsOneLineNamingTheFile) {

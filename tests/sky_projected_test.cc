@@ -15,6 +15,7 @@
 #include "gdp/sky_projected.h"
 #include "sky/header.h"
 #include "sky_test_util.h"
+#include "stats_file.h"
 
 namespace gdp {
 namespace {
@@ -239,7 +240,8 @@ TEST_F(SkyProjected, SchedulesAgreeWithInCore) {
 }
 
 // The CLI under mpirun -np 2 (one band per rank), with the distance and the graph-cut seams, gives
-// the one-process result within 1e-4, blanks at the same pixels.
+// the one-process result within 1e-4, blanks at the same pixels; --stats counts the covered pixels
+// of every rank's columns.
 TEST_F(SkyProjected, UnderMpirunTheCliGivesTheOneProcessResult) {
   if (!test::mpirun_works()) GTEST_SKIP() << "mpirun cannot start 2 processes";
   const auto plane = [](double a, double b) { return [=](int x, int y) { return a + b * (x - y); }; };
@@ -248,7 +250,8 @@ TEST_F(SkyProjected, UnderMpirunTheCliGivesTheOneProcessResult) {
                              " --header " + path("t.hdr") + " --tolerance 1e-6 --quiet";
   for (const std::string seams : {"", " --seams graphcut"}) {
     const auto solve = [&](const std::string& prefix, const std::string& name) {
-      const std::string cmd = prefix + GDP_CLI_PATH + inputs + seams + " -o " + path(name);
+      const std::string cmd =
+          prefix + GDP_CLI_PATH + inputs + seams + " -o " + path(name) + " --stats " + path(name + ".json");
       const test::CliRun r = run_capturing_stderr(cmd);
       EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
       return read_image(path(name)).image;
@@ -264,6 +267,8 @@ TEST_F(SkyProjected, UnderMpirunTheCliGivesTheOneProcessResult) {
       ++covered;
     }
     EXPECT_GT(covered, 5000) << seams;
+    EXPECT_EQ(test::stat_of(path("one.fits.json"), "covered_pixels"), covered) << seams;
+    EXPECT_EQ(test::stat_of(path("two.fits.json"), "covered_pixels"), covered) << seams << ": the ranks' sum";
   }
 }
 

@@ -1,6 +1,7 @@
 // Running under mpirun: MPI started for the life of the process, and which rank this process is.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -8,6 +9,8 @@
 #include "gdp/rows.h"
 
 namespace gdp {
+
+struct WriteOptions;
 
 // The process's MPI session (docs/how-bands-work.md, "Running under mpirun"). Constructed once in
 // main(): when the process was launched by mpirun (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK in
@@ -42,6 +45,10 @@ class MpiRun {
   // (no set_columns) go to rank 0's file as they are; other ranks drop theirs.
   using OpenFile = std::function<std::unique_ptr<RowWriter>()>;
   static std::unique_ptr<RowWriter> gather_writer(OpenFile open_file, int width, int height, int channels);
+  // gather_writer of the image file `path` (an ImageFileWriter with `options`): the output of
+  // every command that writes one file (the CLI's open_output, gdp sky --projected).
+  static std::unique_ptr<RowWriter> gather_file(const std::filesystem::path& path, int width, int height, int channels,
+                                                const WriteOptions& options);
 };
 
 }  // namespace gdp

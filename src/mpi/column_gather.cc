@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "mpi/wait.h"
+#include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
 
 namespace gdp {
@@ -147,6 +148,12 @@ class ColumnGather final : public RowWriter {
 std::unique_ptr<RowWriter> MpiRun::gather_writer(OpenFile open_file, int width, int height, int channels) {
   if (size() <= 1) return open_file();
   return std::make_unique<ColumnGather>(rank() == 0 ? std::move(open_file) : OpenFile{}, width, height, channels);
+}
+
+std::unique_ptr<RowWriter> MpiRun::gather_file(const std::filesystem::path& path, int width, int height, int channels,
+                                               const WriteOptions& options) {
+  return gather_writer([=] { return std::make_unique<ImageFileWriter>(path, width, height, channels, options); },
+                       width, height, channels);
 }
 
 }  // namespace gdp

@@ -14,6 +14,7 @@
 #include "sky/plate.h"
 #include "sky/plate_backgrounds.h"
 #include "sky/plate_offsets.h"
+#include "sky/projected_levels.h"
 #include "sky/seam_sources.h"
 
 namespace gdp::sky {
@@ -60,6 +61,9 @@ void share_backgrounds(const PlateShare& share, std::vector<PlateBackground>& ba
 
 // Every owned plate's mean and edge corrections, and every owned pair's overlap sum, to every rank.
 void share_levels(const PlateShare& share, std::vector<Plate>& plates, std::map<std::pair<int, int>, OverlapSum>& sums);
+
+// Rank 0's fitted levels of gdp sky --projected's images, to every rank.
+void share_canvas_levels(const PlateShare& share, CanvasLevels& levels);
 
 // Every rank's `mine`, in rank order, on every rank.
 std::vector<long long> counts_by_rank(const PlateShare& share, long long mine);

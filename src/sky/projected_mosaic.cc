@@ -2,14 +2,16 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 #include <fmt/format.h>
 
+#include "bands/mpi_transport.h"
 #include "gdp/errors.h"
-#include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
 #include "gdp/sky_projected.h"
 #include "sky/header.h"
+#include "sky/plate_exchange.h"
 #include "sky/projected_levels.h"
 #include "sky/projected_place.h"
 #include "sky/wcs.h"
@@ -31,15 +33,18 @@ class NanWhereUncovered final : public RowWriter {
   }
   void commit() override { out_.commit(); }
   void set_columns(int begin, int end) override {
+    columns_ = true;
     begin_ = begin;
     end_ = end;
     out_.set_columns(begin, end);
   }
-  long long covered() const { return covered_; }
+  // The covered pixels of this rank's columns (rows written whole, without set_columns, are rank 0's).
+  long long covered() const { return columns_ || MpiRun::rank() == 0 ? covered_ : 0; }
 
  private:
   RowWriter& out_;
   int width_, begin_ = 0, end_ = std::numeric_limits<int>::max();
+  bool columns_ = false;
   std::vector<float> row_;
   long long covered_ = 0;
 };
@@ -82,8 +87,21 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
   blending.seams = options.graphcut_seams ? SeamMethod::Graphcut : SeamMethod::Depth;
   BlendPlan plan = plan_blend(layers, blending);  // InputError for an image outside the template
 
+  // Under mpirun rank 0 fits the levels (reading every image) and the others take its fit; an
+  // error there ends every rank with its message (sky/plate_exchange.h).
+  std::unique_ptr<bands::MpiHub> hub;
+  sky::PlateShare share;
+  if (MpiRun::size() > 1) {
+    hub = std::make_unique<bands::MpiHub>(1);
+    share.net = &hub->endpoint(hub->first());
+    share.agree = MpiRun::agree;
+  }
   const auto start = std::chrono::steady_clock::now();
-  const sky::CanvasLevels levels = sky::canvas_levels(plan, options.fit_backgrounds ? options.background_damping : -1.0);
+  sky::CanvasLevels levels;
+  share.run([&] {
+    if (share.rank() == 0) levels = sky::canvas_levels(plan, options.fit_backgrounds ? options.background_damping : -1.0);
+  });
+  sky::share_canvas_levels(share, levels);
   s.seconds_offsets = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (std::size_t k = 0; k < inputs.size() && inputs.size() > 1; ++k)
     if (!levels.overlapped[k])
@@ -96,12 +114,11 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
 
   write.fits_header = cards;
   // Under mpirun rank 0 writes the file from every rank's columns.
-  const std::unique_ptr<RowWriter> file = MpiRun::gather_writer(
-      [&]() -> std::unique_ptr<RowWriter> { return std::make_unique<ImageFileWriter>(out, s.width, s.height, 1, write); },
-      s.width, s.height, 1);
+  const std::unique_ptr<RowWriter> file = MpiRun::gather_file(out, s.width, s.height, 1, write);
   NanWhereUncovered writer(*file, s.width);
   blend(plan, blending, solver, writer, &s.blend);
-  s.covered = writer.covered();
+  const std::vector<long long> covered = sky::counts_by_rank(share, writer.covered());
+  s.covered = std::accumulate(covered.begin(), covered.end(), 0LL);
   if (summary) *summary = std::move(s);
 }
 

@@ -256,12 +256,7 @@ std::unique_ptr<RowWriter> open_output(const std::string& path, int width, int h
   check_compression(path, options.compression);
   if (path.find(kRankKey) != std::string::npos)
     return std::make_unique<RankFileWriter>(for_this_rank(path), width, height, channels, options, quiet);
-  // Under mpirun rank 0 writes the file, from every rank's columns.
-  return MpiRun::gather_writer(
-      [=]() -> std::unique_ptr<RowWriter> {
-        return std::make_unique<ImageFileWriter>(path, width, height, channels, options);
-      },
-      width, height, channels);
+  return MpiRun::gather_file(path, width, height, channels, options);  // rank 0 writes it, from every rank's columns
 }
 
 void warn_if_bound(const CommonOptions& o, int bands) {
