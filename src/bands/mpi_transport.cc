@@ -85,7 +85,9 @@ class MpiHub::Impl::Endpoint final : public Transport {
 MpiHub::MpiHub(int local) : impl_(std::make_unique<Impl>(local)) {
   MPI_Comm_rank(MPI_COMM_WORLD, &impl_->rank);
   MPI_Comm_size(MPI_COMM_WORLD, &impl_->ranks);
-  MPI_Comm_dup(MPI_COMM_WORLD, &impl_->comm);
+  MPI_Request request;  // a rank that comes early waits without holding a core
+  MPI_Comm_idup(MPI_COMM_WORLD, &impl_->comm, &request);
+  mpi::wait_request(request);
   for (int i = 0; i < local; ++i) impl_->endpoints.push_back(std::make_unique<Impl::Endpoint>(*impl_, first() + i));
 }
 

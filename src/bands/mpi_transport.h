@@ -13,7 +13,8 @@ namespace gdp::bands {
 // MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
 // (tag * local + from % local) * local + to % local. abort() ends every rank (mpi::abort_ranks).
-// Needs MPI initialised with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective.
+// Needs MPI initialised with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective (a rank
+// that comes first waits without holding a core).
 class MpiHub {
  public:
   explicit MpiHub(int local);
