@@ -171,17 +171,17 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
   const Label* d = down.empty() ? none_.data() : down.data();
   const Label* h = here.data();
   unsigned char* edge = edge_.data();
-  const auto other_than = [](Label n, Label a) { return static_cast<unsigned char>((n != 0) & (n != a)); };
-  // Pixels with another label beside them (vectorised; the first and last columns by neighbour()).
-  // The bounds are locals: the flags' stores could alias the members.
-  for (int x = std::max(b, 1), x_end = std::min(e, width_ - 1); x < x_end; ++x)
-    edge[x] = static_cast<unsigned char>(h[x] != 0) &
-              (other_than(h[x - 1], h[x]) | other_than(h[x + 1], h[x]) | other_than(u[x], h[x]) | other_than(d[x], h[x]));
+  // Whether pixel x, its left and right neighbours `l` and `r`, has another label beside it.
+  const auto is_edge = [h, u, d](int x, Label l, Label r) {
+    const auto other_than = [a = h[x]](Label n) { return static_cast<unsigned char>((n != 0) & (n != a)); };
+    return static_cast<unsigned char>(static_cast<unsigned char>(h[x] != 0) &
+                                      (other_than(l) | other_than(r) | other_than(u[x]) | other_than(d[x])));
+  };
+  // Vectorised; the first and last columns by neighbour(). The bounds are locals: the flags'
+  // stores could alias the members.
+  for (int x = std::max(b, 1), x_end = std::min(e, width_ - 1); x < x_end; ++x) edge[x] = is_edge(x, h[x - 1], h[x + 1]);
   for (const int x : {0, width_ - 1})
-    if (x >= b && x < e)
-      edge[x] = static_cast<unsigned char>(h[x] != 0) &
-                (other_than(neighbour(x - 1), h[x]) | other_than(neighbour(x + 1), h[x]) | other_than(u[x], h[x]) |
-                 other_than(d[x], h[x]));
+    if (x >= b && x < e) edge[x] = is_edge(x, neighbour(x - 1), neighbour(x + 1));
   const auto other = [](Label a, Label n1, Label n2) { return across_label(a, n1, n2, Label{0}); };
   for (int x = b; x < e; ++x) {
     if (x % 8 == 0 && x + 8 <= e) {  // eight pixels at a time while none is beside a seam

@@ -54,6 +54,7 @@ MosaicRows::MosaicRows(std::vector<Plate>& plates, PlatePixels& pixels, const Pq
       coverage_(std::make_unique<blending::Scratch>(
           temp_dir, static_cast<std::size_t>(window.width) * window.rows * sizeof(float), "gdp-sky-coverage",
           memory_limit)) {
+  none_.assign(static_cast<std::size_t>(window.width), kNoPlate);
   for (const Plate& p : plates) {
     sizes_.push_back(p.width);
     sizes_.push_back(p.height);
@@ -83,7 +84,9 @@ MosaicRows::Row& MosaicRows::fetch(int j) {
   if (it != cache_.end()) return it->second;
   if (j < released_below_)
     throw std::logic_error("gdp sky: PQ row " + std::to_string(j) + " asked for again after its plates were released");
-  if (cache_.size() >= kCachedRows) cache_.erase(cache_.begin());
+  if (cache_.size() >= kCachedRows)  // the oldest row but those across_row() holds
+    cache_.erase(std::find_if(cache_.begin(), cache_.end(),
+                              [&](const auto& e) { return e.first < pinned_[0] || e.first > pinned_[1]; }));
   // Rows older than the cache are not asked for again: plates that end above them are done.
   released_below_ = std::max(released_below_, j - kReleaseLag);
   for (std::size_t k = 0; k < plates_.size(); ++k)
@@ -99,9 +102,9 @@ MosaicRows::Row& MosaicRows::fetch(int j) {
 const std::vector<float>& MosaicRows::across_row(int j) {
   if (const auto it = cache_.find(j); it != cache_.end() && !it->second.across.empty()) return it->second.across;
   const int w = window_.width;
-  // Copies: fetching a row may evict another.
-  const std::vector<float> up = j > 0 ? row(j - 1).label : std::vector<float>(w, kNoPlate);
-  const std::vector<float> down = j + 1 < window_.rows ? row(j + 1).label : std::vector<float>(w, kNoPlate);
+  pinned_ = {j - 1, j + 1};  // fetching one of these rows evicts none of the others
+  const float* up = j > 0 ? fetch(j - 1).label.data() : none_.data();
+  const float* down = j + 1 < window_.rows ? fetch(j + 1).label.data() : none_.data();
   Row& r = fetch(j);
   r.across.assign(2 * static_cast<std::size_t>(w), std::numeric_limits<float>::quiet_NaN());
   const auto other = [](float own, float n1, float n2) { return blending::across_label(own, n1, n2, kNoPlate); };

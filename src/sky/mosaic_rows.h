@@ -104,6 +104,8 @@ class MosaicRows {
   long long pixels_computed_ = 0;
   std::unique_ptr<blending::Scratch> coverage_;  // window.width floats a row
   std::map<int, Row> cache_;
+  std::array<int, 2> pinned_{1, 0};  // rows fetch() keeps cached: across_row(j)'s j - 1 .. j + 1
+  std::vector<float> none_;          // a row of kNoPlate (above the first row, below the last)
   std::unique_ptr<RowReader> composite_, labels_, across_;
 };
 
