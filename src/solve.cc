@@ -6,6 +6,7 @@
 #include "gdp/errors.h"
 #include "gdp/scratch_flags.h"
 #include "gdp/solver.h"
+#include "bands/band_layout.h"
 #include "bands/solve_streamed.h"
 #include "schedule/scratch_budget.h"
 #include "schedule/solve_parts.h"
@@ -72,6 +73,8 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
   if (!scratch.empty()) return parse_scratch_precision(scratch);
   return double_precision ? ScratchPrecision::Float : ScratchPrecision::Narrow;
 }
+
+int band_halo_columns(int sweeps) { return bands::band_halo(sweeps, bands::kDefaultPhaseGroups); }
 
 void ScheduleFlags::apply(SolverOptions& options) const {
   options.domain = parse_domain(domain);

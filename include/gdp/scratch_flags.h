@@ -1,4 +1,4 @@
-// The scratch precision an application (the CLI, the Python module) asks for from its flags.
+// The scratch an application (the CLI, the Python module) asks for: its precision from the flags, and its stores' halo.
 #pragma once
 
 #include <string>
@@ -11,5 +11,9 @@ namespace gdp {
 // narrow), `double_precision` --double. Applications writing images default to narrow; double
 // precision to float (docs/how-streaming-works.md). UsageError naming the flags that conflict.
 ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scratch, bool double_precision);
+
+// The most columns of each neighbour's that a band of the band schedule keeps, for `sweeps`
+// (SolverOptions::sweeps): under mpirun a rank's row stores span its columns and these either side.
+int band_halo_columns(int sweeps);
 
 }  // namespace gdp

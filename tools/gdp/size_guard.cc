@@ -13,6 +13,7 @@
 
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
+#include "gdp/scratch_flags.h"
 #include "gdp/size_check.h"
 #include "scratch_split.h"
 
@@ -50,6 +51,7 @@ namespace {
 struct Limits {
   long long max_pixels = 0;
   double scale = 1.0, disk_per_sample = 0.0, memory_budget = 0.0;
+  int halo = 0;  // a band's, in columns (band_halo_columns)
   bool in_core = false, scratch = false;
   std::filesystem::path dir;
 };
@@ -58,6 +60,7 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
   Limits l;
   l.max_pixels = o.max_pixels;
   l.scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
+  l.halo = solver ? band_halo_columns(solver->sweeps) : 0;
   l.in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
   l.scratch = solver && !l.in_core;
   l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->scratch == ScratchPrecision::Narrow ? 0.5 : 1.0);
@@ -68,11 +71,10 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
 }
 
 // The largest row store of a rank: one plane of the finest level (u, b or the carried result) in
-// the kernel's precision over the rank's columns, with a band's halo each side under mpirun
-// (bands::band_halo: 2 (G + k - 1) columns, G = 16 row groups; 64 covers k up to 17 sweeps).
+// the kernel's precision over the rank's columns, with a band's halo each side under mpirun.
 double largest_store(const Limits& l, long long width, long long height, int channels) {
   const double ranks = MpiRun::size(), w = static_cast<double>(width);
-  const double columns = ranks > 1 ? std::min(w, w / ranks + 2 * 64.0) : w;
+  const double columns = ranks > 1 ? std::min(w, w / ranks + 2.0 * l.halo) : w;
   return columns * static_cast<double>(height) * channels * 4.0 * l.scale;
 }
 
