@@ -19,14 +19,14 @@
 #include "mpi/ranks.h"
 #include "schedule/cycle_worker.h"
 #include "schedule/input_ring.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 
 namespace gdp::bands {
 
 using schedule::Batch;
 using schedule::batch_rows;
 using schedule::Clock;
-using schedule::InputTotals;
+using multigrid::InputTotals;
 using schedule::seconds_since;
 
 namespace {
@@ -202,7 +202,7 @@ void report(const SolverOptions& opt, double fraction) {
 template <class T>
 struct Reader {
   int first, last;
-  std::unique_ptr<schedule::InputRows<T>> input;
+  std::unique_ptr<multigrid::InputRows<T>> input;
 };
 
 // The input pass's ring and readers: one reader per local band where the source splits
@@ -231,7 +231,7 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
     std::vector<std::pair<int, int>> own;
     for (int i = team.first + pass.readers[l].first; i < team.first + pass.readers[l].last; ++i)
       own.emplace_back(layout.begin(0, i), layout.end(0, i));
-    pass.readers[l].input = std::make_unique<schedule::InputRows<T>>(
+    pass.readers[l].input = std::make_unique<multigrid::InputRows<T>>(
         source, problem.hierarchy, own, windows[l].rows,
         [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
   }

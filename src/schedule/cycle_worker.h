@@ -18,7 +18,7 @@
 #include "gdp/errors.h"
 #include "schedule/bounded_queue.h"
 #include "io/checkpoint_dir.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 #include "schedule/recycle_pool.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
@@ -133,7 +133,7 @@ class CycleWorker {
       const int pass = k == mark_.cycle ? mark_.pass : 0;
       if (pass == 2) continue;  // this cycle's result is stored: on to the next
       if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
-      const InputTotals& sums = totals();
+      const multigrid::InputTotals& sums = totals();
       for (int c = 0; c < channels_; ++c) {
         if (k == 0) {
           log.set_rhs_norm(c0 + c, std::sqrt(sums.rhs_norms2[c0 + c]));
