@@ -135,7 +135,7 @@ class StreamedVCycle {
   // A merged stage below this one (layout.merged; on the worker owning this band's group).
   std::unique_ptr<Transport> merged_net_;
   std::unique_ptr<StreamedVCycle<T>> merged_;
-  std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
+  std::vector<T> initial_;  // first cycle of the top stage: a ring of level-0 rows as pushed
   std::array<std::vector<T>, 2> initial_fold_;  // first cycle: level 0's rows across the fold as pushed
   std::vector<multigrid::CycleProbe> probes_;
   std::vector<double> initial_rr_, final_rr_;
