@@ -280,7 +280,7 @@ void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::
       if (r.rows == 0 || j >= r.first + r.rows) {
         auto next = wk.worker.out.pop();
         if (!next) throw TransportStopped("stopped");
-        wk.worker.spent_out.give(std::move(r));
+        wk.worker.spent_out.give(r.emptied());
         r = std::move(*next);
       }
       const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;

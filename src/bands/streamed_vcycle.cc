@@ -402,7 +402,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
   L.needed_from = j;
   ensure_final(0, j);
   std::copy_n(u_row(0, 0, j), static_cast<std::size_t>(set_.channels) * L.len, u.begin());
-  if (++pulled_ == L.height && layout_.top()) reduce_final();
+  if (++pulled_ == L.height && layout_.top()) sum_in_order(net_, kFinal, final_rr_);
 }
 
 template <class T>

@@ -101,7 +101,6 @@ class StreamedVCycle {
   void take_back(int row);
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
-  void reduce_final();
   // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
   multigrid::Window<T> window(int l, int c, int j, bool initial = false);
   // Columns [begin, end) of level l.

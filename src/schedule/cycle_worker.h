@@ -56,26 +56,17 @@ void store_state(Archive& a, RowStore<T>* store) {
 inline int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
 
 // Rows first .. first + rows - 1: u and b (channels * length samples per row), w and d (length
-// per row, or empty when the problem has none).
+// per row, or empty when the problem has none). Handed back for reuse emptied (the vectors keep
+// their capacity).
 template <class T>
 struct Batch {
   int first = 0, rows = 0;
   std::vector<T> u, b, w, d;
-};
-
-// Batches handed back for reuse, emptied (their vectors keep their capacity).
-template <class T>
-class BatchPool {
- public:
-  void give(Batch<T>&& b) {
-    b.first = b.rows = 0;
-    for (std::vector<T>* v : {&b.u, &b.b, &b.w, &b.d}) v->clear();
-    pool_.give(std::move(b));
+  Batch&& emptied() {
+    first = rows = 0;
+    for (std::vector<T>* v : {&u, &b, &w, &d}) v->clear();
+    return std::move(*this);
   }
-  Batch<T> take() { return pool_.take(); }
-
- private:
-  RecyclePool<Batch<T>> pool_;
 };
 
 // Runs the V-cycles of `vcycle` (a bands::StreamedVCycle: begin_cycle, push,
@@ -171,7 +162,7 @@ class CycleWorker {
   }
 
   BoundedQueue<Batch<T>> in, out;
-  BatchPool<T> spent_in, spent_out;  // batches of `in` and `out` the taker is done with
+  RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
@@ -195,7 +186,7 @@ class CycleWorker {
       if (next_in == batch.rows) {
         auto b = in.pop();
         if (!b) return false;
-        spent_in.give(std::move(batch));
+        spent_in.give(batch.emptied());
         batch = std::move(*b);
         next_in = 0;
       }
