@@ -28,7 +28,7 @@
 #include "gdp/solver.h"
 #include "gdp/sphere.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 #include "schedule/solve_parts.h"
 #include "sphere_eval/equirect_solver.h"
 
@@ -161,7 +161,7 @@ Rows pq_rows(const Image& pq, const Args& a) {
   apps::ImageGuidance guidance(reader, 0.0, 1.0, /*start_from_source=*/false);
   SolveSummary summary;
   const schedule::Problem<double> problem(guidance, opt, summary);
-  schedule::InputRows<double> input(guidance, problem.hierarchy);
+  multigrid::InputRows<double> input(guidance, problem.hierarchy);
   const int w = pq.width, h = pq.height, channels = pq.channels;
   std::vector<multigrid::Plane<double>> u(channels, {w, h}), b(channels, {w, h});
   {

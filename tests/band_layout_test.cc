@@ -20,7 +20,7 @@ void check_stages(const multigrid::Hierarchy& h, const BandLayout& top) {
   for (const BandLayout* S = &top; S; S = S->merged.get()) {
     SCOPED_TRACE("stage starting at level " + std::to_string(S->first_level));
     EXPECT_EQ(S->first_level, level);
-    EXPECT_EQ(S->pushed_halo_b, S == &top);
+    EXPECT_EQ(S->top(), S == &top);
     ASSERT_GE(S->levels, 1);
     for (int r = 0; r <= S->levels; ++r) {
       ASSERT_EQ(static_cast<int>(S->bounds[r].size()), S->bands + 1);

@@ -35,7 +35,6 @@ TEST(ScratchBudget, StoresSpillToFilesBeyondTheBudget) {
   ScratchBudget budget(100000);
   StorePolicy policy;
   policy.budget = &budget;
-  policy.memory_limit = 0;  // ignored under a budget
   const std::size_t n = 100, rows = 200;  // 80000 bytes as float
   std::vector<float> row(n);
   {

@@ -51,8 +51,9 @@ std::size_t resident(int fd, std::size_t bytes) {
 // Writes and reads back 8 MB through a file store with the given drop-behind window; returns the
 // bytes of the file in the page cache after writing and after reading.
 std::pair<std::size_t, std::size_t> cached_bytes(std::size_t drop_behind, const std::string& name) {
+  schedule::ScratchBudget none(0);  // no memory: a file
   schedule::StorePolicy policy;
-  policy.memory_limit = 0;
+  policy.budget = &none;
   policy.drop_behind = drop_behind;
   const std::size_t n = 1000, rows = 2100;  // 8.4 MB of floats, rows not a multiple of a page
   schedule::RowStore<float> store(policy, n, rows, name);

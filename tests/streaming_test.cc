@@ -248,8 +248,9 @@ class RowStores : public ::testing::TestWithParam<std::tuple<std::size_t, schedu
 
 TEST_P(RowStores, RowsComeBackInOrderAfterEveryRewind) {
   const auto [limit, encoding] = GetParam();
+  schedule::ScratchBudget budget(limit);
   schedule::StorePolicy policy;
-  policy.memory_limit = limit;
+  policy.budget = &budget;
   policy.half.all = encoding == schedule::StoreEncoding::Half;
   policy.drop_behind = 100000;  // files: many drop-behind windows, none a whole number of pages
   const std::size_t n = 1000, rows = 700;  // 2.8 MB as float: several file buffers
@@ -285,17 +286,19 @@ TEST(Streaming, ScratchFilesLeaveNothingInTheTempDirectory) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   {
+    schedule::ScratchBudget none(0);
     schedule::StorePolicy policy;
     policy.dir = dir;
-    policy.memory_limit = 0;
+    policy.budget = &none;
     schedule::RowStore<float> store(policy, 10, 10, "x");
     EXPECT_TRUE(store.on_disk());
     EXPECT_TRUE(fs::is_empty(dir));  // unlinked at once: nothing to clean up, however we exit
   }
   fs::remove_all(dir);
+  schedule::ScratchBudget none(0);
   schedule::StorePolicy missing;
   missing.dir = dir / "missing";
-  missing.memory_limit = 0;
+  missing.budget = &none;
   EXPECT_THROW(schedule::RowStore<float>(missing, 10, 10, "x"), OutputError);
 }
 

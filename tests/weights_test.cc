@@ -8,7 +8,7 @@
 #include "gdp/solver.h"
 #include "multigrid/coarse_cg.h"
 #include "multigrid/hierarchy.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 #include "test_util.h"
 #include "topology/topology.h"
 
@@ -100,7 +100,7 @@ TEST(Weights, MultigridReachesTheDirectSolution) {
   const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, 1 << 20);
   const multigrid::LevelOperator<double> op(hier.levels[0], 0.0);
   WeightedGuidance src2(f, g, mixed_weight);
-  schedule::InputRows<double> rows(src2, hier);
+  multigrid::InputRows<double> rows(src2, hier);
   multigrid::Plane<double> b(w, h), x(w, h), d(w, h), wt(w, h);
   std::vector<double> start(w);
   for (int j = 0; j < h; ++j)

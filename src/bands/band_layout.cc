@@ -73,7 +73,6 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
       S->bands = static_cast<int>(chain[i].cuts.size()) - 1;
       S->first_level = start;
       S->levels = end - start;
-      S->pushed_halo_b = i == 0;
       S->merged = below;
       S->bounds.assign(S->levels + 1, {});
       for (int r = 0; r <= S->levels; ++r)

@@ -17,9 +17,6 @@ struct BandLayout {
   int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
   int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is merged or gathered
   int first_level = 0;   // the hierarchy level of this layout's level 0 (a merged stage's is deeper)
-  // Whether level 0's rows arrive with the neighbours' b in their halo: the finest level's do; a
-  // merged stage's are restricted by the stage above, each band only its own columns.
-  bool pushed_halo_b = true;
   bool periodic = false;
   // Spherical (PQ) levels: rows 0, 1, h-2 and h-1 read rows mirrored across the fold, at columns
   // other bands own (band_fold.h). G is 1 and every level's lead region reaches into the
@@ -51,7 +48,7 @@ struct BandLayout {
   // moves back 2 columns a step): 2(G + k - 2) on level 0, whose rows arrive with the
   // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts),
   // except on folded layouts: with G = 1 a phase relaxes only rows whose b came in earlier strips.
-  int lead_offset(int l) const { return (l == 0 && pushed_halo_b) || folded ? 2 * (steps() - 1) : 0; }
+  int lead_offset(int l) const { return (l == 0 && top()) || folded ? 2 * (steps() - 1) : 0; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   // The narrowest band a level may have.
@@ -61,6 +58,10 @@ struct BandLayout {
   // The worker of this stage that runs merged band g, and the first band after its group.
   int group_owner(int g) const { return 2 * g; }
   int group_end(int g) const { return g + 1 == merged->bands ? bands : 2 * g + 2; }
+  // The finest stage: its level 0's rows are the input, pushed once (with the neighbours' b in
+  // their halo); a merged stage's are restricted by the stage above every cycle, each band only
+  // its own columns, and it measures no residual of its own.
+  bool top() const { return first_level == 0; }
   // Banded levels in this stage and the merged ones below it.
   int banded_levels() const { return levels + (merged ? merged->banded_levels() : 0); }
 };

@@ -19,14 +19,14 @@
 #include "mpi/ranks.h"
 #include "schedule/cycle_worker.h"
 #include "schedule/input_ring.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 
 namespace gdp::bands {
 
 using schedule::Batch;
 using schedule::batch_rows;
 using schedule::Clock;
-using schedule::InputTotals;
+using multigrid::InputTotals;
 using schedule::seconds_since;
 
 namespace {
@@ -97,12 +97,11 @@ template <class T>
 struct Worker {
   Worker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
          schedule::CycleSettings s, int c0, int n, schedule::ResidualLog& log)
-      : c0(c0), n(n), band(net.rank()), log(log), vcycle(ops, layout, net, (s.channels = n, s)),
-        worker(vcycle, opt, ops.singular, n, layout.row_length(0, band), ops.levels[0].height, s.stores,
+      : c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)),
+        worker(vcycle, opt, ops.singular, log, c0, n, layout.row_length(0, band), ops.levels[0].height, s.stores,
                fmt::format("band{}-c{}-result", band, c0)) {}
 
   const int c0, n, band;
-  schedule::ResidualLog& log;
   StreamedVCycle<T> vcycle;
   schedule::CycleWorker<T, StreamedVCycle<T>> worker;
 };
@@ -112,7 +111,7 @@ struct Worker {
 template <class T>
 void run(Worker<T>& wk, const BandLayout& layout, std::shared_future<InputTotals> totals) {
   const int own = layout.end(0, wk.band) - layout.begin(0, wk.band);
-  if (!wk.worker.run([&]() -> const InputTotals& { return totals.get(); }, wk.log, wk.c0, layout.halo, own))
+  if (!wk.worker.run([&]() -> const InputTotals& { return totals.get(); }, layout.halo, own))
     throw TransportStopped("stopped");
 }
 
@@ -193,16 +192,12 @@ void share_columns(const BandLayout& layout, const Team& team, GuidanceSource& s
   out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
-void report(const SolverOptions& opt, double fraction) {
-  if (opt.progress) opt.progress(fraction);
-}
-
 // One reader of the input pass: local bands [first, last) (worker indices first * groups ..),
 // their input rows made from the ring's decoded rows.
 template <class T>
 struct Reader {
   int first, last;
-  std::unique_ptr<schedule::InputRows<T>> input;
+  std::unique_ptr<multigrid::InputRows<T>> input;
 };
 
 // The input pass's ring and readers: one reader per local band where the source splits
@@ -231,7 +226,7 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
     std::vector<std::pair<int, int>> own;
     for (int i = team.first + pass.readers[l].first; i < team.first + pass.readers[l].last; ++i)
       own.emplace_back(layout.begin(0, i), layout.end(0, i));
-    pass.readers[l].input = std::make_unique<schedule::InputRows<T>>(
+    pass.readers[l].input = std::make_unique<multigrid::InputRows<T>>(
         source, problem.hierarchy, own, windows[l].rows,
         [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
   }
@@ -267,7 +262,7 @@ double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions
       if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
       batch = wk.worker.spent_in.take();
     }
-    if (reader.first == 0 && j % 64 == 63) report(opt, 0.5 * (j + 1) / h);
+    if (opt.progress && reader.first == 0 && j % 64 == 63) opt.progress(0.5 * (j + 1) / h);
   }
   return schedule::thread_cpu_seconds();
 }
@@ -285,7 +280,7 @@ void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::
       if (r.rows == 0 || j >= r.first + r.rows) {
         auto next = wk.worker.out.pop();
         if (!next) throw TransportStopped("stopped");
-        wk.worker.spent_out.give(std::move(r));
+        wk.worker.spent_out.give(r.emptied());
         r = std::move(*next);
       }
       const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
@@ -296,7 +291,7 @@ void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::
                        [](T v) { return static_cast<float>(v); });
     }
     out.write_row(j, row);
-    if (j % 64 == 63 || j + 1 == h) report(opt, 0.5 + 0.5 * (j + 1) / h);
+    if (opt.progress && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
   }
 }
 
@@ -317,8 +312,10 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
 
   Team team = make_team(opt, layout, setup.distributed, channels);
   if (setup.distributed) share_columns(layout, team, source, out);
-  const std::unique_ptr<StreamedCheckpoint> checkpoint =
-      open_streamed_checkpoint(opt, ops, channels, layout.bands, team.local, team.first, team.groups, settings.stores);
+  std::unique_ptr<StreamedCheckpoint> checkpoint;
+  if (!opt.checkpoint_dir.empty())
+    checkpoint = std::make_unique<StreamedCheckpoint>(opt, ops, channels, layout.bands, team.local, team.first,
+                                                      team.groups, settings.stores);
   if (!setup.distributed)
     for (int g = 0; g < team.groups; ++g) team.threads.push_back(std::make_unique<ThreadHub>(layout.bands));
 
@@ -336,7 +333,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       workers.push_back(std::make_unique<Worker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0,
                                                     c1 - c0, logs[i]));
       Worker<T>& wk = *workers.back();
-      skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, logs[i], c0, wk.n, source.width()) : 0);
+      skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, wk.n, source.width()) : 0);
     }
 
   // The input pass: this thread decodes every input row (then writes the results), readers make

@@ -25,14 +25,21 @@ namespace gdp::bands {
 // resume with other counts is refused, naming them.
 class StreamedCheckpoint {
  public:
-  StreamedCheckpoint(const SolverOptions& opt, const std::string& sizes, int local, int first, int& groups)
+  // In opt.checkpoint_dir (its group count replaces `groups` when resuming); scratch kept there
+  // under each lane's names.
+  template <class T>
+  StreamedCheckpoint(const SolverOptions& opt, const multigrid::Operators<T>& ops, int channels, int bands, int local,
+                     int first, int& groups, schedule::StorePolicy& stores)
       : first_(first), local_(local) {
+    const std::string sizes = fmt::format("{} {} {} {} {} {} | {} bands on {} ranks", ops.levels[0].width,
+                                          ops.levels[0].height, channels, ops.count(), sizeof(T),
+                                          stores.half.any() ? "half" : "native", bands, MpiRun::size());
     int lanes = local * groups;
-    cp_ = std::make_unique<io::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(),
-                                                 lanes * MpiRun::size());
+    cp_ = std::make_unique<io::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(), lanes * MpiRun::size());
     if (lanes < 1 || lanes % local != 0)
       throw InputError(fmt::format("--resume {}: the manifest is corrupt (lanes)", opt.checkpoint_dir.string()));
     groups = groups_ = lanes / local;
+    stores.keep_dir = opt.checkpoint_dir;
   }
   // Resuming: the bands of a plan go back to the newest save they all made (a kill may have come
   // between two bands' saves; none is two saves ahead, StreamedVCycle::saved). Under mpirun
@@ -48,11 +55,10 @@ class StreamedCheckpoint {
   }
   // Row stores of local band i's group g are named with this prefix.
   std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
-  // Local band i's group g (worker, V-cycle, log from channel c0) saves here; when resuming, its
+  // Local band i's group g (worker, V-cycle) saves here; when resuming, its
   // state is restored. Returns the input rows it already has.
   template <class T, class VCycle>
-  int attach(schedule::CycleWorker<T, VCycle>& worker, const VCycle& vcycle, int i, int g, schedule::ResidualLog& log,
-             int c0, int channels, int width) {
+  int attach(schedule::CycleWorker<T, VCycle>& worker, const VCycle& vcycle, int i, int g, int channels, int width) {
     // A unit of the first pass stores about four times what a save writes (the rows held). The
     // bands of a plan must save at the same rows: theirs is a function of the plan, about four
     // times the rows its levels' rings hold (twice level 0's), not of the band.
@@ -61,7 +67,7 @@ class StreamedCheckpoint {
     const double rows_held = plan.single ? static_cast<double>(vcycle.window_bytes()) / row_bytes
                                          : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
     const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
-    return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)), log, c0);
+    return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)));
   }
 
  private:
@@ -87,21 +93,5 @@ class StreamedCheckpoint {
   std::unique_ptr<io::Checkpoint> cp_;
   int first_, local_, groups_ = 1;
 };
-
-// With opt.checkpoint_dir: the checkpoint (its group count replaces `groups` when resuming),
-// scratch kept there under each lane's names.
-template <class T>
-std::unique_ptr<StreamedCheckpoint> open_streamed_checkpoint(const SolverOptions& opt,
-                                                             const multigrid::Operators<T>& ops, int channels,
-                                                             int bands, int local, int first, int& groups,
-                                                             schedule::StorePolicy& stores) {
-  if (opt.checkpoint_dir.empty()) return nullptr;
-  const std::string sizes = fmt::format("{} {} {} {} {} {}", ops.levels[0].width, ops.levels[0].height, channels,
-                                        ops.count(), sizeof(T), stores.half.any() ? "half" : "native");
-  const std::string counts = fmt::format("{} bands on {} ranks", bands, MpiRun::size());
-  auto cp = std::make_unique<StreamedCheckpoint>(opt, sizes + " | " + counts, local, first, groups);
-  stores.keep_dir = opt.checkpoint_dir;
-  return cp;
-}
 
 }  // namespace gdp::bands

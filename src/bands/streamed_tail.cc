@@ -95,14 +95,7 @@ void StreamedVCycle<T>::solve_tail(ByteWriter& reply) {
   }
 }
 
-template <class T>
-void StreamedVCycle<T>::reduce_final() {
-  sum_in_order(net_, kFinal, final_rr_);
-}
-
 template void StreamedVCycle<float>::run_tail();
-template void StreamedVCycle<float>::reduce_final();
 template void StreamedVCycle<double>::run_tail();
-template void StreamedVCycle<double>::reduce_final();
 
 }  // namespace gdp::bands

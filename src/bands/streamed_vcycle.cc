@@ -36,10 +36,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     levels_.push_back(make_level(layout.levels));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
       merged_net_ = merged_transport(transport, layout.merged->bands);
-      Settings inner = set_;
-      inner.measure_initial = inner.measure_final = false;
-      inner.inputs_change = true;  // its finest level is this stage's restriction, new every cycle
-      merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, inner);
+      merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
     }
   } else {
     tail_u_.assign(set_.channels, Plane<T>(tail.width, tail.height));
@@ -54,8 +51,8 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
   const std::size_t slot0 = static_cast<std::size_t>(set_.channels) * levels_[0]->len;
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(set_.channels);
-  if (set_.measure_initial) initial_.assign(8 * slot0, T(0));
-  if (set_.measure_initial && layout.folded)
+  if (layout.top()) initial_.assign(8 * slot0, T(0));
+  if (layout.top() && layout.folded)
     for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(set_.channels) * levels_[0]->width, T(0));
 }
 
@@ -112,7 +109,7 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   const std::size_t slot = static_cast<std::size_t>(set_.channels) * L->len;
   L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
   L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
-  if (l == 0 && set_.weights && set_.more_cycles && !set_.inputs_change)
+  if (l == 0 && set_.weights && set_.more_cycles && layout_.top())
     L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
   if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
     schedule::StorePolicy exact = set_.stores;
@@ -223,7 +220,7 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
     if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
     if (set_.diagonal) std::copy(d.begin(), d.end(), d_row(0, r));
   }
-  if (set_.measure_initial && cycle_ == 1) {
+  if (layout_.top() && cycle_ == 1) {
     std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
@@ -305,7 +302,7 @@ void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
 template <class T>
 void StreamedVCycle<T>::finish_row(int l, int j) {
   if (!prolongation_) return restrict_row(l, j);
-  if (l == 0 && set_.measure_final) measure(j, false, final_rr_);
+  if (l == 0 && layout_.top()) measure(j, false, final_rr_);
 }
 
 template <class T>
@@ -390,7 +387,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
   if (!prolongation_) {
     if (levels_[0]->arrived != levels_[0]->height) throw std::logic_error("StreamedVCycle::pull before the last push");
     prolongation_ = true;
-    levels_[0]->inputs_stored = !set_.inputs_change;
+    levels_[0]->inputs_stored = layout_.top();
     for (auto& L : levels_) {
       L->arrived = L->next_phase = L->finished = L->needed_from = 0;
       if (!L->u_store) continue;  // the level handed to the merged stage: u comes back row by row
@@ -405,7 +402,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
   L.needed_from = j;
   ensure_final(0, j);
   std::copy_n(u_row(0, 0, j), static_cast<std::size_t>(set_.channels) * L.len, u.begin());
-  if (++pulled_ == L.height && set_.measure_final) reduce_final();
+  if (++pulled_ == L.height && layout_.top()) sum_in_order(net_, kFinal, final_rr_);
 }
 
 template <class T>

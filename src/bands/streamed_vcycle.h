@@ -101,7 +101,6 @@ class StreamedVCycle {
   void take_back(int row);
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
-  void reduce_final();
   // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
   multigrid::Window<T> window(int l, int c, int j, bool initial = false);
   // Columns [begin, end) of level l.
@@ -135,7 +134,7 @@ class StreamedVCycle {
   // A merged stage below this one (layout.merged; on the worker owning this band's group).
   std::unique_ptr<Transport> merged_net_;
   std::unique_ptr<StreamedVCycle<T>> merged_;
-  std::vector<T> initial_;  // first cycle: a ring of level-0 rows as pushed (measure_initial)
+  std::vector<T> initial_;  // first cycle of the top stage: a ring of level-0 rows as pushed
   std::array<std::vector<T>, 2> initial_fold_;  // first cycle: level 0's rows across the fold as pushed
   std::vector<multigrid::CycleProbe> probes_;
   std::vector<double> initial_rr_, final_rr_;

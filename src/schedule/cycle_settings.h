@@ -10,12 +10,9 @@ namespace gdp::schedule {
 struct CycleSettings {
   int channels = 1;  // the sweeps are the column plan's (bands::BandLayout::sweeps)
   double coarse_tolerance = 1e-10;
-  bool measure_initial = false;  // |b - A u| of the pushed rows (first cycle)
-  bool measure_final = false;    // |b - A u| of the pulled rows
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
   bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
-  bool inputs_change = false;    // b, w and d are pushed again every cycle (a merged band stage's)
   StorePolicy stores;
 };
 
@@ -26,7 +23,6 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   CycleSettings s;
   s.channels = channels;
   s.coarse_tolerance = opt.coarse_tolerance;
-  s.measure_initial = s.measure_final = true;
   s.weights = singular;
   s.diagonal = diagonal;
   s.more_cycles = opt.cycle_cap() > 1;

@@ -18,7 +18,7 @@
 #include "gdp/errors.h"
 #include "schedule/bounded_queue.h"
 #include "io/checkpoint_dir.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 #include "schedule/recycle_pool.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
@@ -56,40 +56,32 @@ void store_state(Archive& a, RowStore<T>* store) {
 inline int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
 
 // Rows first .. first + rows - 1: u and b (channels * length samples per row), w and d (length
-// per row, or empty when the problem has none).
+// per row, or empty when the problem has none). Handed back for reuse emptied (the vectors keep
+// their capacity).
 template <class T>
 struct Batch {
   int first = 0, rows = 0;
   std::vector<T> u, b, w, d;
-};
-
-// Batches handed back for reuse, emptied (their vectors keep their capacity).
-template <class T>
-class BatchPool {
- public:
-  void give(Batch<T>&& b) {
-    b.first = b.rows = 0;
-    for (std::vector<T>* v : {&b.u, &b.b, &b.w, &b.d}) v->clear();
-    pool_.give(std::move(b));
+  Batch&& emptied() {
+    first = rows = 0;
+    for (std::vector<T>* v : {&u, &b, &w, &d}) v->clear();
+    return std::move(*this);
   }
-  Batch<T> take() { return pool_.take(); }
-
- private:
-  RecyclePool<Batch<T>> pool_;
 };
 
 // Runs the V-cycles of `vcycle` (a bands::StreamedVCycle: begin_cycle, push,
-// pull, probe, initial_norm, final_norm) on rows of `channels` x `length` samples: the first
+// pull, probe, initial_norm, final_norm) on rows of `channels` x `length` samples (channels
+// c0 .. c0 + channels - 1 of `log`): the first
 // cycle's rows from the batches in `in`, later cycles' from the previous result (a row store),
 // each result shifted to keep the input's mean (alpha == 0), V-cycles until `opt`'s count or
 // tolerance, and the last result's columns [keep, keep + kept) out in batches.
 template <class T, class VCycle>
 class CycleWorker {
  public:
-  CycleWorker(VCycle& vcycle, const SolverOptions& opt, bool singular, int channels, int length, int height,
-              const StorePolicy& stores, const std::string& name)
-      : in(kQueued), out(kQueued), vcycle_(vcycle), opt_(opt), singular_(singular), channels_(channels),
-        length_(length), height_(height) {
+  CycleWorker(VCycle& vcycle, const SolverOptions& opt, bool singular, ResidualLog& log, int c0, int channels,
+              int length, int height, const StorePolicy& stores, const std::string& name)
+      : in(kQueued), out(kQueued), vcycle_(vcycle), opt_(opt), singular_(singular), log_(log), c0_(c0),
+        channels_(channels), length_(length), height_(height) {
     if (cycles() > 1)
       carry_ = std::make_unique<RowStore<T>>(stores, static_cast<std::size_t>(channels) * length, height, name);
   }
@@ -97,15 +89,12 @@ class CycleWorker {
 
   // Checkpoints (docs/resume.md): saves go to `cp` as lane `lane` after every `unit_rows` rows of
   // the first restriction pass, after every restriction pass (in-core tail included) and after
-  // every V-cycle whose result is stored for the next; `log`'s channels c0 .. c0 + channels - 1
-  // are saved with them. When `cp` resumes, the lane's last saved state is restored. Returns the
+  // every V-cycle whose result is stored for the next; the log's channels are saved with them. When `cp` resumes, the lane's last saved state is restored. Returns the
   // input rows (first cycle's) the lane already has: they are not to be pushed again.
-  int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows, ResidualLog& log, int c0) {
+  int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows) {
     checkpoint_ = &cp;
     lane_ = lane;
     unit_rows_ = std::max(1, unit_rows);
-    log_ = &log;
-    c0_ = c0;
     if (!cp.resuming()) return 0;
     const std::optional<std::string> saved = cp.load(lane);
     if (!saved) return 0;
@@ -120,10 +109,10 @@ class CycleWorker {
   }
 
   // `totals()` gives the input's sums (InputTotals; called once every input row is pushed, it
-  // may wait for them); `log` gets channels c0 .. c0 + channels - 1. Returns false when one of
+  // may wait for them). Returns false when one of
   // the queues was closed (the solve was stopped).
   template <class Totals>
-  bool run(Totals&& totals, ResidualLog& log, int c0, int keep, int kept) {
+  bool run(Totals&& totals, int keep, int kept) {
     keep_ = keep;
     kept_ = kept;
     u_.resize(static_cast<std::size_t>(channels_) * length_);
@@ -133,13 +122,13 @@ class CycleWorker {
       const int pass = k == mark_.cycle ? mark_.pass : 0;
       if (pass == 2) continue;  // this cycle's result is stored: on to the next
       if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
-      const InputTotals& sums = totals();
+      const multigrid::InputTotals& sums = totals();
       for (int c = 0; c < channels_; ++c) {
         if (k == 0) {
-          log.set_rhs_norm(c0 + c, std::sqrt(sums.rhs_norms2[c0 + c]));
-          log.initial(c0 + c, vcycle_.initial_norm(c));
+          log_.set_rhs_norm(c0_ + c, std::sqrt(sums.rhs_norms2[c0_ + c]));
+          log_.initial(c0_ + c, vcycle_.initial_norm(c));
         }
-        shift[c] = mean_shift(singular_, sums.weighted_sums[c0 + c], sums.weight_total, vcycle_.probe(c).dots);
+        shift[c] = mean_shift(singular_, sums.weighted_sums[c0_ + c], sums.weight_total, vcycle_.probe(c).dots);
       }
       const bool surely_last = k + 1 == cycles();
       if (carry_ && !surely_last) carry_->clear();
@@ -155,8 +144,8 @@ class CycleWorker {
       }
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < channels_; ++c) {
-        log.cycle(c0 + c, vcycle_.final_norm(c), vcycle_.probe(c));
-        converged = converged && log.settled(c0 + c, opt_.tolerance);
+        log_.cycle(c0_ + c, vcycle_.final_norm(c), vcycle_.probe(c));
+        converged = converged && log_.settled(c0_ + c, opt_.tolerance);
       }
       if (surely_last) return true;
       if (converged) {  // the carried result is the answer (every worker sees the same sums)
@@ -173,7 +162,7 @@ class CycleWorker {
   }
 
   BoundedQueue<Batch<T>> in, out;
-  BatchPool<T> spent_in, spent_out;  // batches of `in` and `out` the taker is done with
+  RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
@@ -197,7 +186,7 @@ class CycleWorker {
       if (next_in == batch.rows) {
         auto b = in.pop();
         if (!b) return false;
-        spent_in.give(std::move(batch));
+        spent_in.give(batch.emptied());
         batch = std::move(*b);
         next_in = 0;
       }
@@ -235,7 +224,7 @@ class CycleWorker {
       throw CorruptState("unknown version or position");
     vcycle_.state(a);
     store_state(a, carry_.get());
-    log_->state(a, c0_, channels_);
+    log_.state(a, c0_, channels_);
   }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
@@ -254,15 +243,14 @@ class CycleWorker {
   VCycle& vcycle_;
   const SolverOptions& opt_;
   bool singular_;
-  int channels_, length_, height_, keep_ = 0, kept_ = 0;
+  ResidualLog& log_;
+  int c0_, channels_, length_, height_, keep_ = 0, kept_ = 0;
   std::unique_ptr<RowStore<T>> carry_;
   std::vector<T> u_;  // a row of every channel
-  // Checkpoints: where to save (none: null), this lane's number, log and first channel; where a
-  // resumed run starts.
+  // Checkpoints: where to save (none: null), this lane's number; where a resumed run starts.
   static constexpr int kStateVersion = 1;
   io::Checkpoint* checkpoint_ = nullptr;
-  int lane_ = 0, unit_rows_ = 1 << 30, c0_ = 0;
-  ResidualLog* log_ = nullptr;
+  int lane_ = 0, unit_rows_ = 1 << 30;
   CycleMark mark_;
 };
 

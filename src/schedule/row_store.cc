@@ -39,7 +39,7 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
       encoding_(policy.encoding_of(name)),
       drop_behind_(policy.drop_behind) {
   const std::size_t total = encoded_bytes() * rows;
-  disk_budget_ = policy.budget ? policy.budget : &ScratchBudget::process();
+  budget_ = policy.budget ? policy.budget : &ScratchBudget::process();
   if (!policy.keep_dir.empty()) {
     dir_ = policy.keep_dir;
     const std::filesystem::path path = dir_ / (name_ + ".store");
@@ -47,21 +47,12 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
     if (fd_ < 0)
       throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), system_message()));
     open_file(policy);
-  } else if (policy.budget) {
-    memory_ = ScratchMemory(*policy.budget, total);
-    if (memory_.held()) {
-      buffer_ = memory_.data();
-      capacity_ = total;
-    } else {
-      policy.budget->count_spill();
-      open_file(policy);
-    }
-  } else if (total > policy.memory_limit) {
-    open_file(policy);
-  } else {
-    file_buffer_.resize(total);
-    buffer_ = file_buffer_.data();
+  } else if ((memory_ = ScratchMemory(*budget_, total)).held()) {
+    buffer_ = memory_.data();
     capacity_ = total;
+  } else {
+    budget_->count_spill();
+    open_file(policy);
   }
 }
 
@@ -82,7 +73,7 @@ void RowStore<T>::open_file(const StorePolicy& policy) {
 template <class T>
 void RowStore<T>::count_disk(std::size_t bytes) {
   if (bytes <= disk_bytes_) return;
-  disk_budget_->add_disk(static_cast<std::ptrdiff_t>(bytes - disk_bytes_));
+  budget_->add_disk(static_cast<std::ptrdiff_t>(bytes - disk_bytes_));
   disk_bytes_ = bytes;
 }
 
@@ -94,7 +85,7 @@ std::string RowStore<T>::where() const {
 template <class T>
 RowStore<T>::~RowStore() {
   if (fd_ >= 0) ::close(fd_);
-  disk_budget_->add_disk(-static_cast<std::ptrdiff_t>(disk_bytes_));
+  budget_->add_disk(-static_cast<std::ptrdiff_t>(disk_bytes_));
 }
 
 template <class T>

@@ -21,13 +21,12 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name);
 // How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
 enum class StoreEncoding { Native, Half };
 
-// Where rows are kept: in memory while `budget` has room for the whole stream (without a budget:
-// when it is at most memory_limit), else in an unlinked file in `dir` (the space returns to the
-// system when the store is destroyed or the process dies, however it dies).
+// Where rows are kept: in memory while `budget` has room for the whole stream, else in an
+// unlinked file in `dir` (the space returns to the system when the store is destroyed or the
+// process dies, however it dies).
 struct StorePolicy {
   std::filesystem::path dir;
-  std::size_t memory_limit = std::size_t{8} << 20;  // bytes kept in memory per store (no budget)
-  ScratchBudget* budget = nullptr;                  // shared by many stores (ScratchBudget::process())
+  ScratchBudget* budget = nullptr;  // shared by many stores (null: ScratchBudget::process())
   // Which stores keep half floats, by name (multigrid::HalfPolicy: "u" every level's u,
   // "level0-u" the finest only); the rest keep the kernel's precision.
   multigrid::HalfPolicy half;
@@ -86,10 +85,10 @@ class RowStore {
   StoreEncoding encoding_;
   int fd_ = -1;
   ScratchMemory memory_;                // the whole stream, in memory (taken from the budget)
-  std::vector<unsigned char> file_buffer_;  // the I/O buffer of a file (or, with no budget, the stream)
+  std::vector<unsigned char> file_buffer_;  // the I/O buffer of a file
   unsigned char* buffer_ = nullptr;     // one of them
   std::size_t capacity_ = 0;            // its size
-  ScratchBudget* disk_budget_ = nullptr;  // counts this file's bytes
+  ScratchBudget* budget_ = nullptr;       // holds memory_, counts this file's bytes
   std::size_t disk_bytes_ = 0;            // counted so far
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream

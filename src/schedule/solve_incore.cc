@@ -7,7 +7,7 @@
 #include <mutex>
 
 #include "multigrid/incore_vcycle.h"
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 #include "schedule/parallel.h"
 #include "schedule/solve_parts.h"
 
@@ -50,7 +50,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   // Each plane made once, in place (not copies of one), its pages mapped in one call.
   std::vector<Plane<T>> u, b, weights, diagonal;
   for (int c = 0; c < channels; ++c) u.push_back(prefaulted_plane<T>(w, h)), b.push_back(prefaulted_plane<T>(w, h));
-  InputRows<T> input(source, problem.hierarchy);
+  multigrid::InputRows<T> input(source, problem.hierarchy);
   {
     // The mean weights only where the mean is fixed by them (alpha == 0), else one row reused.
     const bool keep_weights = ops.singular;
@@ -74,7 +74,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
   summary.seconds_rhs = seconds_since(t_rhs);
-  const InputTotals totals = input.totals();
+  const multigrid::InputTotals totals = input.totals();
   summary.window_bytes = 2 * n * h * sizeof(T);
 
   const auto t_solve = Clock::now();

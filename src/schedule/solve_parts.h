@@ -47,7 +47,6 @@ class ResidualLog {
   void set_rhs_norm(int c, double norm) { b_norm_[c] = norm; }
   void initial(int c, double norm);
   void cycle(int c, double norm, const multigrid::CycleProbe& probe);
-  double last(int c) const { return rel_[c].back(); }
   // Iterating to `tolerance` (> 0): channel c is there, or stalled: its last kStallCycles V-cycles
   // did not bring its residual 10 % below the best before them (the floor of the arithmetic: a
   // float solve of smooth data stalls near 1e-5, docs/sky.md; more cycles would only repeat it).

@@ -9,7 +9,7 @@
 #include "gdp/guidance.h"
 #include "multigrid/hierarchy.h"
 
-namespace gdp::schedule {
+namespace gdp::multigrid {
 
 // What a solve needs to know of all its input rows: per channel the sum of w * u (the mean a
 // pure gradient solve keeps) and |b|^2 (relative residuals), and the sum of w.
@@ -38,7 +38,7 @@ class InputRows {
   using Range = std::pair<int, int>;  // columns [first, second)
 
   using Reader = std::function<void(int, GuidanceRow&)>;
-  InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges = {},
+  InputRows(GuidanceSource& source, const Hierarchy& hierarchy, std::vector<Range> sum_ranges = {},
             Range columns = {0, -1}, Reader read = {});
   void next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d = {});
 
@@ -66,4 +66,4 @@ class InputRows {
   std::vector<InputTotals> totals_;
 };
 
-}  // namespace gdp::schedule
+}  // namespace gdp::multigrid

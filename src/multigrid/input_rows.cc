@@ -1,5 +1,5 @@
 // Input rows: guidance rows through the right-hand-side assembler, two rows of look-ahead.
-#include "schedule/input_rows.h"
+#include "multigrid/input_rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/masked.h"
 
-namespace gdp::schedule {
+namespace gdp::multigrid {
 
 void InputTotals::add(const InputTotals& t) {
   weighted_sums.resize(t.weighted_sums.size(), 0.0);
@@ -26,7 +26,7 @@ InputTotals InputRows<T>::totals() const {
 }
 
 template <class T>
-InputRows<T>::InputRows(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, std::vector<Range> sum_ranges,
+InputRows<T>::InputRows(GuidanceSource& source, const Hierarchy& hierarchy, std::vector<Range> sum_ranges,
                         Range columns, Reader read)
     : source_(source), read_row_(std::move(read)), width_(source.width()), height_(source.height()), channels_(source.channels()),
       assembler_(hierarchy.levels[0].x, hierarchy.levels[0].y, source.alpha(), source.channels()),
@@ -77,8 +77,8 @@ void InputRows<T>::read_guidance() {
       for (int c = 0; c < channels_; ++c) finite = finite && std::isfinite(row_.value[static_cast<std::size_t>(c) * width_ + i]);
       // No weight where there is no value to hold (blank pixels).
       d[i] = !finite || !(wt > 0.0) ? 0.0
-             : wt >= kPinned       ? multigrid::LevelOperator<T>::kPinnedDiagonal
-                                   : multigrid::LevelOperator<T>::kScale * wt;
+             : wt >= kPinned       ? LevelOperator<T>::kPinnedDiagonal
+                                   : LevelOperator<T>::kScale * wt;
       for (int c = 0; c < channels_; ++c) {
         const std::size_t k = static_cast<std::size_t>(c) * width_ + i;
         dv[k] = d[i] == 0.0 ? 0.0 : d[i] * row_.value[k];
@@ -99,7 +99,7 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   if (j >= height_) throw std::logic_error("InputRows::next past the last row");
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
-  constexpr double scale = multigrid::LevelOperator<T>::kScale;
+  constexpr double scale = LevelOperator<T>::kScale;
   const bool weights = source_.has_weights();
   for (int c = 0; c < channels_; ++c) {
     const std::size_t at = static_cast<std::size_t>(c) * width_;
@@ -120,7 +120,7 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     for (int i = x0; i < x1; ++i) {
       const bool finite = multigrid::finite(in[i]);
       known[i] &= static_cast<unsigned char>(finite);
-      uc[i] = multigrid::masked(static_cast<T>(in[i]), finite);
+      uc[i] = masked(static_cast<T>(in[i]), finite);
     }
   }
   for (int i = x0; i < x1; ++i) w[i] = known[i] ? T(1) : T(0);
@@ -129,14 +129,14 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
     for (int c = 0; c < channels_; ++c) {
       const std::size_t at = static_cast<std::size_t>(c) * width_;
       const T* bc = b.data() + at;
-      totals_[r].weighted_sums[c] += multigrid::row_dot(w.data() + a, u.data() + at + a, e - a);
+      totals_[r].weighted_sums[c] += row_dot(w.data() + a, u.data() + at + a, e - a);
       double& norm2 = totals_[r].rhs_norms2[c];
       // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
       // residuals are measured against: they are left out of it.
-      if (!weights) norm2 += multigrid::row_dot(bc + a, bc + a, e - a);
+      if (!weights) norm2 += row_dot(bc + a, bc + a, e - a);
       else
         for (int i = a; i < e; ++i)
-          if (d_[k][i] != multigrid::LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
+          if (d_[k][i] != LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
     }
     for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
   }
@@ -148,4 +148,4 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
 template class InputRows<float>;
 template class InputRows<double>;
 
-}  // namespace gdp::schedule
+}  // namespace gdp::multigrid
