@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gdp/image_io.h"
+#include "multigrid/masked.h"
 
 namespace gdp::io {
 
@@ -72,8 +73,9 @@ inline SampleType band_type(SampleType type) {
 
 // 8- and 16-bit samples are converted to and from float by gdp itself, the same bit for bit in
 // every backend: k * (1.0f / max) one way; clamp to [0, 1] (NaN -> 0), * max + 0.5f and truncate
-// the other.
-inline float clamp01(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }
+// the other. The clamp without a branch on a floating-point test, so that loops of it vectorise
+// (the same result as v > 0 ? min(v, 1) : 0 for every float: checked over all 2^32 of them).
+inline float clamp01(float v) { return multigrid::masked(1.0f < v ? 1.0f : v, v > 0.0f); }
 inline float from_u8(std::uint8_t v) { return static_cast<float>(v) * (1.0f / 255.0f); }
 inline float from_u16(std::uint16_t v) { return static_cast<float>(v) * (1.0f / 65535.0f); }
 inline std::uint8_t to_u8(float v) { return static_cast<std::uint8_t>(clamp01(v) * 255.0f + 0.5f); }

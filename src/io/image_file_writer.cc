@@ -27,13 +27,34 @@ struct Band {
   std::vector<float> rows;  // the rows as written (channel-major), converted by the encoder
 };
 
+// Channels [0, Ch) of a channel-major row into `ch` interleaved samples of type T (Ch == ch, a
+// constant, lets the pixel loop vectorise: each pixel's samples are one store group).
+template <int Ch, class T, class Convert>
+void interleave_n(const float* row, int w, int ch, T* dst, Convert convert) {
+  const int n = Ch > 0 ? Ch : ch;
+  if constexpr (Ch > 0) {
+    const float* src[Ch > 0 ? Ch : 1];
+    for (int c = 0; c < Ch; ++c) src[c] = row + static_cast<std::size_t>(c) * w;
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < Ch; ++c) dst[static_cast<std::size_t>(x) * Ch + c] = convert(src[c][x]);
+  } else {
+    for (int c = 0; c < n; ++c) {
+      const float* src = row + static_cast<std::size_t>(c) * w;
+      for (int x = 0; x < w; ++x) dst[static_cast<std::size_t>(x) * n + c] = convert(src[x]);
+    }
+  }
+}
+
 // A channel-major row into interleaved samples of type T.
 template <class T, class Convert>
 void interleave(const float* row, int w, int ch, unsigned char* out, Convert convert) {
   T* dst = reinterpret_cast<T*>(out);
-  for (int c = 0; c < ch; ++c) {
-    const float* src = row + static_cast<std::size_t>(c) * w;
-    for (int x = 0; x < w; ++x) dst[static_cast<std::size_t>(x) * ch + c] = convert(src[x]);
+  switch (ch) {
+    case 1: return interleave_n<1>(row, w, ch, dst, convert);
+    case 2: return interleave_n<2>(row, w, ch, dst, convert);
+    case 3: return interleave_n<3>(row, w, ch, dst, convert);
+    case 4: return interleave_n<4>(row, w, ch, dst, convert);
+    default: return interleave_n<0>(row, w, ch, dst, convert);
   }
 }
 

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "schedule/read_ahead.h"
 
 namespace gdp::schedule {
 namespace {
@@ -84,6 +85,7 @@ std::string RowStore<T>::where() const {
 
 template <class T>
 RowStore<T>::~RowStore() {
+  ahead_.reset();  // its thread reads fd_
   if (fd_ >= 0) ::close(fd_);
   budget_->add_disk(-static_cast<std::ptrdiff_t>(disk_bytes_));
 }
@@ -131,32 +133,25 @@ template <class T>
 void RowStore<T>::rewind() {
   if (fd_ >= 0) {
     if (!reading_) flush();
-    if (::lseek(fd_, 0, SEEK_SET) < 0) throw OutputError(fmt::format("{}: {}", where(), system_message()));
+    ahead_.reset();
     buffered_ = 0;
-    file_read_ = 0;
     drop_behind_.restart(0);
+    // Chunks of whole rows (a row never straddles two), about a file buffer each.
+    const std::size_t row = encoded_bytes(), chunk = std::max<std::size_t>(1, kFileBuffer / row) * row;
+    ahead_ = std::make_unique<ReadAhead>(fd_, 0, written_, chunk, drop_behind_, where());
   }
   cursor_ = 0;
   reading_ = true;
 }
 
+// The next chunk of the file (read ahead on the ReadAhead's thread).
 template <class T>
 void RowStore<T>::fill() {
-  // Keep the unread tail, then read as much as fits (never past what was written).
-  std::memmove(buffer_, buffer_ + cursor_, buffered_ - cursor_);
-  buffered_ -= cursor_;
+  if (cursor_ != buffered_) throw std::logic_error("RowStore: a row straddles two chunks");
+  const std::span<const unsigned char> c = ahead_->next();
+  chunk_ = c.data();
+  buffered_ = c.size();
   cursor_ = 0;
-  while (buffered_ < capacity_ && file_read_ < written_) {
-    const std::size_t want = std::min(capacity_ - buffered_, written_ - file_read_);
-    const ssize_t k = ::read(fd_, buffer_ + buffered_, want);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0)
-      throw OutputError(fmt::format("{}: cannot read back: {}", where(),
-                                    k < 0 ? system_message() : "file is shorter than written"));
-    buffered_ += static_cast<std::size_t>(k);
-    file_read_ += static_cast<std::size_t>(k);
-  }
-  drop_behind_.read(fd_, file_read_);
 }
 
 template <class T>
@@ -165,7 +160,7 @@ void RowStore<T>::read(std::span<T> row) {
   if (!reading_) throw std::logic_error("RowStore::read before rewind");
   if (fd_ >= 0 && cursor_ + n > buffered_) fill();
   if (cursor_ + n > buffered_) throw std::logic_error("RowStore: read past the end");
-  const unsigned char* in = buffer_ + cursor_;
+  const unsigned char* in = (fd_ >= 0 ? chunk_ : buffer_) + cursor_;
   if (encoding_ == StoreEncoding::Half) {
     multigrid::from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
   } else {
@@ -176,8 +171,9 @@ void RowStore<T>::read(std::span<T> row) {
 
 template <class T>
 void RowStore<T>::clear() {
+  ahead_.reset();
   if (fd_ >= 0) ::lseek(fd_, 0, SEEK_SET);  // later reads never pass written_
-  buffered_ = cursor_ = written_ = file_read_ = 0;
+  buffered_ = cursor_ = written_ = 0;
   drop_behind_.restart(0);
   reading_ = false;
 }
@@ -193,13 +189,14 @@ std::size_t RowStore<T>::make_durable() {
 template <class T>
 void RowStore<T>::restore(std::size_t bytes) {
   if (fd_ < 0) throw std::logic_error("RowStore::restore in memory");
+  ahead_.reset();
   const off_t end = ::lseek(fd_, 0, SEEK_END);
   if (end < 0 || static_cast<std::size_t>(end) < bytes)
     throw OutputError(fmt::format("{}: shorter than the checkpoint says ({} of {} bytes)", where(),
                                   static_cast<long long>(end), bytes));
   if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0 || ::lseek(fd_, static_cast<off_t>(bytes), SEEK_SET) < 0)
     throw OutputError(fmt::format("{}: {}", where(), system_message()));
-  buffered_ = cursor_ = file_read_ = 0;
+  buffered_ = cursor_ = 0;
   written_ = bytes;
   drop_behind_.restart(bytes);
   count_disk(bytes);

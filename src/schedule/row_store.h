@@ -14,6 +14,8 @@
 
 namespace gdp::schedule {
 
+class ReadAhead;
+
 // An exclusive file in `dir`, unlinked at once: only the returned descriptor keeps it alive
 // (OutputError naming the directory when it cannot be created).
 int open_unlinked(const std::filesystem::path& dir, const std::string& name);
@@ -92,7 +94,8 @@ class RowStore {
   std::size_t disk_bytes_ = 0;            // counted so far
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream
-  std::size_t file_read_ = 0;              // bytes of the file consumed by fill()
+  std::unique_ptr<ReadAhead> ahead_;       // a file read back: its chunks, read on a thread of their own
+  const unsigned char* chunk_ = nullptr;   // the chunk being read (buffered_ bytes)
   DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
   bool reading_ = false;
 };

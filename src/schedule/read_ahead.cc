@@ -1,0 +1,71 @@
+// A scratch file read ahead on a thread: pread into recycled chunks, handed over through queues.
+#include "schedule/read_ahead.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <optional>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "gdp/errors.h"
+
+namespace gdp::schedule {
+
+ReadAhead::ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop, std::string where)
+    : where_(std::move(where)) {
+  for (int k = 0; k < 3; ++k) free_.push(Chunk{});
+  thread_ = std::thread([this, fd, begin, end, chunk, &drop] { run(fd, begin, end, chunk, drop); });
+}
+
+ReadAhead::~ReadAhead() {
+  free_.close();
+  full_.close();
+  thread_.join();
+}
+
+void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop) {
+  for (std::size_t at = begin; at < end;) {
+    std::optional<Chunk> c = free_.pop();
+    if (!c) return;
+    c->size = std::min(chunk, end - at);
+    c->bytes.resize(c->size);
+    for (std::size_t got = 0; got < c->size;) {
+      const ssize_t k = ::pread(fd, c->bytes.data() + got, c->size - got, static_cast<off_t>(at + got));
+      if (k < 0 && errno == EINTR) continue;
+      if (k <= 0) {
+        c->error = k < 0 ? std::generic_category().message(errno) : "file is shorter than written";
+        full_.push(std::move(*c));
+        return;
+      }
+      got += static_cast<std::size_t>(k);
+    }
+    at += c->size;
+    drop.read(fd, at);
+    if (!full_.push(std::move(*c))) return;
+  }
+  full_.finish();
+}
+
+std::span<const unsigned char> ReadAhead::next() {
+  if (done_) return {};
+  if (holding_) free_.push(std::move(held_));
+  holding_ = false;
+  std::optional<Chunk> c = full_.pop();
+  if (!c) {
+    done_ = true;
+    held_ = Chunk{};
+    return {};
+  }
+  held_ = std::move(*c);
+  holding_ = true;
+  if (!held_.error.empty()) {
+    done_ = true;
+    throw OutputError(fmt::format("{}: cannot read back: {}", where_, held_.error));
+  }
+  return {held_.bytes.data(), held_.size};
+}
+
+}  // namespace gdp::schedule
