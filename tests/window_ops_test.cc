@@ -179,7 +179,7 @@ void expect_grouped_relax_bitwise(const Hierarchy& h) {
   Scratch<T> s1, sg;
   for (const Columns& cols : {Columns::whole(op.width, op.periodic_x), Columns::range(op.width, op.periodic_x, 10, 50),
                               Columns::range(op.width, op.periodic_x, 10, 50, false)})
-    for (const Plane<T>* d : {static_cast<const Plane<T>*>(nullptr), &diag}) {
+    for (const Plane<T>* d : std::array<const Plane<T>*, 2>{nullptr, &diag}) {
       std::vector<Plane<T>> alone = u0, grouped = u0;
       for (int j = 0; j < op.height; ++j) {
         const T* dj = d ? d->row(j) : nullptr;
