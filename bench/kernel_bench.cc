@@ -26,22 +26,17 @@ struct Fixture {
   LevelOperator<float> op{h.levels[0], 0.0};
   Plane<float> u{kWidth, kRows}, b{kWidth, kRows}, r{kWidth, kRows}, coarse{kWidth / 2, kRows};
   std::vector<Window<float>> windows;
-  std::vector<Plane<float>> rgb;  // three more channels' u (relax3; b is shared)
   Fixture() {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> d(-1.0f, 1.0f);
     for (Plane<float>* p : {&u, &b, &coarse})
       for (float& v : p->data) v = d(rng);
     for (int j = 0; j < kRows; ++j) windows.push_back(window(op, u, j));
-    rgb.assign(3, u);
   }
 };
 
-// relax3: three channels' relaxations as one grouped call (window_ops.h), per channel-sample; rgb1: the same
-// three one call per channel (the baseline for relax3).
-enum Kernel { kRelax, kResidual, kApply, kRestrict, kProlong, kRelax3, kRgb1 };
-const char* const kKernels[] = {"relax", "residual", "apply", "restrict", "prolong", "relax3", "rgb1"};
-constexpr int kKernelCount = 7;
+enum Kernel { kRelax, kResidual, kApply, kRestrict, kProlong };
+const char* const kKernels[] = {"relax", "residual", "apply", "restrict", "prolong"};
 constexpr std::pair<int, int> kRangeColumns[] = {{0, kWidth}, {0, 72}, {2048, 6144}, {2048, 2120}};
 constexpr int kRanges = 4;
 
@@ -62,16 +57,6 @@ void run(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
       case kApply: apply(f.op, j, w, cols, f.r.row(j), s); break;
       case kRestrict: restrict_rows(g.px, py, f.r.row(j), 0, coarse, c0, c1, {0, 0}, s); break;
       case kProlong: prolong_rows(g.px, py, c0, c1, {0, 0}, true, cols, f.u.row(j), 0, s); break;
-      case kRelax3:
-      case kRgb1: {
-        Window<float> ws[3];
-        float* us[3];
-        const float* bs[3] = {f.b.row(j), f.b.row(j), f.b.row(j)};
-        for (int c = 0; c < 3; ++c) ws[c] = window(f.op, f.rgb[c], j), us[c] = f.rgb[c].row(j);
-        if (kernel == kRelax3) relax(f.op, j, 3, ws, cols, us, bs, s);
-        else for (int c = 0; c < 3; ++c) relax(f.op, j, ws[c], cols, us[c], bs[c], s);
-        break;
-      }
     }
   }
 }
@@ -85,7 +70,7 @@ double cpu_seconds() {
 // CPU ns per fine sample of one kernel on one range, over about 2M samples.
 double measure(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
   const auto [i0, i1] = kRangeColumns[range];
-  const long samples = long(kLast - kFirst) * (i1 - i0) * (kernel >= kRelax3 ? 3 : 1);
+  const long samples = long(kLast - kFirst) * (i1 - i0);
   const int reps = int(std::max(1L, 2000000 / samples));
   const double t0 = cpu_seconds();
   for (int k = 0; k < reps; ++k) run(f, kernel, range, s);
@@ -165,7 +150,7 @@ int main(int argc, char** argv) {
   std::printf("%-9s %9s %9s %9s %9s %11s %11s %11s %11s\n", "kernel", "row", "edge", "interior", "tile", "edge/row",
               "lane/row", "tile/row", "edge/tile");
   double total = 0.0;
-  for (int k = 0; k < kKernelCount; ++k) {
+  for (int k = 0; k < 5; ++k) {
     const auto kernel = static_cast<Kernel>(k);
     if (kernel_only && std::strcmp(kernel_only, kKernels[k]) != 0) continue;
     double best[kRanges] = {1e30, 1e30, 1e30, 1e30};

@@ -1,7 +1,6 @@
 // Window kernels: a row split into bands with halo columns gives the whole-row results.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <random>
 
 #include "gdp/errors.h"
@@ -156,56 +155,6 @@ TEST_P(WindowOps, RelaxAcrossTheWrapEqualsShiftedColumns) {
     relax(op, j, wv, Columns::range(op.width, true, -2 + shift, 18 + shift, forward), ext.data(), bext.data(), ws);
     for (int i = -2; i < 18; ++i) ASSERT_NEAR(row[i - A + kHalo], ext[i + shift], 1e-12) << i;
   }
-}
-
-// Relaxing channels as one group (interleaved recurrences, window_ops.h) gives each channel the bits of
-// relaxing it alone: five channels (a group of kGroup and one more), every row, whole rows (wrapping where
-// periodic) and a range either way, with and without a per-pixel diagonal, in float and double.
-template <class T>
-void expect_grouped_relax_bitwise(const Hierarchy& h) {
-  const LevelOperator<T> op(h.levels[0], h.alpha);
-  constexpr int kChannels = kGroup + 1;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<T> dist(-1, 1);
-  const auto random = [&] {
-    Plane<T> p(op.width, op.height);
-    for (T& v : p.data) v = dist(rng);
-    return p;
-  };
-  std::vector<Plane<T>> u0, b;
-  for (int c = 0; c < kChannels; ++c) u0.push_back(random()), b.push_back(random());
-  Plane<T> diag = random();
-  for (T& v : diag.data) v = T(0.5) + v / 4;
-  Scratch<T> s1, sg;
-  for (const Columns& cols : {Columns::whole(op.width, op.periodic_x), Columns::range(op.width, op.periodic_x, 10, 50),
-                              Columns::range(op.width, op.periodic_x, 10, 50, false)})
-    for (const Plane<T>* d : std::array<const Plane<T>*, 2>{nullptr, &diag}) {
-      std::vector<Plane<T>> alone = u0, grouped = u0;
-      for (int j = 0; j < op.height; ++j) {
-        const T* dj = d ? d->row(j) : nullptr;
-        Window<T> w[kChannels];
-        T* u[kChannels];
-        const T* bs[kChannels];
-        for (int c = 0; c < kChannels; ++c) {
-          relax(op, j, window(op, alone[c], j), cols, alone[c].row(j), b[c].row(j), s1, dj);
-          w[c] = window(op, grouped[c], j), u[c] = grouped[c].row(j), bs[c] = b[c].row(j);
-        }
-        relax(op, j, kChannels, w, cols, u, bs, sg, dj);
-      }
-      for (int c = 0; c < kChannels; ++c) {
-        ASSERT_NE(alone[c].data, u0[c].data);  // the sweep did something
-        ASSERT_EQ(std::memcmp(alone[c].data.data(), grouped[c].data.data(), alone[c].data.size() * sizeof(T)), 0)
-            << "channel " << c << " columns [" << cols.begin << ", " << cols.end << ")"
-            << (cols.forward ? " forward" : " backward") << (d ? " with a diagonal" : "");
-      }
-    }
-}
-
-TEST_P(WindowOps, GroupedRelaxationGivesEachChannelItsOwnBits) {
-  const auto [domain, width] = GetParam();
-  const Levels s(domain, width, 12);
-  expect_grouped_relax_bitwise<float>(s.h);
-  expect_grouped_relax_bitwise<double>(s.h);
 }
 
 TEST_P(WindowOps, RestrictAndProlongOverBandsEqualWholeRows) {

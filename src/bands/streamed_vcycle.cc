@@ -259,17 +259,10 @@ void StreamedVCycle<T>::run_phase(int l, int p) {
   }
   plan_phase(
       layout_, l, band_, L.height, p,
-      [&](const Tile& t) {  // the channels kGroup at a time, their recurrences interleaved (window_ops.h)
-        constexpr int G = multigrid::kGroup;
-        for (int c0 = 0; c0 < set_.channels; c0 += G) {
-          const int n = std::min(G, set_.channels - c0);
-          Window<T> w[G];
-          T* u[G];
-          const T* b[G];
-          for (int c = 0; c < n; ++c)
-            w[c] = window(l, c0 + c, t.row), u[c] = u_row(l, c0 + c, t.row), b[c] = b_row(l, c0 + c, t.row);
-          multigrid::relax(*L.op, t.row, n, w, columns(l, t.lo, t.hi, t.forward), u, b, L.scratch, d_row(l, t.row));
-        }
+      [&](const Tile& t) {
+        for (int c = 0; c < set_.channels; ++c)
+          multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(l, t.lo, t.hi, t.forward), u_row(l, c, t.row),
+                           b_row(l, c, t.row), L.scratch, d_row(l, t.row));
       },
       [&](bool left) { send_strips(l, p, left); }, [&](bool left) { receive_strips(l, p, left); });
   while (L.finished < L.height && final_phase(layout_, L.height, L.finished) <= p) finish_row(l, L.finished++);

@@ -48,6 +48,10 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
 template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
     : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
+  for (int l = first + 1; l < ops.count(); ++l) {
+    u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
+    b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
+  }
   r_row_.resize(ops.levels[first].width);
   coarse_b_ = Plane<double>(ops.coarsest.width, ops.coarsest.height);
   coarse_u_ = coarse_b_;
@@ -55,51 +59,29 @@ InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse
 
 template <class T>
 void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
-  Plane<T>*u = &u0, *b = &b0;
-  run(Planes(&u, 1), Planes(&b, 1), weights, std::span<CycleProbe* const>(&probe, probe ? 1 : 0));
-}
-
-template <class T>
-void InCoreVCycle<T>::run(Planes u0, Planes b0, const std::vector<Plane<T>>* weights,
-                          std::span<CycleProbe* const> probes) {
-  const int levels = ops_.count(), n = static_cast<int>(u0.size());
-  for (int c = static_cast<int>(u_.size()); c < n; ++c) {  // a channel's levels below `first`, made once
-    u_.emplace_back(), b_.emplace_back();
-    for (int l = first_ + 1; l < levels; ++l) {
-      u_[c].emplace_back(ops_.levels[l].width, ops_.levels[l].height);
-      b_[c].emplace_back(ops_.levels[l].width, ops_.levels[l].height);
-    }
-  }
-  auto U = [&](int c, int l) { return l == first_ ? u0[c] : &u_[c][l - first_ - 1]; };
-  auto B = [&](int c, int l) { return l == first_ ? b0[c] : &b_[c][l - first_ - 1]; };
+  const int levels = ops_.count();
+  auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
+  auto B = [&](int l) -> Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
-  const auto gather = [&](int l, bool coarse_u) {  // level l's u and b, and the coarser b (or u), per channel
-    levels_u_.resize(n), levels_b_.resize(n), levels_c_.resize(n);
-    for (int c = 0; c < n; ++c)
-      levels_u_[c] = U(c, l), levels_b_[c] = B(c, l), levels_c_[c] = coarse_u ? U(c, l + 1) : B(c, l + 1);
-  };
-  const bool probe = !probes.empty();
 
   for (int l = first_; l + 1 < levels; ++l) {
-    gather(l, false);  // the coarser b is zeroed by descend as its rows are reached, like U(l) for l > first
-    if (l + 2 == levels)  // the coarsest's guess
-      for (int c = 0; c < n; ++c) std::fill(U(c, l + 1)->data.begin(), U(c, l + 1)->data.end(), T(0));
-    descend(l, levels_u_, levels_b_, D(l), levels_c_, weights && probe ? &W(l) : nullptr, probe);
-    for (int c = 0; c < n; ++c) {
-      if (weights && probe) probes[c]->dots.push_back(dots_[c]);
-      if (probe) probes[c]->level_norms.push_back(std::sqrt(rr_[c]));
-      if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(c, l)->data.data(), U(c, l)->data.size());
-      if (!half_b_.empty() && half_b_[l - first_]) round_to_half(B(c, l)->data.data(), B(c, l)->data.size());
-    }
+    Plane<T>& coarse_b = b_[l - first_];  // zeroed by descend as its rows are reached, like U(l) for l > first
+    if (l + 2 == levels) std::fill(U(l + 1).data.begin(), U(l + 1).data.end(), T(0));  // the coarsest's guess
+    double dots = 0.0;
+    const double rr =
+        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, probe != nullptr);
+    if (weights && probe) probe->dots.push_back(dots);
+    if (probe) probe->level_norms.push_back(std::sqrt(rr));
+    if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
+    if (!half_b_.empty() && half_b_[l - first_]) round_to_half(B(l).data.data(), B(l).data.size());
   }
 
-  for (int c = 0; c < n; ++c) {  // Coarsest level: conjugate gradients in double precision.
+  {  // Coarsest level: conjugate gradients in double precision.
     const LevelOperator<double>& op = ops_.coarsest;
     Plane<double> &b = coarse_b_, &u = coarse_u_;  // b is overwritten, u is the initial guess
-    Plane<T>&Uc = *U(c, levels - 1), &Bc = *B(c, levels - 1);
-    std::copy(Bc.data.begin(), Bc.data.end(), b.data.begin());
-    std::copy(Uc.data.begin(), Uc.data.end(), u.data.begin());
+    std::copy(B(levels - 1).data.begin(), B(levels - 1).data.end(), b.data.begin());
+    std::copy(U(levels - 1).data.begin(), U(levels - 1).data.end(), u.data.begin());
     const Plane<double>* dp = diag_ ? &coarse_diag_ : nullptr;
     solve_cg(op, ops_.singular && !diag_, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100, dp,
              coarse_inverse_);
@@ -107,29 +89,18 @@ void InCoreVCycle<T>::run(Planes u0, Planes b0, const std::vector<Plane<T>>* wei
       Plane<double> r(op.width, op.height);
       Scratch<double> s;
       residual(op, u, b, r, s, dp);
-      probes[c]->level_norms.push_back(norm2(r));
+      probe->level_norms.push_back(norm2(r));
     }
-    std::transform(u.data.begin(), u.data.end(), Uc.data.begin(), [](double v) { return static_cast<T>(v); });
+    std::transform(u.data.begin(), u.data.end(), U(levels - 1).data.begin(),
+                   [](double v) { return static_cast<T>(v); });
     if (weights && probe) {
       double s = 0.0;
-      for (int j = 0; j < op.height; ++j) s += row_dot(W(levels - 1).row(j), Uc.row(j), op.width);
-      probes[c]->dots.push_back(s);
+      for (int j = 0; j < op.height; ++j) s += row_dot(W(levels - 1).row(j), U(levels - 1).row(j), op.width);
+      probe->dots.push_back(s);
     }
   }
 
-  for (int l = levels - 2; l >= first_; --l) {
-    gather(l, true);
-    ascend(l, levels_u_, levels_b_, D(l), levels_c_);
-  }
-}
-
-// Row j of every channel's u relaxed, the channels grouped.
-template <class T>
-void InCoreVCycle<T>::relax_row(const LevelOperator<T>& op, int j, Planes u, Planes b, const Plane<T>* d) {
-  const int n = static_cast<int>(u.size());
-  windows_.resize(n), rows_u_.resize(n), rows_b_.resize(n);
-  for (int c = 0; c < n; ++c) windows_[c] = window(op, *u[c], j), rows_u_[c] = u[c]->row(j), rows_b_[c] = b[c]->row(j);
-  relax(op, j, n, windows_.data(), whole_row(op), rows_u_.data(), rows_b_.data(), scratch_, diag_row(d, j));
+  for (int l = levels - 2; l >= first_; --l) ascend(l, U(l), B(l), D(l), U(l + 1));
 }
 
 // Pre-smoothing, then residual and restriction, in one pass down the rows: at step t sweep s + 1
@@ -138,56 +109,53 @@ void InCoreVCycle<T>::relax_row(const LevelOperator<T>& op, int j, Planes u, Pla
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
 // bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
 // the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
-// Per channel |r|^2 into rr_ with `norms` (else 0: the sum costs about 2 % of a V-cycle), <w, u> into dots_.
+// Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
-void InCoreVCycle<T>::descend(int l, Planes u, Planes b, const Plane<T>* d, Planes coarse_b, const Plane<T>* w,
-                              bool norms) {
+double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
+                                const Plane<T>* w, double& dots, bool norms) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
-  rr_.assign(u.size(), 0.0), dots_.assign(u.size(), 0.0);
-  const auto zero_rows = [](Planes p, int& done, int to) {  // rows [done, to) of every channel's plane
-    to = std::min(to, p[0]->height);
-    for (Plane<T>* q : p)
-      if (to > done) std::fill(q->row(done), q->row(done) + static_cast<std::size_t>(to - done) * q->width, T(0));
+  double rr = 0.0;
+  const auto zero_rows = [](Plane<T>& p, int& done, int to) {
+    to = std::min(to, p.height);
+    if (to > done) std::fill(p.row(done), p.row(done) + static_cast<std::size_t>(to - done) * p.width, T(0));
     done = std::max(done, to);
   };
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height) relax_row(op, j, u, b, d);
+      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
     const int j = t - 2 * sweeps_;
     if (j < 0) continue;
+    if (w) dots += row_dot(w->row(j), u.row(j), op.width);
+    residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
+    if (norms) rr += row_dot(r_row_.data(), r_row_.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
     zero_rows(coarse_b, b_zeroed, std::max(py.index[0], py.index[1]) + 1);
-    for (std::size_t c = 0; c < u.size(); ++c) {
-      if (w) dots_[c] += row_dot(w->row(j), u[c]->row(j), op.width);
-      residual(op, j, window(op, *u[c], j), row, b[c]->row(j), r_row_.data(), scratch_, diag_row(d, j));
-      if (norms) rr_[c] += row_dot(r_row_.data(), r_row_.data(), op.width);
-      restrict_rows(g.px, py, r_row_.data(), 0, coarse_row, coarse_b[c]->row(py.index[0]),
-                    coarse_b[c]->row(py.index[1]), {0, 0}, scratch_);
-    }
+    restrict_rows(g.px, py, r_row_.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
+                  {0, 0}, scratch_);
   }
-  zero_rows(coarse_b, b_zeroed, coarse_b[0]->height);
+  zero_rows(coarse_b, b_zeroed, coarse_b.height);
+  return rr;
 }
 
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
 // at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
 template <class T>
-void InCoreVCycle<T>::ascend(int l, Planes u, Planes b, const Plane<T>* d, Planes coarse) {
+void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
-      for (std::size_t c = 0; c < u.size(); ++c)
-        prolong_rows(g.px, py, coarse[c]->row(py.index[0]), coarse[c]->row(py.index[1]), {0, 0}, true, row,
-                     u[c]->row(t), 0, scratch_);
+      prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
+                   scratch_);
     }
     for (int s = 0, j = t - 2; s < sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height) relax_row(op, j, u, b, d);
+      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
   }
 }
 

@@ -1,7 +1,6 @@
 // The in-core schedule: a V-cycle over whole planes held in memory (the reference schedule).
 #pragma once
 
-#include <span>
 #include <vector>
 
 #include "multigrid/half_policy.h"
@@ -51,10 +50,6 @@ class InCoreVCycle {
   // null) and `probe` (may be null) as described at CycleProbe. b is rounded in place where the
   // half policy says (the streamed V-cycle's stored b is what later cycles read).
   void run(Plane<T>& u, Plane<T>& b, const std::vector<Plane<T>>* weights = nullptr, CycleProbe* probe = nullptr);
-  // The same on the channels u[c], b[c] (probes[c], or no probes) at once: each channel's bits as alone, their
-  // relaxations grouped (window_ops.h). Holds the levels below `first` for each.
-  void run(std::span<Plane<T>* const> u, std::span<Plane<T>* const> b, const std::vector<Plane<T>>* weights,
-           std::span<CycleProbe* const> probes);
   // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
   // A per-pixel diagonal term (window_ops.h) on every level: (*diag)[l - first] for level l
@@ -65,11 +60,9 @@ class InCoreVCycle {
   void set_half(const HalfPolicy* half);
 
  private:
-  using Planes = std::span<Plane<T>* const>;  // one per channel
-  // Per channel, |r|^2 into rr (with `norms`) and <w, u> into dots.
-  void descend(int l, Planes u, Planes b, const Plane<T>* d, Planes coarse_b, const Plane<T>* w, bool norms);
-  void ascend(int l, Planes u, Planes b, const Plane<T>* d, Planes coarse);
-  void relax_row(const LevelOperator<T>& op, int j, Planes u, Planes b, const Plane<T>* d);
+  double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
+                 double& dots, bool norms);
+  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
 
   const Operators<T>& ops_;
   int sweeps_;
@@ -79,12 +72,7 @@ class InCoreVCycle {
   std::vector<char> half_u_, half_b_;  // per level from `first`: rounded after restriction
   Plane<double> coarse_diag_;           // the coarsest level's diagonal term in double ...
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
-  std::vector<std::vector<Plane<T>>> u_, b_;  // per channel, levels first + 1, ... (level `first`: the caller's)
-  std::vector<double> rr_, dots_;               // per channel, one level's
-  std::vector<Plane<T>*> levels_u_, levels_b_, levels_c_;  // per channel, one level's u and b, the coarser b
-  std::vector<Window<T>> windows_;              // per channel, one row's
-  std::vector<T*> rows_u_;
-  std::vector<const T*> rows_b_;
+  std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   Plane<double> coarse_b_, coarse_u_;  // the coarsest level's b and u in double, reused
   std::vector<T> r_row_;
   Scratch<T> scratch_;

@@ -172,56 +172,38 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
   }
 }
 
-// G channels' pointers (or carried corrections), one per channel of a group (relax).
-template <class P, int G>
-using Each = std::array<P, G>;
-template <class A>
-GDP_INLINE A plus(A p, int k) {
-  for (auto& v : p) v += k;
-  return p;
-}
-
 // The recurrence dx[x] = t[x] - kn[x] dx[x - S] - kf[x] dx[x - 2S] for x = 0, S, .. (S - 1) *
 // count, carrying d1 = dx[x - S], d2 = dx[x - 2S]; blocks of four from step `lead` on (the only
 // chain carried from block to block is two multiply-adds). Add: out[x] += dx[x] (u), else out[x] = dx[x].
-// G channels' chains side by side, each with its own t, out, d1, d2 and the same coefficients.
-template <int S, bool Add, int G, class T>
-GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const Each<const T*, G>& t, int count,
-                      int lead, const Each<T*, G>& out, Each<T, G>& d1, Each<T, G>& d2) {
+template <int S, bool Add, class T>
+GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const T* t, int count, int lead, T* out,
+                      T& d1, T& d2) {
   const T *kn = K.k[S > 0 ? 1 : 3].data() + at, *kf = K.k[S > 0 ? 0 : 4].data() + at;
   const T *B = (S > 0 ? K.fb : K.bb).data() + at, *C = (S > 0 ? K.fc : K.bc).data() + at;
-  const auto put = [](T* o, int x, T v) __attribute__((always_inline)) {
-    if constexpr (Add) o[x] += v;
-    else o[x] = v;
+  const auto put = [out](int x, T v) __attribute__((always_inline)) {
+    if constexpr (Add) out[x] += v;
+    else out[x] = v;
   };
   for (int n = 0; n < count;) {
     const int x = S * n;
     if (n < lead || n + 4 > count) {  // one sample
-#pragma GCC unroll 4
-      for (int g = 0; g < G; ++g) {
-        const T v = t[g][x] - kf[x] * d2[g];
-        d2[g] = d1[g], d1[g] = v - kn[x] * d1[g];
-        put(out[g], x, d1[g]);
-      }
+      const T v = t[x] - kf[x] * d2;
+      d2 = d1, d1 = v - kn[x] * d1;
+      put(x, d1);
       ++n;
       continue;
     }
-#pragma GCC unroll 4
-    for (int g = 0; g < G; ++g) {
-      const T* tg = t[g];
-      const T a0 = tg[x];
-      const T a1 = tg[x + S] - kn[x + S] * a0;
-      const T a2 = tg[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
-      const T a3 = tg[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
-      put(out[g], x, a0 + B[x] * d1[g] + C[x] * d2[g]);
-      put(out[g], x + S, a1 + B[x + S] * d1[g] + C[x + S] * d2[g]);
-      const T n2 = a2 + B[x + 2 * S] * d1[g] + C[x + 2 * S] * d2[g];
-      const T n1 = a3 + B[x + 3 * S] * d1[g] + C[x + 3 * S] * d2[g];
-      put(out[g], x + 2 * S, n2);
-      put(out[g], x + 3 * S, n1);
-      d2[g] = n2, d1[g] = n1;
-    }
-    n += 4;
+    const T a0 = t[x];
+    const T a1 = t[x + S] - kn[x + S] * a0;
+    const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
+    const T a3 = t[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
+    put(x, a0 + B[x] * d1 + C[x] * d2);
+    put(x + S, a1 + B[x + S] * d1 + C[x + S] * d2);
+    const T n2 = a2 + B[x + 2 * S] * d1 + C[x + 2 * S] * d2;
+    const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
+    put(x + 2 * S, n2);
+    put(x + 3 * S, n1);
+    d2 = n2, d1 = n1, n += 4;
   }
 }
 
@@ -238,9 +220,8 @@ template <class T> struct Lanes8;
 template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
 template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
 
-template <bool Add, bool forward, int G, class T>
-GDP_INLINE void recur_blocks(const Each<const T*, G>& t, const T* M, int lo, int hi, const Each<T*, G>& out,
-                             Each<T, G>& d1, Each<T, G>& d2) {
+template <bool Add, bool forward, class T>
+GDP_INLINE void recur_blocks(const T* t, const T* M, int lo, int hi, T* out, T& d1, T& d2) {
   using V = typename Lanes8<T>::type;
   constexpr int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
   V H[8], B, C;
@@ -248,29 +229,25 @@ GDP_INLINE void recur_blocks(const Each<const T*, G>& t, const T* M, int lo, int
   std::memcpy(&B, M + 64, sizeof(V)), std::memcpy(&C, M + 72, sizeof(V));
   for (int n = 0; n < (hi - lo) / 8; ++n) {
     const int x = forward ? lo + 8 * n : hi - 8 * (n + 1);
-#pragma GCC unroll 4
-    for (int g = 0; g < G; ++g) {
-      V A = H[0] * t[g][x];
-      for (int k = 1; k < 8; ++k) A += H[k] * t[g][x + k];
-      const T n1 = A[last] + B[last] * d1[g] + C[last] * d2[g], n2 = A[before] + B[before] * d1[g] + C[before] * d2[g];
-      V o = A + B * d1[g] + C * d2[g];
-      if constexpr (Add) {
-        V u;
-        std::memcpy(&u, out[g] + x, sizeof(V));
-        o += u;
-      }
-      std::memcpy(out[g] + x, &o, sizeof(V));
-      d1[g] = n1, d2[g] = n2;
+    V A = H[0] * t[x];
+    for (int k = 1; k < 8; ++k) A += H[k] * t[x + k];
+    const T n1 = A[last] + B[last] * d1 + C[last] * d2, n2 = A[before] + B[before] * d1 + C[before] * d2;
+    V o = A + B * d1 + C * d2;
+    if constexpr (Add) {
+      V u;
+      std::memcpy(&u, out + x, sizeof(V));
+      o += u;
     }
+    std::memcpy(out + x, &o, sizeof(V));
+    d1 = n1, d2 = n2;
   }
 }
 
 // The recurrence over t[0, count) (table columns g0 .., K's at `at` ..) in the sweep's direction: blocks of
 // eight on the level's interior where K has them, blocks of four (recur) before and after.
-template <bool Add, int G, class T>
+template <bool Add, class T>
 GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>::Coefficients& K, int at, int g0,
-                          const Each<const T*, G>& t, int count, bool fwd, const Each<T*, G>& out, Each<T, G>& d1,
-                          Each<T, G>& d2) {
+                          const T* t, int count, bool fwd, T* out, T& d1, T& d2) {
   if (count <= 0) return;
   const std::vector<T>& M = K.block[fwd ? 0 : 1];
   int v0 = count, v1 = count;  // [v0, v1): whole blocks in the interior
@@ -281,12 +258,12 @@ GDP_INLINE void recur_run(const LevelOperator<T>& op, const typename Scratch<T>:
   }
   const auto four = [&](int lo, int hi) __attribute__((always_inline)) {
     if (hi <= lo) return;
-    if (fwd) recur<1, Add, G>(K, at + lo, plus(t, lo), hi - lo, (4 - (g0 + lo) % 4) % 4, plus(out, lo), d1, d2);
-    else recur<-1, Add, G>(K, at + hi - 1, plus(t, hi - 1), hi - lo, (g0 + hi) % 4, plus(out, hi - 1), d1, d2);
+    if (fwd) recur<1, Add>(K, at + lo, t + lo, hi - lo, (4 - (g0 + lo) % 4) % 4, out + lo, d1, d2);
+    else recur<-1, Add>(K, at + hi - 1, t + hi - 1, hi - lo, (g0 + hi) % 4, out + hi - 1, d1, d2);
   };
   four(fwd ? 0 : v1, fwd ? v0 : count);
-  if (v1 > v0 && fwd) recur_blocks<Add, true, G>(t, M.data(), v0, v1, out, d1, d2);
-  if (v1 > v0 && !fwd) recur_blocks<Add, false, G>(t, M.data(), v0, v1, out, d1, d2);
+  if (v1 > v0 && fwd) recur_blocks<Add, true>(t, M.data(), v0, v1, out, d1, d2);
+  if (v1 > v0 && !fwd) recur_blocks<Add, false>(t, M.data(), v0, v1, out, d1, d2);
   four(fwd ? v1 : 0, fwd ? count : v0);
 }
 
@@ -365,74 +342,48 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
 
 // Gauss-Seidel as a recurrence on the corrections: with q = A u before the sweep, dx_i = (b_i - q_i
 // - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i) (backward: K_1, K_2), K_d = sx[d] my0 + mx[d] cy0.
-// Corrections beyond the columns are zero, but a whole periodic row's ends see each other. G channels:
-// q formed one channel at a time, the recurrences side by side.
-template <int G, class T>
-GDP_INLINE void relax_group(const LevelOperator<T>& op, int j, const Window<T>* w, const Columns& cols, T* const* u,
-                            const T* const* b, Scratch<T>& s, const T* diag) {
-  const int len = cols.end - cols.begin, o = cols.begin - w[0].origin[2];
+// Corrections beyond the columns are zero, but a whole periodic row's ends see each other.
+template <class T>
+GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b,
+                      Scratch<T>& s, const T* diag) {
+  const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
+  if (len <= 0) return;
   const T m0 = op.my[j][2], c0 = op.cy[j][2];
   const typename Scratch<T>::Coefficients* K = diag ? &s.local : &s.coefficients(op, m0, c0);
-  // Per channel t = (b - A u) / K_0 on the columns (with a diagonal term A u, t formed per run below), and dx.
-  T *qs = grow(s.q, G * len), *dxs = grow(s.dx, G * (len + 4));
-  Each<T*, G> q, dx;
-  for (int g = 0; g < G; ++g) {
-    q[g] = qs + g * len, dx[g] = dxs + g * (len + 4) + 2;
-    dx[g][-2] = dx[g][-1] = dx[g][len] = dx[g][len + 1] = T(0);
-    combine(op, j, w[g], cols, s);
-    if (diag) convolve<Out::Au>(op, cols, s, q[g]);
-    else convolve<Out::Correction>(op, cols, s, q[g], b[g] + o - cols.begin, K->inv.data());
-  }
+  T* q = grow(s.q, len);  // t = (b - A u) / K_0 on the columns; with a diagonal term A u, t formed per run below
+  combine(op, j, w, cols, s);
+  if (diag) convolve<Out::Au>(op, cols, s, q);
+  else convolve<Out::Correction>(op, cols, s, q, b + o - cols.begin, K->inv.data());
+  T* dx = grow(s.dx, len + 4) + 2;
+  dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
   const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
   const int swept = wrap ? std::max(len - 2, 0) : len;
-  Each<T, G> d1{}, d2{};
+  T d1 = T(0), d2 = T(0);
   for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
     const Run r = copy_run(op.width, cols.periodic, cols.begin + (fwd ? done : len - 1 - done), cols.end);
     const int x0 = fwd ? done : std::max(r.base, cols.begin) - cols.begin, x1 = fwd ? r.end - cols.begin : len - done;
     const int count = x1 - x0, g0 = cols.begin + x0 - r.base;
     if (diag) fill(op, m0, c0, diag + o + x0, g0, count, fwd, s.local);
     const int at = diag ? 0 : g0;  // K's column for x0
-    Each<const T*, G> t;
-    Each<T*, G> out;
-    for (int g = 0; g < G; ++g) {
-      T* tg = q[g] + x0;
-      if (diag)
-        for (int x = 0, i = o + x0; x < count; ++x, ++i) tg[x] = (b[g][i] - tg[x] - diag[i] * u[g][i]) * K->inv[x];
-      t[g] = tg, out[g] = wrap ? dx[g] + x0 : u[g] + o + x0;
-    }
+    T* t = q + x0;
+    if (diag)
+      for (int x = 0, i = o + x0; x < count; ++x, ++i) t[x] = (b[i] - t[x] - diag[i] * u[i]) * K->inv[x];
     if (wrap)  // corrections kept for the last two samples, added below
-      recur_run<false, G>(op, *K, at, g0, t, std::min(count, swept - x0), true, out, d1, d2);
+      recur_run<false>(op, *K, at, g0, t, std::min(count, swept - x0), true, dx + x0, d1, d2);
     else
-      recur_run<true, G>(op, *K, at, g0, t, count, fwd, out, d1, d2);
+      recur_run<true>(op, *K, at, g0, t, count, fwd, u + o + x0, d1, d2);
     done += count;
   }
-  if (!wrap) return;
-  for (int g = 0; g < G; ++g) {
-    T* d = dx[g];
-    for (int i = swept; i < len; ++i) {  // the last two samples (one run, K's columns from 0)
-      T v = q[g][i] - K->k[1][i] * d[i - 1] - K->k[0][i] * d[i - 2];
-      for (int e = len - i; e <= 2; ++e) {
-        const int col = fem::wrap_index(i + e, len);
-        if (col < i) v -= (op.sx[e + 2][i] * m0 + op.mx[e + 2][i] * c0) * K->inv[i] * d[col];
-      }
-      d[i] = v;
+  for (int i = swept; i < len; ++i) {  // wrap: the last two samples (one run, K's columns from 0)
+    T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
+    for (int d = len - i; d <= 2; ++d) {
+      const int col = fem::wrap_index(i + d, len);
+      if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * K->inv[i] * dx[col];
     }
-    for (int x = 0; x < len; ++x) u[g][o + x] += d[x];
+    dx[i] = v;
   }
-}
-
-template <class T>
-GDP_KERNEL void relax(const LevelOperator<T>& op, int j, int channels, const Window<T>* w, Columns cols, T* const* u,
-                      const T* const* b, Scratch<T>& s, const T* diag) {
-  if (cols.end <= cols.begin) return;
-  for (int c = 0; c < channels; c += kGroup) {
-    switch (std::min(channels - c, kGroup)) {
-      case 1: relax_group<1>(op, j, w + c, cols, u + c, b + c, s, diag); break;
-      case 2: relax_group<2>(op, j, w + c, cols, u + c, b + c, s, diag); break;
-      case 3: relax_group<3>(op, j, w + c, cols, u + c, b + c, s, diag); break;
-      default: relax_group<kGroup>(op, j, w + c, cols, u + c, b + c, s, diag); break;
-    }
-  }
+  if (wrap)
+    for (int x = 0; x < len; ++x) u[o + x] += dx[x];
 }
 
 // Coarse J = 1 .. m-2 gather the two-scale weights from fine 2J-1 .. 2J+2; only J = 0 and m-1 see reflected or
@@ -543,8 +494,8 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
   template void apply(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, Scratch<T>&, const T*);   \
   template void residual(const LevelOperator<T>&, int, const Window<T>&, Columns, const T*, T*, Scratch<T>&, \
                          const T*);                                                                            \
-  template void relax(const LevelOperator<T>&, int, int, const Window<T>*, Columns, T* const*, const T* const*, \
-                      Scratch<T>&, const T*);                                                                  \
+  template void relax(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, const T*, Scratch<T>&,    \
+                      const T*);                                                                               \
   template void restrict_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, int, Columns, T*, \
                               T*, std::array<int, 2>, Scratch<T>&);                                            \
   template void prolong_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, const T*,        \

@@ -63,19 +63,10 @@ void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns col
               Scratch<T>& s, const T* diag = nullptr);
 
 // One Gauss-Seidel sweep over the columns of row j in cols.forward's direction: u (rows[2]) is
-// updated in place from the newest values of the row itself and whatever the window holds. Channels
-// c < `channels` (w[c], u[c], b[c]; their windows alike in origin) share the row's operator and diagonal
-// term: up to kGroup at a time, each as it would be alone, bit for bit, their recurrences interleaved so
-// that the core overlaps the chains and the coefficients are read once (docs/multigrid.md).
-constexpr int kGroup = 4;
-template <class T>
-void relax(const LevelOperator<T>& op, int j, int channels, const Window<T>* w, Columns cols, T* const* u,
-           const T* const* b, Scratch<T>& s, const T* diag = nullptr);
+// updated in place from the newest values of the row itself and whatever the window holds.
 template <class T>
 void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b, Scratch<T>& s,
-           const T* diag = nullptr) {
-  relax(op, j, 1, &w, cols, &u, &b, s, diag);
-}
+           const T* diag = nullptr);
 
 // Restriction (P^T) of a fine row into coarse columns `cols` of the coarse rows py.index[0] and [1]
 // (coarse_k[J - origin[k]]; the second mirrored where py.mirror says so, then held whole). fine[i -

@@ -86,34 +86,20 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     std::lock_guard<std::mutex> lock(progress_mutex);
     opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
   };
-  // A thread's channels, cycled together (their relaxations grouped) until each settles; each channel's bits
-  // are those of a solve of its own.
-  const auto solve_channels = [&](std::vector<int> active, multigrid::InCoreVCycle<T>& vc) {
-    for (int c : active) {
-      log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
-      log.initial(c, vc.residual_norm(u[c], b[c]));
-    }
-    std::vector<multigrid::CycleProbe> probes(active.size());
-    std::vector<multigrid::CycleProbe*> probe_of;
-    std::vector<Plane<T>*> us, bs;
-    for (int k = 0; k < cycles && !active.empty(); ++k) {
-      us.clear(), bs.clear(), probe_of.clear();
-      for (std::size_t i = 0; i < active.size(); ++i)
-        us.push_back(&u[active[i]]), bs.push_back(&b[active[i]]), probes[i] = {}, probe_of.push_back(&probes[i]);
-      vc.run(us, bs, weights.empty() ? nullptr : &weights, probe_of);
-      std::vector<int> next;
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        const int c = active[i];
-        log.cycle(c, vc.residual_norm(u[c], b[c]), probes[i]);
-        const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probes[i].dots);
-        if (shift != 0.0)
-          for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
-        // The streamed schedule carries the result to the next cycle in a store ("result").
-        if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u[c].data.data(), u[c].data.size());
-        report();
-        if (!log.settled(c, opt.tolerance)) next.push_back(c);
-      }
-      active = std::move(next);
+  const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc) {
+    log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
+    log.initial(c, vc.residual_norm(u[c], b[c]));
+    for (int k = 0; k < cycles; ++k) {
+      multigrid::CycleProbe probe;
+      vc.run(u[c], b[c], weights.empty() ? nullptr : &weights, &probe);
+      log.cycle(c, vc.residual_norm(u[c], b[c]), probe);
+      const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probe.dots);
+      if (shift != 0.0)
+        for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
+      // The streamed schedule carries the result to the next cycle in a store ("result").
+      if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u[c].data.data(), u[c].data.size());
+      report();
+      if (log.settled(c, opt.tolerance)) break;
     }
   };
   const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
@@ -121,9 +107,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     if (!diagonal.empty()) vc.set_diagonal(&diagonal);
     vc.set_half(&half);
-    std::vector<int> mine;
-    for (int c = t; c < channels; c += threads) mine.push_back(c);
-    solve_channels(std::move(mine), vc);
+    for (int c = t; c < channels; c += threads) solve_channel(c, vc);
   };
   run_workers(threads, worker);
   summary.seconds_solve = seconds_since(t_solve);
