@@ -154,7 +154,10 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
 }
 
 // This process's workers: under mpirun opt.bands per rank (one without --bands), else every band
-// of the plan, in channel groups (up to one a channel, two threads left to the codecs).
+// of the plan, in channel groups (up to one a channel, two threads left to the codecs). A single
+// band on more than one thread takes one group per channel even where that leaves the codecs no
+// core of their own: else its one worker does every V-cycle sample while the other cores wait
+// (docs/scaling.md, "1 gigapixel on the 2-core machine").
 Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, int channels) {
   Team team;
   team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
@@ -162,7 +165,8 @@ Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distribu
     team.ranks = std::make_unique<MpiHub>(team.local);
     team.first = team.ranks->first();
   } else {
-    team.groups = std::clamp((opt.threads - 2) / team.local, 1, channels);
+    const int spare = team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
+    team.groups = std::clamp(spare, 1, channels);
   }
   return team;
 }

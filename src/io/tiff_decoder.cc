@@ -1,4 +1,7 @@
 // Decoding TIFF with libtiff: strips row by row, tiles only where the column window needs them, chunky or planar.
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstring>
@@ -10,6 +13,7 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/tiff_util.h"
+#include "schedule/drop_behind.h"
 
 namespace gdp::io {
 namespace {
@@ -20,6 +24,11 @@ std::atomic<long> tiles_decoded{0};
 // planes together the file is left to OpenImageIO instead.
 constexpr std::size_t kMaxPlaneStripBytes = std::size_t{64} << 20;
 constexpr std::uint64_t kMaxTileBytes = std::uint64_t{64} << 20;  // one tile's bytes
+// Files at least this large, read front to back in chunky strips, leave the page cache a window behind
+// the reader (schedule/drop_behind.h): a 3.2 GB input would otherwise take 3.2 GB of fresh cache
+// pages, at several times the system time of reading into recycled ones (docs/scaling.md).
+constexpr off_t kDropBehindFrom = off_t{256} << 20;
+constexpr std::size_t kDropBehindWindow = std::size_t{32} << 20;
 
 class TiffDecoder final : public Decoder {
  public:
@@ -90,6 +99,9 @@ class TiffDecoder final : public Decoder {
     } else {
       chunk_.resize(static_cast<std::size_t>(TIFFScanlineSize(tif_)));
     }
+    struct stat st{};
+    if (!TIFFIsTiled(tif_) && !planar_ && ::fstat(TIFFFileno(tif_), &st) == 0 && st.st_size >= kDropBehindFrom)
+      drop_behind_ = schedule::DropBehind(kDropBehindWindow);
     return true;
   }
 
@@ -115,6 +127,14 @@ class TiffDecoder final : public Decoder {
       tiff_to_band(kind_, chunk_.data() + static_cast<std::size_t>(x0) * ch * in, 1,
                    out + (y - y0) * count * band_bytes(), 1, count);
     }
+    read_up_to_here();
+  }
+
+  // What libtiff has read so far (its reads go front to back through the strips) can leave the cache.
+  void read_up_to_here() {
+    const int fd = TIFFFileno(tif_);
+    const off_t at = ::lseek(fd, 0, SEEK_CUR);
+    if (at > 0) drop_behind_.read(fd, static_cast<std::size_t>(at));
   }
 
   // Separate planes in strips: each plane's strip decoded whole and kept while rows need it.
@@ -176,6 +196,7 @@ class TiffDecoder final : public Decoder {
   int rows_per_strip_ = 1;
   std::vector<unsigned char> chunk_;  // a scanline, a tile, or one strip per plane
   std::vector<int> cached_strip_;
+  schedule::DropBehind drop_behind_;  // a large strip file's pages out of the cache behind the reader
 };
 
 }  // namespace

@@ -52,8 +52,9 @@ void store_state(Archive& a, RowStore<T>* store) {
   }
 }
 
-// Rows handed between threads at a time: about 256K samples (1 MB of floats), 1 to 16 rows.
-inline int batch_rows(int length, int channels) { return std::clamp((1 << 18) / std::max(1, length * channels), 1, 16); }
+// Rows handed between threads at a time: about 64K samples (256 KB of floats), 1 to 16 rows: a
+// worker per channel keeps no more batch memory than one for all channels did with 1 MB batches.
+inline int batch_rows(int length, int channels) { return std::clamp((1 << 16) / std::max(1, length * channels), 1, 16); }
 
 // Rows first .. first + rows - 1: u and b (channels * length samples per row), w and d (length
 // per row, or empty when the problem has none). Handed back for reuse emptied (the vectors keep

@@ -17,7 +17,7 @@
 namespace gdp::schedule {
 namespace {
 
-constexpr std::size_t kFileBuffer = std::size_t{1} << 20;
+constexpr std::size_t kFileBuffer = std::size_t{256} << 10;
 
 std::string system_message() { return std::generic_category().message(errno); }
 
