@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "gdp/image_io.h"
@@ -76,6 +77,18 @@ inline SampleType band_type(SampleType type) {
 // the other. The clamp without a branch on a floating-point test, so that loops of it vectorise
 // (the same result as v > 0 ? min(v, 1) : 0 for every float: checked over all 2^32 of them).
 inline float clamp01(float v) { return multigrid::masked(1.0f < v ? 1.0f : v, v > 0.0f); }
+// f(std::integral_constant<int, N>{}) with N = ch for 1 to 4 channels (a constant that lets a
+// pixel loop vectorise), else N = 0 (the count at run time).
+template <class F>
+void with_channel_count(int ch, F&& f) {
+  switch (ch) {
+    case 1: return f(std::integral_constant<int, 1>{});
+    case 2: return f(std::integral_constant<int, 2>{});
+    case 3: return f(std::integral_constant<int, 3>{});
+    case 4: return f(std::integral_constant<int, 4>{});
+    default: return f(std::integral_constant<int, 0>{});
+  }
+}
 inline float from_u8(std::uint8_t v) { return static_cast<float>(v) * (1.0f / 255.0f); }
 inline float from_u16(std::uint16_t v) { return static_cast<float>(v) * (1.0f / 65535.0f); }
 inline std::uint8_t to_u8(float v) { return static_cast<std::uint8_t>(clamp01(v) * 255.0f + 0.5f); }

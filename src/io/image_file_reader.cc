@@ -46,13 +46,7 @@ void deinterleave_n(const T* src, int w, int ch, std::size_t stride, float* out,
 template <class T, class Convert>
 void deinterleave(const unsigned char* band_row, int w, int ch, std::size_t stride, float* out, Convert convert) {
   const T* src = reinterpret_cast<const T*>(band_row);
-  switch (ch) {
-    case 1: return deinterleave_n<1>(src, w, ch, stride, out, convert);
-    case 2: return deinterleave_n<2>(src, w, ch, stride, out, convert);
-    case 3: return deinterleave_n<3>(src, w, ch, stride, out, convert);
-    case 4: return deinterleave_n<4>(src, w, ch, stride, out, convert);
-    default: return deinterleave_n<0>(src, w, ch, stride, out, convert);
-  }
+  io::with_channel_count(ch, [&](auto n) { deinterleave_n<decltype(n)::value>(src, w, ch, stride, out, convert); });
 }
 
 }  // namespace

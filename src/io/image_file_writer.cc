@@ -49,13 +49,7 @@ void interleave_n(const float* row, int w, int ch, T* dst, Convert convert) {
 template <class T, class Convert>
 void interleave(const float* row, int w, int ch, unsigned char* out, Convert convert) {
   T* dst = reinterpret_cast<T*>(out);
-  switch (ch) {
-    case 1: return interleave_n<1>(row, w, ch, dst, convert);
-    case 2: return interleave_n<2>(row, w, ch, dst, convert);
-    case 3: return interleave_n<3>(row, w, ch, dst, convert);
-    case 4: return interleave_n<4>(row, w, ch, dst, convert);
-    default: return interleave_n<0>(row, w, ch, dst, convert);
-  }
+  io::with_channel_count(ch, [&](auto n) { interleave_n<decltype(n)::value>(row, w, ch, dst, convert); });
 }
 
 }  // namespace
