@@ -7,7 +7,7 @@
 // of the whole machine (from /proc/stat: includes the kernel's writeback and reclaim threads,
 // which run on the same two cores, and other processes: compare it only on a quiet machine).
 //   buffered    plain write()/read() through the page cache (what RowStore did first)
-//   dropbehind  the same, with RowStore's schedule::DropBehind (32 MB window): written ranges
+//   dropbehind  the same, with RowStore's io::DropBehind (32 MB window): written ranges
 //               pushed to the disk and dropped from the cache behind the writer, read ones too
 //   direct      O_DIRECT: no page cache, 1 MB aligned blocks (the last one padded)
 #include <fcntl.h>
@@ -23,12 +23,12 @@
 #include <string>
 #include <vector>
 
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 
 namespace {
 
 constexpr std::size_t kBlock = std::size_t{1} << 20;
-constexpr std::size_t kWindow = std::size_t{32} << 20;  // as schedule::StorePolicy's
+constexpr std::size_t kWindow = gdp::io::kDropBehindWindow;  // as schedule::StorePolicy's
 
 struct Sample {
   double wall, user, sys, machine_sys;
@@ -81,7 +81,7 @@ unsigned long run(const std::string& dir, std::size_t blocks, const std::string&
   must(posix_memalign(&raw, 4096, kBlock) == 0, "posix_memalign");
   auto* buffer = static_cast<unsigned char*>(raw);
   const double gb = static_cast<double>(blocks * kBlock) / 1e9;
-  gdp::schedule::DropBehind behind(drop ? kWindow : 0);
+  gdp::io::DropBehind behind(drop ? kWindow : 0);
   Sample a = now();
   for (std::size_t i = 0; i < blocks; ++i) {
     std::memset(buffer, static_cast<int>(i & 0xff), kBlock);

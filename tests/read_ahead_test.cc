@@ -25,7 +25,7 @@ int file_of(std::size_t bytes) {
 TEST(ReadAhead, ChunksComeInOrderThenNothing) {
   const std::size_t bytes = 1000003, chunk = 65536, begin = 1000;
   const int fd = file_of(bytes);
-  schedule::DropBehind drop(100000);
+  io::DropBehind drop(100000);
   schedule::ReadAhead ahead(fd, begin, bytes, chunk, drop, "test file");
   std::size_t at = begin;
   for (std::span<const unsigned char> c = ahead.next(); !c.empty(); c = ahead.next()) {
@@ -41,7 +41,7 @@ TEST(ReadAhead, ChunksComeInOrderThenNothing) {
 TEST(ReadAhead, AShortFileIsAnErrorNamingIt) {
   const std::size_t bytes = 300000, chunk = 65536;
   const int fd = file_of(bytes);
-  schedule::DropBehind drop;
+  io::DropBehind drop;
   schedule::ReadAhead ahead(fd, 0, bytes + 5 * chunk, chunk, drop, "scratch file in /x (u)");
   std::size_t got = 0;
   try {
@@ -57,7 +57,7 @@ TEST(ReadAhead, AShortFileIsAnErrorNamingIt) {
 TEST(ReadAhead, DroppedBeforeTheEndStopsItsThread) {
   const std::size_t bytes = 4 << 20, chunk = 4096;
   const int fd = file_of(bytes);
-  schedule::DropBehind drop;
+  io::DropBehind drop;
   for (int taken = 0; taken < 4; ++taken) {  // the reader stops after 0..3 chunks: the destructor must not hang
     schedule::ReadAhead ahead(fd, 0, bytes, chunk, drop, "test file");
     for (int k = 0; k < taken; ++k) EXPECT_EQ(ahead.next().size(), chunk);

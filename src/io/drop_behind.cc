@@ -1,11 +1,11 @@
 // Drop-behind for sequentially streamed files: sync_file_range and posix_fadvise(DONTNEED).
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 
 #include <fcntl.h>
 
 #include <cerrno>
 
-namespace gdp::schedule {
+namespace gdp::io {
 namespace {
 
 // False only when the disk reported an error: a file system that cannot do it is not one.

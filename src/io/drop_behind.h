@@ -3,7 +3,7 @@
 
 #include <cstddef>
 
-namespace gdp::schedule {
+namespace gdp::io {
 
 // For one file descriptor streamed sequentially: once a window of bytes has been written since
 // the last push, starts their writeback, waits for the window before to reach the disk and drops
@@ -12,6 +12,9 @@ namespace gdp::schedule {
 // ones it takes next. On this VM a buffered write into fresh page-cache pages costs about 3.2 s
 // of system time per GB, one that recycles them 0.4 s (bench/scratch_io_bench.cc,
 // docs/how-streaming-works.md "Scratch in files"). Window 0: does nothing.
+// The window the scratch stores, large inputs and outputs use: 32 MB (docs/how-streaming-works.md).
+inline constexpr std::size_t kDropBehindWindow = std::size_t{32} << 20;
+
 class DropBehind {
  public:
   explicit DropBehind(std::size_t window = 0) : window_(window) {}

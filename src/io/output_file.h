@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 
 namespace gdp::io {
 
@@ -44,8 +44,8 @@ class OutputFile {
   std::int64_t end_ = 0;
   std::size_t put_end_ = 0;  // the furthest byte put() has written
   // What was written goes to the disk and out of the page cache 32 MB behind (a gigapixel output
-  // would otherwise take GBs of fresh cache pages: schedule/drop_behind.h).
-  schedule::DropBehind drop_behind_{std::size_t{32} << 20};
+  // would otherwise take GBs of fresh cache pages: io/drop_behind.h).
+  DropBehind drop_behind_{kDropBehindWindow};
   std::string problem_;
   std::atomic<bool> failed_{false};
 };

@@ -13,7 +13,7 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/tiff_util.h"
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 
 namespace gdp::io {
 namespace {
@@ -25,10 +25,9 @@ std::atomic<long> tiles_decoded{0};
 constexpr std::size_t kMaxPlaneStripBytes = std::size_t{64} << 20;
 constexpr std::uint64_t kMaxTileBytes = std::uint64_t{64} << 20;  // one tile's bytes
 // Files at least this large, read front to back in chunky strips, leave the page cache a window behind
-// the reader (schedule/drop_behind.h): a 3.2 GB input would otherwise take 3.2 GB of fresh cache
+// the reader (io/drop_behind.h): a 3.2 GB input would otherwise take 3.2 GB of fresh cache
 // pages, at several times the system time of reading into recycled ones (docs/scaling.md).
 constexpr off_t kDropBehindFrom = off_t{256} << 20;
-constexpr std::size_t kDropBehindWindow = std::size_t{32} << 20;
 
 class TiffDecoder final : public Decoder {
  public:
@@ -101,7 +100,7 @@ class TiffDecoder final : public Decoder {
     }
     struct stat st{};
     if (!TIFFIsTiled(tif_) && !planar_ && ::fstat(TIFFFileno(tif_), &st) == 0 && st.st_size >= kDropBehindFrom)
-      drop_behind_ = schedule::DropBehind(kDropBehindWindow);
+      drop_behind_ = DropBehind(kDropBehindWindow);
     return true;
   }
 
@@ -196,7 +195,7 @@ class TiffDecoder final : public Decoder {
   int rows_per_strip_ = 1;
   std::vector<unsigned char> chunk_;  // a scanline, a tile, or one strip per plane
   std::vector<int> cached_strip_;
-  schedule::DropBehind drop_behind_;  // a large strip file's pages out of the cache behind the reader
+  DropBehind drop_behind_;  // a large strip file's pages out of the cache behind the reader
 };
 
 }  // namespace

@@ -14,7 +14,7 @@
 
 namespace gdp::schedule {
 
-ReadAhead::ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop, std::string where)
+ReadAhead::ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk, io::DropBehind& drop, std::string where)
     : where_(std::move(where)) {
   for (int k = 0; k < 3; ++k) free_.push(Chunk{});
   thread_ = std::thread([this, fd, begin, end, chunk, &drop] { run(fd, begin, end, chunk, drop); });
@@ -26,7 +26,7 @@ ReadAhead::~ReadAhead() {
   thread_.join();
 }
 
-void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop) {
+void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, io::DropBehind& drop) {
   for (std::size_t at = begin; at < end;) {
     std::optional<Chunk> c = free_.pop();
     if (!c) return;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "schedule/bounded_queue.h"
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 
 namespace gdp::schedule {
 
@@ -19,7 +19,7 @@ namespace gdp::schedule {
 // OutputError naming `where` ("scratch file in DIR (NAME)"), thrown by next().
 class ReadAhead {
  public:
-  ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop, std::string where);
+  ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk, io::DropBehind& drop, std::string where);
   ~ReadAhead();  // stops the thread (what it read ahead is dropped)
   ReadAhead(const ReadAhead&) = delete;
   ReadAhead& operator=(const ReadAhead&) = delete;
@@ -32,7 +32,7 @@ class ReadAhead {
     std::size_t size = 0;
     std::string error;  // non-empty: reading failed here
   };
-  void run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop);
+  void run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, io::DropBehind& drop);
 
   std::string where_;
   BoundedQueue<Chunk> free_{3}, full_{3};

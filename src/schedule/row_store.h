@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "multigrid/half_policy.h"
-#include "schedule/drop_behind.h"
+#include "io/drop_behind.h"
 #include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
@@ -41,8 +41,8 @@ struct StorePolicy {
   std::string name_prefix;  // put before every store's name (a lane's, "lane0-")
   // A file's bytes are pushed to the disk and dropped from the page cache this far behind the
   // write position (and the read position): a stream larger than memory neither churns the cache
-  // nor takes fresh pages for it (drop_behind.h). 0: the page cache keeps what it likes.
-  std::size_t drop_behind = std::size_t{32} << 20;
+  // nor takes fresh pages for it (io/drop_behind.h). 0: the page cache keeps what it likes.
+  std::size_t drop_behind = io::kDropBehindWindow;
 };
 
 // A sequential stream of equal-length rows of T: append them, rewind(), read them back in the
@@ -96,7 +96,7 @@ class RowStore {
   std::size_t written_ = 0;                // bytes in the stream
   std::unique_ptr<ReadAhead> ahead_;       // a file read back: its chunks, read on a thread of their own
   const unsigned char* chunk_ = nullptr;   // the chunk being read (buffered_ bytes)
-  DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
+  io::DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
   bool reading_ = false;
 };
 
