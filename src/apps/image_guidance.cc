@@ -3,8 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 
 #include "multigrid/masked.h"
 
@@ -40,25 +38,14 @@ void ImageGuidance::read_row(int j, GuidanceRow& out) {
 namespace {
 
 // The indices i in [begin, end) where keep[i] (and mark[i] unless mark is empty) are set, into
-// `at`: offsets are asked at these edges only, a list made once per row for every channel. Eight
-// flags at a time are skipped while they are all clear (seams are few).
+// `at`: offsets are asked at these edges only, a list made once per row for every channel. The
+// sparser flags (the marks where there are any) are walked, eight clear ones at a time.
 void edges_to_ask(std::span<const unsigned char> keep, std::span<const unsigned char> mark, int begin, int end,
                   std::vector<int>& at) {
   at.clear();
-  int i = begin;
-  const auto flag = [&](int k) { return keep[k] && (mark.empty() || mark[k]); };
-  for (; i < end && i % 8 != 0; ++i)
-    if (flag(i)) at.push_back(i);
-  for (; i + 8 <= end; i += 8) {
-    std::uint64_t k, m = ~std::uint64_t{0};
-    std::memcpy(&k, keep.data() + i, 8);
-    if (!mark.empty()) std::memcpy(&m, mark.data() + i, 8);
-    if ((k & m) == 0) continue;
-    for (int n = i; n < i + 8; ++n)
-      if (flag(n)) at.push_back(n);
-  }
-  for (; i < end; ++i)
-    if (flag(i)) at.push_back(i);
+  multigrid::for_each_set(mark.empty() ? keep.data() : mark.data(), begin, end, [&](int i) {
+    if (keep[i] && (mark.empty() || mark[i])) at.push_back(i);
+  });
 }
 
 }  // namespace

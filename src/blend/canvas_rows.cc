@@ -1,10 +1,9 @@
 // The canvas sweep: layers opened and closed as rows pass, composite and across-seam rows from the label plane.
 #include "blend/canvas_rows.h"
 #include "blend/across_label.h"
+#include "multigrid/masked.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <numeric>
@@ -183,16 +182,7 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
   for (const int x : {0, width_ - 1})
     if (x >= b && x < e) edge[x] = is_edge(x, neighbour(x - 1), neighbour(x + 1));
   const auto other = [](Label a, Label n1, Label n2) { return across_label(a, n1, n2, Label{0}); };
-  for (int x = b; x < e; ++x) {
-    if (x % 8 == 0 && x + 8 <= e) {  // eight pixels at a time while none is beside a seam
-      std::uint64_t any;
-      std::memcpy(&any, edge + x, sizeof any);
-      if (any == 0) {
-        x += 7;
-        continue;
-      }
-    }
-    if (!edge[x]) continue;  // inside a layer's part: NaN
+  multigrid::for_each_set(edge, b, e, [&](int x) {  // beside a seam (inside a layer's part: NaN)
     const Label across[2] = {other(h[x], neighbour(x - 1), neighbour(x + 1)), other(h[x], u[x], d[x])};
     for (int k = 0; k < 2; ++k) {
       const Open* o = across[k] ? slot_[across[k] - 1] : nullptr;
@@ -202,7 +192,7 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
       for (int c = 0; c < channels_; ++c)
         out.across[k * plane + static_cast<std::size_t>(c) * width_ + x] = o->colour[static_cast<std::size_t>(c) * fw + x - fx0];
     }
-  }
+  });
 }
 
 void SweepReader::read_row(int y, std::span<float> out) {

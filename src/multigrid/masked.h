@@ -26,4 +26,21 @@ inline bool finite(T v) {
   return v - v == T(0);
 }
 
+// f(x) for each x in [begin, end) where flags[x] is set, skipping eight clear flags at a time
+// (flags that are mostly clear: seams, marked edges).
+template <class F>
+inline void for_each_set(const unsigned char* flags, int begin, int end, F&& f) {
+  for (int x = begin; x < end; ++x) {
+    if (x % 8 == 0 && x + 8 <= end) {
+      std::uint64_t any;
+      std::memcpy(&any, flags + x, sizeof any);
+      if (any == 0) {
+        x += 7;
+        continue;
+      }
+    }
+    if (flags[x]) f(x);
+  }
+}
+
 }  // namespace gdp::multigrid
