@@ -193,17 +193,14 @@ GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const 
       ++n;
       continue;
     }
-    const T a0 = t[x];
-    const T a1 = t[x + S] - kn[x + S] * a0;
-    const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
-    const T a3 = t[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
-    put(x, a0 + B[x] * d1 + C[x] * d2);
-    put(x + S, a1 + B[x + S] * d1 + C[x + S] * d2);
-    const T n2 = a2 + B[x + 2 * S] * d1 + C[x + 2 * S] * d2;
-    const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
-    put(x + 2 * S, n2);
-    put(x + 3 * S, n1);
-    d2 = n2, d1 = n1, n += 4;
+    T a[4], o[4];  // the in-block recurrence started from zero, then the corrections carried in added
+    for (int r = 0, y = x; r < 4; ++r, y += S) {
+      a[r] = t[y];
+      if (r > 0) a[r] -= kn[y] * a[r - 1];
+      if (r > 1) a[r] -= kf[y] * a[r - 2];
+    }
+    for (int r = 0, y = x; r < 4; ++r, y += S) put(y, o[r] = a[r] + B[y] * d1 + C[y] * d2);
+    d2 = o[2], d1 = o[3], n += 4;
   }
 }
 
