@@ -178,7 +178,8 @@ template <int S, bool Add, class T>
 GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const T* t, int count, int lead, T* out,
                       T& d1, T& d2) {
   constexpr int dir = S > 0 ? 0 : 1;
-  const T *kn = K.kn[dir].data() + at, *kf = K.kf[dir].data() + at, *B = K.B[dir].data() + at, *C = K.C[dir].data() + at;
+  const T *kn = K.kn[dir].data() + at, *kf = K.kf[dir].data() + at;
+  const T *B = K.B[dir].data() + at, *C = K.C[dir].data() + at;
   const auto put = [out](int x, T v) __attribute__((always_inline)) {
     if constexpr (Add) out[x] += v;
     else out[x] = v;
