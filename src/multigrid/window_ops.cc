@@ -42,7 +42,7 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
 template <class T>
 GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
   const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
-  const bool clip = cols.left == Edge::Wrap || !cols.periodic;
+  const bool clip = cols.wrap || !cols.periodic;
   const int from = clip ? std::max(lo, 0) : lo, to = clip ? std::min(lo + len, n) : lo + len;
   const int count = std::max(to - from, 0);
   T *a = grow(s.a, len), *c = grow(s.c, len);
@@ -87,7 +87,7 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   }
   std::fill(a, A, T(0)), std::fill(c, C, T(0));
   std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
-  if (cols.left != Edge::Wrap) return;
+  if (!cols.wrap) return;
   for (int g = 1; g <= 2; ++g) {  // the ghost samples of a whole periodic row (a[2] is column 0)
     a[2 - g] = a[2 + fem::wrap_index(-g, n)], c[2 - g] = c[2 + fem::wrap_index(-g, n)];
     a[1 + n + g] = a[2 + fem::wrap_index(n - 1 + g, n)], c[1 + n + g] = c[2 + fem::wrap_index(n - 1 + g, n)];
@@ -102,15 +102,13 @@ enum class Out { Au, Residual, Correction };
 template <Out O, class T>
 GDP_INLINE void general(const LevelOperator<T>& op, T* q, const T* a, const T* c, const T* b, const T* inv, int i,
                         int count, int g) {
-  const T *s0 = op.sx[0].data() + g, *s1 = op.sx[1].data() + g, *s2 = op.sx[2].data() + g,
-          *s3 = op.sx[3].data() + g, *s4 = op.sx[4].data() + g;
-  const T *m0 = op.mx[0].data() + g, *m1 = op.mx[1].data() + g, *m2 = op.mx[2].data() + g,
-          *m3 = op.mx[3].data() + g, *m4 = op.mx[4].data() + g;
-  // The input streams never alias q; without this GCC gives up on vectorising.
-#pragma GCC ivdep
+  const T *sx[5], *mx[5];
+  for (int d = 0; d < 5; ++d) sx[d] = op.sx[d].data() + g, mx[d] = op.mx[d].data() + g;
+  // A plain loop: vectorised, it spent a short tile's time in its epilogue (count is a few columns).
   for (int x = 0; x < count; ++x) {
-    const T v = s0[x] * a[x - 2] + s1[x] * a[x - 1] + s2[x] * a[x] + s3[x] * a[x + 1] + s4[x] * a[x + 2] +
-                m0[x] * c[x - 2] + m1[x] * c[x - 1] + m2[x] * c[x] + m3[x] * c[x + 1] + m4[x] * c[x + 2];
+    T v = sx[0][x] * a[x - 2];
+    for (int d = 1; d < 5; ++d) v += sx[d][x] * a[x + d - 2];
+    for (int d = 0; d < 5; ++d) v += mx[d][x] * c[x + d - 2];
     if constexpr (O == Out::Au) q[x] = v;
     else if constexpr (O == Out::Residual) q[x] = b[i + x] - v;
     else q[x] = (b[i + x] - v) * inv[g + x];
@@ -148,11 +146,12 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
 }
 
 // The recurrence's terms of table columns [g0, g0 + count) into K[0..) (diag likewise), one direction.
+// Out of line, so compiled for the baseline (no multiply-adds): its rounding is weighted solves' bits.
 template <class T>
-void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int count, bool forward,
-          typename Scratch<T>::Coefficients& K) {
-  const int near = forward ? 1 : 3, far = forward ? 0 : 4;
-  T *inv = grow(K.inv, count), *k1 = grow(K.k[near], count), *k2 = grow(K.k[far], count);
+__attribute__((noinline)) void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int count,
+                                    bool forward, typename Scratch<T>::Coefficients& K) {
+  const int near = forward ? 1 : 3, far = forward ? 0 : 4, dir = forward ? 0 : 1;
+  T *inv = grow(K.inv, count), *k1 = grow(K.kn[dir], count), *k2 = grow(K.kf[dir], count);
   for (int i = 0; i < count; ++i) {
     const int g = g0 + i;
     inv[i] = T(1) / (op.sx[2][g] * m0 + op.mx[2][g] * c0 + (diag ? diag[i] : T(0)));
@@ -161,7 +160,7 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
   }
   // Blocks of 4 on table multiples of 4: dx[b + r] = A_r + B[b + r] dx[b - 1] + C[b + r] dx[b - 2] (backward:
   // from the block's top down, with dx[e + 1], dx[e + 2]); A is the recurrence started from zero in the block.
-  T *B = grow(forward ? K.fb : K.bb, count), *C = grow(forward ? K.fc : K.bc, count);
+  T *B = grow(K.B[dir], count), *C = grow(K.C[dir], count);
   const int s = forward ? 1 : -1;
   for (int b = (4 - g0 % 4) % 4; b + 4 <= count; b += 4) {
     T b1 = T(1), b2 = T(0), c1 = T(0), c2 = T(1);  // B, C one and two samples back (dx[b - 1], dx[b - 2] alone)
@@ -178,8 +177,9 @@ void fill(const LevelOperator<T>& op, T m0, T c0, const T* diag, int g0, int cou
 template <int S, bool Add, class T>
 GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const T* t, int count, int lead, T* out,
                       T& d1, T& d2) {
-  const T *kn = K.k[S > 0 ? 1 : 3].data() + at, *kf = K.k[S > 0 ? 0 : 4].data() + at;
-  const T *B = (S > 0 ? K.fb : K.bb).data() + at, *C = (S > 0 ? K.fc : K.bc).data() + at;
+  constexpr int dir = S > 0 ? 0 : 1;
+  const T *kn = K.kn[dir].data() + at, *kf = K.kf[dir].data() + at;
+  const T *B = K.B[dir].data() + at, *C = K.C[dir].data() + at;
   const auto put = [out](int x, T v) __attribute__((always_inline)) {
     if constexpr (Add) out[x] += v;
     else out[x] = v;
@@ -193,17 +193,14 @@ GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const 
       ++n;
       continue;
     }
-    const T a0 = t[x];
-    const T a1 = t[x + S] - kn[x + S] * a0;
-    const T a2 = t[x + 2 * S] - kn[x + 2 * S] * a1 - kf[x + 2 * S] * a0;
-    const T a3 = t[x + 3 * S] - kn[x + 3 * S] * a2 - kf[x + 3 * S] * a1;
-    put(x, a0 + B[x] * d1 + C[x] * d2);
-    put(x + S, a1 + B[x + S] * d1 + C[x + S] * d2);
-    const T n2 = a2 + B[x + 2 * S] * d1 + C[x + 2 * S] * d2;
-    const T n1 = a3 + B[x + 3 * S] * d1 + C[x + 3 * S] * d2;
-    put(x + 2 * S, n2);
-    put(x + 3 * S, n1);
-    d2 = n2, d1 = n1, n += 4;
+    T a[4], o[4];  // the in-block recurrence started from zero, then the corrections carried in added
+    for (int r = 0, y = x; r < 4; ++r, y += S) {
+      a[r] = t[y];
+      if (r > 0) a[r] -= kn[y] * a[r - 1];
+      if (r > 1) a[r] -= kf[y] * a[r - 2];
+    }
+    for (int r = 0, y = x; r < 4; ++r, y += S) put(y, o[r] = a[r] + B[y] * d1 + C[y] * d2);
+    d2 = o[2], d1 = o[3], n += 4;
   }
 }
 
@@ -216,13 +213,10 @@ GDP_INLINE void recur(const typename Scratch<T>::Coefficients& K, int at, const 
 // Blocks of sixteen were faster on whole rows, slower on short tiles, and round differently
 // (docs/multigrid.md, "t in the filter loop").
 constexpr int kBlock = 8;
-template <class T> struct Lanes8;
-template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(32))); };
-template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(64))); };
 
 template <bool Add, bool forward, class T>
 GDP_INLINE void recur_blocks(const T* t, const T* M, int lo, int hi, T* out, T& d1, T& d2) {
-  using V = typename Lanes8<T>::type;
+  typedef T V __attribute__((vector_size(8 * sizeof(T))));  // eight lanes
   constexpr int last = forward ? 7 : 0, before = forward ? 6 : 1;  // the lanes carried to the next block
   V H[8], B, C;
   for (int k = 0; k < 8; ++k) std::memcpy(&H[k], M + 8 * k, sizeof(V));
@@ -273,7 +267,7 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
   for (int dir = 0; dir < 2; ++dir) K.block[dir].clear();
   if (op.interior_end - op.interior_begin < kBlock) return;
   for (int dir = 0; dir < 2; ++dir) {
-    const T kn = K.k[dir ? 3 : 1][op.interior_begin], kf = K.k[dir ? 4 : 0][op.interior_begin];
+    const T kn = K.kn[dir][op.interior_begin], kf = K.kf[dir][op.interior_begin];
     T h[9], C[8];  // sample r of a block: h[r] from its first t, h[r + 1] and C[r] from the corrections before it
     h[0] = T(1), h[1] = -kn, C[0] = -kf, C[1] = -kn * C[0];
     for (int r = 2; r < 9; ++r) h[r] = -kn * h[r - 1] - kf * h[r - 2];
@@ -291,15 +285,11 @@ void fill_blocks(const LevelOperator<T>& op, typename Scratch<T>::Coefficients& 
 
 }  // namespace
 
-Columns Columns::whole(int n, bool periodic) {
-  const Edge e = periodic ? Edge::Wrap : Edge::Image;
-  return {0, n, n, periodic, e, e, true};
-}
+Columns Columns::whole(int n, bool periodic) { return {0, n, periodic, periodic, true}; }
 
 Columns Columns::range(int n, bool periodic, int begin, int end, bool forward) {
   if (!periodic) begin = std::max(begin, 0), end = std::min(end, n);
-  const Edge left = !periodic && begin == 0 ? Edge::Image : Edge::Halo;
-  return {begin, end, n, periodic, left, !periodic && end == n ? Edge::Image : Edge::Halo, forward};
+  return {begin, end, periodic, false, forward};
 }
 
 template <class T>
@@ -356,7 +346,7 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
   else convolve<Out::Correction>(op, cols, s, q, b + o - cols.begin, K->inv.data());
   T* dx = grow(s.dx, len + 4) + 2;
   dx[-2] = dx[-1] = dx[len] = dx[len + 1] = T(0);
-  const bool wrap = cols.left == Edge::Wrap, fwd = cols.forward || wrap;
+  const bool wrap = cols.wrap, fwd = cols.forward || wrap;
   const int swept = wrap ? std::max(len - 2, 0) : len;
   T d1 = T(0), d2 = T(0);
   for (int done = 0; done < len;) {  // run by run (one per periodic copy) in the sweep's order: [x0, x1)
@@ -375,7 +365,7 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
     done += count;
   }
   for (int i = swept; i < len; ++i) {  // wrap: the last two samples (one run, K's columns from 0)
-    T v = q[i] - K->k[1][i] * dx[i - 1] - K->k[0][i] * dx[i - 2];
+    T v = q[i] - K->kn[0][i] * dx[i - 1] - K->kf[0][i] * dx[i - 2];
     for (int d = len - i; d <= 2; ++d) {
       const int col = fem::wrap_index(i + d, len);
       if (col < i) v -= (op.sx[d + 2][i] * m0 + op.mx[d + 2][i] * c0) * K->inv[i] * dx[col];
@@ -395,7 +385,7 @@ GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n, len = cols.end - cols.begin;
   if (len <= 0) return;
   T* tmp = grow(s.line, len) - cols.begin;  // tmp[J]
-  const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
+  const bool unwrap = cols.periodic && !cols.wrap;
   for (int J = cols.begin; J < cols.end;) {
     const Run r = copy_run(m, cols.periodic, J, cols.end);
     const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
@@ -441,12 +431,12 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
                              int fine_origin, Scratch<T>& s) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
   if (cols.end <= cols.begin) return;
-  const bool unwrap = cols.periodic && cols.left != Edge::Wrap;
+  const bool unwrap = cols.periodic && !cols.wrap;
   // The coarse columns read: [lo, hi), unwrapped where the fine ones are.
   int lo = floor_div(cols.begin, n) * m + (cols.begin - floor_div(cols.begin, n) * n) * m / n - 1;
   int hi = floor_div(cols.end - 1, n) * m + (cols.end - 1 - floor_div(cols.end - 1, n) * n) * m / n + 2;
   if (!unwrap) lo = std::max(lo, 0), hi = std::min(hi, m);
-  if (cols.left == Edge::Wrap) lo = 0, hi = m;
+  if (cols.wrap) lo = 0, hi = m;
   T* t = grow(s.line, hi - lo) - lo;  // t[J]
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   for (int J = lo; J < hi;) {
@@ -489,17 +479,13 @@ GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
   }
 }
 
-#define GDP_INSTANTIATE(T)                                                                                     \
-  template struct Scratch<T>;                                                                                  \
-  template void apply(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, Scratch<T>&, const T*);   \
-  template void residual(const LevelOperator<T>&, int, const Window<T>&, Columns, const T*, T*, Scratch<T>&, \
-                         const T*);                                                                            \
-  template void relax(const LevelOperator<T>&, int, const Window<T>&, Columns, T*, const T*, Scratch<T>&,    \
-                      const T*);                                                                               \
-  template void restrict_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, int, Columns, T*, \
-                              T*, std::array<int, 2>, Scratch<T>&);                                            \
-  template void prolong_rows(const fem::Prolongation&, const fem::ProlongationRow&, const T*, const T*,        \
-                             std::array<int, 2>, bool, Columns, T*, int, Scratch<T>&);
+#define GDP_INSTANTIATE(T)                                                             \
+  template struct Scratch<T>;                                                          \
+  template decltype(apply<T>) apply<T>;                                                \
+  template decltype(residual<T>) residual<T>;                                          \
+  template decltype(relax<T>) relax<T>;                                                \
+  template decltype(restrict_rows<T>) restrict_rows<T>;                                \
+  template decltype(prolong_rows<T>) prolong_rows<T>;
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)
 

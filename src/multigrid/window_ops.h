@@ -10,19 +10,16 @@
 
 namespace gdp::multigrid {
 
-// Beyond one end of the columns: Image, the level's (Neumann) end: nothing, read as zeros; Wrap, a periodic
-// level worked on whole: its other end (relax closes the ring as a whole-row sweep does); Halo: more of the
-// row, held by the rows (a neighbour band's columns; on periodic levels unwrapped, holding the wrapped values).
-enum class Edge : unsigned char { Image, Wrap, Halo };
-
-// Columns [begin, end) of a level n columns wide (on periodic levels they may leave [0, n)).
+// Columns [begin, end) of a level n columns wide (on periodic levels they may leave [0, n)). Beyond their
+// ends: nothing at a non-periodic level's ends (read as zeros); the row's other end on a whole periodic row
+// (`wrap`: relax closes the ring as a whole-row sweep does); else more of the row, held by the window (a
+// neighbour band's columns; on periodic levels unwrapped, holding the wrapped values).
 struct Columns {
-  int begin = 0, end = 0, n = 0;
-  bool periodic = false;
-  Edge left = Edge::Image, right = Edge::Image;
+  int begin = 0, end = 0;
+  bool periodic = false, wrap = false;
   bool forward = true;  // relax: left to right, else right to left
-  static Columns whole(int n, bool periodic);  // Image or Wrap at both ends
-  // [begin, end), clipped to [0, n) on a non-periodic level: Image at the level's ends, else Halo.
+  static Columns whole(int n, bool periodic);
+  // [begin, end), clipped to [0, n) on a non-periodic level.
   static Columns range(int n, bool periodic, int begin, int end, bool forward = true);
 };
 
@@ -36,15 +33,13 @@ struct Window { std::array<const T*, 5> rows{}; std::array<int, 5> origin{}; };
 // Temporary rows and recurrence coefficients, one per thread, grown to the widest call and reused.
 template <class T>
 struct Scratch {
-  // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): k[d] =
-  // K_{d-2} / K_0; per block of four, the terms of the corrections carried in (forward, backward).
-  // Where the level's interior is eight columns or more, blocks of eight there: `block` holds per direction
-  // (forward, backward) the in-block matrix's eight columns, then the responses to the two corrections
-  // carried in (80 values each; empty otherwise).
+  // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): 1 / K_0, and per
+  // direction (forward, backward) kn = K_{-+1} / K_0, kf = K_{-+2} / K_0 and, per block of four, the responses
+  // B, C to the corrections carried in. Where the level's interior is eight columns or more, `block` holds per
+  // direction its blocks of eight's in-block matrix (eight columns), then B, C (80 values; empty otherwise).
   struct Coefficients {
     const void* op = nullptr; T m0{}, c0{};
-    std::vector<T> inv, k[5], fb, fc, bb, bc;
-    std::vector<T> block[2];
+    std::vector<T> inv, kn[2], kf[2], B[2], C[2], block[2];
   };
   std::vector<T> a, c, q, dx, line;
   std::array<std::vector<T>, 5> mirrored;
