@@ -16,10 +16,10 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
-#include "schedule/bounded_queue.h"
+#include "util/bounded_queue.h"
 #include "io/checkpoint_dir.h"
 #include "multigrid/input_rows.h"
-#include "schedule/recycle_pool.h"
+#include "util/recycle_pool.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
 
@@ -162,8 +162,8 @@ class CycleWorker {
     return true;
   }
 
-  BoundedQueue<Batch<T>> in, out;
-  RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
+  util::BoundedQueue<Batch<T>> in, out;
+  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
