@@ -15,7 +15,7 @@
 #include "gdp/mpi_run.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/cycle_worker.h"
+#include "bands/cycle_worker.h"
 
 namespace gdp::bands {
 
@@ -57,14 +57,14 @@ class StreamedCheckpoint {
   std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
   // Local band i's group g (worker, V-cycle) saves here; when resuming, its
   // state is restored. Returns the input rows it already has.
-  template <class T, class VCycle>
-  int attach(schedule::CycleWorker<T, VCycle>& worker, const VCycle& vcycle, int i, int g, int channels, int width) {
+  template <class T>
+  int attach(CycleWorker<T>& worker, int i, int g, int width) {
     // A unit of the first pass stores about four times what a save writes (the rows held). The
     // bands of a plan must save at the same rows: theirs is a function of the plan, about four
     // times the rows its levels' rings hold (twice level 0's), not of the band.
-    const BandLayout& plan = vcycle.layout();
-    const double row_bytes = 2.0 * channels * width * sizeof(T);
-    const double rows_held = plan.single ? static_cast<double>(vcycle.window_bytes()) / row_bytes
+    const BandLayout& plan = worker.vcycle.layout();
+    const double row_bytes = 2.0 * worker.n * width * sizeof(T);
+    const double rows_held = plan.single ? static_cast<double>(worker.vcycle.window_bytes()) / row_bytes
                                          : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
     const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
     return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)));

@@ -1,29 +1,33 @@
-// One worker thread's V-cycles (a band of a streamed solve): rows in, cycles, mean shift, rows out.
+// One worker thread of a streamed solve (a band's channel group): rows in, V-cycles, mean shift, rows out.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
-#include "gdp/solver.h"
 #include <fmt/format.h>
 
+#include "bands/streamed_vcycle.h"
 #include "gdp/errors.h"
-#include "util/bounded_queue.h"
+#include "gdp/solver.h"
 #include "io/checkpoint_dir.h"
 #include "multigrid/input_rows.h"
-#include "util/recycle_pool.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
+#include "util/bounded_queue.h"
+#include "util/recycle_pool.h"
 
-namespace gdp::schedule {
+namespace gdp::bands {
+
+using schedule::CorruptState;
+using schedule::RowStore;
 
 constexpr std::size_t kQueued = 2;  // batches in flight per worker and direction
 
@@ -38,19 +42,6 @@ struct CycleMark {
     return fmt::format("V-cycle {} done", cycle + 1);
   }
 };
-
-// A row store's length in a checkpoint state (Archive: ByteWriter or ByteReader): saving makes
-// the store durable and writes its length, loading truncates the store to it.
-template <class Archive, class T>
-void store_state(Archive& a, RowStore<T>* store) {
-  std::size_t bytes = 0;
-  if constexpr (std::is_same_v<Archive, ByteWriter>) bytes = store ? store->make_durable() : 0;
-  a.io(bytes);
-  if constexpr (std::is_same_v<Archive, ByteReader>) {
-    if (store) store->restore(bytes);
-    else if (bytes) throw CorruptState("a store this state does not have");
-  }
-}
 
 // Rows handed between threads at a time: about 64K samples (256 KB of floats), 1 to 16 rows: a
 // worker per channel keeps no more batch memory than one for all channels did with 1 MB batches.
@@ -70,28 +61,29 @@ struct Batch {
   }
 };
 
-// Runs the V-cycles of `vcycle` (a bands::StreamedVCycle: begin_cycle, push,
-// pull, probe, initial_norm, final_norm) on rows of `channels` x `length` samples (channels
-// c0 .. c0 + channels - 1 of `log`): the first
-// cycle's rows from the batches in `in`, later cycles' from the previous result (a row store),
-// each result shifted to keep the input's mean (alpha == 0), V-cycles until `opt`'s count or
-// tolerance, and the last result's columns [keep, keep + kept) out in batches.
-template <class T, class VCycle>
+// Channels [c0, c0 + n) of band `net.rank()`: the V-cycles of its StreamedVCycle on rows of the
+// band's columns with their halo, the first cycle's from the batches in `in`, later cycles' from
+// the previous result (a row store), each result shifted to keep the input's mean (alpha == 0),
+// V-cycles until `opt`'s count or tolerance, and the last result's own columns out in batches.
+template <class T>
 class CycleWorker {
  public:
-  CycleWorker(VCycle& vcycle, const SolverOptions& opt, bool singular, ResidualLog& log, int c0, int channels,
-              int length, int height, const StorePolicy& stores, const std::string& name)
-      : in(kQueued), out(kQueued), vcycle_(vcycle), opt_(opt), singular_(singular), log_(log), c0_(c0),
-        channels_(channels), length_(length), height_(height) {
+  CycleWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
+              schedule::CycleSettings s, int c0, int n, schedule::ResidualLog& log)
+      : in(kQueued), out(kQueued), c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)),
+        opt_(opt), singular_(ops.singular), log_(log), length_(layout.row_length(0, band)),
+        height_(ops.levels[0].height), keep_(layout.halo), kept_(layout.end(0, band) - layout.begin(0, band)) {
     if (cycles() > 1)
-      carry_ = std::make_unique<RowStore<T>>(stores, static_cast<std::size_t>(channels) * length, height, name);
+      carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * length_, height_,
+                                             fmt::format("band{}-c{}-result", band, c0));
   }
   std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
 
   // Checkpoints (docs/resume.md): saves go to `cp` as lane `lane` after every `unit_rows` rows of
   // the first restriction pass, after every restriction pass (in-core tail included) and after
-  // every V-cycle whose result is stored for the next; the log's channels are saved with them. When `cp` resumes, the lane's last saved state is restored. Returns the
-  // input rows (first cycle's) the lane already has: they are not to be pushed again.
+  // every V-cycle whose result is stored for the next; the log's channels are saved with them.
+  // When `cp` resumes, the lane's last saved state is restored. Returns the input rows (first
+  // cycle's) the lane already has: they are not to be pushed again.
   int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows) {
     checkpoint_ = &cp;
     lane_ = lane;
@@ -109,33 +101,42 @@ class CycleWorker {
     return mark_.cycle > 0 || mark_.pass > 0 ? height_ : mark_.rows;
   }
 
-  // `totals()` gives the input's sums (InputTotals; called once every input row is pushed, it
-  // may wait for them). Returns false when one of
-  // the queues was closed (the solve was stopped).
-  template <class Totals>
-  bool run(Totals&& totals, int keep, int kept) {
-    keep_ = keep;
-    kept_ = kept;
-    u_.resize(static_cast<std::size_t>(channels_) * length_);
-    std::vector<double> shift(channels_);
+  // `totals`: the input's sums, every band's (waited for once every input row is pushed). Throws
+  // TransportStopped once a queue is closed (the solve was stopped).
+  void run(const std::shared_future<multigrid::InputTotals>& totals) {
+    if (!cycles_done(totals)) throw TransportStopped("stopped");
+  }
+
+  util::BoundedQueue<Batch<T>> in, out;
+  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
+  const int c0, n, band;
+  StreamedVCycle<T> vcycle;
+
+ private:
+  int cycles() const { return opt_.cycle_cap(); }
+
+  bool cycles_done(const std::shared_future<multigrid::InputTotals>& totals) {
+    u_.resize(static_cast<std::size_t>(n) * length_);
+    std::vector<double> shift(n);
     Batch<T> result;
     for (int k = mark_.cycle; k < cycles(); ++k) {
       const int pass = k == mark_.cycle ? mark_.pass : 0;
       if (pass == 2) continue;  // this cycle's result is stored: on to the next
       if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
-      const multigrid::InputTotals& sums = totals();
-      for (int c = 0; c < channels_; ++c) {
+      const multigrid::InputTotals& sums = totals.get();
+      for (int c = 0; c < n; ++c) {
         if (k == 0) {
-          log_.set_rhs_norm(c0_ + c, std::sqrt(sums.rhs_norms2[c0_ + c]));
-          log_.initial(c0_ + c, vcycle_.initial_norm(c));
+          log_.set_rhs_norm(c0 + c, std::sqrt(sums.rhs_norms2[c0 + c]));
+          log_.initial(c0 + c, vcycle.initial_norm(c));
         }
-        shift[c] = mean_shift(singular_, sums.weighted_sums[c0_ + c], sums.weight_total, vcycle_.probe(c).dots);
+        shift[c] = schedule::mean_shift(singular_, sums.weighted_sums[c0 + c], sums.weight_total,
+                                        vcycle.probe(c).dots);
       }
       const bool surely_last = k + 1 == cycles();
       if (carry_ && !surely_last) carry_->clear();
       for (int j = 0; j < height_; ++j) {
-        vcycle_.pull(u_);
-        for (int c = 0; c < channels_; ++c) {
+        vcycle.pull(u_);
+        for (int c = 0; c < n; ++c) {
           if (shift[c] == 0.0) continue;
           T* p = u_.data() + static_cast<std::size_t>(c) * length_;
           for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
@@ -144,9 +145,9 @@ class CycleWorker {
         else if (!emit(result, j, u_)) return false;
       }
       bool converged = opt_.tolerance > 0.0;
-      for (int c = 0; c < channels_; ++c) {
-        log_.cycle(c0_ + c, vcycle_.final_norm(c), vcycle_.probe(c));
-        converged = converged && log_.settled(c0_ + c, opt_.tolerance);
+      for (int c = 0; c < n; ++c) {
+        log_.cycle(c0 + c, vcycle.final_norm(c), vcycle.probe(c));
+        converged = converged && log_.settled(c0 + c, opt_.tolerance);
       }
       if (surely_last) return true;
       if (converged) {  // the carried result is the answer (every worker sees the same sums)
@@ -162,26 +163,20 @@ class CycleWorker {
     return true;
   }
 
-  util::BoundedQueue<Batch<T>> in, out;
-  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
-
- private:
-  int cycles() const { return opt_.cycle_cap(); }
-
   // Pushes cycle k's rows from `first` on (the first cycle's from the batches in `in`, later ones'
   // from the previous result); false when stopped.
   bool restriction_pass(int k, int first) {
     if (first == 0) {
-      vcycle_.begin_cycle();
+      vcycle.begin_cycle();
       if (carry_) carry_->rewind();
     }
-    const std::size_t n = static_cast<std::size_t>(channels_) * length_;
+    const std::size_t row = static_cast<std::size_t>(n) * length_;
     Batch<T> batch;
     int next_in = 0;  // row of `batch` to push next
     for (int j = first; j < height_; ++j) {
       if (k > 0) {
         carry_->read(u_);
-        vcycle_.push(u_, {}, {});
+        vcycle.push(u_, {}, {});
         continue;
       }
       if (next_in == batch.rows) {
@@ -191,13 +186,13 @@ class CycleWorker {
         batch = std::move(*b);
         next_in = 0;
       }
-      const std::size_t at = static_cast<std::size_t>(next_in) * n;
+      const std::size_t at = static_cast<std::size_t>(next_in) * row;
       const auto pixel_row = [&](const std::vector<T>& v) {
         return v.empty() ? std::span<const T>{}
                          : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
                                               static_cast<std::size_t>(length_)};
       };
-      vcycle_.push({batch.u.data() + at, n}, {batch.b.data() + at, n}, pixel_row(batch.w), pixel_row(batch.d));
+      vcycle.push({batch.u.data() + at, row}, {batch.b.data() + at, row}, pixel_row(batch.w), pixel_row(batch.d));
       ++next_in;
       if ((j + 1) % unit_rows_ == 0 && j + 1 < height_) save({k, 0, j + 1});
     }
@@ -211,7 +206,7 @@ class CycleWorker {
     ByteWriter out;
     state(out, m);
     checkpoint_->save(lane_, {out.bytes.begin(), out.bytes.end()}, m.describe(height_));
-    vcycle_.saved();  // every band of the plan has saved
+    vcycle.saved();  // every band of the plan has saved
   }
   // Written (ByteWriter) and read back (ByteReader) by the same steps: where the worker is, its
   // V-cycle's state, the carried result's length and the log's channels.
@@ -223,29 +218,28 @@ class CycleWorker {
     if (version != kStateVersion || mark.cycle < 0 || mark.cycle >= cycles() || mark.pass < 0 || mark.pass > 2 ||
         mark.rows < 0 || mark.rows > height_)
       throw CorruptState("unknown version or position");
-    vcycle_.state(a);
+    vcycle.state(a);
     store_state(a, carry_.get());
-    log_.state(a, c0_, channels_);
+    log_.state(a, c0, n);
   }
   // The kept columns of row j into the result batch, sent when full or last; false when stopped.
   bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
     if (result.rows == 0) result.first = j;
-    for (int c = 0; c < channels_; ++c) {
+    for (int c = 0; c < n; ++c) {
       const T* p = u.data() + static_cast<std::size_t>(c) * length_ + keep_;
       result.u.insert(result.u.end(), p, p + kept_);
     }
     ++result.rows;
-    if (result.rows < batch_rows(kept_, channels_) && j + 1 < height_) return true;
+    if (result.rows < batch_rows(kept_, n) && j + 1 < height_) return true;
     const bool ok = out.push(std::move(result));
     result = spent_out.take();
     return ok;
   }
 
-  VCycle& vcycle_;
   const SolverOptions& opt_;
   bool singular_;
-  ResidualLog& log_;
-  int c0_, channels_, length_, height_, keep_ = 0, kept_ = 0;
+  schedule::ResidualLog& log_;
+  int length_, height_, keep_, kept_;
   std::unique_ptr<RowStore<T>> carry_;
   std::vector<T> u_;  // a row of every channel
   // Checkpoints: where to save (none: null), this lane's number; where a resumed run starts.
@@ -255,4 +249,4 @@ class CycleWorker {
   CycleMark mark_;
 };
 
-}  // namespace gdp::schedule
+}  // namespace gdp::bands
