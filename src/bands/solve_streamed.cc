@@ -46,14 +46,10 @@ void io(Archive& a, Totals& t) {
 // or under mpirun this rank's share), each in `groups` channel groups. Channels are independent
 // problems: a group's bands talk among themselves only (a hub each; under mpirun one group).
 struct Team {
-  std::vector<std::unique_ptr<ThreadHub>> threads;  // per channel group
-  std::unique_ptr<MpiHub> ranks;
+  std::vector<std::unique_ptr<ThreadHub>> hubs;  // per channel group (under mpirun one MpiHub)
   int first = 0, local = 1, groups = 1;
-  Transport& endpoint(int group, int band) { return ranks ? ranks->endpoint(band) : threads[group]->endpoint(band); }
-  void abort(const std::string& why) {
-    if (ranks) return ranks->endpoint(first).abort(why);
-    for (auto& hub : threads) hub->endpoint(0).abort(why);
-  }
+  Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
+  void abort(const std::string& why) { for (auto& hub : hubs) hub->endpoint(first).abort(why); }
 };
 
 // The input sums of all bands, added in band order (the same bits however the bands are spread
@@ -136,8 +132,8 @@ Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distribu
   Team team;
   team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
   if (distributed) {
-    team.ranks = std::make_unique<MpiHub>(team.local);
-    team.first = team.ranks->first();
+    team.hubs.push_back(std::make_unique<MpiHub>(team.local));
+    team.first = team.hubs[0]->first();
   } else {
     const int spare = team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
     team.groups = std::clamp(spare, 1, channels);
@@ -295,7 +291,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, ops, channels, layout.bands, team.local, team.first,
                                                       team.groups, settings.stores);
   if (!setup.distributed)
-    for (int g = 0; g < team.groups; ++g) team.threads.push_back(std::make_unique<ThreadHub>(layout.bands));
+    for (int g = 0; g < team.groups; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
 
   std::promise<InputTotals> totals_promise;
   std::shared_future<InputTotals> totals = totals_promise.get_future().share();
