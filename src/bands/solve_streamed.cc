@@ -12,7 +12,6 @@
 
 #include "bands/cycle_worker.h"
 #include "bands/mpi_transport.h"
-#include "bands/streamed_checkpoint.h"
 #include "bands/streamed_vcycle.h"
 #include "bands/thread_transport.h"
 #include "gdp/errors.h"
@@ -282,7 +281,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   const auto t_start = Clock::now();
   summary.schedule = layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
-  auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
+  auto settings = cycle_settings(opt, ops.singular, channels, source.has_weights());
 
   Team team = make_team(opt, layout, setup.distributed, channels);
   if (setup.distributed) share_columns(layout, team, source, out);

@@ -18,7 +18,7 @@ using multigrid::Plane;
 
 template <class T>
 StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
-                          const Settings& settings)
+                          const CycleSettings& settings)
     : ops_(ops),
       layout_(layout),
       net_(transport),

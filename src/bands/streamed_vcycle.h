@@ -11,8 +11,9 @@
 #include "bands/band_layout.h"
 #include "bands/transport.h"
 #include "multigrid/window_ops.h"
+#include "gdp/solver.h"
+#include "multigrid/half_policy.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
 #include "schedule/bytes.h"
 
@@ -31,6 +32,32 @@ std::unique_ptr<Transport> merged_transport(Transport& outer, int bands);
 // Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
 constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
 inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
+
+// What a streamed V-cycle is told about its problem and its scratch.
+struct CycleSettings {
+  int channels = 1;  // the sweeps are the column plan's (bands::BandLayout::sweeps)
+  double coarse_tolerance = 1e-10;
+  bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
+  bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
+  bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  schedule::StorePolicy stores;
+};
+
+// The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
+// singular problems, scratch in the process's budget and then in opt.temp_dir (half floats with
+// multigrid::half_policy(opt), which the in-core V-cycle applies alike).
+inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
+  CycleSettings s;
+  s.channels = channels;
+  s.coarse_tolerance = opt.coarse_tolerance;
+  s.weights = singular;
+  s.diagonal = diagonal;
+  s.more_cycles = opt.cycle_cap() > 1;
+  s.stores.dir = opt.temp_dir;
+  s.stores.budget = &schedule::ScratchBudget::process();
+  s.stores.half = multigrid::half_policy(opt);
+  return s;
+}
 
 // One V-cycle as the paper's two passes over the rows, all levels in lockstep, on band
 // `transport.rank()` of the column plan `layout` (docs/how-streaming-works.md, docs/how-bands-work.md):
@@ -55,10 +82,8 @@ inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
 template <class T>
 class StreamedVCycle {
  public:
-  using Settings = schedule::CycleSettings;
-
   StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
-             const Settings& settings);
+             const CycleSettings& settings);
   ~StreamedVCycle();
 
   void begin_cycle();
@@ -165,7 +190,7 @@ class StreamedVCycle {
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;
   Transport& net_;
-  Settings set_;
+  CycleSettings set_;
   int band_, k_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
