@@ -10,22 +10,44 @@
 namespace gdp::bands {
 namespace {
 
-// One exchange across the fold on `tag`: every partner b gets the pieces plan.to[b] (pack), the
-// band takes its own (own) and reads every partner's (unpack), each as a function of the runs.
-template <class Pack, class Own, class Unpack>
-void exchange(Transport& net, const FoldPlan& plan, int tag, Pack&& pack, Own&& own, Unpack&& unpack) {
+// A piece of an exchange across the fold: columns [x, x + n) of row r of part k.
+struct Piece {
+  int k, r, x;
+  std::size_t n;
+};
+
+// One exchange across the fold on `tag`, of `parts` x `rows` rows: every partner b gets the
+// pieces plan.to[b] (read at from(piece)); the band's own pieces and every partner's, in band
+// order, land at to(piece), copied or (`add`) added.
+template <class T, class From, class To>
+void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows, From&& from, To&& to, bool add) {
+  const auto each = [&](const ColumnRuns& runs, auto&& f) {
+    for (int k = 0; k < parts; ++k)
+      for (int r = 0; r < rows; ++r)
+        for (auto [x0, x1] : runs) f(Piece{k, r, x0, static_cast<std::size_t>(x1 - x0)});
+  };
+  const auto land = [&](const Piece& p, const T* v) {
+    T* at = to(p);
+    if (!add) return static_cast<void>(std::copy_n(v, p.n, at));
+    for (std::size_t i = 0; i < p.n; ++i) at[i] += v[i];
+  };
   const int me = net.rank();
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.sends(b)) continue;
     ByteWriter pk;
-    pack(plan.to[b], pk);
+    each(plan.to[b], [&](const Piece& p) { pk.put(from(p), p.n); });
     net.send(b, tag, std::move(pk.bytes));
   }
-  own(plan.from[me]);
+  each(plan.from[me], [&](const Piece& p) { land(p, from(p)); });
+  std::vector<T> got;
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.receives(b)) continue;
     ByteReader un(net.receive(b, tag));
-    unpack(plan.from[b], un);
+    each(plan.from[b], [&](const Piece& p) {
+      got.resize(p.n);
+      un.get(add ? got.data() : to(p), p.n);
+      if (add) land(p, got.data());
+    });
     un.finish();
   }
 }
@@ -60,26 +82,11 @@ T* StreamedVCycle<T>::fold_row(int l, int c, int row, bool initial) {
 template <class T>
 void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
   Level& L = *levels_[l];
-  const FoldPlan& plan = L.fold[side].reads;
   const int first = side == 0 ? 0 : L.height - 2;
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int c = 0; c < set_.channels; ++c)
-      for (int r = 0; r < 2; ++r)
-        for (auto [x0, x1] : runs) f(c, r, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto own = [&](int c, int r, int x) { return u_row(l, c, first + r) + (x - L.origin); };
-  const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
-  exchange(
-      net_, plan, kFoldRows + l,
-      [&](const ColumnRuns& runs, ByteWriter& pk) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
-      },
-      [&](const ColumnRuns& runs) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
-      },
-      [&](const ColumnRuns& runs, ByteReader& un) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
-      });
+  exchange<T>(
+      net_, L.fold[side].reads, kFoldRows + l, set_.channels, 2,
+      [&](const Piece& p) { return u_row(l, p.k, first + p.r) + (p.x - L.origin); },
+      [&](const Piece& p) { return into.data() + (static_cast<std::size_t>(p.k) * 2 + p.r) * L.width + p.x; }, false);
 }
 
 // Level l's restriction across the fold into coarse row `row`: `sums` holds this band's
@@ -88,32 +95,11 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 // first, then the others' in band order).
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const FoldPlan& plan = levels_[l]->fold[side].sums;
-  const int m = ops_.levels[base_ + l + 1].width, parts = this->parts();
-  const int corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int k = 0; k < parts; ++k)
-      for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto add = [&](int k, int x, const T* v, std::size_t n) {
-    T* to = part_row(l + 1, k, row) + (x - corigin);
-    for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
-  };
-  const auto part = [&](int k, int x) { return sums.data() + static_cast<std::size_t>(k) * m + x; };
-  std::vector<T> got;
-  exchange(
-      net_, plan, kFoldSums + l,
-      [&](const ColumnRuns& runs, ByteWriter& pk) {
-        pieces(runs, [&](int k, int x, std::size_t n) { pk.put(part(k, x), n); });
-      },
-      [&](const ColumnRuns& runs) { pieces(runs, [&](int k, int x, std::size_t n) { add(k, x, part(k, x), n); }); },
-      [&](const ColumnRuns& runs, ByteReader& un) {
-        pieces(runs, [&](int k, int x, std::size_t n) {
-          got.resize(n);
-          un.get(got.data(), n);
-          add(k, x, got.data(), n);
-        });
-      });
+  const int m = ops_.levels[base_ + l + 1].width, corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
+  exchange<T>(
+      net_, levels_[l]->fold[side].sums, kFoldSums + l, parts(), 1,
+      [&](const Piece& p) { return sums.data() + static_cast<std::size_t>(p.k) * m + p.x; },
+      [&](const Piece& p) { return part_row(l + 1, p.k, row) + (p.x - corigin); }, true);
 }
 
 std::unique_ptr<Transport> merged_transport(Transport& outer, int bands) {
