@@ -1,4 +1,4 @@
-// One worker of a streamed solve (a band's channel group): rows in, V-cycles, mean shift, rows out; its checkpoint lanes.
+// One worker of a streamed solve (a band's channel group): rows in, V-cycles, mean shift, rows out; checkpoint lanes.
 #pragma once
 
 #include <algorithm>

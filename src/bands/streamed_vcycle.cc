@@ -1,4 +1,4 @@
-// Streamed V-cycle: phases of tiled sweeps per level, strips once a phase, checkpoint state (what crosses bands besides strips: streamed_exchange.cc).
+// Streamed V-cycle: tiled sweeps per level in phases, strips once a phase, checkpoint state (more: streamed_exchange.cc).
 #include "bands/streamed_vcycle.h"
 
 #include <algorithm>
