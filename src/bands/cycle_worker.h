@@ -251,10 +251,10 @@ class CycleWorker {
   CycleMark mark_;
 };
 
-// The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of this
-// process. Lane numbers are global: band b's channel group g is lane b * groups + g, so that ranks sharing a
-// directory never write the same files (each rank keeps its own manifest, rank 0's named
-// "manifest"). The problem's sizes, the band count and the rank count are in every manifest: a
+// The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of
+// this process. Lane numbers are global: band b's channel group g is lane b * groups + g, so that
+// ranks sharing a directory never write the same files (each rank keeps its own manifest, rank 0's
+// named "manifest"). The problem's sizes, the band count and the rank count are in every manifest: a
 // resume with other counts is refused, naming them.
 class StreamedCheckpoint {
  public:
@@ -288,8 +288,8 @@ class StreamedCheckpoint {
   }
   // Row stores of local band i's group g are named with this prefix.
   std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
-  // Local band i's group g (worker, V-cycle) saves here; when resuming, its
-  // state is restored. Returns the input rows it already has.
+  // Local band i's group g (worker, V-cycle) saves here; when resuming, its state is restored.
+  // Returns the input rows it already has.
   template <class T>
   int attach(CycleWorker<T>& worker, int i, int g, int width) {
     // A unit of the first pass stores about four times what a save writes (the rows held). The
