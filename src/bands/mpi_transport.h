@@ -1,30 +1,40 @@
 // The MPI transport: band workers spread over MPI ranks, a fixed number of worker threads per rank.
 #pragma once
 
-#include <memory>
-#include <string>
+#include <deque>
 
-#include "bands/transport.h"
+#include <mpi.h>
+
+#include "bands/thread_transport.h"
 
 namespace gdp::bands {
 
 // This rank's share of `local * ranks` workers: worker w runs on rank w / local. Messages between
-// workers of one rank go through a ThreadHub; the others through MPI on a duplicate of
-// MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
+// workers of one rank go through the ThreadHub's mailboxes; the others through MPI on a duplicate
+// of MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
 // (tag * local + from % local) * local + to % local. abort() ends every rank (mpi::abort_ranks).
 // Needs MPI initialised with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective (a rank
 // that comes first waits without holding a core).
-class MpiHub {
+class MpiHub final : public ThreadHub {
  public:
   explicit MpiHub(int local);
-  ~MpiHub();  // waits for this rank's sends to complete
-  int first() const;  // the first worker on this rank
-  Transport& endpoint(int worker);  // worker in [first(), first() + local)
+  ~MpiHub() override;  // waits for this rank's sends to complete
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  void send_away(int from, int to, int tag, Bytes data) override;
+  Bytes receive_away(int from, int to, int tag) override;
+  void stop(const std::string& why) override;
+  int mpi_tag(int tag, int from, int to) const { return (tag * local_ + from % local_) * local_ + to % local_; }
+  void reap();  // forgets the sends that have completed (the oldest first); call with `sending_` held
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::mutex sending_;  // guards sends_
+  struct Pending {
+    Bytes data;
+    MPI_Request request = MPI_REQUEST_NULL;
+  };
+  std::deque<Pending> sends_;  // in the order started
 };
 
 }  // namespace gdp::bands

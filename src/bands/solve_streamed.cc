@@ -10,21 +10,18 @@
 
 #include <fmt/format.h>
 
+#include "bands/cycle_worker.h"
 #include "bands/mpi_transport.h"
-#include "bands/streamed_checkpoint.h"
 #include "bands/streamed_vcycle.h"
 #include "bands/thread_transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "mpi/ranks.h"
-#include "schedule/cycle_worker.h"
 #include "schedule/input_ring.h"
 #include "multigrid/input_rows.h"
 
 namespace gdp::bands {
 
-using schedule::Batch;
-using schedule::batch_rows;
 using schedule::Clock;
 using multigrid::InputTotals;
 using schedule::seconds_since;
@@ -48,14 +45,10 @@ void io(Archive& a, Totals& t) {
 // or under mpirun this rank's share), each in `groups` channel groups. Channels are independent
 // problems: a group's bands talk among themselves only (a hub each; under mpirun one group).
 struct Team {
-  std::vector<std::unique_ptr<ThreadHub>> threads;  // per channel group
-  std::unique_ptr<MpiHub> ranks;
+  std::vector<std::unique_ptr<ThreadHub>> hubs;  // per channel group (under mpirun one MpiHub)
   int first = 0, local = 1, groups = 1;
-  Transport& endpoint(int group, int band) { return ranks ? ranks->endpoint(band) : threads[group]->endpoint(band); }
-  void abort(const std::string& why) {
-    if (ranks) return ranks->endpoint(first).abort(why);
-    for (auto& hub : threads) hub->endpoint(0).abort(why);
-  }
+  Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
+  void abort(const std::string& why) { for (auto& hub : hubs) hub->endpoint(first).abort(why); }
 };
 
 // The input sums of all bands, added in band order (the same bits however the bands are spread
@@ -89,30 +82,6 @@ void cut(const T* row, int n, bool periodic, int origin, int length, std::vector
       out.insert(out.end(), row + i, row + i + run);
     x += run;
   }
-}
-
-// One worker: channels [c0, c0 + n) of one band, its V-cycles on rows from `worker.in`, its
-// columns of the result to `worker.out`.
-template <class T>
-struct Worker {
-  Worker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
-         schedule::CycleSettings s, int c0, int n, schedule::ResidualLog& log)
-      : c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)),
-        worker(vcycle, opt, ops.singular, log, c0, n, layout.row_length(0, band), ops.levels[0].height, s.stores,
-               fmt::format("band{}-c{}-result", band, c0)) {}
-
-  const int c0, n, band;
-  StreamedVCycle<T> vcycle;
-  schedule::CycleWorker<T, StreamedVCycle<T>> worker;
-};
-
-// Runs worker `wk` (rows from `wk.worker.in`) until its last result row is out; `totals`: every
-// band's input sums, once all are read.
-template <class T>
-void run(Worker<T>& wk, const BandLayout& layout, std::shared_future<InputTotals> totals) {
-  const int own = layout.end(0, wk.band) - layout.begin(0, wk.band);
-  if (!wk.worker.run([&]() -> const InputTotals& { return totals.get(); }, layout.halo, own))
-    throw TransportStopped("stopped");
 }
 
 // Everything a streamed solve sets up before its workers start: the problem, the column plan
@@ -162,8 +131,8 @@ Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distribu
   Team team;
   team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
   if (distributed) {
-    team.ranks = std::make_unique<MpiHub>(team.local);
-    team.first = team.ranks->first();
+    team.hubs.push_back(std::make_unique<MpiHub>(team.local));
+    team.first = team.hubs[0]->first();
   } else {
     const int spare = team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
     team.groups = std::clamp(spare, 1, channels);
@@ -241,7 +210,7 @@ InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>&
 // band with its halo, channels of their group). Returns its CPU seconds.
 template <class T>
 double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions& opt,
-            const schedule::Problem<T>& problem, const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<Worker<T>>>& workers,
+            const schedule::Problem<T>& problem, const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<CycleWorker<T>>>& workers,
             const std::vector<int>& skip) {
   const int w = source.width(), h = source.height();
   const std::size_t n = static_cast<std::size_t>(source.channels()) * w;
@@ -252,7 +221,7 @@ double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions
     const bool last = j + 1 == h;
     for (int k = reader.first * team.groups; k < reader.last * team.groups; ++k) {
       if (j < skip[k]) continue;  // resumed: the worker has this row
-      Worker<T>& wk = *workers[k];
+      CycleWorker<T>& wk = *workers[k];
       Batch<T>& batch = batches[k];
       const int origin = layout.origin(0, wk.band), length = layout.row_length(0, wk.band);
       if (batch.rows == 0) batch.first = j;
@@ -263,8 +232,8 @@ double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions
       if (!wt.empty() && problem.ops.singular) cut(wt.data(), w, layout.periodic, origin, length, batch.w);
       if (!d.empty()) cut(d.data(), w, layout.periodic, origin, length, batch.d);
       if (++batch.rows < batch_rows(length, wk.n) && !last) continue;
-      if (!wk.worker.in.push(std::move(batch))) throw TransportStopped("stopped");
-      batch = wk.worker.spent_in.take();
+      if (!wk.in.push(std::move(batch))) throw TransportStopped("stopped");
+      batch = wk.spent_in.take();
     }
     if (opt.progress && reader.first == 0 && j % 64 == 63) opt.progress(0.5 * (j + 1) / h);
   }
@@ -273,18 +242,18 @@ double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions
 
 // Then: this process's columns of every result row, in order, to `out`.
 template <class T>
-void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::unique_ptr<Worker<T>>>& workers,
+void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::unique_ptr<CycleWorker<T>>>& workers,
            int w, int h, int channels, RowWriter& out) {
   std::vector<Batch<T>> results(workers.size());
   std::vector<float> row(static_cast<std::size_t>(channels) * w, 0.0f);
   for (int j = 0; j < h; ++j) {
     for (std::size_t k = 0; k < workers.size(); ++k) {
-      Worker<T>& wk = *workers[k];
+      CycleWorker<T>& wk = *workers[k];
       Batch<T>& r = results[k];
       if (r.rows == 0 || j >= r.first + r.rows) {
-        auto next = wk.worker.out.pop();
+        auto next = wk.out.pop();
         if (!next) throw TransportStopped("stopped");
-        wk.worker.spent_out.give(r.emptied());
+        wk.spent_out.give(r.emptied());
         r = std::move(*next);
       }
       const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
@@ -312,7 +281,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   const auto t_start = Clock::now();
   summary.schedule = layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
-  auto settings = schedule::cycle_settings(opt, ops.singular, channels, source.has_weights());
+  auto settings = cycle_settings(opt, ops.singular, channels, source.has_weights());
 
   Team team = make_team(opt, layout, setup.distributed, channels);
   if (setup.distributed) share_columns(layout, team, source, out);
@@ -321,23 +290,22 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, ops, channels, layout.bands, team.local, team.first,
                                                       team.groups, settings.stores);
   if (!setup.distributed)
-    for (int g = 0; g < team.groups; ++g) team.threads.push_back(std::make_unique<ThreadHub>(layout.bands));
+    for (int g = 0; g < team.groups; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
 
   std::promise<InputTotals> totals_promise;
   std::shared_future<InputTotals> totals = totals_promise.get_future().share();
   std::vector<schedule::ResidualLog> logs;  // per local band, all channels (band 0's lines are kept)
   for (int i = 0; i < team.local; ++i) logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
   if (checkpoint) checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
-  std::vector<std::unique_ptr<Worker<T>>> workers;  // band-major: worker i * groups + g
-  std::vector<int> skip;                            // input rows each worker already has (resumed)
+  std::vector<std::unique_ptr<CycleWorker<T>>> workers;  // band-major: worker i * groups + g
+  std::vector<int> skip;  // input rows each worker already has (resumed)
   for (int i = 0; i < team.local; ++i)
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups;
       if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
-      workers.push_back(std::make_unique<Worker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0,
-                                                    c1 - c0, logs[i]));
-      Worker<T>& wk = *workers.back();
-      skip.push_back(checkpoint ? checkpoint->attach(wk.worker, wk.vcycle, i, g, wk.n, source.width()) : 0);
+      workers.push_back(std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings,
+                                                         c0, c1 - c0, logs[i]));
+      skip.push_back(checkpoint ? checkpoint->attach(*workers.back(), i, g, source.width()) : 0);
     }
 
   // The input pass: this thread decodes every input row (then writes the results), readers make
@@ -354,8 +322,8 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     ring.stop();
     team.abort(why);
     for (auto& wk : workers) {
-      wk->worker.in.close();
-      wk->worker.out.close();
+      wk->in.close();
+      wk->out.close();
     }
   };
   double seconds_input = 0.0;
@@ -363,7 +331,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   schedule::run_workers(
       1 + reader_count + static_cast<int>(workers.size()),
       [&](int k) {
-        if (k > reader_count) return run(*workers[k - 1 - reader_count], layout, totals);
+        if (k > reader_count) return workers[k - 1 - reader_count]->run(totals);
         if (k > 0) {
           reader_cpu[k - 1] = feed(readers[k - 1], source, opt, problem, layout, team, workers, skip);
           return ring.finished(k - 1);
@@ -387,7 +355,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       });
   for (const double cpu : reader_cpu) summary.cpu_rhs_columns += cpu;
   for (const auto& wk : workers) {
-    summary.scratch_bytes += wk->vcycle.store_bytes() + wk->worker.carry_bytes();
+    summary.scratch_bytes += wk->vcycle.store_bytes() + wk->carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();
   }
   summary.seconds_rhs = seconds_input;

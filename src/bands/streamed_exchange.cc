@@ -1,30 +1,53 @@
 // What crosses a band edge besides the strips: rows and restriction sums across a spherical level's
-// fold (to mirror partners and owners), rows handed to a merged stage's owner and handed back.
+// fold, rows handed to a merged stage and back, the level below gathered to worker 0 and solved in-core.
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
-#include "bands/streamed_vcycle_parts.h"
+#include "bands/streamed_vcycle.h"
 
 namespace gdp::bands {
 namespace {
 
-// One exchange across the fold on `tag`: every partner b gets the pieces plan.to[b] (pack), the
-// band takes its own (own) and reads every partner's (unpack), each as a function of the runs.
-template <class Pack, class Own, class Unpack>
-void exchange(Transport& net, const FoldPlan& plan, int tag, Pack&& pack, Own&& own, Unpack&& unpack) {
+// A piece of an exchange across the fold: columns [x, x + n) of row r of part k.
+struct Piece {
+  int k, r, x;
+  std::size_t n;
+};
+
+// One exchange across the fold on `tag`, of `parts` x `rows` rows: every partner b gets the
+// pieces plan.to[b] (read at from(piece)); the band's own pieces and every partner's, in band
+// order, land at to(piece), copied or (`add`) added.
+template <class T, class From, class To>
+void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows, From&& from, To&& to, bool add) {
+  const auto each = [&](const ColumnRuns& runs, auto&& f) {
+    for (int k = 0; k < parts; ++k)
+      for (int r = 0; r < rows; ++r)
+        for (auto [x0, x1] : runs) f(Piece{k, r, x0, static_cast<std::size_t>(x1 - x0)});
+  };
+  const auto land = [&](const Piece& p, const T* v) {
+    T* at = to(p);
+    if (!add) return static_cast<void>(std::copy_n(v, p.n, at));
+    for (std::size_t i = 0; i < p.n; ++i) at[i] += v[i];
+  };
   const int me = net.rank();
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.sends(b)) continue;
     ByteWriter pk;
-    pack(plan.to[b], pk);
+    each(plan.to[b], [&](const Piece& p) { pk.put(from(p), p.n); });
     net.send(b, tag, std::move(pk.bytes));
   }
-  own(plan.from[me]);
+  each(plan.from[me], [&](const Piece& p) { land(p, from(p)); });
+  std::vector<T> got;
   for (int b = 0; b < net.size(); ++b) {
     if (b == me || !plan.receives(b)) continue;
     ByteReader un(net.receive(b, tag));
-    unpack(plan.from[b], un);
+    each(plan.from[b], [&](const Piece& p) {
+      got.resize(p.n);
+      un.get(add ? got.data() : to(p), p.n);
+      if (add) land(p, got.data());
+    });
     un.finish();
   }
 }
@@ -59,26 +82,11 @@ T* StreamedVCycle<T>::fold_row(int l, int c, int row, bool initial) {
 template <class T>
 void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into) {
   Level& L = *levels_[l];
-  const FoldPlan& plan = L.fold[side].reads;
   const int first = side == 0 ? 0 : L.height - 2;
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int c = 0; c < set_.channels; ++c)
-      for (int r = 0; r < 2; ++r)
-        for (auto [x0, x1] : runs) f(c, r, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto own = [&](int c, int r, int x) { return u_row(l, c, first + r) + (x - L.origin); };
-  const auto at = [&](int c, int r, int x) { return into.data() + (static_cast<std::size_t>(c) * 2 + r) * L.width + x; };
-  exchange(
-      net_, plan, kFoldRows + l,
-      [&](const ColumnRuns& runs, ByteWriter& pk) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { pk.put(own(c, r, x), n); });
-      },
-      [&](const ColumnRuns& runs) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { std::copy_n(own(c, r, x), n, at(c, r, x)); });
-      },
-      [&](const ColumnRuns& runs, ByteReader& un) {
-        pieces(runs, [&](int c, int r, int x, std::size_t n) { un.get(at(c, r, x), n); });
-      });
+  exchange<T>(
+      net_, L.fold[side].reads, kFoldRows + l, set_.channels, 2,
+      [&](const Piece& p) { return u_row(l, p.k, first + p.r) + (p.x - L.origin); },
+      [&](const Piece& p) { return into.data() + (static_cast<std::size_t>(p.k) * 2 + p.r) * L.width + p.x; }, false);
 }
 
 // Level l's restriction across the fold into coarse row `row`: `sums` holds this band's
@@ -87,32 +95,11 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 // first, then the others' in band order).
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const FoldPlan& plan = levels_[l]->fold[side].sums;
-  const int m = ops_.levels[base_ + l + 1].width, parts = this->parts();
-  const int corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
-  const auto pieces = [&](const ColumnRuns& runs, auto&& f) {
-    for (int k = 0; k < parts; ++k)
-      for (auto [x0, x1] : runs) f(k, x0, static_cast<std::size_t>(x1 - x0));
-  };
-  const auto add = [&](int k, int x, const T* v, std::size_t n) {
-    T* to = part_row(l + 1, k, row) + (x - corigin);
-    for (std::size_t i = 0; i < n; ++i) to[i] += v[i];
-  };
-  const auto part = [&](int k, int x) { return sums.data() + static_cast<std::size_t>(k) * m + x; };
-  std::vector<T> got;
-  exchange(
-      net_, plan, kFoldSums + l,
-      [&](const ColumnRuns& runs, ByteWriter& pk) {
-        pieces(runs, [&](int k, int x, std::size_t n) { pk.put(part(k, x), n); });
-      },
-      [&](const ColumnRuns& runs) { pieces(runs, [&](int k, int x, std::size_t n) { add(k, x, part(k, x), n); }); },
-      [&](const ColumnRuns& runs, ByteReader& un) {
-        pieces(runs, [&](int k, int x, std::size_t n) {
-          got.resize(n);
-          un.get(got.data(), n);
-          add(k, x, got.data(), n);
-        });
-      });
+  const int m = ops_.levels[base_ + l + 1].width, corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
+  exchange<T>(
+      net_, levels_[l]->fold[side].sums, kFoldSums + l, parts(), 1,
+      [&](const Piece& p) { return sums.data() + static_cast<std::size_t>(p.k) * m + p.x; },
+      [&](const Piece& p) { return part_row(l + 1, p.k, row) + (p.x - corigin); }, true);
 }
 
 std::unique_ptr<Transport> merged_transport(Transport& outer, int bands) {
@@ -184,12 +171,103 @@ void StreamedVCycle<T>::take_back(int row) {
   }
 }
 
+// The pieces of the gathered level that `band` contributes: its columns of every row of b (each
+// channel), of w and of d, as (row pointer, count), in one order for sender and receiver.
+template <class T>
+template <class F>
+void StreamedVCycle<T>::tail_parts(int band, F&& f) {
+  const int tl = layout_.levels, th = ops_.levels[base_ + tl].height;
+  const int a = layout_.begin(tl, band);
+  const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
+  for (int k = 0; k < parts(); ++k)
+    for (int row = 0; row < th; ++row) f(part_row(tl, k, row) + a, n);
+}
+
+// The level below the bands: every worker's partial sums are added in band order (the same bits
+// run to run), its columns of b (and w, d) go to worker 0, which solves in-core and sends the
+// whole correction and the level's probes back.
+template <class T>
+void StreamedVCycle<T>::run_tail() {
+  const int channels = set_.channels, banded = layout_.levels;
+  const bool whole = !layout_.merged;  // else the merged stage has solved the level below
+  // Per channel: the initial residual, then per level rr and dots.
+  std::vector<double> total;
+  for (int c = 0; c < channels; ++c) {
+    total.push_back(initial_rr_[c]);
+    for (int l = 0; l < banded; ++l) {
+      total.push_back(levels_[l]->rr[c]);
+      total.push_back(levels_[l]->dots[c]);
+    }
+  }
+  sum_in_order(net_, kSums, total);
+  if (whole) {  // worker 0's own part is in place already
+    ByteWriter mine;
+    if (band_ != 0) tail_parts(band_, [&](const T* row, std::size_t n) { mine.put(row, n); });
+    std::vector<Bytes> parts = gather(net_, kGather, std::move(mine.bytes));
+    for (int b = 1; b < static_cast<int>(parts.size()); ++b) {
+      ByteReader u(std::move(parts[b]));
+      tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
+      u.finish();
+    }
+  }
+  ByteWriter reply;
+  if (band_ == 0) solve_tail(reply);
+  ByteReader u(broadcast(net_, kGather, std::move(reply.bytes)));
+  const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
+  for (int c = 0; c < channels; ++c) {
+    if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
+    multigrid::CycleProbe& p = probes_[c];
+    p = {};
+    const double* sums = total.data() + c * per_channel;
+    for (int l = 0; l < banded; ++l) {
+      if (set_.weights) p.dots.push_back(sums[2 + 2 * l]);
+      p.level_norms.push_back(std::sqrt(sums[1 + 2 * l]));
+    }
+    std::vector<double> dots, norms;  // the levels below
+    u.io(dots);
+    u.io(norms);
+    p.dots.insert(p.dots.end(), dots.begin(), dots.end());
+    p.level_norms.insert(p.level_norms.end(), norms.begin(), norms.end());
+    initial_rr_[c] = sums[0];
+  }
+  u.finish();
+}
+
+// Worker 0: every channel's correction and probe of the levels below, solved in-core (or the
+// merged stage's, added over its bands), into `reply`.
+template <class T>
+void StreamedVCycle<T>::solve_tail(ByteWriter& reply) {
+  const int tl = base_ + layout_.levels;
+  const bool whole = !layout_.merged;
+  std::vector<multigrid::Plane<T>> weights;
+  if (whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
+  if (whole && set_.diagonal) {
+    tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
+    tail_->set_diagonal(&tail_diag_);
+  }
+  for (int c = 0; c < set_.channels; ++c) {
+    multigrid::CycleProbe tail;
+    if (whole) {
+      std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
+      tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
+      reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
+    } else {
+      tail = merged_->probe(c);
+    }
+    reply.io(tail.dots);
+    reply.io(tail.level_norms);
+  }
+}
+
+
+
 #define GDP_INSTANTIATE(T)                                                        \
   template T* StreamedVCycle<T>::fold_row(int, int, int, bool);                     \
   template void StreamedVCycle<T>::exchange_fold_rows(int, int, std::vector<T>&);   \
   template void StreamedVCycle<T>::add_fold_sums(int, int, const std::vector<T>&, int); \
   template void StreamedVCycle<T>::hand_off(int);                                   \
-  template void StreamedVCycle<T>::take_back(int);
+  template void StreamedVCycle<T>::take_back(int);                                  \
+  template void StreamedVCycle<T>::run_tail();
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)
 #undef GDP_INSTANTIATE

@@ -1,4 +1,4 @@
-// Streamed V-cycle: phases of tiled sweeps per level, strips once a phase (the level below: streamed_tail.cc; fold, merging: streamed_exchange.cc).
+// Streamed V-cycle: tiled sweeps per level in phases, strips once a phase, checkpoint state (more: streamed_exchange.cc).
 #include "bands/streamed_vcycle.h"
 
 #include <algorithm>
@@ -7,9 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "bands/band_fold.h"
 #include "bands/band_phase.h"
-#include "bands/streamed_vcycle_parts.h"
 
 namespace gdp::bands {
 
@@ -20,7 +18,7 @@ using multigrid::Plane;
 
 template <class T>
 StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
-                          const Settings& settings)
+                          const CycleSettings& settings)
     : ops_(ops),
       layout_(layout),
       net_(transport),
@@ -463,6 +461,48 @@ std::size_t StreamedVCycle<T>::window_bytes() const {
   for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
   return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
 }
+
+// Written (ByteWriter) and read back (ByteReader) by the same steps.
+template <class T>
+template <class Archive>
+void StreamedVCycle<T>::state(Archive& a) {
+  for (int* v : {&cycle_, &pulled_}) a.io(*v);
+  a.io(prolongation_);
+  for (auto& L : levels_) {
+    for (std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d, &L->fold[0].rows, &L->fold[1].rows}) a.io_sized(*ring);
+    for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from})
+      a.io(*v);
+    a.io(L->inputs_stored);
+    a.io(L->rr);
+    a.io(L->dots);
+    for (schedule::RowStore<T>* store : L->stores()) schedule::store_state(a, store);
+  }
+  for (auto* planes : {&tail_u_, &tail_b_})
+    for (multigrid::Plane<T>& p : *planes) a.io_sized(p.data);
+  for (std::vector<T>* v : {&tail_w_.data, &tail_d_.data, &initial_, &initial_fold_[0], &initial_fold_[1]})
+    a.io_sized(*v);
+  for (multigrid::CycleProbe& p : probes_) {
+    a.io(p.dots);
+    a.io(p.level_norms);
+  }
+  a.io(initial_rr_);
+  a.io(final_rr_);
+  bool merged = static_cast<bool>(merged_);
+  a.io(merged);
+  if (merged != static_cast<bool>(merged_)) throw schedule::CorruptState("the merged stage differs");
+  if (merged_) merged_->state(a);
+}
+
+template <class T>
+void StreamedVCycle<T>::saved() {
+  all_gather(net_, kSaved, {});
+}
+
+template void StreamedVCycle<float>::state(schedule::ByteWriter&);
+template void StreamedVCycle<float>::state(schedule::ByteReader&);
+template void StreamedVCycle<double>::state(schedule::ByteWriter&);
+template void StreamedVCycle<double>::state(schedule::ByteReader&);
+
 
 template class StreamedVCycle<float>;
 template class StreamedVCycle<double>;

@@ -7,15 +7,57 @@
 #include <span>
 #include <vector>
 
+#include "bands/band_fold.h"
 #include "bands/band_layout.h"
 #include "bands/transport.h"
 #include "multigrid/window_ops.h"
+#include "gdp/solver.h"
+#include "multigrid/half_policy.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/cycle_settings.h"
 #include "schedule/row_store.h"
 #include "schedule/bytes.h"
 
 namespace gdp::bands {
+
+// Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
+// restriction's sums across the fold kFoldSums + l; the collectives use the others.
+constexpr int kGather = 1000, kSums = 1001, kFinal = 1002, kFoldRows = 1100, kFoldSums = 1200, kHandOff = 1300,
+              kHandBack = 1301, kSaved = 1400;
+// Every stage's tags (and solve_streamed' 2000) are below this; a merged stage's are moved past it.
+constexpr int kStageTags = 4000;
+
+// The merged stage's workers over `outer`'s (streamed_exchange.cc): merged band g is worker 2g.
+std::unique_ptr<Transport> merged_transport(Transport& outer, int bands);
+
+// Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
+constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
+inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
+
+// What a streamed V-cycle is told about its problem and its scratch.
+struct CycleSettings {
+  int channels = 1;  // the sweeps are the column plan's (bands::BandLayout::sweeps)
+  double coarse_tolerance = 1e-10;
+  bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
+  bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
+  bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  schedule::StorePolicy stores;
+};
+
+// The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
+// singular problems, scratch in the process's budget and then in opt.temp_dir (half floats with
+// multigrid::half_policy(opt), which the in-core V-cycle applies alike).
+inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
+  CycleSettings s;
+  s.channels = channels;
+  s.coarse_tolerance = opt.coarse_tolerance;
+  s.weights = singular;
+  s.diagonal = diagonal;
+  s.more_cycles = opt.cycle_cap() > 1;
+  s.stores.dir = opt.temp_dir;
+  s.stores.budget = &schedule::ScratchBudget::process();
+  s.stores.half = multigrid::half_policy(opt);
+  return s;
+}
 
 // One V-cycle as the paper's two passes over the rows, all levels in lockstep, on band
 // `transport.rank()` of the column plan `layout` (docs/how-streaming-works.md, docs/how-bands-work.md):
@@ -40,10 +82,8 @@ namespace gdp::bands {
 template <class T>
 class StreamedVCycle {
  public:
-  using Settings = schedule::CycleSettings;
-
   StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
-             const Settings& settings);
+             const CycleSettings& settings);
   ~StreamedVCycle();
 
   void begin_cycle();
@@ -73,7 +113,34 @@ class StreamedVCycle {
   void saved();
 
  private:
-  struct Level;
+  struct Level {
+    const multigrid::LevelOperator<T>* op = nullptr;
+    int width = 0, height = 0, ring = 0;
+    int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
+    std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
+    multigrid::Scratch<T> scratch;
+    int phases = 0;         // phases per pass (band_phase.h)
+    int arrived = 0;        // rows that entered this pass
+    int next_phase = 0;     // the next phase to run
+    int finished = 0;       // rows restricted (or measured) in this pass
+    int zeroed = 0;         // restriction pass: coarser rows cleared for accumulation
+    int next_complete = 0;  // restriction pass: coarser rows completed by this level
+    int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
+    std::vector<int> last_touch;
+    std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
+    std::array<schedule::RowStore<T>*, 4> stores() const {
+      return {u_store.get(), b_store.get(), w_store.get(), d_store.get()};
+    }
+    bool inputs_stored = false;
+    std::vector<double> rr, dots;
+    // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the
+    // two rows there as the last exchange showed them (channels x 2 rows x width, whole rows).
+    struct Fold {
+      FoldPlan reads, sums;  // sums: this level's restriction into the next one
+      std::vector<T> rows;
+    };
+    std::array<Fold, 2> fold;
+  };
   std::unique_ptr<Level> make_level(int l);
   void allocate_ring(Level& L, int ring);
   void advance(int l);
@@ -123,7 +190,7 @@ class StreamedVCycle {
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;
   Transport& net_;
-  Settings set_;
+  CycleSettings set_;
   int band_, k_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;

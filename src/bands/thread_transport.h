@@ -16,18 +16,26 @@ namespace gdp::bands {
 // The mailboxes of `size` workers. endpoint(b) is worker b's Transport (one thread each).
 class ThreadHub {
  public:
-  explicit ThreadHub(int size);
-  ~ThreadHub();
-  Transport& endpoint(int worker);
+  explicit ThreadHub(int size) : ThreadHub(size, 0, size) {}
+  virtual ~ThreadHub();
+  int first() const { return first_; }  // the first worker of this process
+  Transport& endpoint(int worker);       // worker in [first(), first() + local)
+
+ protected:
+  // Workers [first, first + local) of `size` run in this process; messages to and from the others
+  // go through send_away and receive_away (MpiHub), stop() ends them all.
+  ThreadHub(int local, int first, int size);
+  virtual void send_away(int from, int to, int tag, Bytes data);
+  virtual Bytes receive_away(int from, int to, int tag);
+  virtual void stop(const std::string& why);
+  const int local_, first_, size_;
 
  private:
   class Endpoint;
-  friend class Endpoint;
+  bool here(int worker) const { return worker >= first_ && worker < first_ + local_; }
   void post(int from, int to, int tag, Bytes data);
   Bytes take(int from, int to, int tag);
-  void stop(const std::string& why);
 
-  int size_;
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
   std::map<std::tuple<int, int, int>, std::deque<Bytes>> boxes_;  // (from, to, tag)

@@ -14,8 +14,8 @@
 #include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
-#include "schedule/bounded_queue.h"
-#include "schedule/recycle_pool.h"
+#include "util/bounded_queue.h"
+#include "util/recycle_pool.h"
 
 namespace gdp {
 namespace {
@@ -65,10 +65,10 @@ struct ImageFileReader::Impl {
   int band_rows = 1;
   std::size_t row_bytes = 0;  // of the window
   Band band;                  // the band read_row serves from
-  schedule::RecyclePool<std::vector<unsigned char>> spent;  // bands' bytes, allocated once
+  util::RecyclePool<std::vector<unsigned char>> spent;  // bands' bytes, allocated once
   int next_row = 0;
   std::string failed;  // non-empty: a band failed to decode; read_row() throws this
-  std::unique_ptr<schedule::BoundedQueue<Band>> queue;
+  std::unique_ptr<util::BoundedQueue<Band>> queue;
   std::thread decoder_thread;
 
   InputError fail(std::string_view problem) const { return InputError(fmt::format("{}: {}", name, problem)); }
@@ -135,7 +135,7 @@ struct ImageFileReader::Impl {
 
   void start_decoding() {
     // One band queued, one being decoded, one being read: three at most.
-    queue = std::make_unique<schedule::BoundedQueue<Band>>(1);
+    queue = std::make_unique<util::BoundedQueue<Band>>(1);
     decoder_thread = std::thread([this] {
       for (int y0 = 0; y0 < layout.height; y0 += band_rows) {
         Band b = decode(y0);

@@ -14,8 +14,8 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "io/temp_file.h"
-#include "schedule/bounded_queue.h"
-#include "schedule/recycle_pool.h"
+#include "util/bounded_queue.h"
+#include "util/recycle_pool.h"
 
 namespace gdp {
 namespace {
@@ -65,8 +65,8 @@ struct ImageFileWriter::Impl {
   std::size_t row_bytes = 0;
   bool integer_file = false, tiled = false, committed = false, opened = false, write_behind = true;
   Band band;
-  schedule::BoundedQueue<Band> queue{1};  // with the band encoded and the band filled: three
-  schedule::RecyclePool<std::vector<float>> spent;  // encoded bands' rows, allocated once
+  util::BoundedQueue<Band> queue{1};  // with the band encoded and the band filled: three
+  util::RecyclePool<std::vector<float>> spent;  // encoded bands' rows, allocated once
   std::vector<unsigned char> packed;  // the band being encoded, interleaved samples of band_type
   std::thread encoder;
   std::atomic<bool> encoder_failed{false};

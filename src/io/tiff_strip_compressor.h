@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "schedule/recycle_pool.h"
+#include "util/recycle_pool.h"
 
 namespace gdp::io {
 
@@ -54,7 +54,7 @@ class StripCompressor {
   std::condition_variable changed_;
   std::deque<Job> jobs_;
   std::map<int, std::vector<unsigned char>> done_;
-  schedule::RecyclePool<std::vector<unsigned char>> spent_;  // strips' buffers, allocated once
+  util::RecyclePool<std::vector<unsigned char>> spent_;  // strips' buffers, allocated once
   int next_ = 0;         // next strip to sink
   int outstanding_ = 0;  // submitted, not yet sunk
   int limit_ = 4;

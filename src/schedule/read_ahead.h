@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-#include "schedule/bounded_queue.h"
+#include "util/bounded_queue.h"
 #include "io/drop_behind.h"
 
 namespace gdp::schedule {
@@ -35,7 +35,7 @@ class ReadAhead {
   void run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, io::DropBehind& drop);
 
   std::string where_;
-  BoundedQueue<Chunk> free_{3}, full_{3};
+  util::BoundedQueue<Chunk> free_{3}, full_{3};
   Chunk held_;  // the chunk next() handed out last
   bool holding_ = false, done_ = false;
   std::thread thread_;

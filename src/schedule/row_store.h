@@ -6,10 +6,12 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "multigrid/half_policy.h"
 #include "io/drop_behind.h"
+#include "schedule/bytes.h"
 #include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
@@ -99,5 +101,18 @@ class RowStore {
   io::DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
   bool reading_ = false;
 };
+
+// A row store's length in a checkpoint state (Archive: ByteWriter or ByteReader): saving makes
+// the store durable and writes its length, loading truncates the store to it.
+template <class Archive, class T>
+void store_state(Archive& a, RowStore<T>* store) {
+  std::size_t bytes = 0;
+  if constexpr (std::is_same_v<Archive, ByteWriter>) bytes = store ? store->make_durable() : 0;
+  a.io(bytes);
+  if constexpr (std::is_same_v<Archive, ByteReader>) {
+    if (store) store->restore(bytes);
+    else if (bytes) throw CorruptState("a store this state does not have");
+  }
+}
 
 }  // namespace gdp::schedule

@@ -6,7 +6,7 @@
 #include <mutex>
 #include <optional>
 
-namespace gdp::schedule {
+namespace gdp::util {
 
 template <class Item>
 class BoundedQueue {
@@ -53,4 +53,4 @@ class BoundedQueue {
   bool closed_ = false, finished_ = false;
 };
 
-}  // namespace gdp::schedule
+}  // namespace gdp::util

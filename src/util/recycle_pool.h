@@ -4,7 +4,7 @@
 #include <mutex>
 #include <vector>
 
-namespace gdp::schedule {
+namespace gdp::util {
 
 // A thread-safe free list: give() what a consumer is done with, take() it back (or a new, empty
 // item) where the next one is filled. Vectors inside keep their capacity: a solve allocates a few
@@ -30,4 +30,4 @@ class RecyclePool {
   std::vector<Item> free_;
 };
 
-}  // namespace gdp::schedule
+}  // namespace gdp::util

@@ -1,0 +1,330 @@
+// One worker of a streamed solve (a band's channel group): rows in, V-cycles, mean shift, rows out; checkpoint lanes.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "bands/streamed_vcycle.h"
+#include "gdp/errors.h"
+#include "gdp/mpi_run.h"
+#include "gdp/solver.h"
+#include "io/checkpoint_dir.h"
+#include "multigrid/input_rows.h"
+#include "schedule/row_store.h"
+#include "schedule/solve_parts.h"
+#include "util/bounded_queue.h"
+#include "util/recycle_pool.h"
+
+namespace gdp::bands {
+
+using schedule::CorruptState;
+using schedule::RowStore;
+
+constexpr std::size_t kQueued = 2;  // batches in flight per worker and direction
+
+// How far a worker got, saved with its state (docs/resume.md): in V-cycle `cycle` (from 0), pass
+// 0 is the restriction pass with `rows` rows pushed, 1 the restriction pass done (the in-core
+// tail solved), 2 the cycle's result stored for the next.
+struct CycleMark {
+  int cycle = 0, pass = 0, rows = 0;
+  std::string describe(int height) const {
+    if (pass == 0) return fmt::format("V-cycle {}: restriction pass, {} of {} rows", cycle + 1, rows, height);
+    if (pass == 1) return fmt::format("V-cycle {}: restriction pass and in-core levels done", cycle + 1);
+    return fmt::format("V-cycle {} done", cycle + 1);
+  }
+};
+
+// Rows handed between threads at a time: about 64K samples (256 KB of floats), 1 to 16 rows: a
+// worker per channel keeps no more batch memory than one for all channels did with 1 MB batches.
+inline int batch_rows(int length, int channels) { return std::clamp((1 << 16) / std::max(1, length * channels), 1, 16); }
+
+// Rows first .. first + rows - 1: u and b (channels * length samples per row), w and d (length
+// per row, or empty when the problem has none). Handed back for reuse emptied (the vectors keep
+// their capacity).
+template <class T>
+struct Batch {
+  int first = 0, rows = 0;
+  std::vector<T> u, b, w, d;
+  Batch&& emptied() {
+    first = rows = 0;
+    for (std::vector<T>* v : {&u, &b, &w, &d}) v->clear();
+    return std::move(*this);
+  }
+};
+
+// Channels [c0, c0 + n) of band `net.rank()`: the V-cycles of its StreamedVCycle on rows of the
+// band's columns with their halo, the first cycle's from the batches in `in`, later cycles' from
+// the previous result (a row store), each result shifted to keep the input's mean (alpha == 0),
+// V-cycles until `opt`'s count or tolerance, and the last result's own columns out in batches.
+template <class T>
+class CycleWorker {
+ public:
+  CycleWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
+              CycleSettings s, int c0, int n, schedule::ResidualLog& log)
+      : in(kQueued), out(kQueued), c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)),
+        opt_(opt), singular_(ops.singular), log_(log), length_(layout.row_length(0, band)),
+        height_(ops.levels[0].height), keep_(layout.halo), kept_(layout.end(0, band) - layout.begin(0, band)) {
+    if (cycles() > 1)
+      carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * length_, height_,
+                                             fmt::format("band{}-c{}-result", band, c0));
+  }
+  std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
+
+  // Checkpoints (docs/resume.md): saves go to `cp` as lane `lane` after every `unit_rows` rows of
+  // the first restriction pass, after every restriction pass (in-core tail included) and after
+  // every V-cycle whose result is stored for the next; the log's channels are saved with them.
+  // When `cp` resumes, the lane's last saved state is restored. Returns the input rows (first
+  // cycle's) the lane already has: they are not to be pushed again.
+  int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows) {
+    checkpoint_ = &cp;
+    lane_ = lane;
+    unit_rows_ = std::max(1, unit_rows);
+    if (!cp.resuming()) return 0;
+    const std::optional<std::string> saved = cp.load(lane);
+    if (!saved) return 0;
+    try {
+      ByteReader in(Bytes(saved->begin(), saved->end()));
+      state(in, mark_);
+      in.finish();
+    } catch (const CorruptState& e) {
+      throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp.dir().string(), cp.state_name(lane), e.what()));
+    }
+    return mark_.cycle > 0 || mark_.pass > 0 ? height_ : mark_.rows;
+  }
+
+  // `totals`: the input's sums, every band's (waited for once every input row is pushed). Throws
+  // TransportStopped once a queue is closed (the solve was stopped).
+  void run(const std::shared_future<multigrid::InputTotals>& totals) {
+    if (!cycles_done(totals)) throw TransportStopped("stopped");
+  }
+
+  util::BoundedQueue<Batch<T>> in, out;
+  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
+  const int c0, n, band;
+  StreamedVCycle<T> vcycle;
+
+ private:
+  int cycles() const { return opt_.cycle_cap(); }
+
+  bool cycles_done(const std::shared_future<multigrid::InputTotals>& totals) {
+    u_.resize(static_cast<std::size_t>(n) * length_);
+    std::vector<double> shift(n);
+    Batch<T> result;
+    for (int k = mark_.cycle; k < cycles(); ++k) {
+      const int pass = k == mark_.cycle ? mark_.pass : 0;
+      if (pass == 2) continue;  // this cycle's result is stored: on to the next
+      if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
+      const multigrid::InputTotals& sums = totals.get();
+      for (int c = 0; c < n; ++c) {
+        if (k == 0) {
+          log_.set_rhs_norm(c0 + c, std::sqrt(sums.rhs_norms2[c0 + c]));
+          log_.initial(c0 + c, vcycle.initial_norm(c));
+        }
+        shift[c] = schedule::mean_shift(singular_, sums.weighted_sums[c0 + c], sums.weight_total,
+                                        vcycle.probe(c).dots);
+      }
+      const bool surely_last = k + 1 == cycles();
+      if (carry_ && !surely_last) carry_->clear();
+      for (int j = 0; j < height_; ++j) {
+        vcycle.pull(u_);
+        for (int c = 0; c < n; ++c) {
+          if (shift[c] == 0.0) continue;
+          T* p = u_.data() + static_cast<std::size_t>(c) * length_;
+          for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
+        }
+        if (!surely_last) carry_->append(u_);
+        else if (!emit(result, j, u_)) return false;
+      }
+      bool converged = opt_.tolerance > 0.0;
+      for (int c = 0; c < n; ++c) {
+        log_.cycle(c0 + c, vcycle.final_norm(c), vcycle.probe(c));
+        converged = converged && log_.settled(c0 + c, opt_.tolerance);
+      }
+      if (surely_last) return true;
+      if (converged) {  // the carried result is the answer (every worker sees the same sums)
+        carry_->rewind();
+        for (int j = 0; j < height_; ++j) {
+          carry_->read(u_);
+          if (!emit(result, j, u_)) return false;
+        }
+        return true;
+      }
+      save({k, 2, 0});
+    }
+    return true;
+  }
+
+  // Pushes cycle k's rows from `first` on (the first cycle's from the batches in `in`, later ones'
+  // from the previous result); false when stopped.
+  bool restriction_pass(int k, int first) {
+    if (first == 0) {
+      vcycle.begin_cycle();
+      if (carry_) carry_->rewind();
+    }
+    const std::size_t row = static_cast<std::size_t>(n) * length_;
+    Batch<T> batch;
+    int next_in = 0;  // row of `batch` to push next
+    for (int j = first; j < height_; ++j) {
+      if (k > 0) {
+        carry_->read(u_);
+        vcycle.push(u_, {}, {});
+        continue;
+      }
+      if (next_in == batch.rows) {
+        auto b = in.pop();
+        if (!b) return false;
+        spent_in.give(batch.emptied());
+        batch = std::move(*b);
+        next_in = 0;
+      }
+      const std::size_t at = static_cast<std::size_t>(next_in) * row;
+      const auto pixel_row = [&](const std::vector<T>& v) {
+        return v.empty() ? std::span<const T>{}
+                         : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
+                                              static_cast<std::size_t>(length_)};
+      };
+      vcycle.push({batch.u.data() + at, row}, {batch.b.data() + at, row}, pixel_row(batch.w), pixel_row(batch.d));
+      ++next_in;
+      if ((j + 1) % unit_rows_ == 0 && j + 1 < height_) save({k, 0, j + 1});
+    }
+    save({k, 1, 0});
+    return true;
+  }
+
+  // The worker's state at a unit's end into the checkpoint (when there is one).
+  void save(CycleMark m) {
+    if (!checkpoint_) return;
+    ByteWriter out;
+    state(out, m);
+    checkpoint_->save(lane_, {out.bytes.begin(), out.bytes.end()}, m.describe(height_));
+    vcycle.saved();  // every band of the plan has saved
+  }
+  // Written (ByteWriter) and read back (ByteReader) by the same steps: where the worker is, its
+  // V-cycle's state, the carried result's length and the log's channels.
+  template <class Archive>
+  void state(Archive& a, CycleMark& mark) {
+    int version = kStateVersion;
+    a.io(version);
+    a.io(mark);
+    if (version != kStateVersion || mark.cycle < 0 || mark.cycle >= cycles() || mark.pass < 0 || mark.pass > 2 ||
+        mark.rows < 0 || mark.rows > height_)
+      throw CorruptState("unknown version or position");
+    vcycle.state(a);
+    store_state(a, carry_.get());
+    log_.state(a, c0, n);
+  }
+  // The kept columns of row j into the result batch, sent when full or last; false when stopped.
+  bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
+    if (result.rows == 0) result.first = j;
+    for (int c = 0; c < n; ++c) {
+      const T* p = u.data() + static_cast<std::size_t>(c) * length_ + keep_;
+      result.u.insert(result.u.end(), p, p + kept_);
+    }
+    ++result.rows;
+    if (result.rows < batch_rows(kept_, n) && j + 1 < height_) return true;
+    const bool ok = out.push(std::move(result));
+    result = spent_out.take();
+    return ok;
+  }
+
+  const SolverOptions& opt_;
+  bool singular_;
+  schedule::ResidualLog& log_;
+  int length_, height_, keep_, kept_;
+  std::unique_ptr<RowStore<T>> carry_;
+  std::vector<T> u_;  // a row of every channel
+  // Checkpoints: where to save (none: null), this lane's number; where a resumed run starts.
+  static constexpr int kStateVersion = 1;
+  io::Checkpoint* checkpoint_ = nullptr;
+  int lane_ = 0, unit_rows_ = 1 << 30;
+  CycleMark mark_;
+};
+
+// The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of
+// this process. Lane numbers are global: band b's channel group g is lane b * groups + g, so that
+// ranks sharing a directory never write the same files (each rank keeps its own manifest, rank 0's
+// named "manifest"). The problem's sizes, the band count and the rank count are in every manifest: a
+// resume with other counts is refused, naming them.
+class StreamedCheckpoint {
+ public:
+  // In opt.checkpoint_dir (its group count replaces `groups` when resuming); scratch kept there
+  // under each lane's names.
+  template <class T>
+  StreamedCheckpoint(const SolverOptions& opt, const multigrid::Operators<T>& ops, int channels, int bands, int local,
+                     int first, int& groups, schedule::StorePolicy& stores)
+      : first_(first), local_(local) {
+    const std::string sizes = fmt::format("{} {} {} {} {} {} | {} bands on {} ranks", ops.levels[0].width,
+                                          ops.levels[0].height, channels, ops.count(), sizeof(T),
+                                          stores.half.any() ? "half" : "native", bands, MpiRun::size());
+    int lanes = local * groups;
+    cp_ = std::make_unique<io::Checkpoint>(opt, sizes, lanes, first * groups, MpiRun::rank(), lanes * MpiRun::size());
+    if (lanes < 1 || lanes % local != 0)
+      throw InputError(fmt::format("--resume {}: the manifest is corrupt (lanes)", opt.checkpoint_dir.string()));
+    groups = groups_ = lanes / local;
+    stores.keep_dir = opt.checkpoint_dir;
+  }
+  // Resuming: the bands of a plan go back to the newest save they all made (a kill may have come
+  // between two bands' saves; none is two saves ahead, StreamedVCycle::saved). Under mpirun
+  // (`net`: this rank's first band) the ranks' newest common save is agreed on through band 0.
+  void agree(Transport* net) {
+    if (!cp_->resuming()) return;
+    for (int g = 0; g < groups_; ++g) {
+      std::vector<long long> common = cp_->generations(lane(0, g));
+      for (int i = 1; i < local_; ++i) common = intersect(common, cp_->generations(lane(i, g)));
+      if (net) common = across_ranks(*net, common);
+      for (int i = 0; i < local_; ++i) cp_->choose(lane(i, g), common.back());
+    }
+  }
+  // Row stores of local band i's group g are named with this prefix.
+  std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
+  // Local band i's group g (worker, V-cycle) saves here; when resuming, its state is restored.
+  // Returns the input rows it already has.
+  template <class T>
+  int attach(CycleWorker<T>& worker, int i, int g, int width) {
+    // A unit of the first pass stores about four times what a save writes (the rows held). The
+    // bands of a plan must save at the same rows: theirs is a function of the plan, about four
+    // times the rows its levels' rings hold (twice level 0's), not of the band.
+    const BandLayout& plan = worker.vcycle.layout();
+    const double row_bytes = 2.0 * worker.n * width * sizeof(T);
+    const double rows_held = plan.single ? static_cast<double>(worker.vcycle.window_bytes()) / row_bytes
+                                         : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
+    const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
+    return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)));
+  }
+
+ private:
+  int lane(int i, int g) const { return (first_ + i) * groups_ + g; }
+  static std::vector<long long> intersect(const std::vector<long long>& a, const std::vector<long long>& b) {
+    std::vector<long long> out;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+    return out;  // both hold 0
+  }
+  // The generations every rank has (ranks are every local_-th worker of `net`).
+  std::vector<long long> across_ranks(Transport& net, std::vector<long long> mine) const {
+    constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
+    ByteWriter w;
+    w.io(mine);
+    for (Bytes& part : all_gather(net, kGenerations, std::move(w.bytes), local_)) {
+      ByteReader r(std::move(part));
+      std::vector<long long> theirs;
+      r.io(theirs);
+      mine = intersect(mine, theirs);
+    }
+    return mine;
+  }
+  std::unique_ptr<io::Checkpoint> cp_;
+  int first_, local_, groups_ = 1;
+};
+
+}  // namespace gdp::bands
