@@ -1,11 +1,12 @@
 // Convergence and CPU per V-cycle against the smoother: sweeps before/after the coarse correction, row direction.
 //
-// Usage: smoother_bench [SIZE=2048] [CYCLES=4] [PHOTO] [CONFIGS]
+// Usage: smoother_bench [SIZE=2048] [CYCLES=4] [PHOTO or -] [CONFIGS]
 // In core, planar, alpha = 0 (the stitch's operator), one channel, from a zero guess. Two problems:
 //   random: b uniform in [-1, 1] less its mean (every frequency at once);
 //   manufactured: u* = the PHOTO's first channel cropped to SIZE (without one: smooth waves plus
 //   piecewise-constant offsets in Voronoi cells, a stitch's kind of jumps), b = A u*.
-// Per smoother: float CPU seconds of one V-cycle (thread CPU clock, the minimum of CYCLES) and Mpix/s;
+// Per smoother: float CPU seconds of one V-cycle (thread CPU clock, the minimum of CYCLES) and Mpix/s of the
+// one channel (an RGB V-cycle's figure, as vcycle_bench gives it, is a third of that);
 // in double (the same arithmetic, no float floor) the residual reduction of each V-cycle and, for the
 // manufactured problem, the RMS error against u* (each mean removed) after cycles 1 and 2.
 // CONFIGS: comma-separated PRE/POST[dir], dir f (forward), s (alternating per sweep), r (per row
