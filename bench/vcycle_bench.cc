@@ -24,12 +24,12 @@ struct Fixture {
   }
 };
 
-// One V-cycle at the default sweep count on `channels` planes; counter: megapixels per CPU second
+// One V-cycle at k sweeps each way on `channels` planes; counter: megapixels per CPU second
 // (per core; the wall time of a loaded machine says little).
-void BM_VCycle(benchmark::State& state) {
-  const int side = static_cast<int>(state.range(0)), channels = 3;
+void vcycles(benchmark::State& state, int side, int k) {
+  const int channels = 3;
   Fixture f(side, side);
-  InCoreVCycle<float> vc(f.ops, SolverOptions{}.sweeps, 1e-10);
+  InCoreVCycle<float> vc(f.ops, k, 1e-10);
   for (auto _ : state) {
     for (int c = 0; c < channels; ++c) vc.run(f.u, f.b);
     benchmark::DoNotOptimize(f.u.data.data());
@@ -37,7 +37,16 @@ void BM_VCycle(benchmark::State& state) {
   state.counters["Mpix/s_RGB"] = benchmark::Counter(double(side) * side * state.iterations() / 1e6,
                                                     benchmark::Counter::kIsRate);
 }
+
+// At the default sweep count.
+void BM_VCycle(benchmark::State& state) { vcycles(state, static_cast<int>(state.range(0)), SolverOptions{}.sweeps); }
 BENCHMARK(BM_VCycle)->Arg(2048)->Arg(8192)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// At k = 1 .. 5 sweeps (docs/multigrid.md, "The smoother's sweep count"): --benchmark_filter=BM_Sweeps.
+void BM_Sweeps(benchmark::State& state) {
+  vcycles(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+}
+BENCHMARK(BM_Sweeps)->ArgsProduct({{8192}, {1, 2, 3, 4, 5}})->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // One Gauss-Seidel sweep of the finest level (one channel).
 void BM_RelaxSweep(benchmark::State& state) {

@@ -47,7 +47,7 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
 
 template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
-    : ops_(ops), sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
+    : ops_(ops), sweeps_(sweeps), post_sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
   for (int l = first + 1; l < ops.count(); ++l) {
     u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
     b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
@@ -126,7 +126,8 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
+      if (j >= 0 && j < op.height)
+        relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
     const int j = t - 2 * sweeps_;
     if (j < 0) continue;
     if (w) dots += row_dot(w->row(j), u.row(j), op.width);
@@ -148,15 +149,33 @@ void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
-  for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
+  for (int t = 0; t < op.height + 2 * post_sweeps_; ++t) {
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
                    scratch_);
     }
-    for (int s = 0, j = t - 2; s < sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height) relax(op, j, window(op, u, j), row, u.row(j), b.row(j), scratch_, diag_row(d, j));
+    for (int s = 0, j = t - 2; s < post_sweeps_; ++s, j -= 2)
+      if (j >= 0 && j < op.height)
+        relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch_,
+              diag_row(d, j));
   }
+}
+
+// The columns of sweep `sweep` (counted from the first pre-smoothing sweep) of row j.
+template <class T>
+Columns InCoreVCycle<T>::sweep_columns(const Columns& row, int sweep, int j) const {
+  Columns c = row;
+  if (direction_ == SweepDirection::AlternateSweeps) c.forward = sweep % 2 == 0;
+  if (direction_ == SweepDirection::AlternateRows) c.forward = (sweep + j) % 2 == 0;
+  return c;
+}
+
+template <class T>
+void InCoreVCycle<T>::set_smoother(int pre, int post, SweepDirection direction) {
+  sweeps_ = pre;
+  post_sweeps_ = post;
+  direction_ = direction;
 }
 
 template <class T>

@@ -40,6 +40,10 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
 template <class T>
 double row_dot(const T* w, const T* u, int n);
 
+// The direction of a row's Gauss-Seidel sweep: always left to right (every schedule's), alternating
+// from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).
+enum class SweepDirection { Forward, AlternateSweeps, AlternateRows };
+
 // Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
 // create one per thread and reuse it for many channels.
 template <class T>
@@ -58,14 +62,20 @@ class InCoreVCycle {
   // Rounds each level's u and b to half floats after its restriction where `half` says
   // (half_policy.h), as the streamed V-cycle's stores do. Not owned; null: none.
   void set_half(const HalfPolicy* half);
+  // Smoother studies (bench/smoother_bench): `pre` sweeps before restriction and `post` after
+  // prolongation (the constructor's `sweeps` for both), and the rows' direction. Every schedule
+  // has the default (the same count both ways, left to right); others exist only in core.
+  void set_smoother(int pre, int post, SweepDirection direction);
 
  private:
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
                  double& dots, bool norms);
   void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
+  Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;
-  int sweeps_;
+  int sweeps_, post_sweeps_;
+  SweepDirection direction_ = SweepDirection::Forward;
   double coarse_tolerance_;
   int first_;
   const std::vector<Plane<T>>* diag_ = nullptr;
