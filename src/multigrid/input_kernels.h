@@ -1,0 +1,10 @@
+// Row kernels of the input pass (guidance differences), compiled for x86-64-v3 and the baseline with the same bits.
+#pragma once
+
+namespace gdp::multigrid {
+
+// out[i] = beta * (to[i] - from[i]), the difference taken in double, where keep[i] is set and the
+// difference is finite, else +0; i in [0, n).
+void kept_differences(const float* from, const float* to, const unsigned char* keep, double beta, double* out, int n);
+
+}  // namespace gdp::multigrid
