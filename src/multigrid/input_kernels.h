@@ -1,4 +1,4 @@
-// Row kernels of the input pass (guidance differences), compiled for x86-64-v3 and the baseline with the same bits.
+// Row kernels of the input pass (guidance differences, right-hand sides), compiled for x86-64-v3 and the baseline with the same bits.
 #pragma once
 
 namespace gdp::multigrid {
@@ -6,5 +6,9 @@ namespace gdp::multigrid {
 // out[i] = beta * (to[i] - from[i]), the difference taken in double, where keep[i] is set and the
 // difference is finite, else +0; i in [0, n).
 void kept_differences(const float* from, const float* to, const unsigned char* keep, double beta, double* out, int n);
+
+// out[i] = T(scale * v[i] + add[i]), or T(scale * v[i] + 0.0) where add is null; i in [0, n).
+template <class T>
+void scaled_rhs(const double* v, const double* add, double scale, T* out, int n);
 
 }  // namespace gdp::multigrid

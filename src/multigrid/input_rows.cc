@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "multigrid/incore_vcycle.h"
+#include "multigrid/input_kernels.h"
 #include "multigrid/masked.h"
 
 namespace gdp::multigrid {
@@ -55,7 +56,7 @@ InputRows<T>::InputRows(GuidanceSource& source, const Hierarchy& hierarchy, std:
     }
     initial_[k].assign(n, 0.0f);
     counted_[k].assign(width_, 1);
-    b_[k].assign(n, 0.0);
+    b_[k].assign(n, T(0));
   }
   known_.assign(width_, 0);
 }
@@ -85,8 +86,11 @@ void InputRows<T>::read_guidance() {
       }
     }
   }
+  // Scaled, the diagonal's d * value added, and converted as the assembler hands each row out.
   const auto sink = [this](int r, int c, std::span<const double> v) {
-    std::copy(v.begin(), v.end(), b_[r % kRing].begin() + static_cast<std::ptrdiff_t>(c) * width_);
+    const std::size_t at = static_cast<std::size_t>(c) * width_ + begin_;
+    const double* add = source_.has_weights() ? dv_[r % kRing].data() + at : nullptr;
+    scaled_rhs(v.data() + begin_, add, LevelOperator<T>::kScale, b_[r % kRing].data() + at, end_ - begin_);
     if (c == channels_ - 1) emitted_ = r + 1;
   };
   assembler_.push(j, row_, sink);
@@ -99,12 +103,10 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   if (j >= height_) throw std::logic_error("InputRows::next past the last row");
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
-  constexpr double scale = LevelOperator<T>::kScale;
   const bool weights = source_.has_weights();
   for (int c = 0; c < channels_; ++c) {
     const std::size_t at = static_cast<std::size_t>(c) * width_;
-    for (std::size_t i = at + begin_; i < at + end_; ++i)
-      b[i] = static_cast<T>(scale * b_[k][i] + (weights ? dv_[k][i] : 0.0));
+    std::copy(b_[k].begin() + at + begin_, b_[k].begin() + at + end_, b.begin() + at + begin_);
   }
   if (weights)
     for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
