@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 namespace gdp::multigrid {
 
@@ -31,6 +32,30 @@ GDP_INPUT_KERNEL void scaled_rhs(const double* v, const double* add, double scal
     for (int i = 0; i < n; ++i) out[i] = static_cast<T>(scale * v[i] + 0.0);
 }
 
+template <class T>
+GDP_INPUT_KERNEL void guess_and_weights(const float* in, std::size_t stride, int channels, const unsigned char* counted,
+                                        T* u, T* w, int n) {
+  using Bits = std::conditional_t<sizeof(T) == 8, std::int64_t, std::int32_t>;  // masks as wide as T (above)
+  for (int i = 0; i < n; ++i) w[i] = static_cast<T>(counted[i] != 0);
+  for (int c = 0; c < channels; ++c) {
+    const float* inc = in + c * stride;
+    T* uc = u + c * stride;
+    for (int i = 0; i < n; ++i) {
+      const T v = static_cast<T>(inc[i]);
+      const Bits finite = v - v == T(0) ? Bits{-1} : Bits{0};
+      Bits bits, weight;
+      std::memcpy(&bits, &v, sizeof bits);
+      std::memcpy(&weight, &w[i], sizeof weight);
+      bits &= finite;
+      weight &= finite;
+      std::memcpy(&uc[i], &bits, sizeof bits);
+      std::memcpy(&w[i], &weight, sizeof weight);
+    }
+  }
+}
+
+template void guess_and_weights<float>(const float*, std::size_t, int, const unsigned char*, float*, float*, int);
+template void guess_and_weights<double>(const float*, std::size_t, int, const unsigned char*, double*, double*, int);
 template void scaled_rhs<float>(const double*, const double*, double, float*, int);
 template void scaled_rhs<double>(const double*, const double*, double, double*, int);
 

@@ -7,7 +7,6 @@
 
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/input_kernels.h"
-#include "multigrid/masked.h"
 
 namespace gdp::multigrid {
 
@@ -58,7 +57,6 @@ InputRows<T>::InputRows(GuidanceSource& source, const Hierarchy& hierarchy, std:
     counted_[k].assign(width_, 1);
     b_[k].assign(n, T(0));
   }
-  known_.assign(width_, 0);
 }
 
 template <class T>
@@ -110,22 +108,9 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   }
   if (weights)
     for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
-  // u: the starting guess, 0 where not finite; w: 1 where counted and every channel is finite
-  // (vectorised, a channel at a time).
-  const int x0 = begin_, x1 = end_;  // locals: the flags' stores could alias the members
-  unsigned char* known = known_.data();
-  const unsigned char* counted = counted_[k].data();
-  for (int i = x0; i < x1; ++i) known[i] = counted[i] != 0;
-  for (int c = 0; c < channels_; ++c) {
-    const float* in = initial_[k].data() + static_cast<std::size_t>(c) * width_;
-    T* uc = u.data() + static_cast<std::size_t>(c) * width_;
-    for (int i = x0; i < x1; ++i) {
-      const bool finite = multigrid::finite(in[i]);
-      known[i] &= static_cast<unsigned char>(finite);
-      uc[i] = masked(static_cast<T>(in[i]), finite);
-    }
-  }
-  for (int i = x0; i < x1; ++i) w[i] = known[i] ? T(1) : T(0);
+  // u: the starting guess, 0 where not finite; w: 1 where counted and every channel is finite.
+  guess_and_weights(initial_[k].data() + begin_, width_, channels_, counted_[k].data() + begin_, u.data() + begin_,
+                    w.data() + begin_, end_ - begin_);
   for (std::size_t r = 0; r < ranges_.size(); ++r) {
     const auto [a, e] = ranges_[r];
     for (int c = 0; c < channels_; ++c) {
@@ -140,7 +125,10 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
         for (int i = a; i < e; ++i)
           if (d_[k][i] != LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
     }
-    for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
+    // A sum of ones and zeros, exact in any order: counted, then added.
+    int ones = 0;
+    for (int i = a; i < e; ++i) ones += w[i] != T(0);
+    totals_[r].weight_total += ones;
   }
   if (!source_.start_from_initial())  // only the columns computed: other readers may fill the rest
     for (int c = 0; c < channels_; ++c)
