@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "multigrid/input_kernels.h"
+#include "multigrid/row_kernels.h"
 #include "multigrid/masked.h"
 
 namespace gdp::apps {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "multigrid/incore_vcycle.h"
-#include "multigrid/input_kernels.h"
+#include "multigrid/row_kernels.h"
 
 namespace gdp::multigrid {
 

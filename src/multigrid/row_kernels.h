@@ -1,4 +1,4 @@
-// Row kernels of the input pass (guidance differences, right-hand sides), compiled for x86-64-v3 and the baseline with the same bits.
+// Row kernels (the input pass's guidance differences, right-hand sides and starting guesses; dot products), for x86-64-v3 and the baseline with the same bits.
 #pragma once
 
 #include <cstddef>
@@ -19,5 +19,10 @@ void scaled_rhs(const double* v, const double* add, double scale, T* out, int n)
 template <class T>
 void guess_and_weights(const float* in, std::size_t stride, int channels, const unsigned char* counted, T* u, T* w,
                        int n);
+
+// <w, u> over one row, accumulated in double in column order, eight partial sums (every schedule
+// uses this: the same bits everywhere).
+template <class T>
+double row_dot(const T* w, const T* u, int n);
 
 }  // namespace gdp::multigrid
