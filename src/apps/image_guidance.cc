@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "multigrid/row_kernels.h"
 #include "multigrid/masked.h"
+#include "multigrid/row_kernels.h"
 
 namespace gdp::apps {
 
