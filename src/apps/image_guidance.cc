@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "multigrid/masked.h"
+#include "multigrid/row_kernels.h"
 
 namespace gdp::apps {
 
@@ -81,18 +82,16 @@ void ImageGuidance::compute(int j, GuidanceRow& out, int x0, int x1) const {
   for (int c = 0; c < channels(); ++c) {
     const float* row = here.data() + static_cast<std::size_t>(c) * w;
     double* gx = out.gx.data() + static_cast<std::size_t>(c) * e;
-    const auto kept = [&](double d, unsigned char keep) {  // vectorised
-      return multigrid::masked(beta_ * d, multigrid::finite(d) & (keep != 0));
-    };
     const int inner = std::min(ex, w - 1);  // edges to the next column; a periodic row's last wraps
-    for (int i = x0; i < inner; ++i) gx[i] = kept(double(row[i + 1]) - row[i], right[i]);
-    for (int i = std::max(x0, inner); i < ex; ++i) gx[i] = kept(double(row[0]) - row[i], right[i]);
+    if (x0 < inner) multigrid::kept_differences(row + x0, row + x0 + 1, right.data() + x0, beta_, gx + x0, inner - x0);
+    for (int i = std::max(x0, inner); i < ex; ++i)
+      multigrid::kept_differences(row + i, row, right.data() + i, beta_, gx + i, 1);
     for (const int i : ask_right)
       if (std::isfinite(double(row[i + 1 < w ? i + 1 : 0]) - row[i])) gx[i] -= offset(c, i, j, true);
     if (j + 1 < h) {
       const float* next = source_row(j + 1).data() + static_cast<std::size_t>(c) * w;
       double* gy = out.gy.data() + static_cast<std::size_t>(c) * w;
-      for (int i = x0; i < x1; ++i) gy[i] = kept(double(next[i]) - row[i], down[i]);
+      multigrid::kept_differences(row + x0, next + x0, down.data() + x0, beta_, gy + x0, x1 - x0);
       for (const int i : ask_down)
         if (std::isfinite(double(next[i]) - row[i])) gy[i] -= offset(c, i, j, false);
     }

@@ -15,6 +15,7 @@
 #include "apps/output_fixups.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
+#include "multigrid/masked.h"
 
 namespace gdp {
 namespace {
@@ -26,28 +27,30 @@ class LabelIds {
  public:
   LabelIds(int width, int channels, bool white_is_label)
       : width_(width), channels_(channels), white_is_label_(white_is_label), key_(channels * sizeof(float), '\0') {}
-  // ids[i] for the columns [begin, end) of a label row (the others are left as they are).
+  // ids[i] for the columns [begin, end) of a label row (the others are left as they are). Most
+  // pixels share their left neighbour's label: where the label changes is marked first (a loop
+  // over the channels that vectorises), then each run of one label gets its id.
   void assign(std::span<const float> labels, std::vector<int>& ids, int begin, int end) {
     ids.resize(width_);
-    for (int i = begin; i < end;) {
-      ids[i] = id_at(labels, i);
-      int run = i + 1;  // most pixels share their left neighbour's label: runs of one label
-      if (channels_ == 1)
-        while (run < end && labels[run] == labels[i]) ++run;
-      else
-        while (run < end && same_as_left(labels, run)) ++run;
-      std::fill(ids.begin() + i + 1, ids.begin() + run, ids[i]);
-      i = run;
+    if (begin >= end) return;
+    changed_.resize(width_);
+    unsigned char* changed = changed_.data();
+    std::fill(changed + begin, changed + end, 0);
+    for (int c = 0; c < channels_; ++c) {
+      const float* l = labels.data() + static_cast<std::size_t>(c) * width_;
+      for (int i = begin + 1; i < end; ++i) changed[i] |= l[i] != l[i - 1];
     }
+    int start = begin;
+    const auto run = [&](int next) {
+      std::fill(ids.begin() + start, ids.begin() + next, id_at(labels, start));
+      start = next;
+    };
+    multigrid::for_each_set(changed, begin + 1, end, run);
+    run(end);
   }
   int count() const { return static_cast<int>(ids_.size()); }
 
  private:
-  bool same_as_left(std::span<const float> labels, int i) const {
-    for (int c = 0; c < channels_; ++c)
-      if (labels[static_cast<std::size_t>(c) * width_ + i] != labels[static_cast<std::size_t>(c) * width_ + i - 1]) return false;
-    return true;
-  }
   int id_at(std::span<const float> labels, int i) {
     bool white = true;
     for (int c = 0; c < channels_; ++c) {
@@ -63,6 +66,7 @@ class LabelIds {
   bool white_is_label_;
   std::string key_;
   std::unordered_map<std::string, int> ids_;
+  std::vector<unsigned char> changed_;  // assign(): where the label differs from the left neighbour
 };
 
 class StitchGuidance final : public apps::ImageGuidance {
@@ -105,7 +109,10 @@ class StitchGuidance final : public apps::ImageGuidance {
     labels_.read_row(y, label_row_);
     ids_.assign(label_row_, row_ids_[slot(y)], a, b);
     if (across_) across_->read_row(y, across_rows_[slot(y)]);
-    for (int i = a; i < b; ++i) zero_[i] = black_ && row_ids_[slot(y)][i] == kUnknown;
+    const int* id = row_ids_[slot(y)].data();
+    unsigned char* zero = zero_.data();  // locals: the flags' stores could alias the members
+    const bool black = black_;
+    for (int i = a; i < b; ++i) zero[i] = black & (id[i] == kUnknown);  // vectorised
     fixups_.record(y, row, zero_);
   }
   void keep_edges(int j, int begin, int end, std::span<unsigned char> right, std::span<unsigned char> down,

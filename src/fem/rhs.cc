@@ -8,6 +8,37 @@
 #include "fem/stencils.h"
 
 namespace gdp::fem {
+namespace {
+
+// The interior loops, compiled for x86-64-v3 (AVX2) and the baseline, the loader picking one. This
+// file is compiled with -ffp-contract=off (src/CMakeLists.txt): no multiply-add is fused, so both
+// give the bits of the plain loops.
+#define GDP_RHS_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
+
+// out[i] = M v at columns [lo, hi), every neighbour inside the row.
+GDP_RHS_KERNEL void mass_interior(const double* v, double* out, int lo, int hi) {
+  for (int i = lo; i < hi; ++i)
+    out[i] = kMass[0] * (v[i - 2] + v[i + 2]) + kMass[1] * (v[i - 1] + v[i + 1]) + kMass[2] * v[i];
+}
+
+// out[i] = D gx at columns [lo, hi), every edge inside the row.
+GDP_RHS_KERNEL void derivative_interior(const double* gx, double* out, int lo, int hi) {
+  for (int i = lo; i < hi; ++i)
+    out[i] = kDerivative[0] * gx[i - 2] + kDerivative[1] * gx[i - 1] + kDerivative[2] * gx[i] + kDerivative[3] * gx[i + 1];
+}
+
+// out[i] = the sum of wt[k] * p[k][i] over the nine terms, in order, at columns [begin, end).
+GDP_RHS_KERNEL void combine_rows(const std::array<const double*, 9>& p, const std::array<double, 9>& wt, double* out,
+                                 int begin, int end) {
+  const double *p0 = p[0], *p1 = p[1], *p2 = p[2], *p3 = p[3], *p4 = p[4], *p5 = p[5], *p6 = p[6], *p7 = p[7],
+               *p8 = p[8];
+#pragma GCC ivdep
+  for (int i = begin; i < end; ++i)
+    out[i] = wt[0] * p0[i] + wt[1] * p1[i] + wt[2] * p2[i] + wt[3] * p3[i] + wt[4] * p4[i] + wt[5] * p5[i] +
+             wt[6] * p6[i] + wt[7] * p7[i] + wt[8] * p8[i];
+}
+
+}  // namespace
 
 RhsAssembler::RhsAssembler(const Axis& x, const Axis& y, double alpha, int channels)
     : x_(x), y_(y), alpha_(alpha), channels_(channels),
@@ -37,8 +68,7 @@ void RhsAssembler::mass_filter(const double* v, double* out) const {
     out[i] = acc;
   };
   for (int i = begin_; i < lo; ++i) general(i);
-  for (int i = lo; i < hi; ++i)
-    out[i] = kMass[0] * (v[i - 2] + v[i + 2]) + kMass[1] * (v[i - 1] + v[i + 1]) + kMass[2] * v[i];
+  mass_interior(v, out, lo, hi);
   for (int i = hi; i < end_; ++i) general(i);
 }
 
@@ -57,8 +87,7 @@ void RhsAssembler::derivative_filter(const double* gx, double* out) const {
     out[i] = acc;
   };
   for (int i = begin_; i < lo; ++i) general(i);
-  for (int i = lo; i < hi; ++i)
-    out[i] = kDerivative[0] * gx[i - 2] + kDerivative[1] * gx[i - 1] + kDerivative[2] * gx[i] + kDerivative[3] * gx[i + 1];
+  derivative_interior(gx, out, lo, hi);
   for (int i = hi; i < end_; ++i) general(i);
 }
 
@@ -148,10 +177,7 @@ void RhsAssembler::emit(int r, const Sink& sink) {
         add(edge_row(e, c), w, Mirror::None);  // e == n - 1: across the bottom edge
       }
     }
-#pragma GCC ivdep
-    for (int i = begin_; i < end_; ++i)
-      out_[i] = wt[0] * p[0][i] + wt[1] * p[1][i] + wt[2] * p[2][i] + wt[3] * p[3][i] + wt[4] * p[4][i] +
-                wt[5] * p[5][i] + wt[6] * p[6][i] + wt[7] * p[7][i] + wt[8] * p[8][i];
+    combine_rows(p, wt, out_.data(), begin_, end_);
     for (int k = 0; k < folds; ++k) add_mirrored(*folded[k].row, folded[k].w, folded[k].mirror);
     sink(r, c, out_);
   }

@@ -6,6 +6,7 @@
 #include <exception>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -31,22 +32,35 @@ struct Band {
   std::string error;  // non-empty: decoding failed here
 };
 
-// Channels [0, Ch) of `ch` interleaved (Ch == ch, a constant, lets the loop vectorise) into
-// channel-major rows `stride` apart.
-template <int Ch, class T, class Convert>
-void deinterleave_n(const T* src, int w, int ch, std::size_t stride, float* out, Convert convert) {
-  for (int c = 0; c < (Ch > 0 ? Ch : ch); ++c) {
-    float* dst = out + c * stride;
-    const int n = Ch > 0 ? Ch : ch;
-    for (int x = 0; x < w; ++x) dst[x] = convert(src[static_cast<std::size_t>(x) * n + c]);
-  }
+// 8- and 16-bit samples as io/codec_util.h converts them, floats as they are.
+template <class T>
+inline float to_float(T v) {
+  if constexpr (std::is_same_v<T, std::uint8_t>) return io::from_u8(v);
+  else if constexpr (std::is_same_v<T, std::uint16_t>) return io::from_u16(v);
+  else return v;
 }
 
-// One row of a band (w columns) into a channel-major row of floats, channels `stride` apart.
-template <class T, class Convert>
-void deinterleave(const unsigned char* band_row, int w, int ch, std::size_t stride, float* out, Convert convert) {
+// One row of a band (w columns of `ch` interleaved channels) into a channel-major row of floats,
+// channels `stride` apart. Ch == ch, a constant, lets the loop vectorise (Ch == 0: the count at run
+// time); compiled for x86-64-v3 (AVX2) and the baseline, the loader picking one. The conversion is
+// called directly, so that it is inlined: through a function pointer it was a call per sample
+// (docs/scaling.md, "The input pass's arithmetic").
+template <int Ch, class T>
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void deinterleave_n(const T* src, int w, int ch,
+                                                                                 std::size_t stride, float* out) {
+  const int n = Ch > 0 ? Ch : ch;
+  if constexpr (Ch > 0)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < Ch; ++c) out[c * stride + x] = to_float(src[static_cast<std::size_t>(x) * Ch + c]);
+  else
+    for (int c = 0; c < n; ++c)
+      for (int x = 0; x < w; ++x) out[c * stride + x] = to_float(src[static_cast<std::size_t>(x) * n + c]);
+}
+
+template <class T>
+void deinterleave(const unsigned char* band_row, int w, int ch, std::size_t stride, float* out) {
   const T* src = reinterpret_cast<const T*>(band_row);
-  io::with_channel_count(ch, [&](auto n) { deinterleave_n<decltype(n)::value>(src, w, ch, stride, out, convert); });
+  io::with_channel_count(ch, [&](auto n) { deinterleave_n<decltype(n)::value>(src, w, ch, stride, out); });
 }
 
 }  // namespace
@@ -205,11 +219,11 @@ void ImageFileReader::read_row(int y, std::span<float> out) {
   if (y >= m.band.y1) m.next_band();
   const unsigned char* src = m.band.bytes.data() + static_cast<std::size_t>(y - m.band.y0) * m.row_bytes;
   if (m.layout.stored == SampleType::UInt8) {
-    deinterleave<std::uint8_t>(src, w, ch, stride, dst, io::from_u8);
+    deinterleave<std::uint8_t>(src, w, ch, stride, dst);
   } else if (m.layout.stored == SampleType::UInt16) {
-    deinterleave<std::uint16_t>(src, w, ch, stride, dst, io::from_u16);
+    deinterleave<std::uint16_t>(src, w, ch, stride, dst);
   } else {
-    deinterleave<float>(src, w, ch, stride, dst, [](float v) { return v; });
+    deinterleave<float>(src, w, ch, stride, dst);
   }
   ++m.next_row;
 }

@@ -45,7 +45,8 @@ void interleave_n(const float* row, int w, int ch, T* dst, Convert convert) {
   }
 }
 
-// A channel-major row into interleaved samples of type T.
+// A channel-major row into interleaved samples of type T. `convert` is a lambda, so that it inlines
+// (through a function pointer it was a call per sample).
 template <class T, class Convert>
 void interleave(const float* row, int w, int ch, unsigned char* out, Convert convert) {
   T* dst = reinterpret_cast<T*>(out);
@@ -84,11 +85,11 @@ struct ImageFileWriter::Impl {
       const float* row = b.rows.data() + r * samples;
       unsigned char* dst = packed.data() + r * row_bytes;
       if (band_type == SampleType::UInt8) {
-        interleave<std::uint8_t>(row, width, channels, dst, io::to_u8);
+        interleave<std::uint8_t>(row, width, channels, dst, [](float v) { return io::to_u8(v); });
       } else if (band_type == SampleType::UInt16) {
-        interleave<std::uint16_t>(row, width, channels, dst, io::to_u16);
+        interleave<std::uint16_t>(row, width, channels, dst, [](float v) { return io::to_u16(v); });
       } else if (integer_file) {
-        interleave<float>(row, width, channels, dst, io::clamp01);
+        interleave<float>(row, width, channels, dst, [](float v) { return io::clamp01(v); });
       } else {
         interleave<float>(row, width, channels, dst, [](float v) { return v; });
       }

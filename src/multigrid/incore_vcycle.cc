@@ -16,17 +16,6 @@ Operators<T>::Operators(const Hierarchy& h)
 }
 
 template <class T>
-double row_dot(const T* w, const T* u, int n) {
-  // Eight partial sums (a fixed order, so every schedule gets the same bits) let it vectorise.
-  double s[8] = {};
-  int i = 0;
-  for (; i + 8 <= n; i += 8)
-    for (int k = 0; k < 8; ++k) s[k] += static_cast<double>(w[i + k]) * u[i + k];
-  for (; i < n; ++i) s[i % 8] += static_cast<double>(w[i]) * u[i];
-  return ((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7]));
-}
-
-template <class T>
 std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w) {
   std::vector<Plane<T>> out;
   out.push_back(std::move(w));
@@ -219,7 +208,5 @@ template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
 template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);
 template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>);
-template double row_dot(const float*, const float*, int);
-template double row_dot(const double*, const double*, int);
 
 }  // namespace gdp::multigrid

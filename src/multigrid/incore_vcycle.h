@@ -6,6 +6,7 @@
 #include "multigrid/half_policy.h"
 #include "multigrid/hierarchy.h"
 #include "multigrid/plane.h"
+#include "multigrid/row_kernels.h"  // row_dot
 #include "multigrid/window_ops.h"
 
 namespace gdp::multigrid {
@@ -35,10 +36,6 @@ struct CycleProbe {
 // Weights restricted to every level from `first` down (result[0] is level `first`).
 template <class T>
 std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
-
-// <w, u> over one row, accumulated in double in column order (every schedule uses this).
-template <class T>
-double row_dot(const T* w, const T* u, int n);
 
 // The direction of a row's Gauss-Seidel sweep: always left to right (every schedule's), alternating
 // from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).

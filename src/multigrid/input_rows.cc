@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "multigrid/incore_vcycle.h"
-#include "multigrid/masked.h"
+#include "multigrid/row_kernels.h"
 
 namespace gdp::multigrid {
 
@@ -55,9 +55,8 @@ InputRows<T>::InputRows(GuidanceSource& source, const Hierarchy& hierarchy, std:
     }
     initial_[k].assign(n, 0.0f);
     counted_[k].assign(width_, 1);
-    b_[k].assign(n, 0.0);
+    b_[k].assign(n, T(0));
   }
-  known_.assign(width_, 0);
 }
 
 template <class T>
@@ -85,8 +84,11 @@ void InputRows<T>::read_guidance() {
       }
     }
   }
+  // Scaled, the diagonal's d * value added, and converted as the assembler hands each row out.
   const auto sink = [this](int r, int c, std::span<const double> v) {
-    std::copy(v.begin(), v.end(), b_[r % kRing].begin() + static_cast<std::ptrdiff_t>(c) * width_);
+    const std::size_t at = static_cast<std::size_t>(c) * width_ + begin_;
+    const double* add = source_.has_weights() ? dv_[r % kRing].data() + at : nullptr;
+    scaled_rhs(v.data() + begin_, add, LevelOperator<T>::kScale, b_[r % kRing].data() + at, end_ - begin_);
     if (c == channels_ - 1) emitted_ = r + 1;
   };
   assembler_.push(j, row_, sink);
@@ -99,31 +101,16 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
   if (j >= height_) throw std::logic_error("InputRows::next past the last row");
   while (emitted_ <= j) read_guidance();
   const int k = j % kRing;
-  constexpr double scale = LevelOperator<T>::kScale;
   const bool weights = source_.has_weights();
   for (int c = 0; c < channels_; ++c) {
     const std::size_t at = static_cast<std::size_t>(c) * width_;
-    for (std::size_t i = at + begin_; i < at + end_; ++i)
-      b[i] = static_cast<T>(scale * b_[k][i] + (weights ? dv_[k][i] : 0.0));
+    std::copy(b_[k].begin() + at + begin_, b_[k].begin() + at + end_, b.begin() + at + begin_);
   }
   if (weights)
     for (int i = begin_; i < end_; ++i) d[i] = static_cast<T>(d_[k][i]);
-  // u: the starting guess, 0 where not finite; w: 1 where counted and every channel is finite
-  // (vectorised, a channel at a time).
-  const int x0 = begin_, x1 = end_;  // locals: the flags' stores could alias the members
-  unsigned char* known = known_.data();
-  const unsigned char* counted = counted_[k].data();
-  for (int i = x0; i < x1; ++i) known[i] = counted[i] != 0;
-  for (int c = 0; c < channels_; ++c) {
-    const float* in = initial_[k].data() + static_cast<std::size_t>(c) * width_;
-    T* uc = u.data() + static_cast<std::size_t>(c) * width_;
-    for (int i = x0; i < x1; ++i) {
-      const bool finite = multigrid::finite(in[i]);
-      known[i] &= static_cast<unsigned char>(finite);
-      uc[i] = masked(static_cast<T>(in[i]), finite);
-    }
-  }
-  for (int i = x0; i < x1; ++i) w[i] = known[i] ? T(1) : T(0);
+  // u: the starting guess, 0 where not finite; w: 1 where counted and every channel is finite.
+  guess_and_weights(initial_[k].data() + begin_, width_, channels_, counted_[k].data() + begin_, u.data() + begin_,
+                    w.data() + begin_, end_ - begin_);
   for (std::size_t r = 0; r < ranges_.size(); ++r) {
     const auto [a, e] = ranges_[r];
     for (int c = 0; c < channels_; ++c) {
@@ -138,7 +125,10 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
         for (int i = a; i < e; ++i)
           if (d_[k][i] != LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];
     }
-    for (int i = a; i < e; ++i) totals_[r].weight_total += static_cast<double>(w[i]);
+    // A sum of ones and zeros, exact in any order: counted, then added.
+    int ones = 0;
+    for (int i = a; i < e; ++i) ones += w[i] != T(0);
+    totals_[r].weight_total += ones;
   }
   if (!source_.start_from_initial())  // only the columns computed: other readers may fill the rest
     for (int c = 0; c < channels_; ++c)

@@ -57,8 +57,7 @@ class InputRows {
   GuidanceRow row_;
   std::vector<std::vector<float>> initial_;           // ring of starting-guess rows
   std::vector<std::vector<unsigned char>> counted_;   // ring of counted flags
-  std::vector<unsigned char> known_;                  // next(): counted and finite
-  std::vector<std::vector<double>> b_;                // ring of assembled rows, channels * width
+  std::vector<std::vector<T>> b_;                     // ring of right-hand-side rows, channels * width
   std::vector<std::vector<double>> d_, dv_;           // ring of diagonal rows and d * value
   int read_ = 0, emitted_ = 0, next_ = 0;
   int begin_ = 0, end_ = 0;  // the columns computed
