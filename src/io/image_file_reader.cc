@@ -205,9 +205,11 @@ void ImageFileReader::read_row(int y, std::span<float> out) {
   if (y >= m.band.y1) m.next_band();
   const unsigned char* src = m.band.bytes.data() + static_cast<std::size_t>(y - m.band.y0) * m.row_bytes;
   if (m.layout.stored == SampleType::UInt8) {
-    deinterleave<std::uint8_t>(src, w, ch, stride, dst, io::from_u8);
+    // Lambdas, not the functions' addresses: a pointer passed on through with_channel_count's
+    // lambda was called per sample (through the PLT), not inlined and vectorised.
+    deinterleave<std::uint8_t>(src, w, ch, stride, dst, [](std::uint8_t v) { return io::from_u8(v); });
   } else if (m.layout.stored == SampleType::UInt16) {
-    deinterleave<std::uint16_t>(src, w, ch, stride, dst, io::from_u16);
+    deinterleave<std::uint16_t>(src, w, ch, stride, dst, [](std::uint16_t v) { return io::from_u16(v); });
   } else {
     deinterleave<float>(src, w, ch, stride, dst, [](float v) { return v; });
   }

@@ -84,11 +84,12 @@ struct ImageFileWriter::Impl {
       const float* row = b.rows.data() + r * samples;
       unsigned char* dst = packed.data() + r * row_bytes;
       if (band_type == SampleType::UInt8) {
-        interleave<std::uint8_t>(row, width, channels, dst, io::to_u8);
+        // Lambdas, not the functions' addresses (which were called per sample, not inlined).
+        interleave<std::uint8_t>(row, width, channels, dst, [](float v) { return io::to_u8(v); });
       } else if (band_type == SampleType::UInt16) {
-        interleave<std::uint16_t>(row, width, channels, dst, io::to_u16);
+        interleave<std::uint16_t>(row, width, channels, dst, [](float v) { return io::to_u16(v); });
       } else if (integer_file) {
-        interleave<float>(row, width, channels, dst, io::clamp01);
+        interleave<float>(row, width, channels, dst, [](float v) { return io::clamp01(v); });
       } else {
         interleave<float>(row, width, channels, dst, [](float v) { return v; });
       }
