@@ -222,8 +222,8 @@ class SeamPasses {
  public:
   // Only the layers whose footprints meet columns [begin, end) take part.
   SeamPasses(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-             const std::function<void(double)>& progress, int begin, int end, int threads)
-      : plan_(plan), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
+             const std::function<void(double)>& progress, int begin, int end, int threads, KeptRows* keep)
+      : plan_(plan), keep_(keep), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
         W_(plan.canvas.width), H_(plan.canvas.height), threads_(std::max(1, threads)), where_(n_) {
     for (int k = 0; k < n_; ++k) {
       where_[k] = footprint(plan, k);
@@ -264,6 +264,7 @@ class SeamPasses {
   }
 
   const BlendPlan& plan_;
+  KeptRows* keep_;
   bool wrap_x_;
   const std::function<void(double)>& progress_;
   int n_, W_, H_, threads_;
@@ -290,7 +291,7 @@ void SeamPasses::forward() {
 
 void SeamPasses::forward_layer(int k, bool reports) {
   const std::unique_ptr<Active> a = start(k, true);
-  LayerRows rows(plan_, k, 0, W_, true);
+  LayerRows rows(plan_, k, 0, W_, true, keep_);
   const int w = a->where.width();
   std::vector<unsigned char> covered(w), packed;
   std::vector<float> base(w);
@@ -435,10 +436,10 @@ void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps
 
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                                  const std::function<void(double)>& progress, int begin, int end, LabelPlane& labels,
-                                 std::vector<signed char>& overlaps, int threads) {
+                                 std::vector<signed char>& overlaps, int threads, KeptRows* keep) {
   const int n = static_cast<int>(plan.layers.size());
   if (n > kMaxLayers) throw UsageError(fmt::format("{} layers; gdp blend takes at most {}", n, kMaxLayers));
-  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end, threads);
+  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end, threads, keep);
   overlaps.assign(n, 0);
   passes.forward();
   passes.backward(labels, overlaps);

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "blend/kept_rows.h"
 #include "blend/label_plane.h"
 #include "gdp/blend.h"
 
@@ -43,13 +44,14 @@ SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesyst
 // which another layer taking part covers too, 0 for one taking part with none, -1 for the others;
 // the 0s are exactly the isolated layers when the columns are the canvas's, or after
 // gather_overlaps over processes whose columns together are. For a process that solves only some
-// columns (mpirun).
+// columns (mpirun). With `keep`, the layers' rows decoded are kept there for the sweep (KeptRows).
 struct SeamColumns {
   int layers_read = 0;
   std::size_t distance_bytes = 0;  // the first pass's scratch (coverage and states)
 };
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                                  const std::function<void(double)>& progress, int begin, int end,
-                                 LabelPlane& labels, std::vector<signed char>& overlaps, int threads = 1);
+                                 LabelPlane& labels, std::vector<signed char>& overlaps, int threads = 1,
+                                 KeptRows* keep = nullptr);
 
 }  // namespace gdp::blending
