@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct KeptRowsTest : ::testing::Test {
+struct BlendKeptRows : ::testing::Test {
   fs::path dir = fs::temp_directory_path() / ("gdp_kept_rows_" + std::to_string(::getpid()));
   void SetUp() override { fs::create_directories(dir); }
   void TearDown() override { fs::remove_all(dir); }
@@ -54,7 +54,7 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 // 8-bit RGBA (LZW TIFF) and 16-bit RGBA (PNG) layers: kept by the pass that decodes them, read
 // back as the very floats decoding gives; a float layer is not kept (the sweep decodes it).
-TEST_F(KeptRowsTest, RowsReadBackAreTheDecodedRowsExactly) {
+TEST_F(BlendKeptRows, RowsReadBackAreTheDecodedRowsExactly) {
   WriteOptions u8, u16, f32;
   u8.sample_type = SampleType::UInt8;
   u8.compression = "lzw";
@@ -90,7 +90,7 @@ TEST_F(KeptRowsTest, RowsReadBackAreTheDecodedRowsExactly) {
 }
 
 // A layer whose rows were not all written (a seam pass stopped by an error) is not kept.
-TEST_F(KeptRowsTest, ALayerNotWrittenToItsEndIsNotKept) {
+TEST_F(BlendKeptRows, ALayerNotWrittenToItsEndIsNotKept) {
   write_image(path("a.png"), layer_image(50, 40, 2, 4), {});
   const BlendPlan plan = plan_blend({LayerSource{path("a.png")}}, {});
   blending::KeptRows kept(plan, dir);

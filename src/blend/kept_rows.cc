@@ -9,8 +9,7 @@
 #include <cerrno>
 #include <system_error>
 
-#include <fmt/format.h>
-
+#include "blend/scratch.h"
 #include "gdp/errors.h"
 #include "io/codec_util.h"
 #include "schedule/row_store.h"
@@ -96,15 +95,9 @@ void KeptRows::Writer::write(std::span<const float> row) {
 }
 
 void KeptRows::Writer::flush() {
-  std::size_t n = static_cast<std::size_t>(in_chunk_) * samples_ * bytes_, at = at_;
-  const unsigned char* p = chunk_.data();
-  while (n > 0) {
-    const ssize_t w = ::pwrite(kept_.fd_, p, n, static_cast<off_t>(at));
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) throw OutputError(fmt::format("scratch file: cannot write: {}", w < 0 ? std::generic_category().message(errno) : "no space"));
-    p += w, at += static_cast<std::size_t>(w), n -= static_cast<std::size_t>(w);
-  }
-  at_ = at;
+  const std::size_t n = static_cast<std::size_t>(in_chunk_) * samples_ * bytes_;
+  write_at(kept_.fd_, chunk_.data(), n, at_);
+  at_ += n;
   in_chunk_ = 0;
   if (!drop_.wrote(kept_.fd_, at_)) throw OutputError("scratch file: cannot write: " + std::generic_category().message(errno));
 }
@@ -124,14 +117,8 @@ void KeptRows::Reader::read(std::span<float> row) {
     const int n_rows = std::min(chunk_rows_, rows_ - next_);
     chunk_.resize(row_bytes * n_rows);
     const std::size_t at = base_ + row_bytes * next_;
-    std::size_t done = 0;
-    while (done < chunk_.size()) {
-      const ssize_t r = ::pread(kept_.fd_, chunk_.data() + done, chunk_.size() - done, static_cast<off_t>(at + done));
-      if (r < 0 && errno == EINTR) continue;
-      if (r <= 0) throw OutputError(fmt::format("scratch file: cannot read: {}", r < 0 ? std::generic_category().message(errno) : "short file"));
-      done += static_cast<std::size_t>(r);
-    }
-    drop_.read(kept_.fd_, at + done);
+    read_at(kept_.fd_, chunk_.data(), chunk_.size(), at);
+    drop_.read(kept_.fd_, at + chunk_.size());
     const std::size_t ahead = base_ + row_bytes * std::min(rows_, next_ + n_rows);
     ::posix_fadvise(kept_.fd_, static_cast<off_t>(ahead), static_cast<off_t>(row_bytes * chunk_rows_), POSIX_FADV_WILLNEED);
   }

@@ -4,12 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <system_error>
 
-#include <fmt/format.h>
-
-#include "gdp/errors.h"
 #include "schedule/row_store.h"
 
 namespace gdp::blending {
@@ -32,10 +27,6 @@ bool runs_of(std::span<const Label> row, std::vector<Label>& out) {
     x = run;
   }
   return true;
-}
-
-void check(ssize_t k, const char* what) {
-  if (k < 0) throw OutputError(fmt::format("scratch file: cannot {}: {}", what, std::generic_category().message(errno)));
 }
 
 }  // namespace
@@ -68,30 +59,13 @@ void LabelPlane::write_row(int y, std::span<const Label> row) {
     end_ += units.size();
     if (fd_ < 0 && end_ > kMemoryUnits) {  // too many for memory: to a file from here on
       fd_ = schedule::open_unlinked(dir_, "labels");
-      std::size_t done = 0;
-      while (done < memory_.size() * sizeof(Label)) {
-        const ssize_t n = ::pwrite(fd_, reinterpret_cast<const char*>(memory_.data()) + done,
-                                   memory_.size() * sizeof(Label) - done, static_cast<off_t>(done));
-        if (n < 0 && errno == EINTR) continue;
-        check(n, "write");
-        done += static_cast<std::size_t>(n);
-      }
+      write_at(fd_, memory_.data(), memory_.size() * sizeof(Label), 0);
       std::vector<Label>().swap(memory_);
     }
     if (fd_ < 0) memory_.insert(memory_.end(), units.begin(), units.end());
     fd = fd_;
   }
-  if (fd >= 0) {  // room taken above: written outside the lock
-    const char* p = reinterpret_cast<const char*>(units.data());
-    std::size_t left = units.size() * sizeof(Label), at = k.at * sizeof(Label);
-    while (left > 0) {
-      const ssize_t n = ::pwrite(fd, p, left, static_cast<off_t>(at));
-      if (n < 0 && errno == EINTR) continue;
-      check(n, "write");
-      if (n == 0) throw OutputError("scratch file: cannot write: no space");
-      p += n, at += static_cast<std::size_t>(n), left -= static_cast<std::size_t>(n);
-    }
-  }
+  if (fd >= 0) write_at(fd, units.data(), units.size() * sizeof(Label), k.at * sizeof(Label));  // room taken above
   index_.write(static_cast<std::size_t>(y) * sizeof(Kept), &k, sizeof(Kept));
 }
 
@@ -107,15 +81,7 @@ void LabelPlane::units(const Kept& k, std::vector<Label>& out) const {
     }
     fd = fd_;
   }
-  char* p = reinterpret_cast<char*>(out.data());
-  std::size_t left = out.size() * sizeof(Label), at = k.at * sizeof(Label);
-  while (left > 0) {
-    const ssize_t n = ::pread(fd, p, left, static_cast<off_t>(at));
-    if (n < 0 && errno == EINTR) continue;
-    check(n, "read");
-    if (n == 0) throw OutputError("scratch file: cannot read: short file");
-    p += n, at += static_cast<std::size_t>(n), left -= static_cast<std::size_t>(n);
-  }
+  read_at(fd, out.data(), out.size() * sizeof(Label), k.at * sizeof(Label));
 }
 
 void LabelPlane::read_row(int y, std::span<Label> row, int begin, int end) const {
