@@ -19,6 +19,7 @@ namespace {
 
 constexpr std::size_t kChunkBytes = std::size_t{1} << 20;  // written and read a chunk of rows at a time
 constexpr std::size_t kWindow = std::size_t{8} << 20;      // drop-behind's window per layer
+constexpr std::size_t kMostBytes = std::size_t{4} << 30;   // the file's size at most
 
 int chunk_rows(std::size_t row_bytes) { return static_cast<int>(std::max<std::size_t>(1, kChunkBytes / row_bytes)); }
 
@@ -48,11 +49,15 @@ KeptRows::~KeptRows() {
 std::unique_ptr<KeptRows::Writer> KeptRows::writer(int k, SampleType type, int channels, int width, int rows) {
   const int bytes = type == SampleType::UInt8 ? 1 : type == SampleType::UInt16 ? 2 : 0;
   if (bytes == 0 || rows <= 0 || layers_[k].rows.load() > 0) return nullptr;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (end_ + static_cast<std::size_t>(channels) * width * bytes * rows > kMostBytes) return nullptr;
+  }
   return std::make_unique<Writer>(*this, k, channels, width, rows, bytes);
 }
 
 std::unique_ptr<KeptRows::Reader> KeptRows::reader(int k, int rows) const {
-  if (rows <= 0 || layers_[k].rows.load(std::memory_order_acquire) < rows) return nullptr;
+  if (!has(k, rows)) return nullptr;
   return std::make_unique<Reader>(*this, k);
 }
 
@@ -107,6 +112,12 @@ KeptRows::Reader::Reader(const KeptRows& kept, int k)
       bytes_(kept.layers_[k].bytes), chunk_rows_(chunk_rows(static_cast<std::size_t>(samples_) * bytes_)),
       base_(kept.layers_[k].base), drop_(kWindow) {
   drop_.restart(base_);
+}
+
+KeptRows::Reader::~Reader() {
+  const std::size_t bytes = static_cast<std::size_t>(samples_) * bytes_ * rows_;
+  kept_.layers_[k_].rows.store(0);  // read once: a sweep started again decodes the layer
+  ::fallocate(kept_.fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(base_), static_cast<off_t>(bytes));
 }
 
 void KeptRows::Reader::read(std::span<float> row) {

@@ -20,7 +20,9 @@ namespace gdp::blending {
 // unlinked scratch file, pushed to the disk and dropped from the page cache a window behind
 // (io::DropBehind), and the sweep reads them back in chunks instead of decoding the file again.
 // The floats read back are the decoded ones exactly. A layer is kept only if all the rows the
-// sweep will ask for were written.
+// sweep will ask for were written, and while the file holds at most 4 GiB (beyond, layers are
+// decoded twice). Once a reader is done with a layer (the sweep closed it), its room in the file is
+// given back to the disk and the layer is no longer kept: a sweep started again decodes it.
 class KeptRows {
  public:
   KeptRows(const BlendPlan& plan, const std::filesystem::path& dir);
@@ -47,6 +49,9 @@ class KeptRows {
   class Reader {
    public:
     Reader(const KeptRows& kept, int k);
+    ~Reader();
+    Reader(const Reader&) = delete;
+    Reader& operator=(const Reader&) = delete;
     void read(std::span<float> row);  // the next row
    private:
     const KeptRows& kept_;
@@ -58,14 +63,16 @@ class KeptRows {
   // A writer for layer k of `channels` x `width` samples a row (the file's sample type `type`), for
   // its rows [0, rows); null where its rows are not kept (not 8- or 16-bit).
   std::unique_ptr<Writer> writer(int k, SampleType type, int channels, int width, int rows);
-  // A reader of layer k's rows from the first, where all of its rows [0, rows) were kept.
+  // Whether all of layer k's rows [0, rows) are kept.
+  bool has(int k, int rows) const { return rows > 0 && layers_[k].rows.load(std::memory_order_acquire) >= rows; }
+  // A reader of layer k's rows from the first, where has(k, rows).
   std::unique_ptr<Reader> reader(int k, int rows) const;
 
  private:
   struct Layer {
     int channels = 0, width = 0, bytes = 0;  // bytes a sample: 1 or 2
     std::size_t base = 0;
-    std::atomic<int> rows{0};  // rows kept (set once the writer is done)
+    mutable std::atomic<int> rows{0};  // rows kept (set once the writer is done; 0 again once read)
   };
   std::filesystem::path dir_;
   std::vector<Layer> layers_;
