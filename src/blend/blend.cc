@@ -147,7 +147,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
                                                                       labels, seams.overlaps, threads, keep);
     r.seam_layers_read = done.layers_read;
     r.seam_columns = {begin, end};
-    r.scratch_bytes = done.distance_bytes + labels.bytes();
+    r.scratch_bytes = done.distance_bytes + labels.bytes() + (keep ? keep->bytes() : 0);
     r.seconds_seams += since(start);
   });
 }

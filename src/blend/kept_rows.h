@@ -67,6 +67,11 @@ class KeptRows {
   bool has(int k, int rows) const { return rows > 0 && layers_[k].rows.load(std::memory_order_acquire) >= rows; }
   // A reader of layer k's rows from the first, where has(k, rows).
   std::unique_ptr<Reader> reader(int k, int rows) const;
+  // The file's size: the rows kept (given back to the disk as they are read).
+  std::size_t bytes() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return end_;
+  }
 
  private:
   struct Layer {
