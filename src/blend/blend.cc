@@ -103,7 +103,7 @@ Domain domain_of(Wrap wrap) {
 // (and a column either side, for the seams' neighbours) are read. Their time goes to the report.
 // `seams` outlives the solve (deferred seams fill it then).
 void find_seams(const BlendPlan& plan, const BlendOptions& options, const SolverOptions& solver, BlendReport& r,
-                blending::SeamResult& seams) {
+                blending::SeamResult& seams, blending::KeptRows* keep) {
   const std::filesystem::path& temp = solver.temp_dir;
   const int threads = solver.threads;
   const bool wrap = options.wrap != Wrap::None;
@@ -136,17 +136,18 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
   }
   seams.labels = std::make_unique<blending::LabelPlane>(temp, plan.canvas.width, plan.canvas.height);
   seams.overlaps.assign(plan.layers.size(), -1);
-  seams.labels->defer([&plan, &options, &seams, &r, temp, wrap, threads](blending::LabelPlane& labels, int begin, int end) {
+  seams.labels->defer([&plan, &options, &seams, &r, temp, wrap, threads, keep](blending::LabelPlane& labels, int begin,
+                                                                              int end) {
     const auto start = Clock::now();
     const int W = plan.canvas.width;
     begin = std::max(0, begin - 1);
     end = std::min(W, end + 1);
     if (wrap && (begin == 0 || end == W)) begin = 0, end = W;  // the neighbours wrap around
     const blending::SeamColumns done = blending::compute_seam_columns(plan, wrap, temp, options.progress, begin, end,
-                                                                      labels, seams.overlaps, threads);
+                                                                      labels, seams.overlaps, threads, keep);
     r.seam_layers_read = done.layers_read;
     r.seam_columns = {begin, end};
-    r.scratch_bytes = done.distance_bytes + labels.bytes();
+    r.scratch_bytes = done.distance_bytes + labels.bytes() + (keep ? keep->bytes() : 0);
     r.seconds_seams += since(start);
   });
 }
@@ -189,14 +190,17 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   if (options.wrap == Wrap::Both) sphere.emplace(W, H, "the canvas", options.pq_height);
 
   auto start = Clock::now();
+  // The seam pass's decoded rows, kept for the sweep (layers in files: each decoded once).
+  std::optional<blending::KeptRows> kept;
+  if (plan.images.empty()) kept.emplace(plan, solver.temp_dir);
   blending::SeamResult seams;
-  find_seams(plan, options, solver, r, seams);
+  find_seams(plan, options, solver, r, seams, kept ? &*kept : nullptr);
   r.seconds_seams = since(start);
 
   // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN
   // around them): resampled spheres take zero guidance across seams.
   const bool across = options.seam_guidance == SeamGuidance::Mean && !(sphere && sphere->resampled());
-  blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across);
+  blending::CanvasSweep sweep(plan, *seams.labels, options.wrap != Wrap::None, across, kept ? &*kept : nullptr);
   blending::SweepReader composite(sweep, false), across_rows(sweep, true);
   blending::LabelReader labels(*seams.labels);
   // --correction: the composite swept again as the output rows come (the layers read once more).

@@ -17,8 +17,9 @@ struct CanvasSweep::Open {
   std::vector<unsigned char> covered;
 };
 
-CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across)
-    : plan_(plan), labels_(labels), wrap_x_(wrap_x), with_across_(across), width_(plan.canvas.width),
+CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across,
+                         const KeptRows* kept)
+    : plan_(plan), labels_(labels), kept_(kept), wrap_x_(wrap_x), with_across_(across), width_(plan.canvas.width),
       height_(plan.canvas.height), channels_(plan.colour_channels), order_(plan.layers.size()),
       slot_(plan.layers.size(), nullptr) {
   std::iota(order_.begin(), order_.end(), 0);
@@ -107,6 +108,7 @@ void CanvasSweep::produce() {
 
 void CanvasSweep::advance(Row& out) {
   const int y = ++row_, b = columns_set_ ? begin_ : 0, e = columns_set_ ? end_ : width_;
+  if (y == 0) labels_.fill();  // deferred seams: before the layers open, so that they find those kept
   // Open the layers that start here and reach the columns wanted; close those that ended.
   for (; next_ < order_.size() && footprint(plan_, order_[next_]).y0 <= y; ++next_) {
     const int k = order_[next_];
@@ -114,7 +116,7 @@ void CanvasSweep::advance(Row& out) {
     if (f.y1 <= y || f.x1 <= b || f.x0 >= e) continue;
     auto o = std::make_unique<Open>();
     o->index = k;
-    o->rows = std::make_unique<LayerRows>(plan_, k, b, e, open_.size() < 8);
+    o->rows = std::make_unique<LayerRows>(plan_, k, b, e, open_.size() < 8, nullptr, kept_);
     o->colour.resize(static_cast<std::size_t>(channels_) * f.width());
     o->covered.resize(f.width());
     slot_[k] = o.get();

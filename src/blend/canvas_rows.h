@@ -24,10 +24,12 @@ namespace gdp::blending {
 // NaN elsewhere (StitchOptions::across). Rows are asked for in order; asking for an earlier row
 // starts the sweep again. The rows are computed on a thread of their own, up to kAhead rows ahead
 // of the one asked for (its errors are rethrown to the caller): the layers' rows are converted,
-// calibrated and put together beside the solve.
+// calibrated and put together beside the solve. Layers the seam pass kept (`kept`) are read from
+// there rather than decoded again (the label plane is filled first, so that the seam pass has run).
 class CanvasSweep {
  public:
-  CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across);
+  CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across,
+              const KeptRows* kept = nullptr);
   ~CanvasSweep();
   int width() const { return width_; }
   int height() const { return height_; }
@@ -52,6 +54,7 @@ class CanvasSweep {
 
   const BlendPlan& plan_;
   const LabelPlane& labels_;
+  const KeptRows* kept_;
   bool wrap_x_, with_across_;
   int width_, height_, channels_;
   int begin_ = 0, end_ = -1;  // end_ < 0: whole rows

@@ -25,7 +25,8 @@ Footprint footprint(const BlendPlan& plan, int index) {
   return f;
 }
 
-LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch)
+LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch, KeptRows* keep_into,
+                     const KeptRows* read_from)
     : where_(footprint(plan, index)), name_(plan.layers[index].name), calibration_(plan, index) {
   if (!plan.images.empty()) {
     const ImageLayer& l = plan.images[index];
@@ -36,7 +37,11 @@ LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool 
     offset_ = s.offset;
     background_ = s.background;
     mask_scale_ = s.mask_scale;
-    image_ = std::make_unique<ImageFileReader>(s.image, prefetch, ColumnRange{}, plan.pages[index]);
+    auto file = std::make_unique<ImageFileReader>(s.image, prefetch, ColumnRange{}, plan.pages[index]);
+    const int rows = where_.y1 - where_.y0 + where_.skip_y;  // the layer's rows read: down to the canvas's last
+    if (keep_into) keep_ = keep_into->writer(index, file->info().sample_type, file->channels(), file->width(), rows);
+    if (read_from) kept_ = read_from->reader(index, rows);
+    image_ = std::move(file);
     if (!s.mask.empty()) mask_ = std::make_unique<ImageFileReader>(s.mask, prefetch);
   }
   channels_ = image_->channels();
@@ -60,7 +65,9 @@ LayerRows::~LayerRows() = default;
 int LayerRows::seek(int y) {
   const int r = y - where_.y0 + where_.skip_y;
   for (; next_ <= r; ++next_) {
-    image_->read_row(next_, row_);
+    if (kept_) kept_->read(row_);
+    else image_->read_row(next_, row_);
+    if (keep_) keep_->write(row_);
     if (mask_) mask_->read_row(next_, mask_row_);
   }
   return r;

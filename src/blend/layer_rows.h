@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "blend/kept_rows.h"
 #include "blend/photometric.h"
 #include "gdp/blend.h"
 #include "gdp/rows.h"
@@ -30,8 +31,11 @@ inline constexpr float kCovered = 0.5f;
 class LayerRows {
  public:
   // Only canvas columns [begin, end) will be used (a band or rank of a distributed solve): the
-  // files decode only those (the rest of each row is left as it is).
-  LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch);
+  // files decode only those (the rest of each row is left as it is). With `keep_into`, the rows
+  // decoded are kept there (the seam pass); with `read_from`, they are read from there where the
+  // layer was kept, instead of decoded again (the sweep).
+  LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch, KeptRows* keep_into = nullptr,
+            const KeptRows* read_from = nullptr);
   ~LayerRows();
   const Footprint& where() const { return where_; }
   // Canvas row y in [y0, y1), in increasing order: colour samples (the plan's colour channels x
@@ -53,6 +57,8 @@ class LayerRows {
   LayerBackground background_;
   std::string name_;
   std::unique_ptr<RowReader> image_, mask_;
+  std::unique_ptr<KeptRows::Writer> keep_;
+  std::unique_ptr<KeptRows::Reader> kept_;
   std::vector<float> row_, mask_row_;
   RowCalibration calibration_;
 };

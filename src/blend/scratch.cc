@@ -27,23 +27,41 @@ Scratch::~Scratch() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+void write_at(int fd, const void* data, std::size_t n, std::size_t at) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  while (n > 0) {
+    const ssize_t k = ::pwrite(fd, p, n, static_cast<off_t>(at));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0)
+      throw OutputError(fmt::format("scratch file: cannot write: {}",
+                                    k < 0 ? std::generic_category().message(errno) : "no space"));
+    p += k;
+    at += static_cast<std::size_t>(k);
+    n -= static_cast<std::size_t>(k);
+  }
+}
+
+void read_at(int fd, void* data, std::size_t n, std::size_t at) {
+  auto* p = static_cast<unsigned char*>(data);
+  while (n > 0) {
+    const ssize_t k = ::pread(fd, p, n, static_cast<off_t>(at));
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0)
+      throw OutputError(fmt::format("scratch file: cannot read: {}",
+                                    k < 0 ? std::generic_category().message(errno) : "past its end"));
+    p += k;
+    at += static_cast<std::size_t>(k);
+    n -= static_cast<std::size_t>(k);
+  }
+}
+
 void Scratch::write(std::size_t offset, const void* data, std::size_t n) {
   if (offset + n > bytes_) throw std::logic_error("Scratch::write past the end");
   if (fd_ < 0) {
     std::memcpy(memory_.data() + offset, data, n);
     return;
   }
-  const auto* p = static_cast<const unsigned char*>(data);
-  while (n > 0) {
-    const ssize_t k = ::pwrite(fd_, p, n, static_cast<off_t>(offset));
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0)
-      throw OutputError(fmt::format("scratch file: cannot write: {}",
-                                    k < 0 ? std::generic_category().message(errno) : "no space"));
-    p += k;
-    offset += static_cast<std::size_t>(k);
-    n -= static_cast<std::size_t>(k);
-  }
+  write_at(fd_, data, n, offset);
 }
 
 void Scratch::read(std::size_t offset, void* data, std::size_t n) const {

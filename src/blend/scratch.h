@@ -8,6 +8,11 @@
 
 namespace gdp::blending {
 
+// Exactly n bytes to / from a scratch file at byte `at` (OutputError otherwise: a failed write,
+// a full disk, a read past the end).
+void write_at(int fd, const void* data, std::size_t n, std::size_t at);
+void read_at(int fd, void* data, std::size_t n, std::size_t at);
+
 // A fixed-size block of bytes read and written at any offset (rows of a plane, in any order).
 class Scratch {
  public:

@@ -3,12 +3,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include <fmt/format.h>
 
 #include "blend/layer_rows.h"
+#include "blend/scratch.h"
 #include "gdp/errors.h"
 #include "schedule/parallel.h"
 
@@ -106,12 +109,99 @@ struct Active {
   int index;
   Footprint where;
   Edges edges;
-  std::size_t base;  // byte offset of its first-pass rows in the scratch
-  PaddedRow near, far, cur;
+  PaddedRow near, far, cur;  // the pass's rows before the current one, and the current one
   std::vector<float> block;  // rows [block_lo, ...) of the block, first-pass then final distances
   int block_lo = 0;
-  std::size_t offset(int y) const { return base + static_cast<std::size_t>(y - where.y0) * where.width() * sizeof(float); }
   const float* final_row(int y) const { return block.data() + static_cast<std::size_t>(y - block_lo) * where.width(); }
+};
+
+// What the forward pass keeps of a layer for the backward pass, which goes through the rows in
+// blocks from the bottom: its coverage, a bit a pixel, and at each block's first row the pass's
+// two rows before it (its state there). The backward pass computes a block's first-pass distances
+// again from them, the same floats as the forward pass's, so that 4 bytes a pixel of distances
+// need not be written and read back (a bit a pixel plus two rows a block, 1/16 of it at 64 rows).
+class ForwardKept {
+  static_assert(std::endian::native == std::endian::little, "flags are packed eight at a time as one integer");
+
+ public:
+  // Blocks of `rows` rows end at the canvas's height `height` (the last block may be shorter).
+  ForwardKept(const std::vector<Footprint>& where, const std::vector<int>& taking_part, int height, int rows,
+              const std::filesystem::path& temp_dir)
+      : where_(where), height_(height), rows_(rows), bits_at_(where.size(), 0), states_at_(where.size(), 0) {
+    std::size_t bits = 0, states = 0;
+    for (const int k : taking_part) {
+      bits_at_[k] = bits;
+      states_at_[k] = states;
+      const Footprint& f = where[k];
+      bits += row_bits(k) * static_cast<std::size_t>(f.y1 - f.y0);
+      states += 2 * padded(k) * sizeof(float) * static_cast<std::size_t>(states_in(k));
+    }
+    bits_ = std::make_unique<Scratch>(temp_dir, bits, "coverage");
+    states_ = std::make_unique<Scratch>(temp_dir, states, "forward states");
+  }
+  std::size_t bytes() const { return bits_->bytes() + states_->bytes(); }
+  // Whether a block starts at row y of layer k below its first row (the pass's state is kept there).
+  bool block_starts(int k, int y) const { return y > where_[k].y0 && (height_ - y) % rows_ == 0; }
+  // Layer k's coverage of row y (a 0 or 1 per pixel) kept.
+  void write_coverage(int k, int y, const unsigned char* covered, std::vector<unsigned char>& packed) const {
+    const int w = where_[k].width();
+    packed.assign(row_bits(k), 0);
+    for (int i = 0; i < w / 8; ++i) {  // eight flags (bytes 0 or 1) into the bits of one byte
+      std::uint64_t v;
+      std::memcpy(&v, covered + 8 * i, 8);
+      packed[i] = static_cast<unsigned char>((v * 0x0102040810204080u) >> 56);
+    }
+    for (int x = w / 8 * 8; x < w; ++x) packed[x >> 3] |= static_cast<unsigned char>(covered[x] << (x & 7));
+    bits_->write(bits_at_[k] + row_bits(k) * static_cast<std::size_t>(y - where_[k].y0), packed.data(), packed.size());
+  }
+  // Rows [y, y + n) of layer k's coverage, packed.
+  void read_coverage(int k, int y, int n, std::vector<unsigned char>& packed) const {
+    packed.resize(row_bits(k) * static_cast<std::size_t>(n));
+    bits_->read(bits_at_[k] + row_bits(k) * static_cast<std::size_t>(y - where_[k].y0), packed.data(), packed.size());
+  }
+  // Row r of `packed` (rows of w pixels) as flags 0 or 1, into covered[0, w rounded up to 8).
+  static void unpack_row(const std::vector<unsigned char>& packed, int w, int r, unsigned char* covered) {
+    const unsigned char* bits = packed.data() + static_cast<std::size_t>(r) * ((w + 7) / 8);
+    for (int i = 0; i < (w + 7) / 8; ++i) {  // the bits of one byte into eight bytes 0 or 1
+      const std::uint64_t v = ((bits[i] * 0x0101010101010101u & 0x8040201008040201u) + 0x7f7f7f7f7f7f7f7fu) >> 7 &
+                              0x0101010101010101u;
+      std::memcpy(covered + 8 * i, &v, 8);
+    }
+  }
+  // The pass's state (rows near and far) before row y, where a block starts.
+  void write_state(int k, int y, const PaddedRow& near, const PaddedRow& far) const {
+    const std::size_t at = state_offset(k, y), n = padded(k) * sizeof(float);
+    states_->write(at, near.v.data(), n);
+    states_->write(at + n, far.v.data(), n);
+  }
+  void read_state(int k, int y, PaddedRow& near, PaddedRow& far) const {
+    const std::size_t at = state_offset(k, y), n = padded(k) * sizeof(float);
+    near.v.resize(padded(k));
+    far.v.resize(padded(k));
+    states_->read(at, near.v.data(), n);
+    states_->read(at + n, far.v.data(), n);
+  }
+
+ private:
+  std::size_t row_bits(int k) const { return static_cast<std::size_t>(where_[k].width() + 7) / 8; }
+  std::size_t padded(int k) const { return static_cast<std::size_t>(where_[k].width()) + 2 * kPad; }
+  // The block start rows in (y0, y1) of layer k: the first, and how many.
+  int first_state(int k) const {
+    const int y0 = where_[k].y0;
+    return height_ - ((height_ - y0 - 1) / rows_) * rows_;  // the lowest height - j * rows above y0
+  }
+  int states_in(int k) const {
+    const int first = first_state(k), y1 = where_[k].y1;
+    return first < y1 ? (y1 - 1 - first) / rows_ + 1 : 0;
+  }
+  std::size_t state_offset(int k, int y) const {
+    return states_at_[k] + static_cast<std::size_t>((y - first_state(k)) / rows_) * 2 * padded(k) * sizeof(float);
+  }
+
+  const std::vector<Footprint>& where_;
+  int height_, rows_;
+  std::vector<std::size_t> bits_at_, states_at_;
+  std::unique_ptr<Scratch> bits_, states_;
 };
 
 // Per worker of the backward pass's merge: one row's deepest distance, label and cover count, and
@@ -132,19 +222,17 @@ class SeamPasses {
  public:
   // Only the layers whose footprints meet columns [begin, end) take part.
   SeamPasses(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
-             const std::function<void(double)>& progress, int begin, int end, int threads)
-      : plan_(plan), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
-        W_(plan.canvas.width), H_(plan.canvas.height), threads_(std::max(1, threads)), where_(n_), base_(n_ + 1, 0) {
+             const std::function<void(double)>& progress, int begin, int end, int threads, KeptRows* keep)
+      : plan_(plan), keep_(keep), wrap_x_(wrap_x), progress_(progress), n_(static_cast<int>(plan.layers.size())),
+        W_(plan.canvas.width), H_(plan.canvas.height), threads_(std::max(1, threads)), where_(n_) {
     for (int k = 0; k < n_; ++k) {
       where_[k] = footprint(plan, k);
-      const bool meets = where_[k].x0 < end && where_[k].x1 > begin;
-      if (meets) taking_part_.push_back(k);
-      const std::size_t rows = meets ? where_[k].y1 - where_[k].y0 : 0;
-      base_[k + 1] = base_[k] + static_cast<std::size_t>(where_[k].width()) * rows * sizeof(float);
+      if (where_[k].x0 < end && where_[k].x1 > begin) taking_part_.push_back(k);
     }
-    distances_ = std::make_unique<Scratch>(temp_dir, base_[n_], "distances");
+    R_ = block_rows();
+    kept_ = std::make_unique<ForwardKept>(where_, taking_part_, H_, R_, temp_dir);
   }
-  std::size_t scratch_bytes() const { return distances_->bytes(); }
+  std::size_t scratch_bytes() const { return kept_->bytes(); }
   const std::vector<int>& taking_part() const { return taking_part_; }
   void forward();
   void backward(LabelPlane& labels, std::vector<signed char>& overlaps);
@@ -160,7 +248,6 @@ class SeamPasses {
     a->index = k;
     a->where = where_[k];
     a->edges = edges_of(where_[k], W_, H_, wrap_x_);
-    a->base = base_[k];
     a->near = a->far = a->edges.outside(top);
     a->cur.v.assign(where_[k].width() + 2 * kPad, 0.0f);
     return a;
@@ -177,20 +264,22 @@ class SeamPasses {
   }
 
   const BlendPlan& plan_;
+  KeptRows* keep_;
   bool wrap_x_;
   const std::function<void(double)>& progress_;
   int n_, W_, H_, threads_;
+  int R_ = 1;  // rows per block of the backward pass
   std::vector<Footprint> where_;
-  std::vector<std::size_t> base_;
   std::vector<int> taking_part_;
-  std::unique_ptr<Scratch> distances_;
+  std::unique_ptr<ForwardKept> kept_;
   std::atomic<long long> rows_done_{0};
   long long rows_total_ = 1;
   std::atomic<bool> stop_{false};  // a worker failed
 };
 
-// Whole layers in the order they start, each opened, its forward distances (top to bottom) into
-// the scratch, and closed: as many open at once as there are workers.
+// Whole layers in the order they start, each opened, its forward distances computed top to bottom
+// (what the backward pass needs to compute them again kept: ForwardKept), and closed: as many open
+// at once as there are workers.
 void SeamPasses::forward() {
   const std::vector<int> by_top = order(true);
   rows_total_ = 1;
@@ -202,15 +291,16 @@ void SeamPasses::forward() {
 
 void SeamPasses::forward_layer(int k, bool reports) {
   const std::unique_ptr<Active> a = start(k, true);
-  LayerRows rows(plan_, k, 0, W_, true);
+  LayerRows rows(plan_, k, 0, W_, true, keep_);
   const int w = a->where.width();
-  std::vector<unsigned char> covered(w);
+  std::vector<unsigned char> covered(w), packed;
   std::vector<float> base(w);
   for (int y = a->where.y0; y < a->where.y1 && !stop_.load(std::memory_order_relaxed); ++y) {
     rows.coverage(y, covered);  // the depth needs only where the layer is
+    kept_->write_coverage(k, y, covered.data(), packed);
+    if (kept_->block_starts(k, y)) kept_->write_state(k, y, a->near, a->far);
     for (int x = 0; x < w; ++x) base[x] = covered[x] ? kInf : 0.0f;
     chamfer_row(a->edges, 1, base.data(), a->near, a->far, a->cur);
-    distances_->write(a->offset(y), a->cur.at(), w * sizeof(float));
     std::swap(a->far, a->near);
     std::swap(a->near, a->cur);
     const long long done = rows_done_.fetch_add(1) + 1;
@@ -231,12 +321,27 @@ int SeamPasses::block_rows() const {
   return static_cast<int>(std::clamp<long long>((std::size_t{4} << 20) / widest, 8, 64));
 }
 
-// Layer a's final distances for its rows in [lo, hi), bottom to top, into a.block.
+// Layer a's final distances for its rows in [lo, hi) into a.block: first-pass distances computed
+// again top to bottom (from the state kept where the block starts, or the layer's top edge), then
+// the backward pass over them bottom to top.
 void SeamPasses::backward_block(Active& a, int lo, int hi) const {
   const int top = std::max(lo, a.where.y0), bottom = std::min(hi, a.where.y1), w = a.where.width();
   a.block_lo = top;
   a.block.resize(static_cast<std::size_t>(bottom - top) * w);
-  distances_->read(a.offset(top), a.block.data(), a.block.size() * sizeof(float));
+  PaddedRow near, far, cur{std::vector<float>(w + 2 * kPad)};
+  if (top == a.where.y0) near = far = a.edges.outside(true);
+  else kept_->read_state(a.index, top, near, far);
+  std::vector<unsigned char> packed, covered((w + 7) / 8 * 8);
+  kept_->read_coverage(a.index, top, bottom - top, packed);
+  std::vector<float> base(w);
+  for (int y = top; y < bottom; ++y) {
+    ForwardKept::unpack_row(packed, w, y - top, covered.data());
+    for (int x = 0; x < w; ++x) base[x] = covered[x] ? kInf : 0.0f;
+    chamfer_row(a.edges, 1, base.data(), near, far, cur);
+    std::copy(cur.at(), cur.at() + w, a.block.data() + static_cast<std::size_t>(y - top) * w);
+    std::swap(far, near);
+    std::swap(near, cur);
+  }
   for (int y = bottom - 1; y >= top; --y) {
     float* row = a.block.data() + static_cast<std::size_t>(y - top) * w;
     chamfer_row(a.edges, -1, row, a.near, a.far, a.cur);
@@ -284,7 +389,7 @@ void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps
   const std::vector<int> by_bottom = order(false);
   std::vector<std::unique_ptr<Active>> active;  // by layer index: ties go to the earlier layer
   std::size_t next = 0;
-  const int R = block_rows();
+  const int R = R_;
   std::vector<MergeRow> merge(threads_);
   for (MergeRow& m : merge) {
     m.best.resize(W_);
@@ -329,47 +434,12 @@ void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps
 
 }  // namespace
 
-LabelPlane::LabelPlane(const std::filesystem::path& dir, int width, int height)
-    : width_(width), height_(height),
-      scratch_(dir, static_cast<std::size_t>(width) * height * sizeof(Label), "labels") {}
-
-void LabelPlane::write_row(int y, std::span<const Label> row) {
-  scratch_.write(static_cast<std::size_t>(y) * width_ * sizeof(Label), row.data(), width_ * sizeof(Label));
-}
-
-void LabelPlane::read_row(int y, std::span<Label> row, int begin, int end) const {
-  fill();
-  if (end < 0) end = width_;
-  scratch_.read((static_cast<std::size_t>(y) * width_ + begin) * sizeof(Label), row.data() + begin,
-                static_cast<std::size_t>(end - begin) * sizeof(Label));
-}
-
-void LabelPlane::want_columns(int begin, int end) const {
-  if (end < 0) end = width_;
-  if (want_end_ == 0) {
-    want_begin_ = begin;
-    want_end_ = end;
-  }
-  want_begin_ = std::min(want_begin_, begin);
-  want_end_ = std::max(want_end_, end);
-}
-
-void LabelPlane::fill() const {
-  if (filled_.load(std::memory_order_acquire)) return;
-  const std::lock_guard<std::mutex> lock(fill_mutex_);
-  if (filled_.load(std::memory_order_relaxed) || !fill_) return;
-  const Fill f = std::move(fill_);
-  fill_ = nullptr;
-  f(const_cast<LabelPlane&>(*this), want_end_ > 0 ? want_begin_ : 0, want_end_ > 0 ? want_end_ : width_);
-  filled_.store(true, std::memory_order_release);
-}
-
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                                  const std::function<void(double)>& progress, int begin, int end, LabelPlane& labels,
-                                 std::vector<signed char>& overlaps, int threads) {
+                                 std::vector<signed char>& overlaps, int threads, KeptRows* keep) {
   const int n = static_cast<int>(plan.layers.size());
   if (n > kMaxLayers) throw UsageError(fmt::format("{} layers; gdp blend takes at most {}", n, kMaxLayers));
-  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end, threads);
+  SeamPasses passes(plan, wrap_x, temp_dir, progress, begin, end, threads, keep);
   overlaps.assign(n, 0);
   passes.forward();
   passes.backward(labels, overlaps);

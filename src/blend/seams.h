@@ -10,45 +10,11 @@
 #include <span>
 #include <vector>
 
-#include "blend/scratch.h"
+#include "blend/kept_rows.h"
+#include "blend/label_plane.h"
 #include "gdp/blend.h"
 
 namespace gdp::blending {
-
-// Per canvas pixel: 0 where no layer covers it, else 1 + the index of the layer it takes.
-using Label = std::uint16_t;
-inline constexpr int kMaxLayers = 65535;
-
-// The canvas's labels, a row at a time, in any order (in memory or a scratch file). They may be
-// filled on demand: defer() names what fills them, want_columns() (from readers' set_columns)
-// gathers the columns needed, and the first read_row fills the plane for their union, once (for
-// every column when none was asked for). Outside those columns the labels are then undefined.
-class LabelPlane {
- public:
-  using Fill = std::function<void(LabelPlane& plane, int begin, int end)>;
-  LabelPlane(const std::filesystem::path& dir, int width, int height);
-  int width() const { return width_; }
-  int height() const { return height_; }
-  void write_row(int y, std::span<const Label> row);
-  // Columns [begin, end) of row y into row[begin, end).
-  void read_row(int y, std::span<Label> row, int begin = 0, int end = -1) const;
-  std::size_t bytes() const { return scratch_.bytes(); }
-  void defer(Fill fill) {
-    fill_ = std::move(fill);
-    filled_ = false;
-  }
-  void want_columns(int begin, int end) const;
-  // Fills a deferred plane now (no-op otherwise).
-  void fill() const;
-
- private:
-  int width_, height_;
-  Scratch scratch_;
-  mutable Fill fill_;
-  mutable int want_begin_ = 0, want_end_ = 0;  // want_end_ == 0: nothing asked for yet
-  mutable std::atomic<bool> filled_{true};     // nothing (left) to fill
-  mutable std::mutex fill_mutex_;              // readers on several threads fill it once
-};
 
 struct SeamResult {
   std::unique_ptr<LabelPlane> labels;
@@ -64,9 +30,11 @@ struct SeamResult {
 // Depth of a covered pixel: the chamfer distance (5x5 mask: 1, sqrt 2, sqrt 5; within 2 % of
 // the Euclidean) to the nearest canvas pixel the layer does not cover; the canvas's own edges
 // do not count (with wrap_x, the left and right edges meet). Ties go to the earlier layer.
-// Reads every layer once, top to bottom, keeping each layer's first-pass distances in scratch;
-// the second pass runs bottom to top and writes the label plane. On `threads` workers (layers
-// in parallel, then blocks of rows): the same labels as one thread's, bit for bit.
+// Reads every layer once, top to bottom, keeping in scratch its coverage (a bit a pixel) and the
+// first pass's state where each block of rows starts; the second pass runs bottom to top, a block
+// at a time: the block's first-pass distances again from those, then the second pass over them,
+// and writes the label plane. On `threads` workers (layers in parallel, then blocks of rows): the
+// same labels as one thread's, bit for bit.
 SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                          const std::function<void(double)>& progress, int threads = 1);
 
@@ -76,13 +44,14 @@ SeamResult compute_seams(const BlendPlan& plan, bool wrap_x, const std::filesyst
 // which another layer taking part covers too, 0 for one taking part with none, -1 for the others;
 // the 0s are exactly the isolated layers when the columns are the canvas's, or after
 // gather_overlaps over processes whose columns together are. For a process that solves only some
-// columns (mpirun).
+// columns (mpirun). With `keep`, the layers' rows decoded are kept there for the sweep (KeptRows).
 struct SeamColumns {
   int layers_read = 0;
-  std::size_t distance_bytes = 0;  // the first pass's scratch
+  std::size_t distance_bytes = 0;  // the first pass's scratch (coverage and states)
 };
 SeamColumns compute_seam_columns(const BlendPlan& plan, bool wrap_x, const std::filesystem::path& temp_dir,
                                  const std::function<void(double)>& progress, int begin, int end,
-                                 LabelPlane& labels, std::vector<signed char>& overlaps, int threads = 1);
+                                 LabelPlane& labels, std::vector<signed char>& overlaps, int threads = 1,
+                                 KeptRows* keep = nullptr);
 
 }  // namespace gdp::blending
