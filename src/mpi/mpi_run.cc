@@ -88,8 +88,8 @@ MpiRun::MpiRun(int& argc, char**& argv) {
   if (!launched()) return;
   // Every MPI wait of gdp polls and sleeps (mpi/wait.h); Open MPI's own sched_yield in each poll
   // that finds nothing (on by default when a node is oversubscribed) would give each busy thread
-  // on the rank's core a time slice per poll, 5x slower band solves under load. A value the user
-  // set stays (docs/how-bands-work.md).
+  // on the rank's core a time slice per poll: band solves beside busy loops took twice as long. A
+  // value the user set stays (docs/how-bands-work.md).
   setenv("OMPI_MCA_mpi_yield_when_idle", "0", 0);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
