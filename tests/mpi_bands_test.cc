@@ -111,6 +111,29 @@ TEST_F(MpiBands, SameBitsRunToRun) {
   EXPECT_EQ(test::max_difference(result("a.tif"), result("b.tif")), 0.0);
 }
 
+// Waiting ranks never give their core away with sched_yield (mpi/wait.h): on a core shared with
+// busy threads each yield waited a time slice of every one of them, and band solves under load
+// took minutes (docs/how-bands-work.md, 2026-11-26). The preload counts the yields made from libgdp
+// and Open MPI in each rank; every band count finishes (kMpirun's timeout) with the thread result.
+TEST_F(MpiBands, WaitingRanksNeverYieldTheirCore) {
+  const std::string lib = GDP_YIELD_COUNT_LIB;
+  ASSERT_EQ(sharpen("one.tif", 1, 0, "--scratch float").code, 0);
+  const Image one = result("one.tif");
+  for (const int bands : {2, 3, 4}) {
+    SCOPED_TRACE(std::to_string(bands) + " bands a rank");
+    const test::CliRun r = mpi("-np 2 -x LD_PRELOAD=" + lib + " " + GDP_CLI_PATH + " sharpen " + path("in.tif") +
+                               " -o " + path("mpi.tif") + " --depth float -q --scratch float --bands " +
+                               std::to_string(bands));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string none = "sched_yield calls from gdp or MPI: 0\n";
+    const std::size_t first = r.err.find(none);
+    EXPECT_TRUE(first != std::string::npos && r.err.find(none, first + 1) != std::string::npos) << r.err;
+    ASSERT_EQ(sharpen("threads.tif", 2 * bands, 0, "--scratch float").code, 0);
+    EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
+    EXPECT_LE(test::max_difference(result("mpi.tif"), one), 1e-4 * range(one));
+  }
+}
+
 // A stitch (a pure gradient problem: the kept mean needs every rank's input sums), every rank
 // writing its own columns to its own file and keeping its scratch in its own directory.
 TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {

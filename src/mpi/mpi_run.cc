@@ -34,23 +34,40 @@ void abort_ranks(const std::string& why) {
   std::abort();  // MPI_Abort does not return
 }
 
+namespace {
+
+// MPI_Allreduce and MPI_Bcast on MPI_COMM_WORLD, waited for without spinning (the ranks may come
+// to them seconds apart).
+void all_reduce(const void* in, void* out, int n, MPI_Datatype type, MPI_Op op) {
+  MPI_Request request;
+  MPI_Iallreduce(in, out, n, type, op, MPI_COMM_WORLD, &request);
+  wait_request(request);
+}
+void broadcast(void* data, int n, MPI_Datatype type, int root) {
+  MPI_Request request;
+  MPI_Ibcast(data, n, type, root, MPI_COMM_WORLD, &request);
+  wait_request(request);
+}
+
+}  // namespace
+
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   const int mine = error.empty() ? ranks : rank;
   int first_bad = ranks;
-  MPI_Allreduce(&mine, &first_bad, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  all_reduce(&mine, &first_bad, 1, MPI_INT, MPI_MIN);
   std::vector<long long> low(fingerprint.size()), high(fingerprint.size());
   const int n = static_cast<int>(fingerprint.size());
-  MPI_Allreduce(fingerprint.data(), low.data(), n, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(fingerprint.data(), high.data(), n, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+  all_reduce(fingerprint.data(), low.data(), n, MPI_LONG_LONG, MPI_MIN);
+  all_reduce(fingerprint.data(), high.data(), n, MPI_LONG_LONG, MPI_MAX);
   if (first_bad < ranks) {
     int length = static_cast<int>(error.size());
-    MPI_Bcast(&length, 1, MPI_INT, first_bad, MPI_COMM_WORLD);
+    broadcast(&length, 1, MPI_INT, first_bad);
     std::string text = error;
     text.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(text.data(), length, MPI_CHAR, first_bad, MPI_COMM_WORLD);
+    broadcast(text.data(), length, MPI_CHAR, first_bad);
     together = true;
     throw UsageError(fmt::format("rank {}: {}", first_bad, text));
   }
@@ -69,10 +86,11 @@ bool MpiRun::launched() {
 
 MpiRun::MpiRun(int& argc, char**& argv) {
   if (!launched()) return;
-  // Open MPI's blocking calls left (the collective check, MPI_Finalize after every rank has
-  // arrived) yield the core while they wait instead of spinning on it; a value the user set stays
-  // (docs/how-bands-work.md).
-  setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
+  // Every MPI wait of gdp polls and sleeps (mpi/wait.h); Open MPI's own sched_yield in each poll
+  // that finds nothing (on by default when a node is oversubscribed) would give each busy thread
+  // on the rank's core a time slice per poll: band solves beside busy loops took twice as long. A
+  // value the user set stays (docs/how-bands-work.md).
+  setenv("OMPI_MCA_mpi_yield_when_idle", "0", 0);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
   started = true;

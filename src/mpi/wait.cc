@@ -8,17 +8,12 @@
 namespace gdp::mpi {
 
 void wait_until(const std::function<bool()>& ready, const std::function<void()>& between) {
-  constexpr int kYields = 8;
   constexpr auto kFirstSleep = std::chrono::microseconds(20), kLongestSleep = std::chrono::microseconds(640);
   auto sleep = kFirstSleep;
   for (int polls = 0; !ready(); ++polls) {
     if (between && polls % 16 == 15) between();
-    if (polls < kYields) {
-      std::this_thread::yield();
-    } else {
-      std::this_thread::sleep_for(sleep);
-      sleep = std::min(sleep * 2, kLongestSleep);
-    }
+    std::this_thread::sleep_for(sleep);  // never sched_yield: see wait.h
+    sleep = std::min(sleep * 2, kLongestSleep);
   }
 }
 

@@ -1,4 +1,4 @@
-// Waiting for an MPI event without holding a core: poll, yield a little, then sleep longer and longer.
+// Waiting for an MPI event without holding a core: poll, then sleep longer and longer between polls.
 #pragma once
 
 #include <mpi.h>
@@ -10,14 +10,14 @@ namespace gdp::mpi {
 
 // Calls `ready()` until it returns true. Open MPI's blocking calls (MPI_Wait, MPI_Mprobe,
 // MPI_Mrecv of a large message, collectives) spin on the progress engine at 100 % of a core for
-// as long as they wait (with mpi_yield_when_idle, in a loop of sched_yield calls, which takes a
-// core all the same whenever no other thread wants it); on a machine with fewer cores than busy
-// threads that core is taken from the rank's own workers and I/O threads. Here the first 8 polls
-// yield the core (low latency when the message is about to arrive), then the thread sleeps 20 us,
-// doubling up to 640 us, between polls (the sleep resets to 20 us on the next call): fewer
-// context switches than 64 yields and sleeps up to 320 us, at the same CPU and wall within this
-// machine's noise (docs/how-bands-work.md). `between`, when given, runs every 16th poll (the MPI
-// hub reaps completed sends there).
+// as long as they wait; on a machine with fewer cores than busy threads that core is taken from
+// the rank's own workers and I/O threads. Here the thread sleeps 20 us, doubling up to 640 us,
+// between polls (the sleep resets to 20 us on the next call). It never calls sched_yield (nor
+// lets Open MPI do it, gdp::MpiRun): on a core shared with busy threads (mpirun binds each rank
+// to one core) every yield gives each of them a full time slice before the thread runs again,
+// ~4 ms a yield with two busy loops on the core against ~0.2 ms for a 20 us sleep, which made
+// band solves under load 5-50x slower, minutes for 2 s of work (docs/how-bands-work.md, "No
+// spin-waits"). `between`, when given, runs every 16th poll (the MPI hub reaps completed sends there).
 void wait_until(const std::function<bool()>& ready, const std::function<void()>& between = {});
 
 // MPI_Wait without spinning: MPI_Test under wait_until.
