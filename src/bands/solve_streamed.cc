@@ -116,8 +116,8 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
     setup_error = e.what();
   }
   if (s.distributed)
-    mpi::agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps, opt.post_sweeps,
-                                       opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
+    mpi::agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
+                                       opt.post_sweeps, opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
                                        static_cast<long long>(sizeof(T)),
                                        s.problem ? s.problem->ops.count() : -1});
   return s;
