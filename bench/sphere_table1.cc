@@ -116,7 +116,7 @@ double since(std::chrono::steady_clock::time_point t0) {
 // On the sphere b is assembled from the image's spherical gradients (equal to L p, tested).
 Rows equirect_rows(const Image& img, const Args& a, bool flat) {
   sphere_eval::EquirectSolverOptions opt;
-  opt.sweeps = opt.post_sweeps = a.sweeps;
+  opt.sweeps = a.sweeps;
   opt.coarsest_height = a.coarsest;
   sphere_eval::EquirectOperator op = sphere_eval::EquirectOperator::make(img.width, img.height);
   if (flat) {  // Δλ = Δθ: unit weights, no flux through the top and bottom edges
