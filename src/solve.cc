@@ -44,8 +44,9 @@ void solve_with_schedule(GuidanceSource& source, const SolverOptions& options, R
 
 void SolverOptions::validate() const {
   if (sweeps < 0 || sweeps > 100 || post_sweeps < 0 || post_sweeps > 100)
-    throw UsageError(fmt::format("--iters must be in 0..100, got {}", sweeps == post_sweeps ? fmt::format("{}", sweeps)
-                                                                        : fmt::format("{}/{}", sweeps, post_sweeps)));
+    throw UsageError(fmt::format("--iters must be K or PRE/POST with counts in 0..100, got '{}'",
+                                 sweeps == post_sweeps ? fmt::format("{}", sweeps)
+                                                       : fmt::format("{}/{}", sweeps, post_sweeps)));
   if (vcycles < 1) throw UsageError(fmt::format("--vcycles must be at least 1, got {}", vcycles));
   if (tolerance < 0.0 || !std::isfinite(tolerance))
     throw UsageError(fmt::format("--tolerance must be a non-negative number, got {}", tolerance));
