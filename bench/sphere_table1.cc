@@ -156,7 +156,7 @@ Rows pq_rows(const Image& pq, const Args& a) {
   opt.domain = Domain::Spherical;
   opt.precision = Precision::Float64;
   opt.schedule = Schedule::InCore;
-  opt.sweeps = a.sweeps;
+  opt.sweeps = opt.post_sweeps = a.sweeps;
   ImageRowReader reader(pq);
   apps::ImageGuidance guidance(reader, 0.0, 1.0, /*start_from_source=*/false);
   SolveSummary summary;
@@ -201,7 +201,7 @@ Rows pq_public_rows(const Image& pq, const Args& a) {
     SolverOptions opt;
     opt.domain = Domain::Spherical;
     opt.precision = Precision::Float64;
-    opt.sweeps = a.sweeps;
+    opt.sweeps = opt.post_sweeps = a.sweeps;
     opt.vcycles = n;
     const Image out = reconstruct(pq, opt).image;
     for (int c = 0; c < pq.channels; ++c) {

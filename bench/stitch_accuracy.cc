@@ -1,15 +1,17 @@
 // Accuracy of one V-cycle against the converged solution on a real-photo stitching problem.
 //
-// Usage: stitch_accuracy IMAGE [SIZE=2048] [REGIONS=12]
+// Usage: stitch_accuracy IMAGE [SIZE=2048] [REGIONS=12] [SWEEPS=2,3,4,5,6,8]
 // Crops a SIZE x SIZE square from IMAGE, splits it into REGIONS Voronoi cells with exposure
 // offsets uniformly in +-40/255, and prints rms / max error (fraction of the value range) of
-// one V-cycle for several sweep counts and both starting guesses.
+// one V-cycle for several sweep counts (each K or PRE/POST, as --iters) and both starting guesses.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "gdp/apps.h"
 #include "gdp/image_io.h"
@@ -18,10 +20,17 @@ using namespace gdp;
 
 int main(int argc, char** argv) try {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s IMAGE [SIZE] [REGIONS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s IMAGE [SIZE] [REGIONS] [SWEEPS, e.g. 2,3,2/3]\n", argv[0]);
     return 2;
   }
   const int size = argc > 2 ? std::atoi(argv[2]) : 2048, regions = argc > 3 ? std::atoi(argv[3]) : 12;
+  std::vector<std::string> counts;
+  std::stringstream list(argc > 4 ? argv[4] : "2,3,4,5,6,8");
+  for (std::string k; std::getline(list, k, ',');) {
+    SolverOptions o;
+    parse_sweeps(k, o);  // bad counts: one line, before the work
+    counts.push_back(k);
+  }
   const Image photo = read_image(argv[1]).image;
   const int n = std::min({size, photo.width, photo.height});
   std::mt19937 rng(2010);
@@ -54,9 +63,9 @@ int main(int argc, char** argv) try {
   std::printf("%dx%dx%d composite of %d regions, value range %.4f\n", n, n, comp.channels, regions, range);
   std::printf("%-6s %-10s %-12s %-12s %-10s\n", "sweeps", "start", "rms/range", "max/range", "seconds");
   for (bool from_composite : {true, false})
-    for (int k : {2, 3, 4, 5, 6, 8}) {
+    for (const std::string& k : counts) {
       SolverOptions o;
-      o.sweeps = k;
+      parse_sweeps(k, o);
       StitchOptions so;
       so.start_from_composite = from_composite;
       const auto t0 = std::chrono::steady_clock::now();
@@ -68,7 +77,7 @@ int main(int argc, char** argv) try {
         s += d * d;
         m = std::max(m, std::abs(d));
       }
-      std::printf("%-6d %-10s %-12.3e %-12.3e %-10.2f\n", k, from_composite ? "composite" : "zero",
+      std::printf("%-6s %-10s %-12.3e %-12.3e %-10.2f\n", k.c_str(), from_composite ? "composite" : "zero",
                   std::sqrt(s / one.data.size()) / range, m / range, sec);
     }
   return 0;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One-V-cycle stitch error and CPU against the sweep count k (--iters): docs/multigrid.md, "The smoother's sweep count".
 #
-#   bench/sweep_accuracy.sh [--build DIR (build)] [--rounds N (1)] SIZE [K ...] (K: 1 2 3 4 5)
+#   bench/sweep_accuracy.sh [--build DIR (build)] [--rounds N (1)] SIZE [K ...] (K: 1 2 3 4 5; or PRE/POST, e.g. 2/3)
 #
 # Inputs: the held-out composite of bench/vs_dmg.sh, ${GDP_BENCH_DIR:-/tmp/gdp-vs-dmg}/SIZE/{composite.png,
 # labels.png,truth.tif} (made here with bench/make_composite from ../shared/data when missing, as vs_dmg.sh
@@ -50,17 +50,18 @@ if [[ ! -f $d/reference.tif ]]; then
 fi
 field() { python3 -c 'import json,sys; print(eval(sys.argv[2], {}, json.load(open(sys.argv[1]))))' "$@"; }
 level() { awk '/^rms_error/ { printf "%.4f", 255 * $2 }' "$1"; }  # 8-bit levels, from the 6-decimal fraction
-printf '%-5s %-2s %8s %8s %11s %11s %9s %9s\n' round k CPU-s wall r_before r_after vs_photo vs_ref
+printf '%-5s %-4s %8s %8s %11s %11s %9s %9s\n' round k CPU-s wall r_before r_after vs_photo vs_ref
 for ((r = 1; r <= rounds; ++r)); do
   for k in "${ks[@]}"; do
-    out=$d/out_$k.tif
-    "$here/bench/measure_run.py" "$d/run_$k.json" -- "${stitch[@]}" -o "$out" --depth float -k "$k" \
-      --stats "$d/stats_$k.json" ${GDP_ARGS:-}
-    "$here/$build/bench/blend_layers" error "$out" "$in/truth.tif" > "$d/photo_$k"
-    "$here/$build/bench/blend_layers" error "$out" "$d/reference.tif" > "$d/ref_$k"
+    t=${k//\//-}  # PRE/POST: PRE-POST in file names
+    out=$d/out_$t.tif
+    "$here/bench/measure_run.py" "$d/run_$t.json" -- "${stitch[@]}" -o "$out" --depth float -k "$k" \
+      --stats "$d/stats_$t.json" ${GDP_ARGS:-}
+    "$here/$build/bench/blend_layers" error "$out" "$in/truth.tif" > "$d/photo_$t"
+    "$here/$build/bench/blend_layers" error "$out" "$d/reference.tif" > "$d/ref_$t"
     rm -f "$out"
-    printf '%-5s %-2s %8.2f %8.2f %11.4e %11.4e %9s %9s\n' "$r" "$k" "$(field "$d/run_$k.json" 'user+sys')" \
-      "$(field "$d/run_$k.json" wall)" "$(field "$d/stats_$k.json" 'relative_residuals[0]')" \
-      "$(field "$d/stats_$k.json" 'relative_residuals[-1]')" "$(level "$d/photo_$k")" "$(level "$d/ref_$k")"
+    printf '%-5s %-4s %8.2f %8.2f %11.4e %11.4e %9s %9s\n' "$r" "$k" "$(field "$d/run_$t.json" 'user+sys')" \
+      "$(field "$d/run_$t.json" wall)" "$(field "$d/stats_$t.json" 'relative_residuals[0]')" \
+      "$(field "$d/stats_$t.json" 'relative_residuals[-1]')" "$(level "$d/photo_$t")" "$(level "$d/ref_$t")"
   done
 done

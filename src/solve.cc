@@ -43,7 +43,10 @@ void solve_with_schedule(GuidanceSource& source, const SolverOptions& options, R
 }  // namespace
 
 void SolverOptions::validate() const {
-  if (sweeps < 0 || sweeps > 100) throw UsageError(fmt::format("--iters must be in 0..100, got {}", sweeps));
+  if (sweeps < 0 || sweeps > 100 || post_sweeps < 0 || post_sweeps > 100)
+    throw UsageError(fmt::format("--iters must be K or PRE/POST with counts in 0..100, got '{}'",
+                                 sweeps == post_sweeps ? fmt::format("{}", sweeps)
+                                                       : fmt::format("{}/{}", sweeps, post_sweeps)));
   if (vcycles < 1) throw UsageError(fmt::format("--vcycles must be at least 1, got {}", vcycles));
   if (tolerance < 0.0 || !std::isfinite(tolerance))
     throw UsageError(fmt::format("--tolerance must be a non-negative number, got {}", tolerance));
@@ -59,6 +62,19 @@ void SolverOptions::validate() const {
   if (resume && checkpoint_dir.empty()) throw UsageError("resuming needs the checkpoint's directory");
   if (!checkpoint_dir.empty() && schedule == Schedule::InCore)
     throw UsageError("--checkpoint and --resume need the streaming schedule: they do not combine with --in-core");
+}
+
+void parse_sweeps(const std::string& text, SolverOptions& options) {
+  // Digits only (no sign, no spaces), one or two counts, each 0..100.
+  const auto count = [&](const std::string& part) {
+    if (part.empty() || part.size() > 3 || part.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoi(part) > 100)
+      throw UsageError(fmt::format("--iters must be K or PRE/POST with counts in 0..100, got '{}'", text));
+    return std::stoi(part);
+  };
+  const std::size_t slash = text.find('/');
+  options.sweeps = count(text.substr(0, slash));
+  options.post_sweeps = slash == std::string::npos ? options.sweeps : count(text.substr(slash + 1));
 }
 
 ScratchPrecision parse_scratch_precision(const std::string& text) {

@@ -76,6 +76,7 @@ TEST_F(FaultCampaign, BadInputsAndOptions) {
       {"sharpen " + in + out + " --frobnicate", "frobnicate"},
       {"frobnicate " + in + out, "frobnicate"},
       {"sharpen " + in + out + " --iters -1", "--iters"},
+      {"sharpen " + in + out + " --iters 2/x", "--iters"},
       {"sharpen " + in + out + " --vcycles 0", "--vcycles"},
       {"sharpen " + in + out + " --tolerance nan", "--tolerance"},
       {"sharpen " + in + out + " --threads 0", "--threads"},

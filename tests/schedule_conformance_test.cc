@@ -20,12 +20,14 @@ struct Conformance {
   int width, height;
   Precision precision;
   ScratchPrecision scratch = ScratchPrecision::Float;  // Narrow: half floats rounded alike by every schedule
+  int pre = 3, post = 3;  // sweeps before restriction and after prolongation (--iters PRE/POST)
 };
 
 void PrintTo(const Conformance& k, std::ostream* os) {
   *os << test::domain_name(k.domain) << k.width << "x" << k.height
       << (k.precision == Precision::Float64 ? " double" : " float")
-      << (k.scratch == ScratchPrecision::Narrow ? " narrow scratch" : "");
+      << (k.scratch == ScratchPrecision::Narrow ? " narrow scratch" : "") << " " << k.pre << "/" << k.post
+      << " sweeps";
 }
 
 constexpr int kChannels = 3;
@@ -62,6 +64,8 @@ Image solve_as(const Conformance& k, const Image& img, const Config& r, SolveSum
   o.precision = k.precision;
   o.scratch = k.scratch;
   o.vcycles = 2;
+  o.sweeps = k.pre;
+  o.post_sweeps = k.post;
   o.coarsest_size = 8;
   o.incore_bytes = 4096;  // several streamed levels even on these small images
   o.schedule = r.in_core ? Schedule::InCore : r.bands == 1 ? Schedule::Streaming : Schedule::Bands;
@@ -85,6 +89,11 @@ TEST_P(ScheduleConformance, EveryScheduleAgreesWithInCore) {
   const Image reference = solve_as(k, img, {true, 1, 1}, nullptr);
   const double range = range_of(reference);
   ASSERT_GT(range, 0.5);
+  if (k.pre != k.post) {  // the split reaches the solve (and is not the same count both ways)
+    Conformance same = k;
+    same.pre = same.post = k.post;
+    EXPECT_FALSE(same_bits(reference, solve_as(same, img, {true, 1, 1}, nullptr)));
+  }
   Image one_group;  // the previous run's result: the same bands in one channel group
   for (const Config& r : {Config{true, 1, 3}, Config{false, 1, 1}, Config{false, 1, 3}, Config{false, 2, 1}, Config{false, 2, 3},
                        Config{false, 4, 1}, Config{false, 4, 3}}) {
@@ -120,7 +129,11 @@ INSTANTIATE_TEST_SUITE_P(
                       Conformance{Domain::Spherical, 256, 64, Precision::Float64},
                       Conformance{Domain::Planar, 150, 70, Precision::Float32, ScratchPrecision::Narrow},
                       Conformance{Domain::Cylindrical, 160, 64, Precision::Float32, ScratchPrecision::Narrow},
-                      Conformance{Domain::Spherical, 256, 64, Precision::Float32, ScratchPrecision::Narrow}));
+                      Conformance{Domain::Spherical, 256, 64, Precision::Float32, ScratchPrecision::Narrow},
+                      // Uneven splits: each pass plans its own sweeps inside bands sized for the larger.
+                      Conformance{Domain::Planar, 150, 70, Precision::Float32, ScratchPrecision::Float, 2, 3},
+                      Conformance{Domain::Cylindrical, 160, 64, Precision::Float64, ScratchPrecision::Float, 3, 1},
+                      Conformance{Domain::Spherical, 256, 64, Precision::Float32, ScratchPrecision::Narrow, 2, 3}));
 
 }  // namespace
 }  // namespace gdp

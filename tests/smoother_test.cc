@@ -3,6 +3,8 @@
 
 #include <random>
 
+#include "gdp/errors.h"
+#include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/plane_ops.h"
 #include "topology/topology.h"
@@ -69,6 +71,31 @@ TEST(Smoother, AlternatingDirectionsConvergeAsWellAsLexicographic) {
     EXPECT_LT(factor(p, k, k, SweepDirection::AlternateSweeps), 1.1 * forward) << k;
     EXPECT_LT(factor(p, k, k, SweepDirection::AlternateRows), 1.1 * forward) << k;
   }
+}
+
+// --iters: one count is both ways, PRE/POST splits them; anything else names the flag.
+TEST(Smoother, ItersTakesOneCountOrPreSlashPost) {
+  SolverOptions o;
+  EXPECT_EQ(o.sweeps, o.post_sweeps);  // the default: the same count both ways
+  parse_sweeps("4", o);
+  EXPECT_EQ(o.sweeps, 4);
+  EXPECT_EQ(o.post_sweeps, 4);
+  parse_sweeps("2/3", o);
+  EXPECT_EQ(o.sweeps, 2);
+  EXPECT_EQ(o.post_sweeps, 3);
+  parse_sweeps("0/100", o);
+  EXPECT_EQ(o.sweeps, 0);
+  EXPECT_EQ(o.post_sweeps, 100);
+  for (const char* bad : {"", "-1", "2/", "/3", "x", "101", "2/3/4", " 3", "3.5", "1000000000000"}) {
+    try {
+      parse_sweeps(bad, o);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("--iters"), std::string::npos) << e.what();
+    }
+  }
+  o.post_sweeps = -1;
+  EXPECT_THROW(o.validate(), UsageError);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace gdp {
 ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scratch, bool double_precision);
 
 // The most columns of each neighbour's that a band of the band schedule keeps, for `sweeps`
-// (SolverOptions::sweeps): under mpirun a rank's row stores span its columns and these either side.
+// (the larger of SolverOptions::sweeps and post_sweeps): under mpirun a rank's row stores span its columns and these either side.
 int band_halo_columns(int sweeps);
 
 }  // namespace gdp

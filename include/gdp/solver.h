@@ -47,8 +47,9 @@ enum class Schedule {
 
 struct SolverOptions {
   Domain domain = Domain::Planar;
-  int sweeps = 3;             // Gauss-Seidel sweeps before restriction and after prolongation
-                              // (3 meets the stitching accuracy target with margin: docs/reproduce.md)
+  int sweeps = 3;             // Gauss-Seidel sweeps before restriction (the pre-smoother)
+  int post_sweeps = 3;        // and after prolongation (3/3 meets the stitching accuracy target with
+                              // margin: docs/reproduce.md; splits: docs/multigrid.md)
   int vcycles = 1;            // V-cycles to run (when tolerance == 0)
   double tolerance = 0.0;     // > 0: run V-cycles until the relative residual is below this
   int max_vcycles = 100;      // cap when iterating to a tolerance
@@ -88,6 +89,10 @@ struct SolverOptions {
   // The most V-cycles a solve runs: max_vcycles when iterating to a tolerance, else vcycles.
   int cycle_cap() const { return tolerance > 0.0 ? max_vcycles : vcycles; }
 };
+
+// --iters: "K" (K sweeps before restriction and K after prolongation) or "PRE/POST"; sets
+// options.sweeps and options.post_sweeps, or throws UsageError naming the flag and the value.
+void parse_sweeps(const std::string& text, SolverOptions& options);
 
 // How the CLI's flags --domain NAME, --sphere, --pq-height H, --in-core and --bands N choose the
 // domain and schedule (shared with the Python module, so both report conflicts alike).

@@ -36,7 +36,10 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   s.vcycles = vcycles;
   s.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   a.vcycles_given = kw.has("vcycles") || kw.has("tolerance");
-  kw.take("iters", s.sweeps);
+  if (kw.has("iters")) {  // iters=K: K sweeps before restriction and after prolongation
+    kw.take("iters", s.sweeps);
+    s.post_sweeps = s.sweeps;
+  }
   kw.take("vcycles", s.vcycles);
   kw.take("tolerance", s.tolerance);
   kw.take("threads", s.threads);

@@ -9,11 +9,12 @@
 
 namespace gdp::bands {
 
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
+BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, SweepCounts sweeps, int max_levels,
                             int green_lane, int phase_groups) {
   BandLayout L;
   L.bands = bands;
-  L.sweeps = sweeps;
+  L.sweeps = sweeps.most();  // the geometry fits both passes; each stage gets pre and post below
+  L.post_sweeps = sweeps.most();
   L.periodic = periodic;
   // Lower G until the finest bands are at least 16 min_band_width() wide: edges that are a large
   // part of a band reorder its rows more (agreement with streaming, tests/bands_test.cc).
@@ -23,7 +24,7 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
   L.phase_groups = L.folded ? 1 : std::max(phase_groups, 1);
   while (L.phase_groups > 1 && finest < 16 * L.min_band_width()) L.phase_groups /= 2;
-  L.halo = band_halo(sweeps, L.phase_groups);
+  L.halo = band_halo(sweeps.most(), L.phase_groups);
   L.green_lane = std::max(green_lane, 2 * L.edge());
   const int count = static_cast<int>(h.levels.size()), n = h.levels[0].width();
   // The stages for `total` banded levels: each stage's band boundaries on level 0 (multiples of
@@ -74,6 +75,8 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
       S->first_level = start;
       S->levels = end - start;
       S->merged = below;
+      S->sweeps = sweeps.pre;
+      S->post_sweeps = sweeps.post;
       S->bounds.assign(S->levels + 1, {});
       for (int r = 0; r <= S->levels; ++r)
         for (int b = 0; b <= S->bands; ++b) S->bounds[r].push_back(bound(chain[i].cuts, b, start + r));
@@ -82,13 +85,14 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
     return *below;
   }
   throw UsageError(fmt::format("{} bands need an image at least {} pixels wide ({} per band with {} sweeps), got {}",
-                               bands, bands * L.min_band_width(), L.min_band_width(), sweeps, h.levels[0].width()));
+                               bands, bands * L.min_band_width(), L.min_band_width(), sweeps.most(), h.levels[0].width()));
 }
 
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int sweeps, int levels) {
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, SweepCounts sweeps, int levels) {
   BandLayout L;
   L.single = true;
-  L.sweeps = sweeps;
+  L.sweeps = sweeps.pre;
+  L.post_sweeps = sweeps.post;
   L.periodic = periodic;
   L.halo = 0;
   L.levels = levels;

@@ -11,9 +11,10 @@ namespace gdp::bands {
 
 struct BandLayout {
   int bands = 1;
-  int sweeps = 3;        // k: Gauss-Seidel sweeps per pass
+  int sweeps = 3;        // k: Gauss-Seidel sweeps of the pass this plan runs (the restriction pass's)
+  int post_sweeps = 3;   // those of the prolongation pass (post_pass() is its plan)
   int phase_groups = 1;  // G: row groups per phase (one strip each way per phase)
-  int halo = 4;          // columns kept of each neighbour: band_halo(k, G)
+  int halo = 4;          // columns kept of each neighbour: band_halo(k, G) for the larger k
   int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
   int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is merged or gathered
   int first_level = 0;   // the hierarchy level of this layout's level 0 (a merged stage's is deeper)
@@ -40,6 +41,12 @@ struct BandLayout {
   int row_length(int l, int b) const { return end(l, b) - begin(l, b) + 2 * halo; }
   int left(int b) const { return single ? -1 : b > 0 ? b - 1 : periodic ? bands - 1 : -1; }  // -1: none
   int right(int b) const { return single ? -1 : b + 1 < bands ? b + 1 : periodic ? 0 : -1; }
+  // The prolongation pass's plan: the same bands, halo and lanes' bounds, post_sweeps sweeps.
+  BandLayout post_pass() const {
+    BandLayout P = *this;
+    P.sweeps = post_sweeps;
+    return P;
+  }
   // 2(k - s): how far sweep s's interior lanes are shifted (section 6.2); s = 1 .. k.
   int shift(int s) const { return 2 * (sweeps - s); }
   // G + k - 1: the (group, sweep) steps u = t - t0 + s - 1 of a phase; tiles move 2 columns a step.
@@ -66,6 +73,14 @@ struct BandLayout {
   int banded_levels() const { return levels + (merged ? merged->banded_levels() : 0); }
 };
 
+// Sweeps before restriction and after prolongation (one number: both).
+struct SweepCounts {
+  SweepCounts(int k) : pre(k), post(k) {}  // NOLINT(google-explicit-constructor): k both ways
+  SweepCounts(int pre_sweeps, int post_sweeps) : pre(pre_sweeps), post(post_sweeps) {}
+  int pre, post;
+  int most() const { return std::max(pre, post); }
+};
+
 // The halo a band keeps of each neighbour for k sweeps and G groups per phase: max(2(G + k - 1), 4).
 inline int band_halo(int sweeps, int phase_groups) { return std::max(2 * (phase_groups + sweeps - 1), 4); }
 
@@ -77,12 +92,12 @@ constexpr int kDefaultPhaseGroups = 16;
 // bands halve into the next one's. Levels are banded up to `max_levels` (the first level small
 // enough to hold whole), which then runs on worker 0; where bands would grow narrower than
 // min_band_width() before that, they merge in pairs (`merged`, not on spherical images) or, where
-// they cannot, the level is gathered. `phase_groups` (G, one for all stages) is lowered, down to 1,
+// they cannot, the level is gathered. Widths and the halo are those of the larger sweep count. `phase_groups` (G, one for all stages) is lowered, down to 1,
 // while the finest level's bands are narrower than 16 min_band_width(). Throws UsageError when even
 // the finest level is too narrow for G = 1.
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int sweeps, int max_levels,
+BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, SweepCounts sweeps, int max_levels,
                             int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
 // The one-band plan (`single`) over levels 0 .. levels - 1, level `levels` held whole.
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int sweeps, int levels);
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, SweepCounts sweeps, int levels);
 
 }  // namespace gdp::bands

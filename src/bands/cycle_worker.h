@@ -298,7 +298,7 @@ class StreamedCheckpoint {
     const BandLayout& plan = worker.vcycle.layout();
     const double row_bytes = 2.0 * worker.n * width * sizeof(T);
     const double rows_held = plan.single ? static_cast<double>(worker.vcycle.window_bytes()) / row_bytes
-                                         : 2.0 * (4 * plan.phase_groups + 2 * plan.sweeps + 16);
+                                         : 2.0 * (4 * plan.phase_groups + 2 * std::max(plan.sweeps, plan.post_sweeps) + 16);
     const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
     return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)));
   }

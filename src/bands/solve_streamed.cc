@@ -107,8 +107,9 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
     if (p.ops.count() > 1) {
       const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
       const int whole_from = schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
-      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, opt.sweeps, whole_from)
-                                  : make_band_layout(p.hierarchy, periodic, total_bands, opt.sweeps, whole_from);
+      const SweepCounts sweeps(opt.sweeps, opt.post_sweeps);
+      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, sweeps, whole_from)
+                                  : make_band_layout(p.hierarchy, periodic, total_bands, sweeps, whole_from);
     }
   } catch (const Error& e) {
     if (!s.distributed) throw;
@@ -116,7 +117,7 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
   }
   if (s.distributed)
     mpi::agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
-                                       opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
+                                       opt.post_sweeps, opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
                                        static_cast<long long>(sizeof(T)),
                                        s.problem ? s.problem->ops.count() : -1});
   return s;

@@ -21,10 +21,10 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
                           const CycleSettings& settings)
     : ops_(ops),
       layout_(layout),
+      post_layout_(layout.post_pass()),
       net_(transport),
       set_(settings),
       band_(transport.rank()),
-      k_(layout.sweeps),
       base_(layout.first_level) {
   if (transport.size() != layout.bands)
     throw std::logic_error(fmt::format("{} workers for {} bands", transport.size(), layout.bands));
@@ -42,7 +42,9 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
     if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
     if (band_ == 0) {
-      tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, k_, set_.coarse_tolerance, base_ + layout.levels);
+      tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance,
+                                                           base_ + layout.levels);
+      tail_->set_sweeps(layout.sweeps, layout.post_sweeps);
       tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
     }
   }
@@ -89,9 +91,9 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
       if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
         throw std::logic_error("bands need every row's neighbours within two rows");
   // Live rows span at most about 3 phases (check_slot says if not); the one-band plan's only
-  // the 2k + 5 rows of its pipeline, as streaming's.
-  allocate_ring(*L, layout_.single ? 2 * (k_ + 2) + 8 : 4 * layout_.phase_groups + 2 * k_ + 16);
-  L->phases = phase_count(layout_, op.height);
+  // the 2k + 5 rows of its pipeline, as streaming's (k: the larger of the two passes').
+  const int k = std::max(layout_.sweeps, layout_.post_sweeps);
+  allocate_ring(*L, layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16);
   if (layout_.folded) {
     if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
     for (int side = 0; side < 2; ++side) {
@@ -235,7 +237,8 @@ template <class T>
 void StreamedVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
   const int G = layout_.phase_groups;
-  while (L.next_phase < L.phases && (L.next_phase * G + G - 1 < L.arrived || L.arrived == L.height)) {
+  const int phases = phase_count(plan(), L.height);
+  while (L.next_phase < phases && (L.next_phase * G + G - 1 < L.arrived || L.arrived == L.height)) {
     const int p = L.next_phase;
     run_phase(l, p);
     L.next_phase = p + 1;
@@ -249,18 +252,19 @@ void StreamedVCycle<T>::run_phase(int l, int p) {
   // earlier phases left them, as a whole-row Gauss-Seidel sweep reads its mirror image; the last
   // exchange on each side shows the final rows to the restriction (or the last residual).
   if (layout_.folded) {
-    if (p >= 2 && p <= 2 * k_ + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
-    if (p >= L.height && p <= L.height + 2 * k_) exchange_fold_rows(l, 1, L.fold[1].rows);
+    const int k = plan().sweeps;
+    if (p >= 2 && p <= 2 * k + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
+    if (p >= L.height && p <= L.height + 2 * k) exchange_fold_rows(l, 1, L.fold[1].rows);
   }
   plan_phase(
-      layout_, l, band_, L.height, p,
+      plan(), l, band_, L.height, p,
       [&](const Tile& t) {
         for (int c = 0; c < set_.channels; ++c)
           multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(l, t.lo, t.hi, t.forward), u_row(l, c, t.row),
                            b_row(l, c, t.row), L.scratch, d_row(l, t.row));
       },
       [&](bool left) { send_strips(l, p, left); }, [&](bool left) { receive_strips(l, p, left); });
-  while (L.finished < L.height && final_phase(layout_, L.height, L.finished) <= p) finish_row(l, L.finished++);
+  while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) finish_row(l, L.finished++);
 }
 
 // The strip of phase p (band_phase.h strip_shape): u, then b, w and d, row by row and channel by
@@ -269,7 +273,7 @@ template <class T>
 template <class F>
 void StreamedVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
   Level& L = *levels_[l];
-  const StripShape s = strip_shape(layout_, l, band_, L.height, p, left, outgoing);
+  const StripShape s = strip_shape(plan(), l, band_, L.height, p, left, outgoing);
   const auto n = static_cast<std::size_t>(s.u_cols[1] - s.u_cols[0]);
   const auto m = static_cast<std::size_t>(s.b_cols[1] - s.b_cols[0]);
   const int at = s.u_cols[0] - L.origin, bat = s.b_cols[0] - L.origin;

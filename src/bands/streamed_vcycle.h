@@ -68,7 +68,8 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
 //    Pre-smoothed u and b go to row stores.
 //  - the first level small enough to hold whole is gathered to worker 0 and solved in-core.
 //  - prolongation pass: rows are pulled in order; a row is read back, gets the prolonged
-//    correction of the coarser level (pulled on demand) and is post-smoothed by the same groups.
+//    correction of the coarser level (pulled on demand) and is post-smoothed by the same groups
+//    with the layout's post_sweeps (its post_pass() plan).
 // The one-band plan (BandLayout::single) is plain streaming: whole rows, always forward, one group a
 // phase, nothing exchanged, a ring of 2(k + 2) + 8 rows; every kernel call sees what in-core's
 // sees, so the results are in-core's bits. With N bands, groups alternate direction
@@ -119,7 +120,6 @@ class StreamedVCycle {
     int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
     std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
     multigrid::Scratch<T> scratch;
-    int phases = 0;         // phases per pass (band_phase.h)
     int arrived = 0;        // rows that entered this pass
     int next_phase = 0;     // the next phase to run
     int finished = 0;       // rows restricted (or measured) in this pass
@@ -188,10 +188,13 @@ class StreamedVCycle {
   T* part_row(int l, int k, int j);
 
   const multigrid::Operators<T>& ops_;
-  const BandLayout& layout_;
+  const BandLayout& layout_;      // the restriction pass's plan
+  const BandLayout post_layout_;  // the prolongation pass's (BandLayout::post_pass)
+  // The plan of the pass under way.
+  const BandLayout& plan() const { return prolongation_ ? post_layout_ : layout_; }
   Transport& net_;
   CycleSettings set_;
-  int band_, k_;
+  int band_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
   std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)

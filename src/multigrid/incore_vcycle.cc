@@ -161,9 +161,14 @@ Columns InCoreVCycle<T>::sweep_columns(const Columns& row, int sweep, int j) con
 }
 
 template <class T>
-void InCoreVCycle<T>::set_smoother(int pre, int post, SweepDirection direction) {
+void InCoreVCycle<T>::set_sweeps(int pre, int post) {
   sweeps_ = pre;
   post_sweeps_ = post;
+}
+
+template <class T>
+void InCoreVCycle<T>::set_smoother(int pre, int post, SweepDirection direction) {
+  set_sweeps(pre, post);
   direction_ = direction;
 }
 

@@ -59,9 +59,11 @@ class InCoreVCycle {
   // Rounds each level's u and b to half floats after its restriction where `half` says
   // (half_policy.h), as the streamed V-cycle's stores do. Not owned; null: none.
   void set_half(const HalfPolicy* half);
-  // Smoother studies (bench/smoother_bench): `pre` sweeps before restriction and `post` after
-  // prolongation (the constructor's `sweeps` for both), and the rows' direction. Every schedule
-  // has the default (the same count both ways, left to right); others exist only in core.
+  // `pre` sweeps before restriction and `post` after prolongation (the constructor's `sweeps` for
+  // both; SolverOptions::sweeps and post_sweeps, as every schedule has them).
+  void set_sweeps(int pre, int post);
+  // Smoother studies (bench/smoother_bench): the counts and the rows' direction. Every schedule
+  // has the default direction (left to right); others exist only in core.
   void set_smoother(int pre, int post, SweepDirection direction);
 
  private:

@@ -105,6 +105,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
   const auto worker = [&](int t) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
+    vc.set_sweeps(opt.sweeps, opt.post_sweeps);
     if (!diagonal.empty()) vc.set_diagonal(&diagonal);
     vc.set_half(&half);
     for (int c = t; c < channels; c += threads) solve_channel(c, vc);

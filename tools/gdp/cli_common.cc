@@ -38,8 +38,12 @@ std::string stats_path_problem(const std::string& path) {
 
 void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
   if (solver_flags) {
-    cmd.add_option("--iters,-k", o.solver.sweeps, "Gauss-Seidel sweeps per level before and after the coarse correction")
-        ->capture_default_str();
+    cmd.add_option("--iters,-k", o.iters,
+                   "Gauss-Seidel sweeps per level: K before restriction and K after prolongation, or PRE/POST "
+                   "(docs/multigrid.md)")
+        ->default_str(o.solver.sweeps == o.solver.post_sweeps
+                          ? std::to_string(o.solver.sweeps)
+                          : std::to_string(o.solver.sweeps) + "/" + std::to_string(o.solver.post_sweeps));
     cmd.add_option("--vcycles", o.solver.vcycles, "number of V-cycles")->capture_default_str();
     cmd.add_option("--tolerance", o.solver.tolerance,
                    "run V-cycles until the relative residual is below this (overrides --vcycles), or until three "
@@ -149,6 +153,7 @@ std::function<void(double)> progress_line(const CommonOptions& o, const std::str
 
 SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   SolverOptions s = o.solver;
+  if (!o.iters.empty()) parse_sweeps(o.iters, s);
   if (MpiRun::size() > 1 && o.bands == 0) o.bands = 1;  // under mpirun: one band per rank unless told
   ScheduleFlags{o.domain, o.sphere, o.pq_height, o.in_core, o.bands}.apply(s);
   if (o.bands != 0) warn_if_bound(o, o.bands);

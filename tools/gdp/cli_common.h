@@ -23,6 +23,7 @@ namespace gdp::cli {
 // Flags every solving subcommand accepts.
 struct CommonOptions {
   SolverOptions solver;
+  std::string iters;  // --iters K or PRE/POST (parse_sweeps; empty: the solver's default)
   std::string domain = "planar";
   bool double_precision = false;
   bool verbose = false;

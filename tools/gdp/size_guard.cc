@@ -60,7 +60,7 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
   Limits l;
   l.max_pixels = o.max_pixels;
   l.scale = solver && solver->precision == Precision::Float64 ? 2.0 : 1.0;
-  l.halo = solver ? band_halo_columns(solver->sweeps) : 0;
+  l.halo = solver ? band_halo_columns(std::max(solver->sweeps, solver->post_sweeps)) : 0;
   l.in_core = in_memory || (solver && solver->schedule == Schedule::InCore);
   l.scratch = solver && !l.in_core;
   l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->scratch == ScratchPrecision::Narrow ? 0.5 : 1.0);
