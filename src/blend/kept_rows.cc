@@ -101,7 +101,7 @@ void KeptRows::Writer::write(std::span<const float> row) {
 
 void KeptRows::Writer::flush() {
   const std::size_t n = static_cast<std::size_t>(in_chunk_) * samples_ * bytes_;
-  write_at(kept_.fd_, chunk_.data(), n, at_);
+  write_at(kept_.fd_, chunk_.data(), n, at_, kept_.dir_);
   at_ += n;
   in_chunk_ = 0;
   if (!drop_.wrote(kept_.fd_, at_)) throw OutputError("scratch file: cannot write: " + std::generic_category().message(errno));
@@ -128,7 +128,7 @@ void KeptRows::Reader::read(std::span<float> row) {
     const int n_rows = std::min(chunk_rows_, rows_ - next_);
     chunk_.resize(row_bytes * n_rows);
     const std::size_t at = base_ + row_bytes * next_;
-    read_at(kept_.fd_, chunk_.data(), chunk_.size(), at);
+    read_at(kept_.fd_, chunk_.data(), chunk_.size(), at, kept_.dir_);
     drop_.read(kept_.fd_, at + chunk_.size());
     const std::size_t ahead = base_ + row_bytes * std::min(rows_, next_ + n_rows);
     ::posix_fadvise(kept_.fd_, static_cast<off_t>(ahead), static_cast<off_t>(row_bytes * chunk_rows_), POSIX_FADV_WILLNEED);

@@ -59,13 +59,14 @@ void LabelPlane::write_row(int y, std::span<const Label> row) {
     end_ += units.size();
     if (fd_ < 0 && end_ > kMemoryUnits) {  // too many for memory: to a file from here on
       fd_ = schedule::open_unlinked(dir_, "labels");
-      write_at(fd_, memory_.data(), memory_.size() * sizeof(Label), 0);
+      write_at(fd_, memory_.data(), memory_.size() * sizeof(Label), 0, dir_);
       std::vector<Label>().swap(memory_);
     }
     if (fd_ < 0) memory_.insert(memory_.end(), units.begin(), units.end());
     fd = fd_;
   }
-  if (fd >= 0) write_at(fd, units.data(), units.size() * sizeof(Label), k.at * sizeof(Label));  // room taken above
+  if (fd >= 0)  // room taken above
+    write_at(fd, units.data(), units.size() * sizeof(Label), k.at * sizeof(Label), dir_);
   index_.write(static_cast<std::size_t>(y) * sizeof(Kept), &k, sizeof(Kept));
 }
 
@@ -81,7 +82,7 @@ void LabelPlane::units(const Kept& k, std::vector<Label>& out) const {
     }
     fd = fd_;
   }
-  read_at(fd, out.data(), out.size() * sizeof(Label), k.at * sizeof(Label));
+  read_at(fd, out.data(), out.size() * sizeof(Label), k.at * sizeof(Label), dir_);
 }
 
 void LabelPlane::read_row(int y, std::span<Label> row, int begin, int end) const {

@@ -8,10 +8,10 @@
 
 namespace gdp::blending {
 
-// Exactly n bytes to / from a scratch file at byte `at` (OutputError otherwise: a failed write,
-// a full disk, a read past the end).
-void write_at(int fd, const void* data, std::size_t n, std::size_t at);
-void read_at(int fd, void* data, std::size_t n, std::size_t at);
+// Exactly n bytes to / from a scratch file in `dir` at byte `at` (OutputError naming `dir` otherwise:
+// a failed write, a full disk, a read past the end).
+void write_at(int fd, const void* data, std::size_t n, std::size_t at, const std::filesystem::path& dir);
+void read_at(int fd, void* data, std::size_t n, std::size_t at, const std::filesystem::path& dir);
 
 // A fixed-size block of bytes read and written at any offset (rows of a plane, in any order).
 class Scratch {
@@ -29,6 +29,7 @@ class Scratch {
 
  private:
   std::size_t bytes_;
+  std::filesystem::path dir_;
   int fd_ = -1;
   std::vector<unsigned char> memory_;
 };
