@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "fem/stencils.h"
+#include "util/clones.h"
 
 namespace gdp::fem {
 namespace {
@@ -13,23 +14,22 @@ namespace {
 // The interior loops, compiled for x86-64-v3 (AVX2) and the baseline, the loader picking one. This
 // file is compiled with -ffp-contract=off (src/CMakeLists.txt): no multiply-add is fused, so both
 // give the bits of the plain loops.
-#define GDP_RHS_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
 
 // out[i] = M v at columns [lo, hi), every neighbour inside the row.
-GDP_RHS_KERNEL void mass_interior(const double* v, double* out, int lo, int hi) {
+GDP_CLONES void mass_interior(const double* v, double* out, int lo, int hi) {
   for (int i = lo; i < hi; ++i)
     out[i] = kMass[0] * (v[i - 2] + v[i + 2]) + kMass[1] * (v[i - 1] + v[i + 1]) + kMass[2] * v[i];
 }
 
 // out[i] = D gx at columns [lo, hi), every edge inside the row.
-GDP_RHS_KERNEL void derivative_interior(const double* gx, double* out, int lo, int hi) {
+GDP_CLONES void derivative_interior(const double* gx, double* out, int lo, int hi) {
   for (int i = lo; i < hi; ++i)
     out[i] = kDerivative[0] * gx[i - 2] + kDerivative[1] * gx[i - 1] + kDerivative[2] * gx[i] + kDerivative[3] * gx[i + 1];
 }
 
 // out[i] = the sum of wt[k] * p[k][i] over the nine terms, in order, at columns [begin, end).
-GDP_RHS_KERNEL void combine_rows(const std::array<const double*, 9>& p, const std::array<double, 9>& wt, double* out,
-                                 int begin, int end) {
+GDP_CLONES void combine_rows(const std::array<const double*, 9>& p, const std::array<double, 9>& wt, double* out,
+                             int begin, int end) {
   const double *p0 = p[0], *p1 = p[1], *p2 = p[2], *p3 = p[3], *p4 = p[4], *p5 = p[5], *p6 = p[6], *p7 = p[7],
                *p8 = p[8];
 #pragma GCC ivdep

@@ -17,6 +17,7 @@
 #include "io/codecs.h"
 #include "util/bounded_queue.h"
 #include "util/recycle_pool.h"
+#include "util/clones.h"
 
 namespace gdp {
 namespace {
@@ -46,8 +47,8 @@ inline float to_float(T v) {
 // called directly, so that it is inlined: through a function pointer it was a call per sample
 // (docs/scaling.md, "The input pass's arithmetic").
 template <int Ch, class T>
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void deinterleave_n(const T* src, int w, int ch,
-                                                                                 std::size_t stride, float* out) {
+GDP_CLONES void deinterleave_n(const T* src, int w, int ch,
+                                std::size_t stride, float* out) {
   const int n = Ch > 0 ? Ch : ch;
   if constexpr (Ch > 0)
     for (int x = 0; x < w; ++x)

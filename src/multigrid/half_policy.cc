@@ -1,5 +1,6 @@
 // The half-float policy of a solve and the one float <-> half conversion every schedule uses.
 #include "multigrid/half_policy.h"
+#include "util/clones.h"
 
 #include <fmt/format.h>
 
@@ -42,18 +43,17 @@ HalfPolicy half_policy(const SolverOptions& opt) {
   return p;
 }
 
-#define GDP_CONVERT __attribute__((target_clones("arch=x86-64-v3", "default")))
 
 template <class T>
-GDP_CONVERT void to_half(const T* in, _Float16* out, std::size_t n) {
+GDP_CLONES void to_half(const T* in, _Float16* out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<_Float16>(in[i]);
 }
 template <class T>
-GDP_CONVERT void from_half(const _Float16* in, T* out, std::size_t n) {
+GDP_CLONES void from_half(const _Float16* in, T* out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<T>(in[i]);
 }
 template <class T>
-GDP_CONVERT void round_to_half(T* p, std::size_t n) {
+GDP_CLONES void round_to_half(T* p, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) p[i] = static_cast<T>(static_cast<_Float16>(p[i]));
 }
 

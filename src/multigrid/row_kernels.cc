@@ -1,5 +1,6 @@
 // Row kernels: each compiled for x86-64-v3 (AVX2) and the baseline, the loader picking one.
 #include "multigrid/row_kernels.h"
+#include "util/clones.h"
 
 #include <cstdint>
 #include <cstring>
@@ -9,12 +10,11 @@ namespace gdp::multigrid {
 
 // This file is compiled with -ffp-contract=off (src/CMakeLists.txt): no multiply-add is fused, so
 // both clones give the bits of the plain loops.
-#define GDP_ROW_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
 
 // The masks as 64-bit integers, one per sample: with bools, the compiler packs them into bytes and
 // back (twice the time).
-GDP_ROW_KERNEL void kept_differences(const float* from, const float* to, const unsigned char* keep, double beta,
-                                       double* out, int n) {
+GDP_CLONES void kept_differences(const float* from, const float* to, const unsigned char* keep, double beta,
+                                   double* out, int n) {
   for (int i = 0; i < n; ++i) {
     const double d = double(to[i]) - from[i], v = beta * d;
     std::int64_t bits;
@@ -25,7 +25,7 @@ GDP_ROW_KERNEL void kept_differences(const float* from, const float* to, const u
 }
 
 template <class T>
-GDP_ROW_KERNEL void scaled_rhs(const double* v, const double* add, double scale, T* out, int n) {
+GDP_CLONES void scaled_rhs(const double* v, const double* add, double scale, T* out, int n) {
   if (add)
     for (int i = 0; i < n; ++i) out[i] = static_cast<T>(scale * v[i] + add[i]);
   else  // + 0.0 as the sum with a zero row: -0.0 becomes +0.0
@@ -33,8 +33,8 @@ GDP_ROW_KERNEL void scaled_rhs(const double* v, const double* add, double scale,
 }
 
 template <class T>
-GDP_ROW_KERNEL void guess_and_weights(const float* in, std::size_t stride, int channels, const unsigned char* counted,
-                                        T* u, T* w, int n) {
+GDP_CLONES void guess_and_weights(const float* in, std::size_t stride, int channels, const unsigned char* counted,
+                                    T* u, T* w, int n) {
   using Bits = std::conditional_t<sizeof(T) == 8, std::int64_t, std::int32_t>;  // masks as wide as T (above)
   for (int i = 0; i < n; ++i) w[i] = static_cast<T>(counted[i] != 0);
   for (int c = 0; c < channels; ++c) {
@@ -57,7 +57,7 @@ GDP_ROW_KERNEL void guess_and_weights(const float* in, std::size_t stride, int c
 template void guess_and_weights<float>(const float*, std::size_t, int, const unsigned char*, float*, float*, int);
 template void guess_and_weights<double>(const float*, std::size_t, int, const unsigned char*, double*, double*, int);
 template <class T>
-GDP_ROW_KERNEL double row_dot(const T* w, const T* u, int n) {
+GDP_CLONES double row_dot(const T* w, const T* u, int n) {
   // Eight partial sums (a fixed order, so every schedule gets the same bits) let it vectorise.
   double s[8] = {};
   int i = 0;

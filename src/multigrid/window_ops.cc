@@ -1,5 +1,6 @@
 // Window kernels: edges decided once per call, the edge/interior split inside, transfers as gathers.
 #include "multigrid/window_ops.h"
+#include "util/clones.h"
 
 #include <algorithm>
 #include <cstring>
@@ -9,7 +10,6 @@ namespace {
 
 // Each kernel is compiled for x86-64-v3 (AVX2 + FMA) and the baseline, the loader picking one;
 // the helpers are forced inline, or their loops would be compiled for the baseline only.
-#define GDP_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
 #define GDP_INLINE __attribute__((always_inline)) inline
 
 GDP_INLINE int floor_div(int a, int n) { return a >= 0 ? a / n : -((n - 1 - a) / n); }
@@ -306,7 +306,7 @@ const typename Scratch<T>::Coefficients& Scratch<T>::coefficients(const LevelOpe
 }
 
 template <class T>
-GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
+GDP_CLONES void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* out, Scratch<T>& s,
                       const T* diag) {
   if (cols.end <= cols.begin) return;
   const int o = cols.begin - w.origin[2];
@@ -317,7 +317,7 @@ GDP_KERNEL void apply(const LevelOperator<T>& op, int j, const Window<T>& w, Col
 }
 
 template <class T>
-GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, const T* b, T* r,
+GDP_CLONES void residual(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, const T* b, T* r,
                          Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
@@ -334,7 +334,7 @@ GDP_KERNEL void residual(const LevelOperator<T>& op, int j, const Window<T>& w, 
 // - K_{-1}(i) dx_{i-1} - K_{-2}(i) dx_{i-2}) / K_0(i) (backward: K_1, K_2), K_d = sx[d] my0 + mx[d] cy0.
 // Corrections beyond the columns are zero, but a whole periodic row's ends see each other.
 template <class T>
-GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b,
+GDP_CLONES void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Columns cols, T* u, const T* b,
                       Scratch<T>& s, const T* diag) {
   const int len = cols.end - cols.begin, o = cols.begin - w.origin[2];
   if (len <= 0) return;
@@ -379,7 +379,7 @@ GDP_KERNEL void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
 // Coarse J = 1 .. m-2 gather the two-scale weights from fine 2J-1 .. 2J+2; only J = 0 and m-1 see reflected or
 // wrapped fine samples, only the first and last three, read at the copy nearest to J (Halo) or in the row.
 template <class T>
-GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine,
+GDP_CLONES void restrict_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* fine,
                               int fine_origin, Columns cols, T* coarse0, T* coarse1, std::array<int, 2> origin,
                               Scratch<T>& s) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n, len = cols.end - cols.begin;
@@ -426,7 +426,7 @@ GDP_KERNEL void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
 // Fine 2J, 2J+1 take 3/4 of coarse J, 1/4 of J-1 / J+1 (y-interpolated coarse samples formed once); only
 // the first and last three fine samples read reflected or wrapped ones.
 template <class T>
-GDP_KERNEL void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0,
+GDP_CLONES void prolong_rows(const fem::Prolongation& px, const fem::ProlongationRow& py, const T* coarse0,
                              const T* coarse1, std::array<int, 2> origin, bool coarse_whole, Columns cols, T* fine,
                              int fine_origin, Scratch<T>& s) {
   const int n = static_cast<int>(px.rows.size()), m = px.coarse_n;
