@@ -86,6 +86,32 @@ TEST(BandFoldPartners, EqualBandsReadTheirMirrorPartners) {
   EXPECT_FALSE(bottom.receives(2));
 }
 
+// A group of bands meeting at its first (a merge's hand-off and take-back, the gathered level):
+// what one band sends, the other receives; each band sends its own columns to the first and gets
+// back the columns it stores, halo included; bands outside the group take no part.
+TEST(BandGroupPlan, EachBandHandsItsOwnColumnsAndTakesBackWhatItStores) {
+  const BandLayout L = layout(400, {0, 90, 230, 300, 400});
+  const int first = 1, end = 4;
+  for (bool to_first : {true, false}) {
+    for (int b = 0; b < L.bands; ++b) {
+      const FoldPlan p = group_plan(L, 1, b, first, end, to_first);
+      for (int s = 0; s < L.bands; ++s) {
+        if (s != b) {
+          EXPECT_EQ(p.to[s], group_plan(L, 1, s, first, end, to_first).from[b]) << b << " -> " << s;
+        }
+        const bool in_group = b >= first && b < end && s >= first && s < end;
+        const bool linked = in_group && (to_first ? s == first : b == first) && (s != b || b == first);
+        const int who = to_first ? b : s;  // the band whose columns these are
+        const ColumnRuns want{to_first ? std::pair{L.begin(1, who), L.end(1, who)}
+                                       : std::pair{L.origin(1, who), L.origin(1, who) + L.row_length(1, who)}};
+        EXPECT_EQ(p.to[s], linked && s != b ? want : ColumnRuns{}) << b << " -> " << s << " " << to_first;
+      }
+      const bool first_band = b == first;
+      EXPECT_EQ(p.from[b].empty(), !first_band) << "only the first takes from itself";
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Sides, BandFold, ::testing::Values(fem::Mirror::Top, fem::Mirror::Bottom));
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Column runs exchanged across a spherical level's fold, from the band layout and the mirror map.
+// Column runs exchanged between bands: across a spherical level's fold (from the layout and the mirror map), at a merge.
 #include "bands/band_fold.h"
 
 namespace gdp::bands {
@@ -48,6 +48,16 @@ FoldPlan fold_reads(const BandLayout& L, int l, int n, fem::Mirror side, int ban
 FoldPlan fold_sums(const BandLayout& L, int l, int n, fem::Mirror side, int band) {
   // Sender s -> receiver r: the columns r owns that mirror columns s restricts into.
   return plan(L, n, side, band, [&](int, int r) { return own(L, l, r); }, [&](int s, int) { return own(L, l, s); });
+}
+
+FoldPlan group_plan(const BandLayout& L, int l, int band, int first, int end, bool to_first) {
+  const auto cols = [&](int b) { return ColumnRuns{to_first ? own(L, l, b) : stored(L, l, b)}; };
+  FoldPlan p{std::vector<ColumnRuns>(L.bands), std::vector<ColumnRuns>(L.bands)};
+  if (band < first || band >= end) return p;
+  if (band != first) (to_first ? p.to : p.from)[first] = cols(band);
+  else
+    for (int b = first; b < end; ++b) (to_first || b == first ? p.from : p.to)[b] = cols(b);
+  return p;
 }
 
 }  // namespace gdp::bands

@@ -1,5 +1,5 @@
-// Which columns cross the fold between bands: a spherical level's first and last two rows read rows
-// mirrored left to right (docs/sphere-solver.md), at columns that other bands own.
+// Which columns bands exchange besides strips: a spherical level's first and last two rows read rows
+// mirrored left to right (docs/sphere-solver.md), at columns other bands own; a merge's rows.
 #pragma once
 
 #include <utility>
@@ -17,8 +17,9 @@ using ColumnRuns = std::vector<std::pair<int, int>>;
 // wrap([mirrored)); ranges are in unwrapped global columns.
 ColumnRuns fold_columns(int n, fem::Mirror side, std::pair<int, int> held, std::pair<int, int> mirrored);
 
-// One exchange across the fold, seen by one band: the columns it sends to band b (to[b]) and
-// receives from band b (from[b]); from[band] is what it takes from itself.
+// One exchange of column runs between bands (across the fold, or at a merge), seen by one band:
+// the columns it sends to band b (to[b]) and receives from band b (from[b]); from[band] is what it
+// takes from itself.
 struct FoldPlan {
   std::vector<ColumnRuns> to, from;
   bool sends(int b) const { return !to[b].empty(); }
@@ -32,5 +33,10 @@ FoldPlan fold_reads(const BandLayout& L, int l, int n, fem::Mirror side, int ban
 // Restriction into level l (banded or the gathered one, n columns) across the fold: a band's
 // contributions to the mirror image of its own columns go to the bands that own them.
 FoldPlan fold_sums(const BandLayout& L, int l, int n, fem::Mirror side, int band);
+
+// Bands [first, end) of level l meet at band `first`: each sends it its own columns (`to_first`) or
+// gets back from it the columns it stores, halo included (a merge's hand-off and take-back, the
+// level below the bands gathered to band 0).
+FoldPlan group_plan(const BandLayout& L, int l, int band, int first, int end, bool to_first);
 
 }  // namespace gdp::bands

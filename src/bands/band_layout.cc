@@ -27,13 +27,8 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   L.halo = band_halo(sweeps.most(), L.phase_groups);
   L.green_lane = std::max(green_lane, 2 * L.edge());
   const int count = static_cast<int>(h.levels.size()), n = h.levels[0].width();
-  // The stages for `total` banded levels: each stage's band boundaries on level 0 (multiples of
-  // 2^(total - 1), so they halve exactly through every banded level) and its first level; empty
-  // where some banded level cannot have bands wide enough.
-  struct Stage {
-    int start;
-    std::vector<int> cuts;
-  };
+  // Band b of a stage with level-0 boundaries `cuts` (multiples of 2^(total - 1), so they halve
+  // exactly through every banded level) on level l; whether some band there is too narrow.
   const auto bound = [&](const std::vector<int>& cuts, int i, int l) {
     return i + 1 == static_cast<int>(cuts.size()) ? h.levels[l].width() : cuts[i] >> l;
   };
@@ -42,47 +37,44 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
       if (bound(cuts, static_cast<int>(i) + 1, l) - bound(cuts, static_cast<int>(i), l) < L.min_band_width()) return true;
     return false;
   };
-  const auto stages = [&](int total) {
+  // The stage of bands `cuts` from level `start` on, banded down to level `total` and merging where
+  // they grow too narrow; null where some banded level cannot have bands wide enough.
+  const auto stage = [&](const auto& self, const std::vector<int>& cuts, int start,
+                         int total) -> std::shared_ptr<const BandLayout> {
+    int end = start;  // this stage's levels: [start, end)
+    std::shared_ptr<const BandLayout> below;
+    for (; end < total; ++end) {
+      if (end > 0 && h.levels[end].width() == h.levels[end - 1].width()) return nullptr;
+      if (!narrow(cuts, end)) continue;
+      const int have = static_cast<int>(cuts.size()) - 1;
+      if (end == start || L.folded || have == 1) return nullptr;
+      std::vector<int> merged;  // pairs; the last group takes three bands when the count is odd
+      for (int g = 0; g < have / 2; ++g) merged.push_back(cuts[2 * g]);
+      merged.push_back(n);
+      if (!(below = self(self, merged, end, total))) return nullptr;
+      break;
+    }
+    auto S = std::make_shared<BandLayout>(L);
+    S->bands = static_cast<int>(cuts.size()) - 1;
+    S->first_level = start;
+    S->levels = end - start;
+    S->merged = below;
+    S->sweeps = sweeps.pre;
+    S->post_sweeps = sweeps.post;
+    for (int r = 0; r <= S->levels; ++r) {
+      S->bounds.emplace_back();
+      for (int b = 0; b <= S->bands; ++b) S->bounds[r].push_back(bound(cuts, b, start + r));
+    }
+    return S;
+  };
+  for (int total = std::min(max_levels, count - 1); total >= 1; --total) {
     const int unit = 1 << std::max(total - 1, 0);
     std::vector<int> cuts;
     for (int b = 0; b <= bands; ++b) {
       const long long at = static_cast<long long>(n) * b / bands;
       cuts.push_back(b == bands ? n : static_cast<int>((at + unit / 2) / unit * unit));
     }
-    std::vector<Stage> chain{{0, cuts}};
-    for (int l = 0; l < total; ++l) {
-      if (l > 0 && h.levels[l].width() == h.levels[l - 1].width()) return std::vector<Stage>{};
-      const std::vector<int>& now = chain.back().cuts;
-      if (!narrow(now, l)) continue;
-      const int have = static_cast<int>(now.size()) - 1;
-      if (l == chain.back().start || L.folded || have == 1) return std::vector<Stage>{};
-      std::vector<int> merged;  // pairs; the last group takes three bands when the count is odd
-      for (int g = 0; g < have / 2; ++g) merged.push_back(now[2 * g]);
-      merged.push_back(n);
-      if (narrow(merged, l)) return std::vector<Stage>{};
-      chain.push_back({l, std::move(merged)});
-    }
-    return chain;
-  };
-  for (int total = std::min(max_levels, count - 1); total >= 1; --total) {
-    const std::vector<Stage> chain = stages(total);
-    if (chain.empty()) continue;
-    std::shared_ptr<const BandLayout> below;
-    for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
-      auto S = std::make_shared<BandLayout>(L);
-      const int start = chain[i].start, end = i + 1 < static_cast<int>(chain.size()) ? chain[i + 1].start : total;
-      S->bands = static_cast<int>(chain[i].cuts.size()) - 1;
-      S->first_level = start;
-      S->levels = end - start;
-      S->merged = below;
-      S->sweeps = sweeps.pre;
-      S->post_sweeps = sweeps.post;
-      S->bounds.assign(S->levels + 1, {});
-      for (int r = 0; r <= S->levels; ++r)
-        for (int b = 0; b <= S->bands; ++b) S->bounds[r].push_back(bound(chain[i].cuts, b, start + r));
-      below = S;
-    }
-    return *below;
+    if (const auto top = stage(stage, cuts, 0, total)) return *top;
   }
   throw UsageError(fmt::format("{} bands need an image at least {} pixels wide ({} per band with {} sweeps), got {}",
                                bands, bands * L.min_band_width(), L.min_band_width(), sweeps.most(), h.levels[0].width()));

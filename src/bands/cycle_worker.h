@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <functional>
 #include <future>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -80,51 +80,41 @@ class CycleWorker {
                                              fmt::format("band{}-c{}-result", band, c0));
   }
   std::size_t carry_bytes() const { return carry_ ? carry_->bytes() : 0; }
+  int height() const { return height_; }
 
-  // Checkpoints (docs/resume.md): saves go to `cp` as lane `lane` after every `unit_rows` rows of
-  // the first restriction pass, after every restriction pass (in-core tail included) and after
-  // every V-cycle whose result is stored for the next; the log's channels are saved with them.
-  // When `cp` resumes, the lane's last saved state is restored. Returns the input rows (first
-  // cycle's) the lane already has: they are not to be pushed again.
-  int use_checkpoint(io::Checkpoint& cp, int lane, int unit_rows) {
-    checkpoint_ = &cp;
-    lane_ = lane;
-    unit_rows_ = std::max(1, unit_rows);
-    if (!cp.resuming()) return 0;
-    const std::optional<std::string> saved = cp.load(lane);
-    if (!saved) return 0;
-    try {
-      ByteReader in(Bytes(saved->begin(), saved->end()));
-      state(in, mark_);
-      in.finish();
-    } catch (const CorruptState& e) {
-      throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp.dir().string(), cp.state_name(lane), e.what()));
-    }
-    return mark_.cycle > 0 || mark_.pass > 0 ? height_ : mark_.rows;
+  // Checkpoints (docs/resume.md): `at` is where the worker is, saved with its state (a restored
+  // worker resumes there); `unit_done` (null: no checkpoint) is called after every `unit_rows` rows
+  // of the first restriction pass, after every restriction pass (in-core levels included) and after
+  // every V-cycle whose result is stored for the next.
+  CycleMark at;
+  int unit_rows = 1 << 30;
+  std::function<void()> unit_done;
+  // Everything the worker holds, written (ByteWriter) and read back (ByteReader) by the same steps:
+  // where it is, its V-cycle's state, the carried result's length and the log's channels.
+  template <class Archive>
+  void state(Archive& a) {
+    int version = kStateVersion;
+    a.io(version);
+    a.io(at);
+    if (version != kStateVersion || at.cycle < 0 || at.cycle >= cycles() || at.pass < 0 || at.pass > 2 || at.rows < 0 ||
+        at.rows > height_)
+      throw CorruptState("unknown version or position");
+    vcycle.state(a);
+    store_state(a, carry_.get());
+    log_.state(a, c0, n);
   }
 
   // `totals`: the input's sums, every band's (waited for once every input row is pushed). Throws
   // TransportStopped once a queue is closed (the solve was stopped).
   void run(const std::shared_future<multigrid::InputTotals>& totals) {
-    if (!cycles_done(totals)) throw TransportStopped("stopped");
-  }
-
-  util::BoundedQueue<Batch<T>> in, out;
-  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
-  const int c0, n, band;
-  StreamedVCycle<T> vcycle;
-
- private:
-  int cycles() const { return opt_.cycle_cap(); }
-
-  bool cycles_done(const std::shared_future<multigrid::InputTotals>& totals) {
     u_.resize(static_cast<std::size_t>(n) * length_);
     std::vector<double> shift(n);
     Batch<T> result;
-    for (int k = mark_.cycle; k < cycles(); ++k) {
-      const int pass = k == mark_.cycle ? mark_.pass : 0;
+    const CycleMark from = at;  // restored, or the start
+    for (int k = from.cycle; k < cycles(); ++k) {
+      const int pass = k == from.cycle ? from.pass : 0;
       if (pass == 2) continue;  // this cycle's result is stored: on to the next
-      if (pass == 0 && !restriction_pass(k, k == mark_.cycle ? mark_.rows : 0)) return false;
+      if (pass == 0) restriction_pass(k, k == from.cycle ? from.rows : 0);
       const multigrid::InputTotals& sums = totals.get();
       for (int c = 0; c < n; ++c) {
         if (k == 0) {
@@ -144,30 +134,37 @@ class CycleWorker {
           for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
         }
         if (!surely_last) carry_->append(u_);
-        else if (!emit(result, j, u_)) return false;
+        else emit(result, j, u_);
       }
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < n; ++c) {
         log_.cycle(c0 + c, vcycle.final_norm(c), vcycle.probe(c));
         converged = converged && log_.settled(c0 + c, opt_.tolerance);
       }
-      if (surely_last) return true;
+      if (surely_last) return;
       if (converged) {  // the carried result is the answer (every worker sees the same sums)
         carry_->rewind();
         for (int j = 0; j < height_; ++j) {
           carry_->read(u_);
-          if (!emit(result, j, u_)) return false;
+          emit(result, j, u_);
         }
-        return true;
+        return;
       }
       save({k, 2, 0});
     }
-    return true;
   }
 
+  util::BoundedQueue<Batch<T>> in, out;
+  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
+  const int c0, n, band;
+  StreamedVCycle<T> vcycle;
+
+ private:
+  int cycles() const { return opt_.cycle_cap(); }
+
   // Pushes cycle k's rows from `first` on (the first cycle's from the batches in `in`, later ones'
-  // from the previous result); false when stopped.
-  bool restriction_pass(int k, int first) {
+  // from the previous result).
+  void restriction_pass(int k, int first) {
     if (first == 0) {
       vcycle.begin_cycle();
       if (carry_) carry_->rewind();
@@ -183,59 +180,39 @@ class CycleWorker {
       }
       if (next_in == batch.rows) {
         auto b = in.pop();
-        if (!b) return false;
+        if (!b) throw TransportStopped("stopped");
         spent_in.give(batch.emptied());
         batch = std::move(*b);
         next_in = 0;
       }
-      const std::size_t at = static_cast<std::size_t>(next_in) * row;
+      const std::size_t off = static_cast<std::size_t>(next_in) * row;
       const auto pixel_row = [&](const std::vector<T>& v) {
         return v.empty() ? std::span<const T>{}
                          : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
                                               static_cast<std::size_t>(length_)};
       };
-      vcycle.push({batch.u.data() + at, row}, {batch.b.data() + at, row}, pixel_row(batch.w), pixel_row(batch.d));
+      vcycle.push({batch.u.data() + off, row}, {batch.b.data() + off, row}, pixel_row(batch.w), pixel_row(batch.d));
       ++next_in;
-      if ((j + 1) % unit_rows_ == 0 && j + 1 < height_) save({k, 0, j + 1});
+      if ((j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
     }
     save({k, 1, 0});
-    return true;
   }
 
-  // The worker's state at a unit's end into the checkpoint (when there is one).
   void save(CycleMark m) {
-    if (!checkpoint_) return;
-    ByteWriter out;
-    state(out, m);
-    checkpoint_->save(lane_, {out.bytes.begin(), out.bytes.end()}, m.describe(height_));
-    vcycle.saved();  // every band of the plan has saved
+    at = m;
+    if (unit_done) unit_done();
   }
-  // Written (ByteWriter) and read back (ByteReader) by the same steps: where the worker is, its
-  // V-cycle's state, the carried result's length and the log's channels.
-  template <class Archive>
-  void state(Archive& a, CycleMark& mark) {
-    int version = kStateVersion;
-    a.io(version);
-    a.io(mark);
-    if (version != kStateVersion || mark.cycle < 0 || mark.cycle >= cycles() || mark.pass < 0 || mark.pass > 2 ||
-        mark.rows < 0 || mark.rows > height_)
-      throw CorruptState("unknown version or position");
-    vcycle.state(a);
-    store_state(a, carry_.get());
-    log_.state(a, c0, n);
-  }
-  // The kept columns of row j into the result batch, sent when full or last; false when stopped.
-  bool emit(Batch<T>& result, int j, const std::vector<T>& u) {
+  // The kept columns of row j into the result batch, sent when full or last.
+  void emit(Batch<T>& result, int j, const std::vector<T>& u) {
     if (result.rows == 0) result.first = j;
     for (int c = 0; c < n; ++c) {
       const T* p = u.data() + static_cast<std::size_t>(c) * length_ + keep_;
       result.u.insert(result.u.end(), p, p + kept_);
     }
     ++result.rows;
-    if (result.rows < batch_rows(kept_, n) && j + 1 < height_) return true;
-    const bool ok = out.push(std::move(result));
+    if (result.rows < batch_rows(kept_, n) && j + 1 < height_) return;
+    if (!out.push(std::move(result))) throw TransportStopped("stopped");
     result = spent_out.take();
-    return ok;
   }
 
   const SolverOptions& opt_;
@@ -244,11 +221,7 @@ class CycleWorker {
   int length_, height_, keep_, kept_;
   std::unique_ptr<RowStore<T>> carry_;
   std::vector<T> u_;  // a row of every channel
-  // Checkpoints: where to save (none: null), this lane's number; where a resumed run starts.
   static constexpr int kStateVersion = 1;
-  io::Checkpoint* checkpoint_ = nullptr;
-  int lane_ = 0, unit_rows_ = 1 << 30;
-  CycleMark mark_;
 };
 
 // The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of
@@ -279,10 +252,21 @@ class StreamedCheckpoint {
   // (`net`: this rank's first band) the ranks' newest common save is agreed on through band 0.
   void agree(Transport* net) {
     if (!cp_->resuming()) return;
+    const auto intersect = [](const std::vector<long long>& a, const std::vector<long long>& b) {
+      std::vector<long long> out;  // both hold 0
+      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+      return out;
+    };
+    constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
     for (int g = 0; g < groups_; ++g) {
-      std::vector<long long> common = cp_->generations(lane(0, g));
+      std::vector<long long> common = cp_->generations(lane(0, g)), theirs;
       for (int i = 1; i < local_; ++i) common = intersect(common, cp_->generations(lane(i, g)));
-      if (net) common = across_ranks(*net, common);
+      ByteWriter mine;  // every rank's (ranks are every local_-th worker of `net`)
+      mine.io(common);
+      for (Bytes& part : net ? all_gather(*net, kGenerations, std::move(mine.bytes), local_) : std::vector<Bytes>{}) {
+        ByteReader(std::move(part)).io(theirs);
+        common = intersect(common, theirs);
+      }
       for (int i = 0; i < local_; ++i) cp_->choose(lane(i, g), common.back());
     }
   }
@@ -299,30 +283,28 @@ class StreamedCheckpoint {
     const double row_bytes = 2.0 * worker.n * width * sizeof(T);
     const double rows_held = plan.single ? static_cast<double>(worker.vcycle.window_bytes()) / row_bytes
                                          : 2.0 * (4 * plan.phase_groups + 2 * std::max(plan.sweeps, plan.post_sweeps) + 16);
-    const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held));
-    return worker.use_checkpoint(*cp_, lane(i, g), cp_->unit_rows(std::max(16, rows)));
+    const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held)), lane = this->lane(i, g);
+    worker.unit_rows = std::max(1, cp_->unit_rows(std::max(16, rows)));
+    worker.unit_done = [this, &worker, lane] {
+      ByteWriter out;
+      worker.state(out);
+      cp_->save(lane, {out.bytes.begin(), out.bytes.end()}, worker.at.describe(worker.height()));
+      worker.vcycle.saved();  // every band of the plan has saved
+    };
+    const std::optional<std::string> saved = cp_->resuming() ? cp_->load(lane) : std::nullopt;
+    if (!saved) return 0;
+    try {
+      ByteReader in(Bytes(saved->begin(), saved->end()));
+      worker.state(in);
+      in.finish();
+    } catch (const CorruptState& e) {
+      throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp_->dir().string(), cp_->state_name(lane), e.what()));
+    }
+    return worker.at.cycle > 0 || worker.at.pass > 0 ? worker.height() : worker.at.rows;
   }
 
  private:
   int lane(int i, int g) const { return (first_ + i) * groups_ + g; }
-  static std::vector<long long> intersect(const std::vector<long long>& a, const std::vector<long long>& b) {
-    std::vector<long long> out;
-    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-    return out;  // both hold 0
-  }
-  // The generations every rank has (ranks are every local_-th worker of `net`).
-  std::vector<long long> across_ranks(Transport& net, std::vector<long long> mine) const {
-    constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
-    ByteWriter w;
-    w.io(mine);
-    for (Bytes& part : all_gather(net, kGenerations, std::move(w.bytes), local_)) {
-      ByteReader r(std::move(part));
-      std::vector<long long> theirs;
-      r.io(theirs);
-      mine = intersect(mine, theirs);
-    }
-    return mine;
-  }
   std::unique_ptr<io::Checkpoint> cp_;
   int first_, local_, groups_ = 1;
 };

@@ -10,15 +10,15 @@
 namespace gdp::bands {
 namespace {
 
-// A piece of an exchange across the fold: columns [x, x + n) of row r of part k.
+// A piece of an exchange: columns [x, x + n) of row r of part k.
 struct Piece {
   int k, r, x;
   std::size_t n;
 };
 
-// One exchange across the fold on `tag`, of `parts` x `rows` rows: every partner b gets the
-// pieces plan.to[b] (read at from(piece)); the band's own pieces and every partner's, in band
-// order, land at to(piece), copied or (`add`) added.
+// One exchange of column runs on `tag` (across the fold, at a merge, to the gathered level), of
+// `parts` x `rows` rows: every partner b gets the pieces plan.to[b] (read at from(piece)); the
+// band's own pieces and every partner's, in band order, land at to(piece), copied or (`add`) added.
 template <class T, class From, class To>
 void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows, From&& from, To&& to, bool add) {
   const auto each = [&](const ColumnRuns& runs, auto&& f) {
@@ -28,8 +28,10 @@ void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows
   };
   const auto land = [&](const Piece& p, const T* v) {
     T* at = to(p);
-    if (!add) return static_cast<void>(std::copy_n(v, p.n, at));
-    for (std::size_t i = 0; i < p.n; ++i) at[i] += v[i];
+    if (add)
+      for (std::size_t i = 0; i < p.n; ++i) at[i] += v[i];
+    else if (at != v)  // (a band's own part of the gathered level is in place)
+      std::copy_n(v, p.n, at);
   };
   const int me = net.rank();
   for (int b = 0; b < net.size(); ++b) {
@@ -51,21 +53,6 @@ void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows
     un.finish();
   }
 }
-
-// The merged stage's workers: merged band g is this stage's worker 2g.
-class MergedTransport : public Transport {
- public:
-  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
-  int rank() const override { return outer_.rank() / 2; }
-  int size() const override { return bands_; }
-  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
-  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
-  void abort(const std::string& why) override { outer_.abort(why); }
-
- private:
-  Transport& outer_;
-  int bands_;
-};
 
 }  // namespace
 
@@ -102,85 +89,43 @@ void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sum
       [&](const Piece& p) { return part_row(l + 1, p.k, row) + (p.x - corigin); }, true);
 }
 
-std::unique_ptr<Transport> merged_transport(Transport& outer, int bands) {
-  return std::make_unique<MergedTransport>(outer, bands);
-}
-
-// Restriction pass: coarse row `row` of the level below is complete in every band of a group; the
-// group's owner puts its columns together and pushes the row into the merged stage.
+// Restriction pass: coarse row `row` of the level below is complete in every band of a group; its
+// columns go to the group's owner, which pushes the merged band's row into the merged stage (u zero,
+// a correction; the halo's b comes in the merged stage's strips).
 template <class T>
 void StreamedVCycle<T>::hand_off(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  const int tl = layout_.levels, g = layout_.group_of(band_), origin = layout_.merged->origin(0, g);
+  const auto len = static_cast<std::size_t>(layout_.merged->row_length(0, g));
   Level& H = *levels_[tl];
-  // Band m's columns of the row, part by part (b of every channel, w, d).
-  const auto pieces = [&](int m, auto&& f) {
-    const int a = layout_.begin(tl, m);
-    for (int k = 0; k < parts(); ++k) f(k, a, static_cast<std::size_t>(layout_.end(tl, m) - a));
-  };
-  const auto mine = [&](int k, int a) { return part_row(tl, k, row) + (a - H.origin); };
   ++H.finished;
-  if (band_ != owner) {
-    ByteWriter pk;
-    pieces(band_, [&](int k, int a, std::size_t n) { pk.put(mine(k, a), n); });
-    net_.send(owner, kHandOff, std::move(pk.bytes));
-    return;
-  }
-  const BandLayout& M = *layout_.merged;
-  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
-  const int origin = M.origin(0, g);
-  // The merged band's row: u zero (a correction), b, w, d of the group's columns; the halo's b
-  // comes in the merged stage's strips.
-  std::vector<T> u(set_.channels * len, T(0)), in(parts() * len, T(0));
-  const auto merged = [&](int k, int a) { return in.data() + k * len + (a - origin); };
-  pieces(band_, [&](int k, int a, std::size_t n) { std::copy_n(mine(k, a), n, merged(k, a)); });
-  for (int m = owner + 1; m < layout_.group_end(g); ++m) {
-    ByteReader un(net_.receive(m, kHandOff));
-    pieces(m, [&](int k, int a, std::size_t n) { un.get(merged(k, a), n); });
-    un.finish();
-  }
+  std::vector<T> u(merged_ ? set_.channels * len : 0, T(0)), in(merged_ ? parts() * len : 0, T(0));
+  exchange<T>(
+      net_, group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), true), kHandOff, parts(), 1,
+      [&](const Piece& p) { return part_row(tl, p.k, row) + (p.x - H.origin); },
+      [&](const Piece& p) { return in.data() + p.k * len + (p.x - origin); }, false);
   const auto part = [&](int k, bool has) { return has ? std::span<const T>(in.data() + k * len, len) : std::span<const T>(); };
-  merged_->push(u, {in.data(), set_.channels * len}, part(set_.channels, set_.weights), part(parts() - 1, set_.diagonal));
+  if (merged_)
+    merged_->push(u, {in.data(), set_.channels * len}, part(set_.channels, set_.weights), part(parts() - 1, set_.diagonal));
 }
 
-// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (its
-// band's row, halo included, from the group's owner to the others), into this band's ring.
+// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (from the
+// group's owner, each band the columns it stores) into this band's ring.
 template <class T>
 void StreamedVCycle<T>::take_back(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), owner = layout_.group_owner(g);
+  const int tl = layout_.levels, g = layout_.group_of(band_), origin = layout_.merged->origin(0, g);
+  const auto len = static_cast<std::size_t>(layout_.merged->row_length(0, g));
   Level& H = *levels_[tl];
-  const BandLayout& M = *layout_.merged;
-  const std::size_t len = static_cast<std::size_t>(M.row_length(0, g));
-  const int origin = M.origin(0, g);
-  std::vector<T> got(set_.channels * len);
+  const FoldPlan plan = group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), false);
+  std::vector<T> got(merged_ ? set_.channels * len : 0);
   for (; H.arrived <= row; ++H.arrived) {
     const int J = H.arrived;
     if (J - H.ring >= H.needed_from)
       throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
-    if (band_ == owner) {
-      merged_->pull(got);
-      ByteWriter pk;
-      pk.put(got.data(), got.size());
-      for (int m = owner + 1; m < layout_.group_end(g); ++m) net_.send(m, kHandBack, pk.bytes);
-    } else {
-      ByteReader un(net_.receive(owner, kHandBack));
-      un.get(got.data(), got.size());
-      un.finish();
-    }
-    for (int c = 0; c < set_.channels; ++c)
-      std::copy_n(got.data() + c * len + (H.origin - origin), H.len, u_row(tl, c, J));
+    if (merged_) merged_->pull(got);
+    exchange<T>(
+        net_, plan, kHandBack, set_.channels, 1, [&](const Piece& p) { return got.data() + p.k * len + (p.x - origin); },
+        [&](const Piece& p) { return u_row(tl, p.k, J) + (p.x - H.origin); }, false);
   }
-}
-
-// The pieces of the gathered level that `band` contributes: its columns of every row of b (each
-// channel), of w and of d, as (row pointer, count), in one order for sender and receiver.
-template <class T>
-template <class F>
-void StreamedVCycle<T>::tail_parts(int band, F&& f) {
-  const int tl = layout_.levels, th = ops_.levels[base_ + tl].height;
-  const int a = layout_.begin(tl, band);
-  const auto n = static_cast<std::size_t>(layout_.end(tl, band) - a);
-  for (int k = 0; k < parts(); ++k)
-    for (int row = 0; row < th; ++row) f(part_row(tl, k, row) + a, n);
 }
 
 // The level below the bands: every worker's partial sums are added in band order (the same bits
@@ -201,14 +146,9 @@ void StreamedVCycle<T>::run_tail() {
   }
   sum_in_order(net_, kSums, total);
   if (whole) {  // worker 0's own part is in place already
-    ByteWriter mine;
-    if (band_ != 0) tail_parts(band_, [&](const T* row, std::size_t n) { mine.put(row, n); });
-    std::vector<Bytes> parts = gather(net_, kGather, std::move(mine.bytes));
-    for (int b = 1; b < static_cast<int>(parts.size()); ++b) {
-      ByteReader u(std::move(parts[b]));
-      tail_parts(b, [&](T* row, std::size_t n) { u.get(row, n); });
-      u.finish();
-    }
+    const auto at = [&](const Piece& p) { return part_row(banded, p.k, p.r) + p.x; };
+    exchange<T>(net_, group_plan(layout_, banded, band_, 0, layout_.bands, true), kGather, parts(),
+                ops_.levels[base_ + banded].height, at, at, false);
   }
   ByteWriter reply;
   if (band_ == 0) solve_tail(reply);

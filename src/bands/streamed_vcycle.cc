@@ -16,6 +16,28 @@ using multigrid::Window;
 using multigrid::LevelOperator;
 using multigrid::Plane;
 
+namespace {
+template <class... F>
+struct Overloaded : F... {  // one visitor of held()'s parts, a lambda per kind
+  using F::operator()...;
+};
+
+// The merged stage's workers: merged band g is this stage's worker 2g.
+class MergedTransport : public Transport {
+ public:
+  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
+  int rank() const override { return outer_.rank() / 2; }
+  int size() const override { return bands_; }
+  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
+  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
+  void abort(const std::string& why) override { outer_.abort(why); }
+
+ private:
+  Transport& outer_;
+  int bands_;
+};
+}  // namespace
+
 template <class T>
 StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
                           const CycleSettings& settings)
@@ -33,7 +55,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
   if (layout.merged) {
     levels_.push_back(make_level(layout.levels));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
-      merged_net_ = merged_transport(transport, layout.merged->bands);
+      merged_net_ = std::make_unique<MergedTransport>(transport, layout.merged->bands);
       merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
     }
   } else {
@@ -448,49 +470,50 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
   }
 }
 template <class T>
-std::size_t StreamedVCycle<T>::store_bytes() const {
+template <class F>
+void StreamedVCycle<T>::held(F&& f) {
+  for (int* v : {&cycle_, &pulled_}) f(*v);
+  f(prolongation_);
+  for (auto& L : levels_) {
+    for (std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d, &L->fold[0].rows, &L->fold[1].rows}) f(std::span<T>(*ring));
+    for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from}) f(*v);
+    f(L->inputs_stored);
+    f(L->rr);
+    f(L->dots);
+    for (schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()}) f(store);
+  }
+  for (auto* planes : {&tail_u_, &tail_b_})
+    for (Plane<T>& p : *planes) f(std::span<T>(p.data));
+  for (std::vector<T>* v : {&tail_w_.data, &tail_d_.data, &initial_, &initial_fold_[0], &initial_fold_[1]})
+    f(std::span<T>(*v));
+  for (multigrid::CycleProbe& p : probes_) {
+    f(p.dots);
+    f(p.level_norms);
+  }
+  f(initial_rr_);
+  f(final_rr_);
+}
+
+template <class T>
+std::size_t StreamedVCycle<T>::store_bytes() {
   std::size_t n = merged_ ? merged_->store_bytes() : 0;
-  for (const auto& L : levels_)
-    for (const schedule::RowStore<T>* store : L->stores()) n += store ? store->bytes() : 0;
+  held(Overloaded{[&](schedule::RowStore<T>* store) { n += store ? store->bytes() : 0; }, [](auto&&) {}});
   return n;
 }
 
 template <class T>
-std::size_t StreamedVCycle<T>::window_bytes() const {
-  std::size_t n = (initial_.size() + r_.size() + initial_fold_[0].size() + initial_fold_[1].size()) * sizeof(T) +
-                  (merged_ ? merged_->window_bytes() : 0);
-  for (const auto& L : levels_)
-    n += (L->u.size() + L->b.size() + L->w.size() + L->d.size() + L->fold[0].rows.size() + L->fold[1].rows.size()) *
-         sizeof(T);
-  for (const auto& p : tail_u_) n += 2 * p.data.size() * sizeof(T);
-  return n + (tail_w_.data.size() + tail_d_.data.size()) * sizeof(T);
+std::size_t StreamedVCycle<T>::window_bytes() {
+  std::size_t n = r_.size() * sizeof(T) + (merged_ ? merged_->window_bytes() : 0);
+  held(Overloaded{[&](std::span<T> v) { n += v.size_bytes(); }, [](auto&&) {}});
+  return n;
 }
 
 // Written (ByteWriter) and read back (ByteReader) by the same steps.
 template <class T>
 template <class Archive>
 void StreamedVCycle<T>::state(Archive& a) {
-  for (int* v : {&cycle_, &pulled_}) a.io(*v);
-  a.io(prolongation_);
-  for (auto& L : levels_) {
-    for (std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d, &L->fold[0].rows, &L->fold[1].rows}) a.io_sized(*ring);
-    for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from})
-      a.io(*v);
-    a.io(L->inputs_stored);
-    a.io(L->rr);
-    a.io(L->dots);
-    for (schedule::RowStore<T>* store : L->stores()) schedule::store_state(a, store);
-  }
-  for (auto* planes : {&tail_u_, &tail_b_})
-    for (multigrid::Plane<T>& p : *planes) a.io_sized(p.data);
-  for (std::vector<T>* v : {&tail_w_.data, &tail_d_.data, &initial_, &initial_fold_[0], &initial_fold_[1]})
-    a.io_sized(*v);
-  for (multigrid::CycleProbe& p : probes_) {
-    a.io(p.dots);
-    a.io(p.level_norms);
-  }
-  a.io(initial_rr_);
-  a.io(final_rr_);
+  held(Overloaded{[&](std::span<T> v) { a.io_sized(v); },
+                  [&](schedule::RowStore<T>* store) { schedule::store_state(a, store); }, [&](auto& v) { a.io(v); }});
   bool merged = static_cast<bool>(merged_);
   a.io(merged);
   if (merged != static_cast<bool>(merged_)) throw schedule::CorruptState("the merged stage differs");
@@ -506,7 +529,6 @@ template void StreamedVCycle<float>::state(schedule::ByteWriter&);
 template void StreamedVCycle<float>::state(schedule::ByteReader&);
 template void StreamedVCycle<double>::state(schedule::ByteWriter&);
 template void StreamedVCycle<double>::state(schedule::ByteReader&);
-
 
 template class StreamedVCycle<float>;
 template class StreamedVCycle<double>;

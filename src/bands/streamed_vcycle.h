@@ -26,9 +26,6 @@ constexpr int kGather = 1000, kSums = 1001, kFinal = 1002, kFoldRows = 1100, kFo
 // Every stage's tags (and solve_streamed' 2000) are below this; a merged stage's are moved past it.
 constexpr int kStageTags = 4000;
 
-// The merged stage's workers over `outer`'s (streamed_exchange.cc): merged band g is worker 2g.
-std::unique_ptr<Transport> merged_transport(Transport& outer, int bands);
-
 // Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
 constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
 inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
@@ -97,16 +94,15 @@ class StreamedVCycle {
   const multigrid::CycleProbe& probe(int c) const { return probes_[c]; }
   double initial_norm(int c) const { return std::sqrt(initial_rr_[c]); }
   double final_norm(int c) const { return std::sqrt(final_rr_[c]); }
-  std::size_t store_bytes() const;
-  std::size_t window_bytes() const;
+  std::size_t store_bytes();
+  std::size_t window_bytes();
   const BandLayout& layout() const { return layout_; }
 
   // Checkpoints (stores kept in files: StorePolicy::keep_dir), between two pushes or between
-  // passes: saving makes the row stores durable and writes this worker's whole state (rings,
-  // counters, the whole level below, probes, the stores' lengths; a merged stage's too); loading
-  // puts it back and truncates the stores to those lengths. CorruptState when the blob does not
-  // fit this cycle's shape. Every band of a plan saves at the same row (docs/resume.md).
-  // (save: a ByteWriter, load: a ByteReader).
+  // passes: saving makes the row stores durable and writes what the worker holds (held(): a merged
+  // stage's too); loading puts it back and truncates the stores to their saved lengths.
+  // CorruptState when the blob does not fit this cycle's shape. Every band of a plan saves at the
+  // same row (docs/resume.md). (save: a ByteWriter, load: a ByteReader).
   template <class Archive>
   void state(Archive& archive);
   // After every band's save: returns once all bands of the plan have saved (so that no band is
@@ -128,9 +124,6 @@ class StreamedVCycle {
     int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
     std::vector<int> last_touch;
     std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
-    std::array<schedule::RowStore<T>*, 4> stores() const {
-      return {u_store.get(), b_store.get(), w_store.get(), d_store.get()};
-    }
     bool inputs_stored = false;
     std::vector<double> rr, dots;
     // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the
@@ -141,6 +134,10 @@ class StreamedVCycle {
     };
     std::array<Fold, 2> fold;
   };
+  // Everything this stage holds, in the order a checkpoint saves it: f gets every buffer
+  // (std::span<T>), counter and flag, vector of sums and row store (RowStore<T>*, maybe null).
+  template <class F>
+  void held(F&& f);
   std::unique_ptr<Level> make_level(int l);
   void allocate_ring(Level& L, int ring);
   void advance(int l);
@@ -156,9 +153,6 @@ class StreamedVCycle {
   void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
   void complete_coarse_row(int l);
-  // The pieces of the gathered level band `band` contributes, as (row pointer, count).
-  template <class F>
-  void tail_parts(int band, F&& f);
   void run_tail();
   void solve_tail(ByteWriter& reply);
   // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's

@@ -52,7 +52,7 @@ void gather_overlaps(std::vector<signed char>& overlaps) {
   for (bands::Bytes& bytes : bands::all_gather(hub.endpoint(hub.first()), kOverlaps, std::move(mine.bytes))) {
     bands::ByteReader in(std::move(bytes));
     part.resize(overlaps.size());
-    in.io_sized(part);
+    in.io_sized(std::span(part));
     in.finish();
     for (std::size_t k = 0; k < overlaps.size(); ++k) overlaps[k] = std::max(overlaps[k], part[k]);
   }

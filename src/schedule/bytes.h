@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
@@ -18,8 +19,8 @@ class CorruptState : public std::runtime_error {
 };
 
 // One function template given a ByteWriter or a ByteReader writes a state and reads it back:
-// io(v) appends v / reads it back (a vector with its length); io_sized(v) reads a vector that
-// must keep its present size (a ring or plane of a known shape); put / get: n values, no length.
+// io(v) appends v / reads it back (a vector with its length); io_sized(v) a buffer of a known
+// size (a ring or plane), written as io() writes a vector; put / get: n values, no length.
 class ByteWriter {
  public:
   template <class V>
@@ -39,8 +40,9 @@ class ByteWriter {
     put(v.data(), v.size());
   }
   template <class V>
-  void io_sized(const std::vector<V>& v) {
-    io(v);
+  void io_sized(std::span<V> v) {
+    io(static_cast<std::uint64_t>(v.size()));
+    put(v.data(), v.size());
   }
   Bytes bytes;
 };
@@ -68,10 +70,11 @@ class ByteReader {
     get(v.data(), n);
   }
   template <class V>
-  void io_sized(std::vector<V>& v) {
-    const std::size_t want = v.size();
-    io(v);
-    if (v.size() != want) throw CorruptState("a buffer has the wrong size");
+  void io_sized(std::span<V> v) {
+    std::uint64_t n = 0;
+    io(n);
+    if (n != v.size()) throw CorruptState("a buffer has the wrong size");
+    get(v.data(), n);
   }
   bool at_end() const { return at_ == bytes_.size(); }
   void finish() const {

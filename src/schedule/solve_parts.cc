@@ -83,14 +83,13 @@ void ResidualLog::state(Archive& a, int c0, int n) {
     a.io(rel_[c]);
     auto count = static_cast<std::uint64_t>(lines_[c].size());
     a.io(count);
-    std::vector<std::string> lines;
-    for (std::uint64_t k = 0; k < count; ++k) {
-      std::vector<char> chars;
-      if (k < lines_[c].size()) chars.assign(lines_[c][k].begin(), lines_[c][k].end());
+    if (count > (1u << 20)) throw CorruptState("too many log lines");
+    lines_[c].resize(count);
+    for (std::string& line : lines_[c]) {
+      std::vector<char> chars(line.begin(), line.end());
       a.io(chars);
-      lines.emplace_back(chars.begin(), chars.end());
+      line.assign(chars.begin(), chars.end());
     }
-    lines_[c] = std::move(lines);
   }
 }
 template void ResidualLog::state(ByteWriter&, int, int);
