@@ -8,6 +8,22 @@
 #include "multigrid/plane_ops.h"
 
 namespace gdp::multigrid {
+namespace {
+
+// Asks for row j of p (when it exists) to be brought into the cache ahead of its first use, to be
+// written (`write`) or only read.
+template <class T>
+void prefetch_row(const Plane<T>& p, int j, bool write) {
+  if (j < 0 || j >= p.height) return;
+  const char* c = reinterpret_cast<const char*>(p.row(j));
+  const std::size_t bytes = static_cast<std::size_t>(p.width) * sizeof(T);
+  if (write)
+    for (std::size_t i = 0; i < bytes; i += 64) __builtin_prefetch(c + i, 1, 3);
+  else
+    for (std::size_t i = 0; i < bytes; i += 64) __builtin_prefetch(c + i, 0, 3);
+}
+
+}  // namespace
 
 template <class T>
 Operators<T>::Operators(const Hierarchy& h)
@@ -114,6 +130,9 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
+    prefetch_row(u, t + 3, true);
+    prefetch_row(b, t + 1, false);
+    if (t % 2 == 0) prefetch_row(coarse_b, (t - 2 * sweeps_) / 2 + 3, true);
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
       if (j >= 0 && j < op.height)
         relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
@@ -139,6 +158,9 @@ void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
   for (int t = 0; t < op.height + 2 * post_sweeps_; ++t) {
+    prefetch_row(u, t + 1, true);
+    prefetch_row(b, t - 1, false);
+    if (t % 2 == 0) prefetch_row(coarse, t / 2 + 2, false);
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
