@@ -114,6 +114,8 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
 // bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
 // the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
+// The rows the next step touches first (u, b, the coarser b) are prefetched a step ahead: large
+// levels' planes come from memory (docs/multigrid.md, "Prefetching the next step's rows").
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
@@ -151,7 +153,8 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
 }
 
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
-// at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
+// at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above);
+// u, b and the correction's rows prefetched a step ahead, as in descend.
 template <class T>
 void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse) {
   const LevelOperator<T>& op = ops_.levels[l];
