@@ -8,22 +8,6 @@
 #include "multigrid/plane_ops.h"
 
 namespace gdp::multigrid {
-namespace {
-
-// Asks for row j of p (when it exists) to be brought into the cache ahead of its first use, to be
-// written (`write`) or only read.
-template <class T>
-void prefetch_row(const Plane<T>& p, int j, bool write) {
-  if (j < 0 || j >= p.height) return;
-  const char* c = reinterpret_cast<const char*>(p.row(j));
-  const std::size_t bytes = static_cast<std::size_t>(p.width) * sizeof(T);
-  if (write)
-    for (std::size_t i = 0; i < bytes; i += 64) __builtin_prefetch(c + i, 1, 3);
-  else
-    for (std::size_t i = 0; i < bytes; i += 64) __builtin_prefetch(c + i, 0, 3);
-}
-
-}  // namespace
 
 template <class T>
 Operators<T>::Operators(const Hierarchy& h)
@@ -114,8 +98,6 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
 // bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
 // the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
-// The rows the next step touches first (u, b, the coarser b) are prefetched a step ahead: large
-// levels' planes come from memory (docs/multigrid.md, "Prefetching the next step's rows").
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
@@ -132,9 +114,6 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
-    prefetch_row(u, t + 3, true);
-    prefetch_row(b, t + 1, false);
-    if (t % 2 == 0) prefetch_row(coarse_b, (t - 2 * sweeps_) / 2 + 3, true);
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
       if (j >= 0 && j < op.height)
         relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
@@ -153,17 +132,13 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
 }
 
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
-// at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above);
-// u, b and the correction's rows prefetched a step ahead, as in descend.
+// at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
 template <class T>
 void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
   for (int t = 0; t < op.height + 2 * post_sweeps_; ++t) {
-    prefetch_row(u, t + 1, true);
-    prefetch_row(b, t - 1, false);
-    if (t % 2 == 0) prefetch_row(coarse, t / 2 + 2, false);
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
