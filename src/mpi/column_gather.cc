@@ -1,4 +1,5 @@
 // Under mpirun: the ranks' columns of every result row put together on rank 0, which writes the file.
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
