@@ -2,12 +2,14 @@
 # The same-bits matrix: two gdp builds, A (before) and B (after), on small stitches of the blue-marble
 # photo (planar, cylindrical, PQ via --sphere; 1-8 bands; in-core, double, --memory 0, 3 V-cycles;
 # merged stages of 4, 7 and 8 bands; checkpoints killed after 3, 17 and 60 saves by one build and
-# resumed by the other; mpirun -np 2 with and without --bands). Prints "same" or "DIFF" a case.
+# resumed by the other; mpirun -np 2 with and without --bands; --tolerance; gdp sharpen and gdp blend of
+# six layers plain and under mpirun -np 2, whose rows go through the column gather). Prints "same" or
+# "DIFF" a case.
 #
 #   bench/same_bits.sh OLD NEW      OLD, NEW: folders holding copies of gdp and libgdp.so* (so that
 #                                   a rebuild cannot change them mid-run: mkdir -p DIR && cp
 #                                   build/tools/gdp/gdp build/lib/libgdp.so* DIR/)
-# MAKE_COMPOSITE: the generator to use where build/ has none. Inputs and outputs stay in
+# MAKE_COMPOSITE, BLEND_LAYERS: the generators to use where build/ has none. Inputs and outputs stay in
 # ${GDP_BENCH_DIR:-/tmp/gdp-same-bits} (about 200 MB; remove it after).
 set -u
 A=$1 B=$2
@@ -89,3 +91,24 @@ mp mpi-cyl-b2 cyl --bands 2 --vcycles 2
 mp mpi-sphere sphere
 mp mpi-merge narrow --bands 4 --incore-bytes 256
 same "$W/mpi-planar.B.tif" "$W/planar-b2.B.tif" "mpirun -np 2 vs --bands 2 (B)"
+run planar-tolerance planar --tolerance 1e-4
+blend_layers=${BLEND_LAYERS:-$here/build/bench/blend_layers}
+[[ -f $W/layers/layer_05.tif ]] || { mkdir -p "$W/layers" && "$blend_layers" cut "$photo" "$W/layers" --size 1024x640 --grid 3x2 > /dev/null; }
+cmd() {  # NAME NP COMMAND [ARGS]: both builds, under mpirun -np NP when NP > 1, then cmp
+  local name=$1 np=$2 s pre=()
+  shift 2
+  ((np == 1)) || pre=(mpirun --oversubscribe --bind-to none -np "$np" -x LD_LIBRARY_PATH)
+  for s in A B; do
+    LD_LIBRARY_PATH=${!s} "${pre[@]}" "${!s}/gdp" "$@" -q --temp "$W/tmp" -o "$W/$name.$s.tif" 2> "$W/$name.$s.err" ||
+      echo "$s failed $name: $(tail -1 "$W/$name.$s.err")"
+  done
+  same "$W/$name.A.tif" "$W/$name.B.tif" "$name: np $np $*"
+}
+layers=("$W"/layers/layer_0{0..5}.tif)
+for np in 1 2; do
+  cmd sharpen-np$np $np sharpen "$W/c.tif" --depth float
+  cmd blend-np$np $np blend "${layers[@]}"
+done
+cmd sharpen-np2-b2 2 sharpen "$W/c.tif" --depth float --bands 2
+cmd blend-np2-b2 2 blend "${layers[@]}" --bands 2
+cmd blend-np2-graphcut 2 blend "${layers[@]}" --seams graphcut

@@ -186,15 +186,16 @@ class SlotCheck final : public GuidanceSource {
 // every row in order.
 TEST(InputRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
   SlotCheck source;
-  schedule::InputRing ring(source, {{0, 10}, {10, 30}, {30, 64}});
+  schedule::InputRing ring(source, 3);
+  const int edges[] = {0, 10, 30, 64};  // reader r's columns: [edges[r], edges[r + 1])
   std::vector<int> wrong(3, 0);
   schedule::run_workers(4, [&](int k) {
     if (k == 0) return ring.decode_all();
     GuidanceRow row;
     row.counted.assign(64, 1);
     for (int j = 0; j < source.height(); ++j) {
-      ring.read(k - 1, j, row);
-      wrong[k - 1] += row.counted[k == 1 ? 0 : k == 2 ? 10 : 30] == 0;
+      ring.read(k - 1, j, row, edges[k - 1], edges[k]);
+      wrong[k - 1] += row.counted[edges[k - 1]] == 0;
     }
     ring.finished(k - 1);
   });

@@ -1,13 +1,16 @@
 // MPI point-to-point for band workers on different ranks; workers of one rank share the ThreadHub's mailboxes.
 #include "bands/mpi_transport.h"
 
+#include <exception>
+
 #include "gdp/mpi_run.h"
 #include "mpi/ranks.h"
 #include "mpi/wait.h"
 
 namespace gdp::bands {
 
-MpiHub::MpiHub(int local) : ThreadHub(local, MpiRun::rank() * local, MpiRun::size() * local) {
+MpiHub::MpiHub(int local, std::size_t in_flight)
+    : ThreadHub(local, MpiRun::rank() * local, MpiRun::size() * local), in_flight_(in_flight) {
   MPI_Request request;  // a rank that comes early waits without holding a core
   MPI_Comm_idup(MPI_COMM_WORLD, &comm_, &request);
   mpi::wait_request(request);
@@ -16,7 +19,10 @@ MpiHub::MpiHub(int local) : ThreadHub(local, MpiRun::rank() * local, MpiRun::siz
 MpiHub::~MpiHub() {
   {
     const std::lock_guard<std::mutex> lock(sending_);
-    for (auto& p : sends_) mpi::wait_request(p.request);
+    const bool failed = std::uncaught_exceptions() > 0;  // MPI_Abort follows: not waited for
+    for (auto& p : sends_)
+      if (failed) MPI_Request_free(&p.request);
+      else mpi::wait_request(p.request);
     sends_.clear();
   }
   MPI_Comm_free(&comm_);
@@ -38,6 +44,9 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
   p.data = std::move(data);
   MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, to / local_, mpi_tag(tag, from, to), comm_,
             &p.request);
+  if (sends_.size() <= in_flight_) return;
+  mpi::wait_request(sends_.front().request);
+  sends_.pop_front();
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {

@@ -185,24 +185,19 @@ struct InputPass {
 template <class T>
 InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const BandLayout& layout,
                              const Team& team) {
-  const int w = source.width(), count = source.splits() && !layout.folded ? team.local : 1;
-  InputPass<T> pass;
-  std::vector<InputWindow> windows;
+  const int count = source.splits() && !layout.folded ? team.local : 1;
+  InputPass<T> pass{std::make_unique<schedule::InputRing>(source, count), {}};
   for (int l = 0; l < count; ++l) {
-    pass.readers.push_back({l * team.local / count, (l + 1) * team.local / count, nullptr});
-    const Reader<T>& r = pass.readers[l];
-    windows.push_back(input_window(layout, team.first + r.first, team.first + r.last - 1, w));
-  }
-  std::vector<std::pair<int, int>> guidance;
-  for (const InputWindow& window : windows) guidance.push_back(window.guidance);
-  pass.ring = std::make_unique<schedule::InputRing>(source, guidance);
-  for (int l = 0; l < count; ++l) {
+    const int first = team.first + l * team.local / count, last = team.first + (l + 1) * team.local / count;
+    const InputWindow window = input_window(layout, first, last - 1, source.width());
     std::vector<std::pair<int, int>> own;
-    for (int i = team.first + pass.readers[l].first; i < team.first + pass.readers[l].last; ++i)
-      own.emplace_back(layout.begin(0, i), layout.end(0, i));
-    pass.readers[l].input = std::make_unique<multigrid::InputRows<T>>(
-        source, problem.hierarchy, own, windows[l].rows,
-        [ring = pass.ring.get(), l](int j, GuidanceRow& row) { ring->read(l, j, row); });
+    for (int i = first; i < last; ++i) own.emplace_back(layout.begin(0, i), layout.end(0, i));
+    pass.readers.push_back({first - team.first, last - team.first,
+                            std::make_unique<multigrid::InputRows<T>>(
+                                source, problem.hierarchy, own, window.rows,
+                                [ring = pass.ring.get(), l, g = window.guidance](int j, GuidanceRow& row) {
+                                  ring->read(l, j, row, g.first, g.second);
+                                })});
   }
   return pass;
 }

@@ -1,29 +1,26 @@
 // Under mpirun: the ranks' columns of every result row put together on rank 0, which writes the file.
-#include <mpi.h>
-
+#include <algorithm>
 #include <cstring>
-#include <deque>
 #include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "mpi/wait.h"
+#include "bands/mpi_transport.h"
 #include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
 
 namespace gdp {
 namespace {
 
-// Messages go through MPI_COMM_WORLD with their own tag (the band transport has a communicator
-// of its own, the collective check uses no tags).
-constexpr int kTag = 7001;
+// The messages' tag on the gather's own hub (bands::MpiHub, a communicator of its own).
+constexpr int kTag = 1;
 // Rows per message: about 1 MiB of floats, and at most 16 rows. Rank 0 waits for a message only
 // when it needs its first row, so a message must never hold rows that the sender can only solve
 // once rank 0's workers, blocked behind rank 0's writing, have gone further.
 constexpr std::size_t kBatchSamples = std::size_t{1} << 18;
 constexpr int kBatchRows = 16;
-constexpr std::size_t kInFlight = 4;                         // sends not yet completed, per rank
+constexpr std::size_t kInFlight = 4;  // sends not yet completed, per rank
 
 // A message: rows [first, first + rows) of columns [begin, end), channel-major per row.
 struct Header {
@@ -37,19 +34,17 @@ class ColumnGather final : public RowWriter {
         from_(static_cast<std::size_t>(MpiRun::size())) {
     if (rank_ == 0 && !open_file_) throw std::logic_error("ColumnGather: rank 0 needs the output");
   }
-  ~ColumnGather() override {
-    for (auto& s : sending_) MPI_Request_free(&s.request);  // a failed run: MPI_Abort ends it anyway
-  }
 
+  // Every rank agreed to solve and comes here: rank 0 opens the output now, every rank the hub.
   void set_columns(int begin, int end) override {
-    file();  // every rank agreed to solve: rank 0 opens the output now
+    file();
     begin_ = begin;
     end_ = end;
-    split_ = true;
+    hub_ = std::make_unique<bands::MpiHub>(1, kInFlight);
   }
 
   void write_row(int y, std::span<const float> row) override {
-    if (!split_) {  // every rank has the whole row
+    if (!hub_) {  // every rank has the whole row
       if (rank_ == 0) file().write_row(y, row);
       return;
     }
@@ -61,14 +56,10 @@ class ColumnGather final : public RowWriter {
 
   void commit() override {
     if (rank_ == 0) return file().commit();
-    while (!sending_.empty()) wait_oldest();
+    hub_.reset();  // waits for this rank's sends
   }
 
  private:
-  struct Sending {
-    std::vector<unsigned char> bytes;
-    MPI_Request request = MPI_REQUEST_NULL;
-  };
   struct Received {
     Header h;
     std::vector<unsigned char> bytes;  // the message: the header, then the samples
@@ -79,7 +70,8 @@ class ColumnGather final : public RowWriter {
     const std::size_t row_bytes = static_cast<std::size_t>(end_ - begin_) * sizeof(float);
     if (batch_.empty()) {
       first_ = y;
-      batch_.swap(spare_);  // the bytes of the last completed send: no allocation per message
+      batch_.reserve(sizeof(Header) + std::min(kBatchSamples * sizeof(float) + channels_ * row_bytes,
+                                               kBatchRows * channels_ * row_bytes));
       batch_.resize(sizeof(Header));
     }
     for (int c = 0; c < channels_; ++c) {
@@ -90,12 +82,8 @@ class ColumnGather final : public RowWriter {
     if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
     const Header h{first_, y + 1 - first_, begin_, end_};
     std::memcpy(batch_.data(), &h, sizeof h);
-    Sending s;
-    s.bytes.swap(batch_);
-    sending_.push_back(std::move(s));
-    MPI_Isend(sending_.back().bytes.data(), static_cast<int>(sending_.back().bytes.size()), MPI_BYTE, 0, kTag,
-              MPI_COMM_WORLD, &sending_.back().request);
-    if (sending_.size() > kInFlight) wait_oldest();
+    hub_->endpoint(rank_).send(0, kTag, std::move(batch_));
+    batch_.clear();
   }
 
   // Rank 0's output, opened at the first need.
@@ -104,18 +92,11 @@ class ColumnGather final : public RowWriter {
     return *file_;
   }
 
-  void wait_oldest() {
-    mpi::wait_request(sending_.front().request);
-    spare_.swap(sending_.front().bytes);
-    spare_.clear();
-    sending_.pop_front();
-  }
-
   // Rank r's columns of row y into row_, receiving its next message when needed.
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
-      mpi::receive_message(r, kTag, MPI_COMM_WORLD, m.bytes);  // into the last message's bytes
+      m.bytes = hub_->endpoint(0).receive(r, kTag);
       const std::vector<unsigned char>& buffer = m.bytes;
       if (buffer.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
       std::memcpy(&m.h, buffer.data(), sizeof(Header));
@@ -135,11 +116,10 @@ class ColumnGather final : public RowWriter {
   MpiRun::OpenFile open_file_;
   std::unique_ptr<RowWriter> file_;
   int width_, height_, channels_, rank_;
-  bool split_ = false;
   int begin_ = 0, end_ = 0, first_ = 0;
-  std::vector<unsigned char> batch_, spare_;  // the message being filled, the bytes of a sent one
+  std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
+  std::vector<unsigned char> batch_;    // the message being filled
   std::vector<float> row_;
-  std::deque<Sending> sending_;
   std::vector<Received> from_;
 };
 

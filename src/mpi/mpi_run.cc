@@ -6,9 +6,13 @@
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "bands/mpi_transport.h"
+#include "bands/transport.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
 #include "mpi/ranks.h"
@@ -34,48 +38,30 @@ void abort_ranks(const std::string& why) {
   std::abort();  // MPI_Abort does not return
 }
 
-namespace {
-
-// MPI_Allreduce and MPI_Bcast on MPI_COMM_WORLD, waited for without spinning (the ranks may come
-// to them seconds apart).
-void all_reduce(const void* in, void* out, int n, MPI_Datatype type, MPI_Op op) {
-  MPI_Request request;
-  MPI_Iallreduce(in, out, n, type, op, MPI_COMM_WORLD, &request);
-  wait_request(request);
-}
-void broadcast(void* data, int n, MPI_Datatype type, int root) {
-  MPI_Request request;
-  MPI_Ibcast(data, n, type, root, MPI_COMM_WORLD, &request);
-  wait_request(request);
-}
-
-}  // namespace
-
 void agree_before_solving(const std::string& error, const std::vector<long long>& fingerprint) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  const int mine = error.empty() ? ranks : rank;
-  int first_bad = ranks;
-  all_reduce(&mine, &first_bad, 1, MPI_INT, MPI_MIN);
-  std::vector<long long> low(fingerprint.size()), high(fingerprint.size());
-  const int n = static_cast<int>(fingerprint.size());
-  all_reduce(fingerprint.data(), low.data(), n, MPI_LONG_LONG, MPI_MIN);
-  all_reduce(fingerprint.data(), high.data(), n, MPI_LONG_LONG, MPI_MAX);
-  if (first_bad < ranks) {
-    int length = static_cast<int>(error.size());
-    broadcast(&length, 1, MPI_INT, first_bad);
-    std::string text = error;
-    text.resize(static_cast<std::size_t>(length));
-    broadcast(text.data(), length, MPI_CHAR, first_bad);
-    together = true;
-    throw UsageError(fmt::format("rank {}: {}", first_bad, text));
+  std::vector<schedule::Bytes> all;
+  {  // every rank's error and fingerprint on every rank (the hub waits for its sends before anyone throws)
+    bands::MpiHub hub(1);
+    schedule::ByteWriter mine;
+    mine.io(std::vector<char>(error.begin(), error.end()));
+    mine.io(fingerprint);
+    all = bands::all_gather(hub.endpoint(hub.first()), /*tag*/ 1, std::move(mine.bytes));
   }
-  if (low != high) {
-    together = true;
+  bool same = true;
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    schedule::ByteReader in(std::move(all[r]));
+    std::vector<char> text;
+    std::vector<long long> print;
+    in.io(text);
+    in.io(print);
+    together = !text.empty();  // the lowest failing rank's error, else whether any fingerprint differs
+    if (together) throw UsageError(fmt::format("rank {}: {}", r, std::string(text.begin(), text.end())));
+    same = same && print == fingerprint;
+  }
+  together = !same;
+  if (together)
     throw UsageError("the ranks disagree on the image or the solver options: every rank must be given the same "
                      "command");
-  }
 }
 
 }  // namespace mpi

@@ -8,16 +8,15 @@
 
 namespace gdp::schedule {
 
-InputRing::InputRing(GuidanceSource& source, std::vector<Range> windows, int slots)
-    : source_(source), split_(source.splits()), slots_(slots), height_(source.height()), windows_(std::move(windows)),
-      released_(windows_.size(), 0) {
+InputRing::InputRing(GuidanceSource& source, int readers, int slots)
+    : source_(source), split_(source.splits()), slots_(slots), height_(source.height()), released_(readers, 0) {
   if (split_) source.set_slots(slots);
 }
 
-void InputRing::read(int reader, int j, GuidanceRow& out) {
+void InputRing::read(int reader, int j, GuidanceRow& out, int begin, int end) {
   if (!split_) return source_.read_row(j, out);
   wait_decoded(std::min(j + 1, height_ - 1));
-  source_.compute(j, out, windows_[reader].first, windows_[reader].second);
+  source_.compute(j, out, begin, end);
   release(reader, j + 1);
 }
 

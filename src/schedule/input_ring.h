@@ -4,26 +4,23 @@
 #include <climits>
 #include <condition_variable>
 #include <mutex>
-#include <utility>
 #include <vector>
 
 #include "gdp/guidance.h"
 
 namespace gdp::schedule {
 
-// A source's decoded rows (GuidanceSource::splits), shared by one decoding thread and readers on
-// threads of their own, reader r computing columns windows[r] of every row (read): row y is
+// A source's decoded rows (GuidanceSource::splits), shared by one decoding thread and `readers`
+// readers on threads of their own, each computing its columns of every row (read): row y is
 // decoded into slot y % slots once every reader is done with row y - slots. A source that does not
 // split is read whole by its one reader (read_row), and decode_all only waits for it.
 class InputRing {
  public:
-  using Range = std::pair<int, int>;  // columns [first, second)
-
-  InputRing(GuidanceSource& source, std::vector<Range> windows, int slots = 16);  // slots > 8
+  InputRing(GuidanceSource& source, int readers, int slots = 16);  // slots > 8
   // The decoding thread: every row, in order; then waits until every reader is finished.
   void decode_all();
-  // Reader r: row j (rows in order), as GuidanceSource::read_row, its window's columns filled.
-  void read(int reader, int j, GuidanceRow& out);
+  // Reader r: row j (rows in order), as GuidanceSource::read_row, columns [begin, end) filled.
+  void read(int reader, int j, GuidanceRow& out, int begin, int end);
   // Reader r has every row it needs.
   void finished(int reader);
   // Wakes every thread waiting here; they throw Stopped.
@@ -36,7 +33,6 @@ class InputRing {
   GuidanceSource& source_;
   const bool split_;
   const int slots_, height_;
-  const std::vector<Range> windows_;
   static constexpr int kBatch = 4;  // slots_ > 2 * kBatch
   std::mutex mutex_;
   std::condition_variable readers_, decoder_;

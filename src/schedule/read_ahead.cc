@@ -32,40 +32,26 @@ void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chun
     if (!c) return;
     c->size = std::min(chunk, end - at);
     c->bytes.resize(c->size);
-    for (std::size_t got = 0; got < c->size;) {
+    for (std::size_t got = 0; got < c->size && c->error.empty();) {
       const ssize_t k = ::pread(fd, c->bytes.data() + got, c->size - got, static_cast<off_t>(at + got));
-      if (k < 0 && errno == EINTR) continue;
-      if (k <= 0) {
+      if (k > 0) got += static_cast<std::size_t>(k);
+      else if (k == 0 || errno != EINTR)
         c->error = k < 0 ? std::generic_category().message(errno) : "file is shorter than written";
-        full_.push(std::move(*c));
-        return;
-      }
-      got += static_cast<std::size_t>(k);
     }
     at += c->size;
-    drop.read(fd, at);
+    if (!c->error.empty()) at = end;  // the failed chunk is the last
+    else drop.read(fd, at);
     if (!full_.push(std::move(*c))) return;
   }
   full_.finish();
 }
 
 std::span<const unsigned char> ReadAhead::next() {
-  if (done_) return {};
-  if (holding_) free_.push(std::move(held_));
-  holding_ = false;
-  std::optional<Chunk> c = full_.pop();
-  if (!c) {
-    done_ = true;
-    held_ = Chunk{};
-    return {};
-  }
-  held_ = std::move(*c);
-  holding_ = true;
-  if (!held_.error.empty()) {
-    done_ = true;
-    throw OutputError(fmt::format("{}: cannot read back: {}", where_, held_.error));
-  }
-  return {held_.bytes.data(), held_.size};
+  if (held_) free_.push(std::move(*held_));
+  held_ = full_.pop();
+  if (!held_) return {};
+  if (!held_->error.empty()) throw OutputError(fmt::format("{}: cannot read back: {}", where_, held_->error));
+  return {held_->bytes.data(), held_->size};
 }
 
 }  // namespace gdp::schedule

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -36,8 +37,7 @@ class ReadAhead {
 
   std::string where_;
   util::BoundedQueue<Chunk> free_{3}, full_{3};
-  Chunk held_;  // the chunk next() handed out last
-  bool holding_ = false, done_ = false;
+  std::optional<Chunk> held_;  // the chunk next() handed out last
   std::thread thread_;
 };
 

@@ -73,21 +73,18 @@ void ScratchMemory::prepare(std::size_t bytes) {
 
 ScratchMemory::~ScratchMemory() { free(); }
 
-ScratchMemory::ScratchMemory(ScratchMemory&& other) noexcept
-    : budget_(std::exchange(other.budget_, nullptr)),
-      data_(std::exchange(other.data_, nullptr)),
-      size_(std::exchange(other.size_, 0)),
-      prepared_(std::exchange(other.prepared_, 0)) {}
+ScratchMemory::ScratchMemory(ScratchMemory&& other) noexcept { swap(other); }
 
 ScratchMemory& ScratchMemory::operator=(ScratchMemory&& other) noexcept {
-  if (this != &other) {
-    free();
-    budget_ = std::exchange(other.budget_, nullptr);
-    data_ = std::exchange(other.data_, nullptr);
-    size_ = std::exchange(other.size_, 0);
-    prepared_ = std::exchange(other.prepared_, 0);
-  }
+  ScratchMemory(std::move(other)).swap(*this);  // this one's old memory goes with the temporary
   return *this;
+}
+
+void ScratchMemory::swap(ScratchMemory& other) noexcept {
+  std::swap(budget_, other.budget_);
+  std::swap(data_, other.data_);
+  std::swap(size_, other.size_);
+  std::swap(prepared_, other.prepared_);
 }
 
 void ScratchMemory::free() {

@@ -58,6 +58,7 @@ class ScratchMemory {
 
  private:
   void free();
+  void swap(ScratchMemory& other) noexcept;
   ScratchBudget* budget_ = nullptr;
   unsigned char* data_ = nullptr;
   std::size_t size_ = 0;
