@@ -20,6 +20,12 @@
 //   blend_layers error BLENDED ORIGINAL
 //       prints the RMS colour error (per value, 0..1) over the blend's covered pixels, each channel's
 //       mean difference removed, and the largest such error
+//   blend_layers compare BLENDED REFERENCE
+//       the blend against a converged solve of the same blend (float samples, clipped to 0..1 as an
+//       integer output is), over the blend's covered pixels, in 8-bit levels and without removing
+//       any mean: RMS and largest difference,
+//       the mean difference, and the fraction of samples whose 8-bit value (round(255 v)) differs
+//       from the reference's (docs/blend.md, "The solver's sweeps")
 #include <tiffio.h>
 
 #include <algorithm>
@@ -267,6 +273,34 @@ void error(const std::string& blended, const std::string& original) {
   std::printf("rms_error %.6f (x255: %.3f) over %.0f pixels\n", std::sqrt(total / ch), 255.0 * std::sqrt(total / ch), n);
 }
 
+// A blend against a converged solve of the same blend: what the solve's own error does to the output.
+void compare(const std::string& blended, const std::string& reference) {
+  gdp::ImageFileReader a(blended), b(reference);
+  check(a.width() == b.width() && a.height() == b.height(), "sizes differ");
+  const int w = a.width(), ch = std::min(3, std::min(a.channels(), b.channels()));
+  const bool alpha = a.channels() == 4 || a.channels() == 2;
+  std::vector<float> ra(static_cast<std::size_t>(a.channels()) * w), rb(static_cast<std::size_t>(b.channels()) * w);
+  double n = 0.0, sum = 0.0, sum2 = 0.0, largest = 0.0, changed = 0.0;
+  for (int y = 0; y < a.height(); ++y) {
+    a.read_row(y, ra);
+    b.read_row(y, rb);
+    for (int x = 0; x < w; ++x) {
+      if (alpha && ra[static_cast<std::size_t>(a.channels() - 1) * w + x] < 0.5f) continue;
+      n += ch;
+      for (int c = 0; c < ch; ++c) {
+        const double va = 255.0 * ra[static_cast<std::size_t>(c) * w + x];
+        const double vb = std::clamp(255.0 * rb[static_cast<std::size_t>(c) * w + x], 0.0, 255.0), d = va - vb;
+        sum += d;
+        sum2 += d * d;
+        largest = std::max(largest, std::abs(d));
+        if (std::lround(va) != std::lround(vb)) changed += 1.0;
+      }
+    }
+  }
+  std::printf("rms %.4f max %.4f mean %+.4f (8-bit levels) changed %.6f over %.0f samples\n", std::sqrt(sum2 / n),
+              largest, sum / n, changed / n, n);
+}
+
 // RMS error of a blend against the scene tiles cut (mean removed), streamed; and the largest step
 // between the mean errors of neighbouring 256x256 blocks (per channel): a level step left between
 // layers shows there, a smooth drift of the level does not.
@@ -324,8 +358,12 @@ int main(int argc, char** argv) {
       error(a[1], a[2]);
       return 0;
     }
+    if (a.size() == 3 && a[0] == "compare") {
+      compare(a[1], a[2]);
+      return 0;
+    }
     if (a.size() < 3 || (a[0] != "cut" && a[0] != "tiles" && a[0] != "tiles-error")) {
-      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers tiles-error BLENDED PHOTO [--upscale N] [--headroom H] | blend_layers error BLENDED ORIGINAL\n");
+      std::fprintf(stderr, "usage: blend_layers cut|tiles PHOTO OUTDIR [options] | blend_layers tiles-error BLENDED PHOTO [--upscale N] [--headroom H] | blend_layers error BLENDED ORIGINAL | blend_layers compare BLENDED REFERENCE\n");
       return 2;
     }
     Cut o;

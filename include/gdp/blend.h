@@ -153,6 +153,14 @@ struct BlendPlan {
 BlendPlan plan_blend(const std::vector<LayerSource>& sources, const BlendOptions& options);
 BlendPlan plan_blend(const std::vector<ImageLayer>& layers, const BlendOptions& options);
 
+// The blend's Gauss-Seidel sweeps when the user names none (the CLI's --iters): 2/3 for the plain
+// one-V-cycle blend whose every output is 8-bit (`output` UInt8, no correction field), where the
+// solve's remaining error stays well under half a level and the rounding to 1/255 hides it
+// (docs/blend.md, "The solver's sweeps" measures it); else the solver's 3/3, which meets the
+// stitching accuracy target (docs/reproduce.md) and gains more per CPU second over several
+// V-cycles (--vcycles, --tolerance; docs/multigrid.md). Pins, weights and an anchor (not measured) keep 3/3.
+void set_default_blend_sweeps(SampleType output, const BlendOptions& options, SolverOptions& solver);
+
 // Where the canvas lies in the layers' frame (the canvas itself when they name none), for an
 // OpenEXR output's data and display windows; nullopt where OpenEXR's 32-bit coordinates cannot hold it.
 std::optional<FramePlacement> frame_placement(const BlendPlan& plan);

@@ -196,6 +196,15 @@ BlendPlan plan_blend(const std::vector<ImageLayer>& layers, const BlendOptions& 
   return plan;
 }
 
+void set_default_blend_sweeps(SampleType output, const BlendOptions& options, SolverOptions& solver) {
+  const SolverOptions standard;
+  const bool pinned = options.anchor >= 0 || !options.pinned.empty() || !options.weights.empty() || options.fidelity.any();
+  const bool one_cycle = solver.tolerance <= 0.0 && solver.vcycles == 1;
+  const bool cheaper = output == SampleType::UInt8 && options.correction == nullptr && !pinned && one_cycle;
+  solver.sweeps = cheaper ? 2 : standard.sweeps;  // one pre-sweep less: post-sweeps lower the error more
+  solver.post_sweeps = standard.post_sweeps;
+}
+
 std::optional<FramePlacement> frame_placement(const BlendPlan& plan) {
   const CanvasRect& c = plan.canvas;
   const CanvasRect f = plan.frame.value_or(c);

@@ -181,6 +181,11 @@ class Blend final : public Command {
                                                      "half its diagonal)");
     app->add_flag("--version,-V", version_, "print the version and exit (Hugin asks its blender for it)");
     add_common_options(*app, common_);
+    app->get_option("--iters")
+        ->description("Gauss-Seidel sweeps per level: K before restriction and K after prolongation, or PRE/POST; "
+                      "default 2/3 for one V-cycle to 8-bit output (its rounding hides the difference; no --correction, "
+                      "--anchor, --pin or --weights), else 3/3 (docs/blend.md, \"The solver's sweeps\")")
+        ->default_str("");
   }
 
   bool runs_under_mpi() const override { return true; }
@@ -218,6 +223,10 @@ class Blend final : public Command {
       correction = open_output(correction_, W, H, plan.colour_channels, f, common_.quiet);
       options.correction = correction.get();
     }
+    // No --iters: fewer sweeps where the output is 8-bit (JPEG always is; docs/blend.md, "The solver's sweeps").
+    if (common_.iters.empty())
+      set_default_blend_sweeps(is_lossy_extension(output_) ? SampleType::UInt8 : write.sample_type.value_or(plan.sample_type),
+                               options, solver);
     options.progress = progress_line(common_, "blend: seams");
     BlendReport report;
     stats.time("total", [&] { blend(plan, options, solver, *out, &report); });
@@ -231,6 +240,7 @@ class Blend final : public Command {
     stats.summary(report.solve);
     stats.image(W, H, channels);
     stats.set("layers", std::to_string(plan.layers.size()));
+    stats.set("sweeps", fmt::format("\"{}/{}\"", solver.sweeps, solver.post_sweeps));
     stats.set("seconds_seams", fmt::format("{:.3f}", report.seconds_seams));
     stats.set("seconds_solve", fmt::format("{:.3f}", report.seconds_solve));
     if (seams_ == "graphcut") {
