@@ -1,4 +1,4 @@
-// Whole-plane loops over the window kernels: apply, residual, sweeps (the in-core schedule's parts).
+// Whole-plane loops over the window kernels (apply, residual) and the windows of a plane's rows.
 #pragma once
 
 #include <cmath>
@@ -29,8 +29,7 @@ Columns whole_row(const LevelOperator<T>& op) { return Columns::whole(op.width, 
 template <class T>
 const T* diag_row(const Plane<T>* diag, int j) { return diag ? diag->row(j) : nullptr; }
 
-// The kernels on every row, top to bottom: out = A u, r = b - A u (A + D with a diagonal term), and k
-// lexicographic Gauss-Seidel sweeps.
+// The kernels on every row: out = A u, r = b - A u (A + D with a diagonal term).
 template <class T>
 void apply(const LevelOperator<T>& op, const Plane<T>& u, Plane<T>& out, Scratch<T>& s,
            const Plane<T>* diag = nullptr) {
@@ -42,14 +41,6 @@ void residual(const LevelOperator<T>& op, const Plane<T>& u, const Plane<T>& b, 
               Scratch<T>& s, const Plane<T>* diag = nullptr) {
   for (int j = 0; j < op.height; ++j)
     residual(op, j, window(op, u, j), whole_row(op), b.row(j), r.row(j), s, diag_row(diag, j));
-}
-
-template <class T>
-void relax(const LevelOperator<T>& op, Plane<T>& u, const Plane<T>& b, int sweeps, Scratch<T>& s,
-           const Plane<T>* diag = nullptr) {
-  for (int k = 0; k < sweeps; ++k)
-    for (int j = 0; j < op.height; ++j)
-      relax(op, j, window(op, u, j), whole_row(op), u.row(j), b.row(j), s, diag_row(diag, j));
 }
 
 template <class T>

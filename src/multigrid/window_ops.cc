@@ -51,14 +51,10 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   const std::array<T, 5> &my = op.my[j], &cy = op.cy[j];  // row tables: one lookup each, not one per row
   const std::array<fem::Mirror, 5>& mirrors = op.mirrors(j);
   for (int d = 0; d < 5; ++d) {
-    const T* row = w.rows[d];
-    if (!row) {  // unused rows have zero coefficients: any (finite) row will do
-      u[d] = w.rows[2] + (from - w.origin[2]);
-      continue;
-    }
-    m[d] = my[d], k[d] = cy[d];
-    const fem::Mirror mirror = mirrors[d];
-    u[d] = row + (from - w.origin[d]);
+    const T* row = w.rows[d];  // unused rows (null) have zero coefficients: any (finite) row will do
+    u[d] = row ? row + (from - w.origin[d]) : w.rows[2] + (from - w.origin[2]);
+    if (row) m[d] = my[d], k[d] = cy[d];
+    const fem::Mirror mirror = row ? mirrors[d] : fem::Mirror::None;
     if (mirror == fem::Mirror::None) continue;
     // Across a spherical fold: a mirrored copy as it is now (row j: as before this sweep).
     T* copy = grow(s.mirrored[d], count);
@@ -126,9 +122,7 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
     for (int x = ib; x < ie; ++x) {
       const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
                   m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
-      if constexpr (O == Out::Au) q[x] = v;
-      else if constexpr (O == Out::Residual) q[x] = b[x] - v;
-      else q[x] = (b[x] - v) * in;
+      q[x] = O == Out::Au ? v : O == Out::Residual ? b[x] - v : (b[x] - v) * in;
     }
     general(ie, r.end, r.base);
     i = r.end;
@@ -147,11 +141,10 @@ GDP_INLINE Term<T> term(const LevelOperator<T>& op, T m0, T c0, bool fwd, int g,
   return {(op.sx[near][g] * m0 + op.mx[near][g] * c0) * inv, (op.sx[far][g] * m0 + op.mx[far][g] * c0) * inv, inv};
 }
 
-// The recurrence dx_r = t_r - kn_r dx_{r-1} - kf_r dx_{r-2} (r in the sweep's order) on a block of eight samples
-// is dx = H t + B d1 + C d2, d1 and d2 the two corrections before the block: H = L^-1, L unit lower triangular
-// with L[r][r-1] = kn_r, L[r][r-2] = kf_r, built from H L = I column by column from the last,
-// H_r = e_r - kn_{r+1} H_{r+1} - kf_{r+2} H_{r+2}; B = -kn_0 H_0 - kf_1 H_1, C = -kf_0 H_0. Into H[0..7] by
-// memory lane (a backward sweep runs from lane 7 down), H[8] = B, H[9] = C; k(p) gives lane p's terms.
+// dx_r = t_r - kn_r dx_{r-1} - kf_r dx_{r-2} (r in the sweep's order) on a block of eight is dx = H t + B d1 + C d2
+// (d1, d2: the corrections before it), H = L^-1, L[r][r-1] = kn_r, L[r][r-2] = kf_r, L[r][r] = 1. From H L = I,
+// last column first: H_r = e_r - kn_{r+1} H_{r+1} - kf_{r+2} H_{r+2}; B = -kn_0 H_0 - kf_1 H_1, C = -kf_0 H_0.
+// Into H[0..7] by memory lane (backward sweeps run from lane 7 down), H[8] = B, H[9] = C; k(p): lane p's terms.
 template <bool fwd, class V, class K>
 GDP_INLINE void block(const K& k, V* H) {
   const auto lane = [](int r) { return fwd ? r : 7 - r; };
@@ -167,11 +160,10 @@ GDP_INLINE void block(const K& k, V* H) {
   H[9] = -k(lane(0)).kf * H[lane(0)];
 }
 
-// The recurrence over t[0, count) in the sweep's direction (backward: from count - 1 down), d1 and d2 carried in
-// and out: blocks of eight from the sweep's start, each block's H built for it from the tables kn, kf, except on
-// [v0, v1) (whole blocks), where the terms are the interior's c and one H serves; then the last count % 8 samples
-// one by one, each dx[x] added to out[x]. The chain from block to block is two scalar multiply-adds, everything
-// else vectors. (Blocks of four and of sixteen: docs/multigrid.md.)
+// The recurrence over t[0, count) in the sweep's direction, d1, d2 carried in and out, each dx[x] added to out[x]:
+// blocks of eight from the sweep's start, H built per block from the tables kn, kf, but once for [v0, v1) (whole
+// blocks with the interior's terms c), then the last count % 8 samples one by one. The chain from block to block
+// is two scalar multiply-adds, everything else vectors (docs/multigrid.md, "One recurrence").
 template <bool fwd, class T>
 GDP_INLINE void recur(const T* t, int count, const T* kn, const T* kf, int v0, int v1, Term<T> c, T* out, T& d1,
                       T& d2) {
@@ -290,10 +282,8 @@ GDP_CLONES void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   for (int J = cols.begin; J < cols.end;) {
     const Run r = copy_run(m, cols.periodic, J, cols.end);
     const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
-    if (m == n) {
-      for (; J < r.end; ++J) tmp[J] = fine[J - fine_origin];
-      continue;
-    }
+    for (; m == n && J < r.end; ++J) tmp[J] = fine[J - fine_origin];  // x not coarsened: a copy
+    if (m == n) continue;
     const auto edge = [&](int Jw) __attribute__((always_inline)) {
       T v = T(0);
       for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
@@ -313,12 +303,9 @@ GDP_CLONES void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   }
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   for (int J = cols.begin; J < cols.end; ++J) coarse0[J - origin[0]] += w0 * tmp[J];
-  if (w1 == T(0)) return;
-  if (py.mirror == fem::Mirror::None) {
+  if (w1 != T(0) && py.mirror == fem::Mirror::None)
     for (int J = cols.begin; J < cols.end; ++J) coarse1[J - origin[1]] += w1 * tmp[J];
-    return;
-  }
-  for (int J = cols.begin; J < cols.end;) {
+  for (int J = cols.begin; w1 != T(0) && py.mirror != fem::Mirror::None && J < cols.end;) {
     const Run r = mirror_run(py.mirror, m, J, cols.end);
     for (; J < r.end; ++J) coarse1[r.base - J - origin[1]] += w1 * tmp[J];
   }
@@ -334,8 +321,8 @@ GDP_CLONES void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
   if (cols.end <= cols.begin) return;
   const bool unwrap = cols.periodic && !cols.wrap;
   // The coarse columns read: [lo, hi), unwrapped where the fine ones are.
-  int lo = floor_div(cols.begin, n) * m + (cols.begin - floor_div(cols.begin, n) * n) * m / n - 1;
-  int hi = floor_div(cols.end - 1, n) * m + (cols.end - 1 - floor_div(cols.end - 1, n) * n) * m / n + 2;
+  const auto coarse = [&](int i) { return floor_div(i, n) * m + (i - floor_div(i, n) * n) * m / n; };
+  int lo = coarse(cols.begin) - 1, hi = coarse(cols.end - 1) + 2;
   if (!unwrap) lo = std::max(lo, 0), hi = std::min(hi, m);
   if (cols.wrap) lo = 0, hi = m;
   T* t = grow(s.line, hi - lo) - lo;  // t[J]
@@ -343,13 +330,11 @@ GDP_CLONES void prolong_rows(const fem::Prolongation& px, const fem::Prolongatio
   for (int J = lo; J < hi;) {
     const Run r = copy_run(m, unwrap && coarse_whole, J, hi);  // whole rows: periodic copies read [0, m)
     const Run f = py.mirror == fem::Mirror::None ? Run{r.end, 0} : mirror_run(py.mirror, m, J, r.end);
-    const T* c0 = coarse0 - origin[0] - r.base;
-    if (py.mirror == fem::Mirror::None) {
-      const T* c1 = coarse1 - origin[1] - r.base;
+    const T *c0 = coarse0 - origin[0] - r.base, *c1 = coarse1 - origin[1] - r.base;
+    if (py.mirror == fem::Mirror::None)
       for (; J < r.end; ++J) t[J] = w0 * c0[J] + w1 * c1[J];
-    } else {
+    else
       for (; J < f.end; ++J) t[J] = w0 * c0[J] + w1 * coarse1[f.base - J - origin[1]];
-    }
   }
   fine -= fine_origin;
   for (int i = cols.begin; i < cols.end;) {

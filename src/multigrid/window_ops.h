@@ -17,8 +17,7 @@ namespace gdp::multigrid {
 // neighbour band's columns; on periodic levels unwrapped, holding the wrapped values).
 struct Columns {
   int begin = 0, end = 0;
-  bool periodic = false, wrap = false;
-  bool forward = true;  // relax: left to right, else right to left
+  bool periodic = false, wrap = false, forward = true;  // forward: relax left to right, else right to left
   static Columns whole(int n, bool periodic) { return {0, n, periodic, periodic, true}; }
   // [begin, end), clipped to [0, n) on a non-periodic level.
   static Columns range(int n, bool periodic, int begin, int end, bool forward = true) {
