@@ -157,47 +157,6 @@ TEST_P(WindowOps, RelaxAcrossTheWrapEqualsShiftedColumns) {
   }
 }
 
-// Relax is pointwise Gauss-Seidel: u_i += (b_i - ((A + D) u)_i) / (A + D)_ii, i in the sweep's order, with the
-// newest values, on every level (whole rows, wrapping on periodic ones; planar ranges in either direction,
-// their neighbours' values held), with and without a diagonal term.
-TEST_P(WindowOps, RelaxIsPointwiseGaussSeidel) {
-  const auto [domain, width] = GetParam();
-  const Levels s(domain, width, 16);
-  for (const LevelOperator<double>& op : s.ops) {
-    const int n = op.width, j = op.height / 2;
-    const Plane<double> b = random_plane(n, op.height, 11), diag = random_plane(n, op.height, 12);
-    bool mirrored = false;
-    for (int d = 0; d < 5; ++d) mirrored |= op.row_of(j, d) >= 0 && op.mirror_of(j, d) != fem::Mirror::None;
-    if (mirrored) continue;
-    const auto ranges = op.periodic_x ? std::vector{Columns::whole(n, true)}
-                                      : std::vector{Columns::whole(n, false), Columns::range(n, false, 1, n - 3, false),
-                                                    Columns::range(n, false, 3, n - 1, true)};
-    Scratch<double> ws;
-    for (const Columns& cols : ranges)
-      for (const Plane<double>* d : {static_cast<const Plane<double>*>(nullptr), &diag}) {
-        Plane<double> u = random_plane(n, op.height, 10), v = u;
-        relax(op, j, window(op, u, j), cols, u.row(j), b.row(j), ws, d ? d->row(j) : nullptr);
-        for (int step = 0; step < cols.end - cols.begin; ++step) {
-          const int i = cols.forward ? cols.begin + step : cols.end - 1 - step;
-          double au = 0.0, k0 = d ? d->at(i, j) : 0.0;
-          for (int dy = 0; dy < 5; ++dy) {
-            const int r = op.row_of(j, dy);
-            if (r < 0) continue;
-            for (int dx = 0; dx < 5; ++dx) {
-              const int c = op.periodic_x ? fem::wrap_index(i + dx - 2, n) : i + dx - 2;
-              const double k = op.sx[dx][i] * op.my[j][dy] + op.mx[dx][i] * op.cy[j][dy];
-              if (c >= 0 && c < n) au += k * v.at(c, r);
-              if (dy == 2 && dx == 2) k0 += k;
-            }
-          }
-          v.at(i, j) += (b.at(i, j) - au - (d ? d->at(i, j) * v.at(i, j) : 0.0)) / k0;
-        }
-        for (int i = 0; i < n; ++i)
-          ASSERT_NEAR(u.at(i, j), v.at(i, j), 1e-10) << "width " << n << " col " << i << (d ? " diag" : "");
-      }
-  }
-}
-
 TEST_P(WindowOps, RestrictAndProlongOverBandsEqualWholeRows) {
   const auto [domain, width] = GetParam();
   const Levels s(domain, width, 16);
