@@ -24,19 +24,20 @@ constexpr int kWidth = 8192, kRows = 64, kFirst = 2, kLast = 62;
 struct Fixture {
   Hierarchy h = build_hierarchy(*topology::make_topology(Domain::Planar), kWidth, 4 * kRows, 0.0, 64);
   LevelOperator<float> op{h.levels[0], 0.0};
-  Plane<float> u{kWidth, kRows}, b{kWidth, kRows}, r{kWidth, kRows}, coarse{kWidth / 2, kRows};
+  Plane<float> u{kWidth, kRows}, b{kWidth, kRows}, r{kWidth, kRows}, diag{kWidth, kRows}, coarse{kWidth / 2, kRows};
   std::vector<Window<float>> windows;
   Fixture() {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> d(-1.0f, 1.0f);
     for (Plane<float>* p : {&u, &b, &coarse})
       for (float& v : p->data) v = d(rng);
+    for (float& v : diag.data) v = 0.5f + d(rng) / 4;  // relaxd: with a per-pixel diagonal term
     for (int j = 0; j < kRows; ++j) windows.push_back(window(op, u, j));
   }
 };
 
-enum Kernel { kRelax, kResidual, kApply, kRestrict, kProlong };
-const char* const kKernels[] = {"relax", "residual", "apply", "restrict", "prolong"};
+enum Kernel { kRelax, kResidual, kApply, kRestrict, kProlong, kRelaxDiag, kKernelCount };
+const char* const kKernels[] = {"relax", "residual", "apply", "restrict", "prolong", "relaxd"};
 constexpr std::pair<int, int> kRangeColumns[] = {{0, kWidth}, {0, 72}, {2048, 6144}, {2048, 2120}};
 constexpr int kRanges = 4;
 
@@ -57,6 +58,8 @@ void run(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
       case kApply: apply(f.op, j, w, cols, f.r.row(j), s); break;
       case kRestrict: restrict_rows(g.px, py, f.r.row(j), 0, coarse, c0, c1, {0, 0}, s); break;
       case kProlong: prolong_rows(g.px, py, c0, c1, {0, 0}, true, cols, f.u.row(j), 0, s); break;
+      case kRelaxDiag: relax(f.op, j, w, cols, f.u.row(j), f.b.row(j), s, f.diag.row(j)); break;
+      case kKernelCount: break;
     }
   }
 }
@@ -150,7 +153,7 @@ int main(int argc, char** argv) {
   std::printf("%-9s %9s %9s %9s %9s %11s %11s %11s %11s\n", "kernel", "row", "edge", "interior", "tile", "edge/row",
               "lane/row", "tile/row", "edge/tile");
   double total = 0.0;
-  for (int k = 0; k < 5; ++k) {
+  for (int k = 0; k < kKernelCount; ++k) {
     const auto kernel = static_cast<Kernel>(k);
     if (kernel_only && std::strcmp(kernel_only, kKernels[k]) != 0) continue;
     double best[kRanges] = {1e30, 1e30, 1e30, 1e30};
