@@ -42,7 +42,7 @@ struct CycleSettings {
 
 // The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
 // singular problems, scratch in the process's budget and then in opt.temp_dir (half floats with
-// multigrid::half_policy(opt), which the in-core V-cycle applies alike).
+// multigrid::half_policy(opt, diagonal), which the in-core V-cycle applies alike).
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s;
   s.channels = channels;
@@ -52,7 +52,7 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   s.more_cycles = opt.cycle_cap() > 1;
   s.stores.dir = opt.temp_dir;
   s.stores.budget = &schedule::ScratchBudget::process();
-  s.stores.half = multigrid::half_policy(opt);
+  s.stores.half = multigrid::half_policy(opt, diagonal);
   return s;
 }
 

@@ -26,7 +26,7 @@ bool HalfPolicy::any() const {
   return false;
 }
 
-HalfPolicy half_policy(const SolverOptions& opt) {
+HalfPolicy half_policy(const SolverOptions& opt, bool diagonal) {
   HalfPolicy p;
   if (opt.scratch == ScratchPrecision::Narrow) {
     p.all = true;
@@ -38,6 +38,7 @@ HalfPolicy half_policy(const SolverOptions& opt) {
     if (opt.cycle_cap() > 1) p.named["level0-b"] = p.named["level0-u"] = false;
     // Iterating to a tolerance, the carried result is the answer when the next cycle is not run.
     if (opt.tolerance > 0.0) p.named["result"] = false;
+    if (diagonal) p.named["b"] = p.named["level0-b"] = false;
   }
   for (const std::string& q : opt.half_quantities) p.named[q] = true;
   return p;

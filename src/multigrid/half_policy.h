@@ -28,8 +28,10 @@ struct HalfPolicy {
 // The policy `opt` asks for: ScratchPrecision::Narrow is every quantity but the finest b and u
 // when more than one V-cycle may run (later cycles would solve a rounded problem, and be no more
 // accurate than one) and the carried result when iterating to a tolerance (then it may be the
-// answer); half_quantities add to it.
-HalfPolicy half_policy(const SolverOptions& opt);
+// answer); half_quantities add to it. With a per-pixel diagonal term (`diagonal`: weights or pins)
+// no level's b is rounded: a pinned pixel's entry (kPinnedDiagonal times its value, and the
+// residuals restricted from it) is far beyond a half float's range.
+HalfPolicy half_policy(const SolverOptions& opt, bool diagonal);
 
 // Samples to and from 16-bit floats (round to nearest even) and both in place: the one
 // conversion that stores and the in-core V-cycle share.

@@ -45,7 +45,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   summary.schedule = "in-core";
 
   const int cycles = opt.cycle_cap();
-  const multigrid::HalfPolicy half = multigrid::half_policy(opt);
+  const multigrid::HalfPolicy half = multigrid::half_policy(opt, source.has_weights());
   const auto t_rhs = Clock::now();
   // Each plane made once, in place (not copies of one), its pages mapped in one call.
   std::vector<Plane<T>> u, b, weights, diagonal;
