@@ -133,11 +133,8 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
   if (l == 0 && set_.weights && set_.more_cycles && layout_.top())
     L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
-  if (set_.diagonal) {  // never as half floats: pinned pixels' entries exceed their range
-    schedule::StorePolicy exact = set_.stores;
-    exact.half = {};
-    L->d_store = std::make_unique<schedule::RowStore<T>>(exact, L->len, op.height, name + "-d");
-  }
+  if (set_.diagonal)  // never as half floats (half_policy): pinned pixels' entries exceed their range
+    L->d_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-d");
   return L;
 }
 

@@ -41,6 +41,9 @@ HalfPolicy half_policy(const SolverOptions& opt, bool diagonal) {
     if (diagonal) p.named["b"] = p.named["level0-b"] = false;
   }
   for (const std::string& q : opt.half_quantities) p.named[q] = true;
+  // The diagonal never: a pinned pixel's entry (kPinnedDiagonal) is beyond a half float's range.
+  std::erase_if(p.named, [](const auto& kv) { return kv.first == "d" || kv.first.ends_with("-d"); });
+  p.named["d"] = false;
   return p;
 }
 

@@ -29,7 +29,7 @@ struct HalfPolicy {
 // when more than one V-cycle may run (later cycles would solve a rounded problem, and be no more
 // accurate than one) and the carried result when iterating to a tolerance (then it may be the
 // answer); half_quantities add to it. With a per-pixel diagonal term (`diagonal`: weights or pins)
-// no level's b is rounded: a pinned pixel's entry (kPinnedDiagonal times its value, and the
+// no level's b is rounded (nor, ever, the diagonal d itself): a pinned pixel's entry (kPinnedDiagonal times its value, and the
 // residuals restricted from it) is far beyond a half float's range.
 HalfPolicy half_policy(const SolverOptions& opt, bool diagonal);
 
