@@ -3,14 +3,11 @@
 
 #include <unistd.h>
 
-#include <cerrno>
 #include <cstring>
-#include <system_error>
+#include <stdexcept>
 
-#include <fmt/format.h>
-
-#include "gdp/errors.h"
 #include "schedule/row_store.h"
+#include "util/exact_io.h"
 
 namespace gdp::blending {
 
@@ -27,32 +24,19 @@ Scratch::~Scratch() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+namespace {
+// What a scratch file's errors name: its directory, and where else it could go.
+util::FileName scratch_name(const std::filesystem::path& dir) {
+  return {dir.native(), "scratch file in ", " (--temp DIR puts scratch files elsewhere)"};
+}
+}  // namespace
+
 void write_at(int fd, const void* data, std::size_t n, std::size_t at, const std::filesystem::path& dir) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  while (n > 0) {
-    const ssize_t k = ::pwrite(fd, p, n, static_cast<off_t>(at));
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0)
-      throw OutputError(fmt::format("scratch file in {}: cannot write: {} (--temp DIR puts scratch files elsewhere)",
-                                    dir.string(), k < 0 ? std::generic_category().message(errno) : "no space"));
-    p += k;
-    at += static_cast<std::size_t>(k);
-    n -= static_cast<std::size_t>(k);
-  }
+  util::write_exactly_at(fd, data, n, at, scratch_name(dir));
 }
 
 void read_at(int fd, void* data, std::size_t n, std::size_t at, const std::filesystem::path& dir) {
-  auto* p = static_cast<unsigned char*>(data);
-  while (n > 0) {
-    const ssize_t k = ::pread(fd, p, n, static_cast<off_t>(at));
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0)
-      throw OutputError(fmt::format("scratch file in {}: cannot read: {}", dir.string(),
-                                    k < 0 ? std::generic_category().message(errno) : "past its end"));
-    p += k;
-    at += static_cast<std::size_t>(k);
-    n -= static_cast<std::size_t>(k);
-  }
+  util::read_exactly_at(fd, data, n, at, scratch_name(dir));
 }
 
 void Scratch::write(std::size_t offset, const void* data, std::size_t n) {
@@ -70,21 +54,9 @@ void Scratch::read(std::size_t offset, void* data, std::size_t n) const {
     std::memcpy(data, memory_.data() + offset, n);
     return;
   }
-  auto* p = static_cast<unsigned char*>(data);
-  while (n > 0) {
-    const ssize_t k = ::pread(fd_, p, n, static_cast<off_t>(offset));
-    if (k < 0 && errno == EINTR) continue;
-    if (k < 0)
-      throw OutputError(fmt::format("scratch file in {}: cannot read: {}", dir_.string(),
-                                    std::generic_category().message(errno)));
-    if (k == 0) {  // never written (a sparse hole past the end): zeros
-      std::memset(p, 0, n);
-      return;
-    }
-    p += k;
-    offset += static_cast<std::size_t>(k);
-    n -= static_cast<std::size_t>(k);
-  }
+  // Past what was ever written (a sparse hole at the end): zeros.
+  const std::size_t got = util::read_up_to_at(fd_, data, n, offset, scratch_name(dir_));
+  std::memset(static_cast<unsigned char*>(data) + got, 0, n - got);
 }
 
 }  // namespace gdp::blending

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "util/exact_io.h"
 
 namespace gdp {
 namespace io {
@@ -60,16 +61,6 @@ std::vector<std::string> split_tabs(const std::string& line) {
 
 std::string system_message() { return std::generic_category().message(errno); }
 
-void write_all(int fd, const std::string& bytes, const std::filesystem::path& path) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t k = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) throw OutputError(fmt::format("checkpoint {}: cannot write: {}", path.string(), system_message()));
-    done += static_cast<std::size_t>(k);
-  }
-}
-
 int env_int(const char* name) {
   const char* v = std::getenv(name);
   return v ? std::atoi(v) : 0;
@@ -100,7 +91,7 @@ void write_atomically(const std::filesystem::path& path, const std::string& byte
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot create: {}", tmp.string(), system_message()));
   try {
-    write_all(fd, bytes, tmp);
+    util::write_exactly(fd, bytes.data(), bytes.size(), {tmp.native(), "checkpoint "});
     if (::fdatasync(fd) != 0) throw OutputError(fmt::format("checkpoint {}: {}", tmp.string(), system_message()));
   } catch (...) {
     ::close(fd);

@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <system_error>
 
+#include "util/exact_io.h"
+
 namespace gdp::io {
 
 namespace {
@@ -34,18 +36,13 @@ std::string OutputFile::problem() const {
 }
 
 void OutputFile::put(const char* data, std::size_t size, std::int64_t offset) {
-  while (size > 0 && !failed()) {
-    const ssize_t n = ::pwrite(fd_, data, size, offset);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      record(n < 0 ? errno : EIO);
-      return;
-    }
-    data += n;
-    size -= static_cast<std::size_t>(n);
-    offset += n;
+  if (failed()) return;
+  const util::Transfer t = util::pwrite_full(fd_, data, size, static_cast<std::size_t>(offset));
+  if (t.error != 0) {
+    record(t.error);
+    return;
   }
-  put_end_ = std::max(put_end_, static_cast<std::size_t>(offset));
+  put_end_ = std::max(put_end_, static_cast<std::size_t>(offset) + size);
   if (!failed() && !drop_behind_.wrote(fd_, put_end_)) record(errno);
 }
 
@@ -77,8 +74,7 @@ std::size_t OutputFile::read_at(std::int64_t offset, void* data, std::size_t siz
   std::lock_guard lock(mutex_);
   if (fd_ < 0) return 0;
   drain();
-  const ssize_t n = ::pread(fd_, data, size, offset);
-  return n > 0 ? static_cast<std::size_t>(n) : 0;
+  return util::pread_full(fd_, data, size, static_cast<std::size_t>(offset)).done;
 }
 
 std::int64_t OutputFile::size() const {
