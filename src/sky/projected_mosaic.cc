@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "bands/mpi_transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "gdp/sky_projected.h"
@@ -14,6 +13,7 @@
 #include "sky/plate_exchange.h"
 #include "sky/projected_levels.h"
 #include "sky/projected_place.h"
+#include "sky/rank_share.h"
 #include "sky/wcs.h"
 
 namespace gdp {
@@ -89,13 +89,8 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
 
   // Under mpirun rank 0 fits the levels (reading every image) and the others take its fit; an
   // error there ends every rank with its message (sky/plate_exchange.h).
-  std::unique_ptr<bands::MpiHub> hub;
-  sky::PlateShare share;
-  if (MpiRun::size() > 1) {
-    hub = std::make_unique<bands::MpiHub>(1);
-    share.net = &hub->endpoint(hub->first());
-    share.agree = MpiRun::agree;
-  }
+  const sky::RankShare ranks;
+  const sky::PlateShare& share = ranks.share();
   const auto start = std::chrono::steady_clock::now();
   sky::CanvasLevels levels;
   share.run([&] {

@@ -9,7 +9,6 @@
 
 #include "blend/seam_share.h"
 #include "blend/seams.h"
-#include "bands/mpi_transport.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
 #include "gdp/image_stream.h"
@@ -27,6 +26,7 @@
 #include "sky/pq_graphcut.h"
 #include "sky/pq_store.h"
 #include "sky/pq_window.h"
+#include "sky/rank_share.h"
 #include "sky/reproject.h"
 #include "sky/seam_sources.h"
 #include "sky/toast_output.h"
@@ -332,14 +332,8 @@ void sky_mosaic(const std::vector<std::string>& paths, const SkyOptions& options
   sky::PlatePixels pixels(plates, finders, win, sky::kReleaseLag);
   // Under mpirun each rank runs the passes for the plates whose centres lie in its share of the
   // columns, reading only those and their neighbours (plate_exchange.h).
-  std::unique_ptr<bands::MpiHub> hub;
-  sky::PlateShare share;
-  if (MpiRun::size() > 1) {
-    hub = std::make_unique<bands::MpiHub>(1);
-    share.net = &hub->endpoint(hub->first());
-    share.owners = sky::plate_owners(plates, win, MpiRun::size());
-    share.agree = MpiRun::agree;
-  }
+  const sky::RankShare ranks([&](int n) { return sky::plate_owners(plates, win, n); });
+  const sky::PlateShare& share = ranks.share();
   SkySummary s;
   const std::optional<sky::SeamSources> stars = take_in_plates(plates, pixels, share, paths, options, solver, s);
   s.pq_height = H;
