@@ -4,11 +4,13 @@
 #include <fitsio.h>
 
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "gdp/errors.h"
 #include "io/codec.h"
 #include "io/codec_util.h"
 
@@ -70,6 +72,14 @@ FitsImage::FitsImage(const std::string& path) : file_(std::make_unique<File>()) 
 }
 
 FitsImage::~FitsImage() = default;
+
+std::unique_ptr<FitsImage> open_fits(const std::string& path) {
+  try {
+    return std::make_unique<FitsImage>(path);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", path, e.what()));
+  }
+}
 
 void FitsImage::read(long plane, int y0, int y1, int x0, int x1, float* out) {
   // Coordinates of the first pixel of each row: column, row, then the plane over axes 3...

@@ -45,4 +45,7 @@ class FitsImage {
 // cfitsio's message for a status code, with its error stack, on one line.
 std::string fits_error(int status);
 
+// A FitsImage of `path`, or InputError "<path>: <the problem>".
+std::unique_ptr<FitsImage> open_fits(const std::string& path);
+
 }  // namespace gdp::io

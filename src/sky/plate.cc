@@ -43,20 +43,8 @@ std::vector<std::array<double, 2>> border_points(double left, double top, double
   return points;
 }
 
-namespace {
-
-std::unique_ptr<io::FitsImage> open_fits(const std::string& path) {
-  try {
-    return std::make_unique<io::FitsImage>(path);
-  } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: {}", path, e.what()));
-  }
-}
-
-}  // namespace
-
 void read_pixels(Plate& p) {
-  const std::unique_ptr<io::FitsImage> image = open_fits(p.name);
+  const std::unique_ptr<io::FitsImage> image = io::open_fits(p.name);
   p.pixels.resize(static_cast<std::size_t>(p.width) * p.height);
   try {
     image->read(p.plane, 0, p.height, 0, p.width, p.pixels.data());
@@ -84,7 +72,7 @@ Plate load_plate(const std::string& path, long plane) {
 Plate open_plate(const std::string& path, long plane) {
   Plate p;
   p.name = path;
-  const std::unique_ptr<io::FitsImage> image = open_fits(path);
+  const std::unique_ptr<io::FitsImage> image = io::open_fits(path);
   p.width = image->width();
   p.height = image->height();
   p.planes = image->planes();

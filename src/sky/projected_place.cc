@@ -16,14 +16,6 @@ namespace {
 
 constexpr double kAxisTolerance = 1e-6, kShiftTolerance = 1e-3;
 
-std::unique_ptr<io::FitsImage> open_fits(const std::string& path) {
-  try {
-    return std::make_unique<io::FitsImage>(path);
-  } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: {}", path, e.what()));
-  }
-}
-
 }  // namespace
 
 Shift place_on_template(const Wcs& image, const Wcs& tpl, const std::string& name) {
@@ -69,7 +61,7 @@ Shift place_on_template(const Wcs& image, const Wcs& tpl, const std::string& nam
 }
 
 double largest_value(const std::string& path) {
-  const std::unique_ptr<io::FitsImage> f = open_fits(path);
+  const std::unique_ptr<io::FitsImage> f = io::open_fits(path);
   std::vector<float> row(static_cast<std::size_t>(f->width()));
   double largest = 0.0;
   for (int y = 0; y < f->height(); ++y) {
@@ -86,7 +78,7 @@ double largest_value(const std::string& path) {
 }
 
 LayerSource projected_layer(const ProjectedInput& input, const Wcs& tpl) {
-  const std::unique_ptr<io::FitsImage> f = open_fits(input.image);
+  const std::unique_ptr<io::FitsImage> f = io::open_fits(input.image);
   if (f->planes() > 1)
     throw InputError(fmt::format("{}: {} planes; gdp sky --projected takes images of one plane (as mProjExec writes)",
                                  input.image, f->planes()));
