@@ -10,13 +10,6 @@
 
 namespace gdp::blending {
 
-struct CanvasSweep::Open {
-  int index;
-  std::unique_ptr<LayerRows> rows;
-  std::vector<float> colour;
-  std::vector<unsigned char> covered;
-};
-
 CanvasSweep::CanvasSweep(const BlendPlan& plan, const LabelPlane& labels, bool wrap_x, bool across,
                          const KeptRows* kept)
     : plan_(plan), labels_(labels), kept_(kept), wrap_x_(wrap_x), with_across_(across), width_(plan.canvas.width),
@@ -114,11 +107,7 @@ void CanvasSweep::advance(Row& out) {
     const int k = order_[next_];
     const Footprint f = footprint(plan_, k);
     if (f.y1 <= y || f.x1 <= b || f.x0 >= e) continue;
-    auto o = std::make_unique<Open>();
-    o->index = k;
-    o->rows = std::make_unique<LayerRows>(plan_, k, b, e, open_.size() < 8, nullptr, kept_);
-    o->colour.resize(static_cast<std::size_t>(channels_) * f.width());
-    o->covered.resize(f.width());
+    auto o = std::make_unique<OpenLayer>(plan_, k, b, e, open_.size() < 8, kept_);
     slot_[k] = o.get();
     open_.push_back(std::move(o));
   }
@@ -127,7 +116,7 @@ void CanvasSweep::advance(Row& out) {
     slot_[o->index] = nullptr;
     return true;
   });
-  for (auto& o : open_) o->rows->read(y, o->colour, o->covered);
+  for (auto& o : open_) o->read(y);
   // Label rows y - 1, y, y + 1.
   if (y == 0) labels_.read_row(0, label_rows_[0]);
   if (y + 1 < height_) labels_.read_row(y + 1, label_rows_[(y + 1) % 3]);
@@ -135,7 +124,7 @@ void CanvasSweep::advance(Row& out) {
   for (int x = b, run = b; x < e; x = run) {  // runs of one label: copied (or zeroed) per channel
     const Label l = here[x];
     while (run < e && here[run] == l) ++run;
-    const Open* o = l ? slot_[l - 1] : nullptr;
+    const OpenLayer* o = l ? slot_[l - 1] : nullptr;
     const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
     for (int c = 0; c < channels_; ++c) {
       float* to = out.composite.data() + static_cast<std::size_t>(c) * width_;
@@ -187,7 +176,7 @@ void CanvasSweep::compute_across(std::span<const Label> up, std::span<const Labe
   multigrid::for_each_set(edge, b, e, [&](int x) {  // beside a seam (inside a layer's part: NaN)
     const Label across[2] = {other(h[x], neighbour(x - 1), neighbour(x + 1)), other(h[x], u[x], d[x])};
     for (int k = 0; k < 2; ++k) {
-      const Open* o = across[k] ? slot_[across[k] - 1] : nullptr;
+      const OpenLayer* o = across[k] ? slot_[across[k] - 1] : nullptr;
       const int fx0 = o ? o->rows->where().x0 : 0, fw = o ? o->rows->where().width() : 0;
       if (!o || x < fx0 || x >= fx0 + fw || !o->covered[x - fx0]) continue;
       if (out.set.empty() || out.set.back() != x) out.set.push_back(x);

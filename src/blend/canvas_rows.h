@@ -40,7 +40,6 @@ class CanvasSweep {
   std::span<const float> across(int y);
 
  private:
-  struct Open;
   struct Row {  // a computed row: composite and across values (NaN but at the columns `set`)
     std::vector<float> composite, across;
     std::vector<int> set;
@@ -63,8 +62,8 @@ class CanvasSweep {
   int row_ = -1;
   std::vector<int> order_;  // layers by first row
   std::size_t next_ = 0;
-  std::vector<std::unique_ptr<Open>> open_;
-  std::vector<Open*> slot_;  // per layer: its open state, or null
+  std::vector<std::unique_ptr<OpenLayer>> open_;
+  std::vector<OpenLayer*> slot_;  // per layer: its open state, or null
   std::vector<Label> label_rows_[3];  // rows row_-1, row_, row_+1 (by y % 3)
   std::vector<Label> none_;           // no row (above the first, below the last): no labels
   std::vector<unsigned char> edge_;   // per column: another label beside the pixel

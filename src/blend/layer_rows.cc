@@ -25,6 +25,10 @@ Footprint footprint(const BlendPlan& plan, int index) {
   return f;
 }
 
+OpenLayer::OpenLayer(const BlendPlan& plan, int k, int begin, int end, bool prefetch, const KeptRows* read_from)
+    : index(k), rows(std::make_unique<LayerRows>(plan, k, begin, end, prefetch, nullptr, read_from)),
+      colour(static_cast<std::size_t>(plan.colour_channels) * rows->where().width()), covered(rows->where().width()) {}
+
 LayerRows::LayerRows(const BlendPlan& plan, int index, int begin, int end, bool prefetch, KeptRows* keep_into,
                      const KeptRows* read_from)
     : where_(footprint(plan, index)), name_(plan.layers[index].name), calibration_(plan, index) {

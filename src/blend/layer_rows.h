@@ -63,4 +63,15 @@ class LayerRows {
   RowCalibration calibration_;
 };
 
+// A layer open in a sweep down the canvas: its rows (LayerRows' arguments) and the last row read.
+struct OpenLayer {
+  OpenLayer(const BlendPlan& plan, int index, int begin, int end, bool prefetch, const KeptRows* read_from = nullptr);
+  void read(int y) { rows->read(y, colour, covered); }
+
+  int index;
+  std::unique_ptr<LayerRows> rows;
+  std::vector<float> colour;           // the plan's colour channels x the footprint's width, channel-major
+  std::vector<unsigned char> covered;  // the footprint's width
+};
+
 }  // namespace gdp::blending

@@ -32,19 +32,11 @@ std::vector<VignettingCentre> vignetting_centres(const BlendPlan& plan, const Ph
 
 namespace {
 
-// A layer open in the sampling sweep: its rows and the last sampled row's values.
-struct Sampled {
-  int index;
-  std::unique_ptr<LayerRows> rows;
-  std::vector<float> colour;
-  std::vector<unsigned char> covered;
-};
-
 // The layers' observations of canvas point (x, y) (row y read into `open`) when two or more see it.
-void sample_point(const std::vector<VignettingCentre>& centres, const std::vector<Sampled>& open, int x, int y,
+void sample_point(const std::vector<VignettingCentre>& centres, const std::vector<OpenLayer>& open, int x, int y,
                   OverlapSamples& s) {
   const std::size_t first = s.obs.size();
-  for (const Sampled& o : open) {
+  for (const OpenLayer& o : open) {
     const Footprint& f = o.rows->where();
     if (x < f.x0 || x >= f.x1 || !o.covered[x - f.x0]) continue;
     const VignettingCentre& c = centres[o.index];
@@ -72,20 +64,17 @@ OverlapSamples sample_overlaps(const BlendPlan& plan, const std::vector<Vignetti
   OverlapSamples s;
   s.layers = n;
   s.channels = plan.colour_channels;
-  std::vector<Sampled> open;
+  std::vector<OpenLayer> open;
   std::size_t next = 0;
   for (int y = step / 2; y < H; y += step) {
-    std::erase_if(open, [&](const Sampled& o) { return o.rows->where().y1 <= y; });  // closed after their last row
+    std::erase_if(open, [&](const OpenLayer& o) { return o.rows->where().y1 <= y; });  // closed after their last row
     for (; next < by_top.size() && where[by_top[next]].y0 <= y; ++next) {
       const int k = by_top[next];
       if (where[k].y1 <= y || where[k].width() <= 0) continue;
-      Sampled o{k, std::make_unique<LayerRows>(plan, k, 0, W, open.size() < 8), {}, {}};  // decoded ahead
-      o.colour.resize(static_cast<std::size_t>(s.channels) * where[k].width());
-      o.covered.resize(where[k].width());
-      open.push_back(std::move(o));
+      open.emplace_back(plan, k, 0, W, open.size() < 8);  // decoded ahead
     }
     if (open.size() < 2) continue;
-    for (Sampled& o : open) o.rows->read(y, o.colour, o.covered);  // rows between are decoded, not kept
+    for (OpenLayer& o : open) o.read(y);  // rows between are decoded, not kept
     for (int x = step / 2; x < W; x += step) sample_point(centres, open, x, y, s);
   }
   return s;

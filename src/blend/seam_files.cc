@@ -91,29 +91,20 @@ SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std:
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return footprint(plan, a).y0 < footprint(plan, b).y0; });
-  struct Open {
-    int index;
-    std::unique_ptr<LayerRows> rows;
-    std::vector<float> colour;
-    std::vector<unsigned char> covered;
-  };
-  std::vector<Open> open;
+  std::vector<OpenLayer> open;
   std::vector<Label> label(W), first(W);
   std::vector<unsigned char> wanted_covers(W);
   std::size_t next = 0;
   for (int y = 0; y < H; ++y) {
     for (; next < order.size() && footprint(plan, order[next]).y0 == y; ++next) {
-      const int k = order[next], w = footprint(plan, k).width();
-      open.push_back({k, std::make_unique<LayerRows>(plan, k, 0, W, open.size() < 8),
-                      std::vector<float>(static_cast<std::size_t>(plan.colour_channels) * w),
-                      std::vector<unsigned char>(w)});
+      open.emplace_back(plan, order[next], 0, W, open.size() < 8);
     }
-    std::sort(open.begin(), open.end(), [](const Open& a, const Open& b) { return a.index < b.index; });
+    std::sort(open.begin(), open.end(), [](const OpenLayer& a, const OpenLayer& b) { return a.index < b.index; });
     read_labels(y, label);
     std::fill(first.begin(), first.end(), Label{0});
     std::fill(wanted_covers.begin(), wanted_covers.end(), 0);
-    for (Open& o : open) {
-      o.rows->read(y, o.colour, o.covered);
+    for (OpenLayer& o : open) {
+      o.read(y);
       const int x0 = o.rows->where().x0;
       for (int x = 0; x < static_cast<int>(o.covered.size()); ++x) {
         if (!o.covered[x]) continue;
@@ -124,7 +115,7 @@ SeamResult load_seams(const BlendPlan& plan, const std::string& path, const std:
     for (int x = 0; x < W; ++x)
       if (!wanted_covers[x]) label[x] = first[x];
     result.labels->write_row(y, label);
-    std::erase_if(open, [&](const Open& o) { return o.rows->where().y1 == y + 1; });
+    std::erase_if(open, [&](const OpenLayer& o) { return o.rows->where().y1 == y + 1; });
   }
   return result;
 }
