@@ -21,6 +21,23 @@ def test_stitch_array_equals_cli_bit_for_bit(tmp_path, cli, composite):
     assert summary["width"] == 180 and summary["height"] == 120 and summary["channels"] == 3
 
 
+def test_stitch_file_to_8_bit_keeps_the_cli_sweeps(tmp_path, cli, composite):
+    # Into an 8-bit file the CLI's stitch keeps the solver's 3/3 sweeps (only `gdp blend` takes 2/3
+    # there, docs/blend.md "The solver's sweeps"; the module has no blend), and so does the module.
+    image, labels = composite
+    gdp.write_image(tmp_path / "c.png", image)
+    gdp.write_image(tmp_path / "l.png", labels)
+    files = ["-c", tmp_path / "c.png", "-l", tmp_path / "l.png"]
+    for name, iters in (("cli.png", []), ("two.png", ["--iters", "2/3"])):
+        code, err = cli("stitch", "--scratch", "float", *files, "-o", tmp_path / name, "-q", *iters)
+        assert code == 0, err
+    gdp.stitch_file(tmp_path / "c.png", tmp_path / "l.png", tmp_path / "py.png")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    # The sweeps show in these 8 bits, so the equality above is the sweeps' too.
+    assert (tmp_path / "two.png").read_bytes() != (tmp_path / "cli.png").read_bytes()
+    assert not hasattr(gdp, "blend")
+
+
 def test_stitch_options_match_cli(tmp_path, cli, composite):
     image, labels = composite
     gdp.write_image(tmp_path / "c.png", image)
