@@ -105,5 +105,43 @@ TEST_F(BlendSweeps, EightBitDefaultStaysAtTheConvergedRounding) {
   EXPECT_LT(a.changed, 0.0075);
 }
 
+// --correction with the defaults (narrow scratch, 3/3): a finite field near a converged solve's
+// (measured 4.0e-4 at most); with --anchor (a diagonal term: no level's b in half, half_policy)
+// still finite, and the anchored layer's pixels take no correction at all (17.5 % of the covered
+// pixels here; none without it). Before the pins fix (92f273e) an anchored field was mostly NaN
+// (three crops of weir_1, --anchor 1: 86,800 of 96,000 pixels).
+TEST_F(BlendSweeps, CorrectionUnderNarrowScratchIsFiniteAndNearTheConvergedOne) {
+  const std::string layers = write_layers();
+  const auto corrected = [&](const std::string& flags, const std::string& name) {
+    run(flags + " --correction " + path(name + ".tif"), name + "_out.tif", layers);
+    return read_image(path(name + ".tif")).image;
+  };
+  const Image plain = corrected("", "plain"), converged = corrected("-k 3 --double --vcycles 8 --scratch float", "converged");
+  const Image anchored = corrected("--anchor 3", "anchored");
+  const Image cover = read_image(path("plain_out.tif")).image;
+  ASSERT_EQ(plain.channels, 3);
+  double worst = 0.0, largest = 0.0;
+  long covered = 0, plain_zero = 0, anchored_zero = 0;
+  for (int y = 0; y < plain.height; ++y)
+    for (int x = 0; x < plain.width; ++x) {
+      if (cover.at(3, x, y) < 0.5f) continue;
+      ++covered;
+      bool plain_none = true, anchored_none = true;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(plain.at(c, x, y)) && std::isfinite(anchored.at(c, x, y))) << x << "," << y;
+        worst = std::max(worst, double(std::abs(plain.at(c, x, y) - converged.at(c, x, y))));
+        largest = std::max(largest, double(std::abs(anchored.at(c, x, y))));
+        plain_none = plain_none && plain.at(c, x, y) == 0.0f;
+        anchored_none = anchored_none && anchored.at(c, x, y) == 0.0f;
+      }
+      plain_zero += plain_none;
+      anchored_zero += anchored_none;
+    }
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_LT(largest, 0.5);  // the layers' offsets are 0.05 to 0.15 (weir_layers.h)
+  EXPECT_LT(plain_zero, covered / 100);
+  EXPECT_GT(anchored_zero, covered / 10);  // one layer of six holds still
+}
+
 }  // namespace
 }  // namespace gdp
