@@ -50,7 +50,9 @@ ScratchMemory::ScratchMemory(ScratchBudget& budget, std::size_t bytes) {
   budget_ = &budget;
   size_ = bytes;
   if (bytes == 0) return;
-  // Anonymous huge pages, zeroed by the kernel when prepare() maps them in, taken back at unmap.
+  // Anonymous memory, zeroed by the kernel when prepare() maps it in, taken back at unmap: 2 MiB
+  // huge pages where it is large (util::map_big), so prepare() maps a huge page per call where
+  // it would map 512 small ones (docs/how-streaming-works.md, "Huge pages").
   try {
     data_ = static_cast<unsigned char*>(util::map_big(bytes));
   } catch (const std::bad_alloc&) {

@@ -38,9 +38,8 @@ class ScratchBudget {
   std::atomic<std::size_t> memory_{0}, disk_{0}, memory_peak_{0}, disk_peak_{0}, spilled_{0};
 };
 
-// Scratch memory taken from a budget: `bytes` of anonymous memory (util::map_big: 2 MiB huge pages
-// where it is large), mapped in only as it is written (prepare()), given back to the system and
-// the budget on destruction.
+// Scratch memory taken from a budget: `bytes` of anonymous pages, mapped in only as they are
+// written (prepare()), given back to the system and the budget on destruction.
 class ScratchMemory {
  public:
   ScratchMemory() = default;
@@ -54,7 +53,7 @@ class ScratchMemory {
   unsigned char* data() const { return data_; }
   std::size_t size() const { return size_; }
   // The first `bytes` are about to be written: their pages are mapped in a few MB at a time,
-  // one call each instead of a page fault per page.
+  // one call each instead of a page fault per 4 KB page.
   void prepare(std::size_t bytes);
 
  private:
