@@ -40,7 +40,7 @@ std::vector<double> operator_column(const LevelOperator<double>& op, int k) {
   multigrid::Scratch<double> s;
   multigrid::apply(op, e, out, s);
   for (double& v : out.data) v /= LevelOperator<double>::kScale;  // stored operator is scaled
-  return out.data;
+  return {out.data.begin(), out.data.end()};
 }
 
 class Conformance : public ::testing::TestWithParam<std::tuple<Domain, int, int>> {};

@@ -481,8 +481,9 @@ void StreamedVCycle<T>::held(F&& f) {
   }
   for (auto* planes : {&tail_u_, &tail_b_})
     for (Plane<T>& p : *planes) f(std::span<T>(p.data));
-  for (std::vector<T>* v : {&tail_w_.data, &tail_d_.data, &initial_, &initial_fold_[0], &initial_fold_[1]})
-    f(std::span<T>(*v));
+  for (std::span<T> v : {std::span<T>(tail_w_.data), std::span<T>(tail_d_.data), std::span<T>(initial_),
+                         std::span<T>(initial_fold_[0]), std::span<T>(initial_fold_[1])})
+    f(v);
   for (multigrid::CycleProbe& p : probes_) {
     f(p.dots);
     f(p.level_norms);

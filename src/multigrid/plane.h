@@ -4,13 +4,15 @@
 #include <cstddef>
 #include <vector>
 
+#include "util/big_pages.h"
+
 namespace gdp::multigrid {
 
 template <class T>
 struct Plane {
   int width = 0;
   int height = 0;
-  std::vector<T> data;
+  util::BigVector<T> data;  // a large plane in huge pages (util/big_pages.h)
 
   Plane() = default;
   Plane(int w, int h) : width(w), height(h), data(static_cast<std::size_t>(w) * h, T(0)) {}

@@ -1,11 +1,11 @@
 // The process-wide scratch budget and budgeted anonymous memory for row stores.
 #include "schedule/scratch_budget.h"
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <new>
 #include <utility>
+
+#include "util/big_pages.h"
 
 namespace gdp::schedule {
 namespace {
@@ -50,24 +50,22 @@ ScratchMemory::ScratchMemory(ScratchBudget& budget, std::size_t bytes) {
   budget_ = &budget;
   size_ = bytes;
   if (bytes == 0) return;
-  // Anonymous pages, zeroed by the kernel when prepare() maps them in, taken back at munmap. Not
-  // asked for as 2 MB huge pages: where free memory is handed back to a hypervisor (this
-  // development VM), a fresh huge page costs 2-4 s of system time per GB against about 0.6 s
-  // for 4 KB pages mapped by prepare() (docs/how-streaming-works.md).
-  void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-  if (p == MAP_FAILED) {
+  // Anonymous memory, zeroed by the kernel when prepare() maps it in, taken back at unmap: 2 MiB
+  // huge pages where it is large (util::map_big), so prepare() maps a huge page per call where
+  // it would map 512 small ones (docs/how-streaming-works.md, "Huge pages").
+  try {
+    data_ = static_cast<unsigned char*>(util::map_big(bytes));
+  } catch (const std::bad_alloc&) {
     free();
-    throw std::bad_alloc();
+    throw;
   }
-  data_ = static_cast<unsigned char*>(p);
 }
 
 void ScratchMemory::prepare(std::size_t bytes) {
-  constexpr std::size_t kPage = 4096, kStep = std::size_t{4} << 20;
+  constexpr std::size_t kStep = std::size_t{4} << 20;
   if (bytes <= prepared_) return;
-  const std::size_t end = std::min((std::max(bytes, prepared_ + kStep) + kPage - 1) & ~(kPage - 1),
-                                   (size_ + kPage - 1) & ~(kPage - 1));
-  ::madvise(data_ + prepared_, end - prepared_, MADV_POPULATE_WRITE);  // declined (before Linux 5.14): faults as before
+  const std::size_t end = std::min(std::max(bytes, prepared_ + kStep), size_);
+  util::populate(data_ + prepared_, end - prepared_);
   prepared_ = end;
 }
 
@@ -88,7 +86,7 @@ void ScratchMemory::swap(ScratchMemory& other) noexcept {
 }
 
 void ScratchMemory::free() {
-  if (data_) ::munmap(data_, size_);
+  util::unmap_big(data_, size_);
   if (budget_) budget_->release(size_);
   budget_ = nullptr;
   data_ = nullptr;

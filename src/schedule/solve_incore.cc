@@ -1,9 +1,6 @@
 // The in-core solve schedule: every level in memory, channels spread over threads.
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <mutex>
 
 #include "multigrid/incore_vcycle.h"
@@ -14,21 +11,15 @@
 namespace gdp::schedule {
 namespace {
 
-// A zeroed w x h plane. Large vectors come from mmap, untouched: asking the kernel to map all of
-// their pages at once (MADV_POPULATE_WRITE, Linux 5.14) before the zero fill touches them costs
-// about 30 % less system time than taking the faults one page at a time (2 GiB: 1.05 s against
-// 1.46 s, docs/multigrid.md). Where the kernel declines, the fill faults them in as before.
+// A zeroed w x h plane. A large one is huge pages (Plane's util::BigVector), all mapped in one
+// call before the zero fill touches them (util::populate; docs/multigrid.md, "In-core allocation").
 template <class T>
 multigrid::Plane<T> prefaulted_plane(int w, int h) {
   multigrid::Plane<T> p;
   p.width = w, p.height = h;
   const std::size_t n = static_cast<std::size_t>(w) * h;
   p.data.reserve(n);
-  constexpr std::uintptr_t kPage = 4096;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(p.data.data()) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(p.data.data() + n)) & ~(kPage - 1);
-  if (end > begin + (std::uintptr_t{1} << 20))  // small planes: the faults are few, not worth a call
-    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+  if (n * sizeof(T) >= util::kBigBuffer) util::populate(p.data.data(), n * sizeof(T));
   p.data.resize(n, T(0));
   return p;
 }
