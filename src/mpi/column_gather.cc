@@ -70,6 +70,7 @@ class ColumnGather final : public RowWriter {
     const std::size_t row_bytes = static_cast<std::size_t>(end_ - begin_) * sizeof(float);
     if (batch_.empty()) {
       first_ = y;
+      batch_ = hub_->spare();  // a completed message's buffer
       batch_.reserve(sizeof(Header) + std::min(kBatchSamples * sizeof(float) + channels_ * row_bytes,
                                                kBatchRows * channels_ * row_bytes));
       batch_.resize(sizeof(Header));
@@ -83,7 +84,7 @@ class ColumnGather final : public RowWriter {
     const Header h{first_, y + 1 - first_, begin_, end_};
     std::memcpy(batch_.data(), &h, sizeof h);
     hub_->endpoint(rank_).send(0, kTag, std::move(batch_));
-    batch_.clear();
+    batch_ = {};
   }
 
   // Rank 0's output, opened at the first need.
@@ -96,6 +97,7 @@ class ColumnGather final : public RowWriter {
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
+      hub_->recycle(std::move(m.bytes));  // the next message lands in this one's buffer
       m.bytes = hub_->endpoint(0).receive(r, kTag);
       const std::vector<unsigned char>& buffer = m.bytes;
       if (buffer.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
