@@ -64,9 +64,8 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
   MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, to / local_, mpi_tag(tag, from, to), comm_,
             &p.request);
   if (sends_.size() <= in_flight_) return;
-  mpi::wait_request(sends_.front().request);
-  keep(std::move(sends_.front().data));
-  sends_.pop_front();
+  mpi::wait_request(sends_.front().request);  // (now null: reap() takes it)
+  reap();
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {

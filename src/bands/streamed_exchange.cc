@@ -82,7 +82,7 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 // first, then the others' in band order).
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const int m = ops_.levels[base_ + l + 1].width, corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
+  const int m = ops_.levels[base_ + l + 1].width, corigin = origin_of(l + 1);
   exchange<T>(
       net_, levels_[l]->fold[side].sums, kFoldSums + l, parts(), 1,
       [&](const Piece& p) { return sums.data() + static_cast<std::size_t>(p.k) * m + p.x; },
@@ -151,17 +151,18 @@ void StreamedVCycle<T>::run_tail() {
   }
   ByteWriter reply;
   std::vector<multigrid::Plane<T>> weights;
-  if (band_ == 0 && whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
+  if (band_ == 0 && whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, whole_[W][0]);
   if (band_ == 0 && whole && set_.diagonal) {
-    tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
+    tail_diag_ = multigrid::restrict_weights(ops_, tl, whole_[D][0]);
     tail_->set_diagonal(&tail_diag_);
   }
   for (int c = 0; c < channels && band_ == 0; ++c) {
     multigrid::CycleProbe below = whole ? multigrid::CycleProbe{} : merged_->probe(c);
     if (whole) {
-      std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
-      tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &below);
-      reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
+      multigrid::Plane<T>& u = whole_[U][c];
+      std::fill(u.data.begin(), u.data.end(), T(0));
+      tail_->run(u, whole_[B][c], set_.weights ? &weights : nullptr, &below);
+      reply.put(u.data.data(), u.data.size());
     }
     reply.io(below.dots);
     reply.io(below.level_norms);
@@ -169,7 +170,7 @@ void StreamedVCycle<T>::run_tail() {
   ByteReader u(broadcast(net_, kGather, std::move(reply.bytes)));
   const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
   for (int c = 0; c < channels; ++c) {
-    if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
+    if (whole) u.get(whole_[U][c].data.data(), whole_[U][c].data.size());
     multigrid::CycleProbe& p = probes_[c];
     p = {};
     const double* sums = total.data() + c * per_channel;

@@ -45,10 +45,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
     }
   } else {
-    tail_u_.assign(set_.channels, Plane<T>(tail.width, tail.height));
-    tail_b_.assign(set_.channels, Plane<T>(tail.width, tail.height));
-    if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
-    if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
+    for (int q : {U, B, W, D}) whole_[q].assign(has(q) ? per(q) : 0, Plane<T>(tail.width, tail.height));
     if (band_ == 0) {
       tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance,
                                                            base_ + layout.levels);
@@ -82,7 +79,7 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   L->origin = layout_.origin(l, band_), L->len = layout_.row_length(l, band_);
   const std::size_t slots = static_cast<std::size_t>(L->ring) * L->len;
   for (int q : {U, B, W, D})
-    if (q < W || (q == W ? set_.weights : set_.diagonal)) L->ring_of[q].assign(slots * per(q), T(0));
+    if (has(q)) L->ring_of[q].assign(slots * per(q), T(0));
   if (l == layout_.levels) return L;
   for (int j = 0; j < op.height; ++j)
     for (int d = 0; d < 5; ++d)
@@ -109,13 +106,6 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   return L;
 }
 
-template <class T>
-T* StreamedVCycle<T>::part_row(int l, int k, int j) {
-  const int c = set_.channels;
-  if (l == layout_.levels && !layout_.merged)  // the whole level below
-    return k < c ? tail_b_[k].row(j) : k == c && set_.weights ? tail_w_.row(j) : tail_d_.row(j);
-  return k < c ? b_row(l, k, j) : k == c && set_.weights ? w_row(l, j) : d_row(l, j);
-}
 template <class T>
 Columns StreamedVCycle<T>::columns(int n, int begin, int end, bool forward) const {  // the one-band plan: whole rows, forward
   return layout_.single ? Columns::whole(n, layout_.periodic) : Columns::range(n, layout_.periodic, begin, end, forward);
@@ -153,9 +143,8 @@ void StreamedVCycle<T>::begin_cycle() {
       else if (L.store[q]) L.store[q]->clear();
   }
   if (merged_) merged_->begin_cycle();
-  for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
-  std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
-  std::fill(tail_d_.data.begin(), tail_d_.data.end(), T(0));
+  for (int q : {B, W, D})
+    for (Plane<T>& p : whole_[q]) std::fill(p.data.begin(), p.data.end(), T(0));
   initial_rr_.assign(channels, 0.0);
   final_rr_.assign(channels, 0.0);
   for (auto& p : probes_) p = {};
@@ -178,15 +167,10 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
   if (prolongation_ || r >= L.height) throw std::logic_error("StreamedVCycle::push after the last row");
   if (u.size() != slot) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
   check_slot(0, r);
-  std::copy(u.begin(), u.end(), u_row(0, 0, r));
-  if (L.inputs_stored) {
-    for (int q : {B, W, D})
-      if (L.store[q]) L.store[q]->read(slot_of(0, q, r));
-  } else {
-    std::copy(b.begin(), b.end(), b_row(0, 0, r));
-    if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
-    if (set_.diagonal) std::copy(d.begin(), d.end(), d_row(0, r));
-  }
+  const std::span<const T> given[4] = {u, b, w, d};
+  for (int q : {U, B, W, D})  // b, w and d of later cycles from the stores
+    if (q != U && L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
+    else if (has(q) && (q == U || !L.inputs_stored)) std::copy(given[q].begin(), given[q].end(), ring_row(0, q, r));
   if (layout_.top() && cycle_ == 1) {
     std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
     // The rows across the fold as they start, before the residuals that read them.
@@ -276,7 +260,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     }
   }
   const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
-  const int corigin = tail ? 0 : levels_[l + 1]->origin;
+  const int corigin = origin_of(l + 1);
   const int own = L.A - L.origin;
   // Across the fold (the first and last rows of a spherical level) the second coarse row is read
   // mirrored: its contributions land in other bands' columns, so they collect in whole rows
@@ -353,21 +337,18 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
       const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
       const bool tail = gathered(l);
-      int corigin = 0;
+      const int corigin = origin_of(l + 1);
       if (!tail) {
-        Level& C = *levels_[l + 1];
-        C.needed_from = std::min(py.index[0], py.index[1]);
+        levels_[l + 1]->needed_from = std::min(py.index[0], py.index[1]);
         if (l + 1 == layout_.levels) take_back(std::max(py.index[0], py.index[1]));
         else ensure_final(l + 1, std::max(py.index[0], py.index[1]));
-        corigin = C.origin;
       }
       // Across the fold the second coarse row is read mirrored, from the coarse level's last
       // exchange of its rows there (the gathered level is whole anyway).
       const bool across = layout_.folded && py.mirror != fem::Mirror::None && !tail;
       for (int c = 0; c < set_.channels; ++c) {
-        const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
-        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : coarse(py.index[1]);
-        multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse1, {corigin, across ? 0 : corigin},
+        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : u_row(l + 1, c, py.index[1]);
+        multigrid::prolong_rows(g.px, py, u_row(l + 1, c, py.index[0]), coarse1, {corigin, across ? 0 : corigin},
                                 tail || layout_.single,
                                 columns(L.width, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
       }
@@ -392,10 +373,10 @@ void StreamedVCycle<T>::held(F&& f) {
     f(L->dots);
     for (auto& store : L->store) f(store.get());
   }
-  for (auto* planes : {&tail_u_, &tail_b_})
-    for (Plane<T>& p : *planes) f(std::span<T>(p.data));
-  for (std::vector<T>* v : {&tail_w_.data, &tail_d_.data, &initial_, &initial_fold_[0], &initial_fold_[1]})
-    f(std::span<T>(*v));
+  for (int q : {U, B})
+    for (Plane<T>& p : whole_[q]) f(std::span<T>(p.data));
+  for (int q : {W, D}) f(whole_[q].empty() ? std::span<T>() : std::span<T>(whole_[q][0].data));
+  for (std::vector<T>* v : {&initial_, &initial_fold_[0], &initial_fold_[1]}) f(std::span<T>(*v));
   for (multigrid::CycleProbe& p : probes_) {
     f(p.dots);
     f(p.level_norms);
@@ -428,11 +409,6 @@ void StreamedVCycle<T>::state(Archive& a) {
   a.io(merged);
   if (merged != static_cast<bool>(merged_)) throw schedule::CorruptState("the merged stage differs");
   if (merged_) merged_->state(a);
-}
-
-template <class T>
-void StreamedVCycle<T>::saved() {
-  all_gather(net_, kSaved, {});
 }
 
 template void StreamedVCycle<float>::state(schedule::ByteWriter&);

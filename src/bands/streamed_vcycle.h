@@ -93,11 +93,12 @@ class StreamedVCycle {
   void state(Archive& archive);
   // After every band's save: returns once all bands of the plan have saved (so that no band is
   // ever two saves ahead of another, docs/resume.md). Nothing to wait for with one band.
-  void saved();
+  void saved() { all_gather(net_, kSaved, {}); }
 
  private:
   enum Quantity { U, B, W, D };  // a level's u, b (every channel), w and d (one row)
   int per(int q) const { return q < W ? set_.channels : 1; }
+  bool has(int q) const { return q < W || (q == W ? set_.weights : set_.diagonal); }
   struct Level {
     const multigrid::LevelOperator<T>* op = nullptr;
     int width = 0, height = 0, ring = 0;
@@ -136,6 +137,7 @@ class StreamedVCycle {
   // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
   // level 0, handed to it row by row (restriction) and back (prolongation).
   bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
+  int origin_of(int l) const { return gathered(l - 1) ? 0 : levels_[l]->origin; }  // global column of a row's [0]
   void hand_off(int row);
   void take_back(int row);
   void ensure_final(int l, int row);
@@ -149,8 +151,10 @@ class StreamedVCycle {
   T* fold_row(int l, int c, int row, bool initial = false);
   void exchange_fold_rows(int l, int side, std::vector<T>& into);
   void add_fold_sums(int l, int side, const std::vector<T>& sums, int row);
-  // Channel c's part of quantity q's slot for row j on level l (null: no such ring), and the slot.
+  // Channel c's part of quantity q's slot for row j on level l (null: no such ring), and the slot;
+  // the gathered level's rows are those of the whole planes.
   T* ring_row(int l, int q, int j, int c = 0) {
+    if (l == layout_.levels && !layout_.merged) return whole_[q].empty() ? nullptr : whole_[q][c].row(j);
     Level& L = *levels_[l];
     return L.ring_of[q].empty() ? nullptr : L.ring_of[q].data() + (static_cast<std::size_t>(j % L.ring) * per(q) + c) * L.len;
   }
@@ -160,9 +164,9 @@ class StreamedVCycle {
   T* w_row(int l, int j) { return ring_row(l, W, j); }
   T* d_row(int l, int j) { return ring_row(l, D, j); }  // null without a diagonal term
   // The inputs of level l's row j as parts: b of channel k < channels, then w and d where the
-  // settings have them; level layout_.levels when gathered: the whole planes.
+  // settings have them.
   int parts() const { return set_.channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0); }
-  T* part_row(int l, int k, int j);
+  T* part_row(int l, int k, int j) { return k < set_.channels ? b_row(l, k, j) : ring_row(l, has(W) && k == set_.channels ? W : D, j); }
 
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;      // the restriction pass's plan
@@ -174,8 +178,7 @@ class StreamedVCycle {
   int band_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
-  std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)
-  multigrid::Plane<T> tail_w_, tail_d_;
+  std::array<std::vector<multigrid::Plane<T>>, 4> whole_;  // the gathered level per quantity (worker 0 solves)
   std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   // A merged stage below this one (layout.merged; on the worker owning this band's group).
