@@ -20,19 +20,16 @@ struct BandLayout {
   int first_level = 0;   // the hierarchy level of this layout's level 0 (a merged stage's is deeper)
   bool periodic = false;
   // Spherical (PQ) levels: rows 0, 1, h-2 and h-1 read rows mirrored across the fold, at columns
-  // other bands own (band_fold.h). G is 1 and every level's lead region reaches into the
-  // neighbour's band, so that at the end of every phase each band holds the latest values of its
-  // own columns, which it then shows its mirror partners.
+  // other bands own (band_fold.h); G = 1 and every level's lead region reaches into the neighbour's.
   bool folded = false;
-  // The one-band plan (single_band_layout): no neighbour on either side (a periodic level is
-  // closed inside the kernels, not by strips to itself), no halo, whole-row tiles, rows always
-  // forward, G = 1. Its order is plain streaming's pipeline, so it gives in-core's bits.
+  // The one-band plan (single_band_layout): no neighbour (a periodic level closes inside the
+  // kernels), no halo, whole rows always forward, G = 1: plain streaming, in-core's bits.
   bool single = false;
   // bounds[l][b] .. bounds[l][b + 1]: the columns band b owns on level l (l = 0 .. levels).
   std::vector<std::vector<int>> bounds;
-  // Where bands grow too narrow before a level is small enough to gather, they merge: level
-  // `levels` is level 0 of this stage, with bands / 2 bands (pairs; the last one three bands when
-  // the count is odd), merged band g run by this stage's worker 2g. Null: gathered to worker 0.
+  // Where bands grow too narrow before a level is small enough to gather, they merge in pairs (the
+  // last three when odd): level `levels` is this stage's level 0, merged band g run by worker 2g.
+  // Null: gathered to worker 0.
   std::shared_ptr<const BandLayout> merged;
 
   int begin(int l, int b) const { return bounds[l][b]; }
@@ -51,10 +48,8 @@ struct BandLayout {
   int shift(int s) const { return 2 * (sweeps - s); }
   // G + k - 1: the (group, sweep) steps u = t - t0 + s - 1 of a phase; tiles move 2 columns a step.
   int steps() const { return phase_groups + sweeps - 1; }
-  // How far a band's lead region reaches into the neighbour's band at a phase's first step (it
-  // moves back 2 columns a step): 2(G + k - 2) on level 0, whose rows arrive with the
-  // neighbours' b, else 0 (b of a coarse row's halo comes only in strips, after the phase starts),
-  // except on folded layouts: with G = 1 a phase relaxes only rows whose b came in earlier strips.
+  // How far a band's lead region reaches into the neighbour's band at a phase's first step:
+  // 2(G + k - 2) where the halo's b is there (level 0 of the top stage; folded layouts), else 0.
   int lead_offset(int l) const { return (l == 0 && top()) || folded ? 2 * (steps() - 1) : 0; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
@@ -65,9 +60,8 @@ struct BandLayout {
   // The worker of this stage that runs merged band g, and the first band after its group.
   int group_owner(int g) const { return 2 * g; }
   int group_end(int g) const { return g + 1 == merged->bands ? bands : 2 * g + 2; }
-  // The finest stage: its level 0's rows are the input, pushed once (with the neighbours' b in
-  // their halo); a merged stage's are restricted by the stage above every cycle, each band only
-  // its own columns, and it measures no residual of its own.
+  // The finest stage: its level 0's rows are the input, pushed with the neighbours' b in their
+  // halo; a merged stage's come from the stage above every cycle, and it measures no residual.
   bool top() const { return first_level == 0; }
   // Banded levels in this stage and the merged ones below it.
   int banded_levels() const { return levels + (merged ? merged->banded_levels() : 0); }
@@ -89,12 +83,10 @@ inline int band_halo(int sweeps, int phase_groups) { return std::max(2 * (phase_
 constexpr int kDefaultPhaseGroups = 16;
 
 // Bands of (nearly) equal width, boundaries on multiples of 2^(levels - 1) so that each level's
-// bands halve into the next one's. Levels are banded up to `max_levels` (the first level small
-// enough to hold whole), which then runs on worker 0; where bands would grow narrower than
-// min_band_width() before that, they merge in pairs (`merged`, not on spherical images) or, where
-// they cannot, the level is gathered. Widths and the halo are those of the larger sweep count. `phase_groups` (G, one for all stages) is lowered, down to 1,
-// while the finest level's bands are narrower than 16 min_band_width(). Throws UsageError when even
-// the finest level is too narrow for G = 1.
+// bands halve into the next one's, banded up to `max_levels` (the first level held whole, on worker
+// 0), merging where they would grow narrower than min_band_width() (not on spherical images: there
+// the level is gathered). G is lowered while the finest bands are narrower than 16
+// min_band_width(). Throws UsageError when even the finest level is too narrow for G = 1.
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, SweepCounts sweeps, int max_levels,
                             int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
 // The one-band plan (`single`) over levels 0 .. levels - 1, level `levels` held whole.

@@ -1,21 +1,18 @@
-// Phase geometry of the band schedule: region boundaries per step, interior lanes, strip extents.
+// Phase order and geometry of the band schedule: region boundaries per step, interior lanes, tiles, strip extents.
 #include "bands/band_phase.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace gdp::bands {
+namespace {
 
-int phase_count(const BandLayout& L, int height) {
-  if (L.single) return height + 2 * L.sweeps;  // group t: sweep s of row t - 2s
-  return (height - 1 + 2 * L.sweeps) / L.phase_groups + 2;
-}
-
-int final_phase(const BandLayout& L, int height, int j) {
-  // Rows j - 2 .. j + 2 have had their last sweep (group row + 2k) and, one phase later, the
-  // neighbour's writes into this band's edge have come back in its strip (no neighbour: at once).
-  if (L.single) return std::min(j + 2, height - 1) + 2 * L.sweeps;
-  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + 1;
-}
+// One step's regions: lead, interior (before lane splitting), follow. Every boundary moves 2
+// columns a step (the stencil's reach); the follow region reaches 2u columns into the leading
+// neighbour's band.
+struct PhaseRegions {
+  int lead[2], mid[2], follow[2];
+};
 
 PhaseRegions phase_regions(const BandLayout& L, int l, int band, int p, int u) {
   const int A = L.begin(l, band), B = L.end(l, band), C = L.edge(), o = L.lead_offset(l);
@@ -33,12 +30,68 @@ PhaseRegions phase_regions(const BandLayout& L, int l, int band, int p, int u) {
   return r;
 }
 
+// Interior lane boundaries (without the per-sweep shift), first and last excluded.
 std::vector<int> interior_lanes(const BandLayout& L, int l, int band) {
   const int a = L.begin(l, band) + L.edge(), b = L.end(l, band) - L.edge();
   const int width = b - a, count = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
   std::vector<int> inner;
   for (int q = 1; q < count; ++q) inner.push_back(a + static_cast<int>(static_cast<long long>(width) * q / count));
   return inner;
+}
+
+}  // namespace
+
+int phase_count(const BandLayout& L, int height) {
+  if (L.single) return height + 2 * L.sweeps;  // group t: sweep s of row t - 2s
+  return (height - 1 + 2 * L.sweeps) / L.phase_groups + 2;
+}
+
+int final_phase(const BandLayout& L, int height, int j) {
+  // Rows j - 2 .. j + 2 have had their last sweep (group row + 2k) and, one phase later, the
+  // neighbour's writes into this band's edge have come back in its strip (no neighbour: at once).
+  if (L.single) return std::min(j + 2, height - 1) + 2 * L.sweeps;
+  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + 1;
+}
+
+void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive) {
+  const int G = L.phase_groups, k = L.sweeps, t0 = p * G;
+  const auto each = [&](auto&& f) {  // every (group, sweep) of the phase whose row exists, group by group
+    for (int t = t0; t < t0 + G; ++t)
+      for (int s = 1; s <= k; ++s)
+        if (t - 2 * s >= 0 && t - 2 * s < height) f(t, s, t - t0 + s - 1);
+  };
+  if (L.single)  // the one-band plan: whole rows, forward, nothing to exchange
+    return each([&](int t, int s, int) { relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true}); });
+  const bool lead_left = p % 2 == 0;
+  const auto tile = [&](int t, int s, int lo, int hi) {
+    if (lo < hi) relax(Tile{t - 2 * s, s, lo, hi, t % 2 == 0});
+  };
+  each([&](int t, int s, int u) {
+    const PhaseRegions r = phase_regions(L, l, band, p, u);
+    tile(t, s, r.lead[0], r.lead[1]);
+  });
+  if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
+  const std::vector<int> inner = interior_lanes(L, l, band);
+  const int lanes = static_cast<int>(inner.size()) + 1;
+  for (int t = t0; t < t0 + G; ++t) {
+    const bool forward = t % 2 == 0;
+    for (int i = 0; i < lanes; ++i) {
+      const int q = forward ? i : lanes - 1 - i;
+      for (int s = 1; s <= k; ++s) {
+        if (t - 2 * s < 0 || t - 2 * s >= height) continue;
+        // Inner lane boundaries move with the traversal, 2(k - s) columns (section 6.2).
+        const PhaseRegions r = phase_regions(L, l, band, p, t - t0 + s - 1);
+        const int d = forward ? L.shift(s) : -L.shift(s);
+        tile(t, s, q == 0 ? r.mid[0] : inner[q - 1] + d, q == lanes - 1 ? r.mid[1] : inner[q] + d);
+      }
+    }
+  }
+  if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
+  each([&](int t, int s, int u) {
+    const PhaseRegions r = phase_regions(L, l, band, p, u);
+    tile(t, s, r.follow[0], r.follow[1]);
+  });
 }
 
 StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {

@@ -33,8 +33,27 @@ void MpiHub::reap() {
     int done = 0;
     MPI_Test(&sends_.front().request, &done, MPI_STATUS_IGNORE);
     if (!done) return;
+    keep(std::move(sends_.front().data));
     sends_.pop_front();
   }
+}
+
+void MpiHub::keep(Bytes used) {
+  if (spare_.size() < 8 && used.capacity() > 0) spare_.push_back(std::move(used));
+}
+
+Bytes MpiHub::spare() {
+  const std::lock_guard<std::mutex> lock(sending_);
+  if (spare_.empty()) return {};
+  Bytes b = std::move(spare_.back());
+  spare_.pop_back();
+  b.clear();
+  return b;
+}
+
+void MpiHub::recycle(Bytes used) {
+  const std::lock_guard<std::mutex> lock(sending_);
+  keep(std::move(used));
 }
 
 void MpiHub::send_away(int from, int to, int tag, Bytes data) {
@@ -45,12 +64,12 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
   MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, to / local_, mpi_tag(tag, from, to), comm_,
             &p.request);
   if (sends_.size() <= in_flight_) return;
-  mpi::wait_request(sends_.front().request);
-  sends_.pop_front();
+  mpi::wait_request(sends_.front().request);  // (now null: reap() takes it)
+  reap();
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {
-  Bytes data;
+  Bytes data = spare();
   mpi::receive_message(from / local_, mpi_tag(tag, from, to), comm_, data, [&] {
     const std::lock_guard<std::mutex> lock(sending_);
     reap();

@@ -82,7 +82,7 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 // first, then the others' in band order).
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const int m = ops_.levels[base_ + l + 1].width, corigin = gathered(l) ? 0 : levels_[l + 1]->origin;
+  const int m = ops_.levels[base_ + l + 1].width, corigin = origin_of(l + 1);
   exchange<T>(
       net_, levels_[l]->fold[side].sums, kFoldSums + l, parts(), 1,
       [&](const Piece& p) { return sums.data() + static_cast<std::size_t>(p.k) * m + p.x; },
@@ -129,14 +129,13 @@ void StreamedVCycle<T>::take_back(int row) {
 }
 
 // The level below the bands: every worker's partial sums are added in band order (the same bits
-// run to run), its columns of b (and w, d) go to worker 0, which solves in-core and sends the
-// whole correction and the level's probes back.
+// run to run), its columns of b (and w, d) go to worker 0, which solves in-core (or takes the
+// merged stage's probes, added over its bands) and sends the whole correction and the probes back.
 template <class T>
 void StreamedVCycle<T>::run_tail() {
-  const int channels = set_.channels, banded = layout_.levels;
+  const int channels = set_.channels, banded = layout_.levels, tl = base_ + banded;
   const bool whole = !layout_.merged;  // else the merged stage has solved the level below
-  // Per channel: the initial residual, then per level rr and dots.
-  std::vector<double> total;
+  std::vector<double> total;  // per channel: the initial residual, then per level rr and dots
   for (int c = 0; c < channels; ++c) {
     total.push_back(initial_rr_[c]);
     for (int l = 0; l < banded; ++l) {
@@ -148,14 +147,30 @@ void StreamedVCycle<T>::run_tail() {
   if (whole) {  // worker 0's own part is in place already
     const auto at = [&](const Piece& p) { return part_row(banded, p.k, p.r) + p.x; };
     exchange<T>(net_, group_plan(layout_, banded, band_, 0, layout_.bands, true), kGather, parts(),
-                ops_.levels[base_ + banded].height, at, at, false);
+                ops_.levels[tl].height, at, at, false);
   }
   ByteWriter reply;
-  if (band_ == 0) solve_tail(reply);
+  std::vector<multigrid::Plane<T>> weights;
+  if (band_ == 0 && whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, whole_[W][0]);
+  if (band_ == 0 && whole && set_.diagonal) {
+    tail_diag_ = multigrid::restrict_weights(ops_, tl, whole_[D][0]);
+    tail_->set_diagonal(&tail_diag_);
+  }
+  for (int c = 0; c < channels && band_ == 0; ++c) {
+    multigrid::CycleProbe below = whole ? multigrid::CycleProbe{} : merged_->probe(c);
+    if (whole) {
+      multigrid::Plane<T>& u = whole_[U][c];
+      std::fill(u.data.begin(), u.data.end(), T(0));
+      tail_->run(u, whole_[B][c], set_.weights ? &weights : nullptr, &below);
+      reply.put(u.data.data(), u.data.size());
+    }
+    reply.io(below.dots);
+    reply.io(below.level_norms);
+  }
   ByteReader u(broadcast(net_, kGather, std::move(reply.bytes)));
   const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
   for (int c = 0; c < channels; ++c) {
-    if (whole) u.get(tail_u_[c].data.data(), tail_u_[c].data.size());
+    if (whole) u.get(whole_[U][c].data.data(), whole_[U][c].data.size());
     multigrid::CycleProbe& p = probes_[c];
     p = {};
     const double* sums = total.data() + c * per_channel;
@@ -163,43 +178,15 @@ void StreamedVCycle<T>::run_tail() {
       if (set_.weights) p.dots.push_back(sums[2 + 2 * l]);
       p.level_norms.push_back(std::sqrt(sums[1 + 2 * l]));
     }
-    std::vector<double> dots, norms;  // the levels below
-    u.io(dots);
-    u.io(norms);
-    p.dots.insert(p.dots.end(), dots.begin(), dots.end());
-    p.level_norms.insert(p.level_norms.end(), norms.begin(), norms.end());
+    multigrid::CycleProbe below;
+    u.io(below.dots);
+    u.io(below.level_norms);
+    p.dots.insert(p.dots.end(), below.dots.begin(), below.dots.end());
+    p.level_norms.insert(p.level_norms.end(), below.level_norms.begin(), below.level_norms.end());
     initial_rr_[c] = sums[0];
   }
   u.finish();
 }
-
-// Worker 0: every channel's correction and probe of the levels below, solved in-core (or the
-// merged stage's, added over its bands), into `reply`.
-template <class T>
-void StreamedVCycle<T>::solve_tail(ByteWriter& reply) {
-  const int tl = base_ + layout_.levels;
-  const bool whole = !layout_.merged;
-  std::vector<multigrid::Plane<T>> weights;
-  if (whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, tail_w_);
-  if (whole && set_.diagonal) {
-    tail_diag_ = multigrid::restrict_weights(ops_, tl, tail_d_);
-    tail_->set_diagonal(&tail_diag_);
-  }
-  for (int c = 0; c < set_.channels; ++c) {
-    multigrid::CycleProbe tail;
-    if (whole) {
-      std::fill(tail_u_[c].data.begin(), tail_u_[c].data.end(), T(0));
-      tail_->run(tail_u_[c], tail_b_[c], set_.weights ? &weights : nullptr, &tail);
-      reply.put(tail_u_[c].data.data(), tail_u_[c].data.size());
-    } else {
-      tail = merged_->probe(c);
-    }
-    reply.io(tail.dots);
-    reply.io(tail.level_norms);
-  }
-}
-
-
 
 #define GDP_INSTANTIATE(T)                                                        \
   template T* StreamedVCycle<T>::fold_row(int, int, int, bool);                     \

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -20,21 +21,6 @@ namespace {
 template <class... F>
 struct Overloaded : F... {  // one visitor of held()'s parts, a lambda per kind
   using F::operator()...;
-};
-
-// The merged stage's workers: merged band g is this stage's worker 2g.
-class MergedTransport : public Transport {
- public:
-  MergedTransport(Transport& outer, int bands) : outer_(outer), bands_(bands) {}
-  int rank() const override { return outer_.rank() / 2; }
-  int size() const override { return bands_; }
-  void send(int to, int tag, Bytes data) override { outer_.send(2 * to, tag + kStageTags, std::move(data)); }
-  Bytes receive(int from, int tag) override { return outer_.receive(2 * from, tag + kStageTags); }
-  void abort(const std::string& why) override { outer_.abort(why); }
-
- private:
-  Transport& outer_;
-  int bands_;
 };
 }  // namespace
 
@@ -55,14 +41,11 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
   if (layout.merged) {
     levels_.push_back(make_level(layout.levels));
     if (band_ == layout.group_owner(layout.group_of(band_))) {
-      merged_net_ = std::make_unique<MergedTransport>(transport, layout.merged->bands);
+      merged_net_ = std::make_unique<Transport>(transport.every_other(layout.merged->bands, kStageTags));
       merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
     }
   } else {
-    tail_u_.assign(set_.channels, Plane<T>(tail.width, tail.height));
-    tail_b_.assign(set_.channels, Plane<T>(tail.width, tail.height));
-    if (set_.weights) tail_w_ = Plane<T>(tail.width, tail.height);
-    if (set_.diagonal) tail_d_ = Plane<T>(tail.width, tail.height);
+    for (int q : {U, B, W, D}) whole_[q].assign(has(q) ? per(q) : 0, Plane<T>(tail.width, tail.height));
     if (band_ == 0) {
       tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance,
                                                            base_ + layout.levels);
@@ -78,44 +61,30 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(set_.channels) * levels_[0]->width, T(0));
 }
 
-// A ring of `ring` rows of u and b (every channel), w and d (as the settings have them).
-template <class T>
-void StreamedVCycle<T>::allocate_ring(Level& L, int ring) {
-  L.ring = ring;
-  const std::size_t slots = static_cast<std::size_t>(ring) * L.len;
-  L.u.assign(slots * set_.channels, T(0));
-  L.b.assign(slots * set_.channels, T(0));
-  if (set_.weights) L.w.assign(slots, T(0));
-  if (set_.diagonal) L.d.assign(slots, T(0));
-}
-
 // Banded level l: its columns, ring, fold plans, restriction bookkeeping and row stores; level
 // `layout.levels` when merged: this band's columns handed to the merged stage row by row (b, w, d
 // as restricted; u as handed back), a few rows deep.
 template <class T>
 std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level(int l) {
   const multigrid::LevelGeometry* geo = ops_.hierarchy->levels.data() + base_;
-  auto L = std::make_unique<Level>();
   const LevelOperator<T>& op = ops_.levels[base_ + l];
-  L->op = &op;
-  L->width = op.width;
-  L->height = op.height;
-  L->A = layout_.begin(l, band_);
-  L->B = layout_.end(l, band_);
-  L->origin = layout_.origin(l, band_);
-  L->len = layout_.row_length(l, band_);
-  if (l == layout_.levels) {
-    allocate_ring(*L, 8);
-    return L;
-  }
+  // A ring of u and b (every channel), w and d (as the settings have them). Live rows span at most
+  // about 3 phases (check_slot says if not); the one-band plan's only the 2k + 5 rows of its
+  // pipeline, as streaming's (k: the larger of the two passes').
+  const int k = std::max(layout_.sweeps, layout_.post_sweeps);
+  const int ring = l == layout_.levels ? 8 : layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16;
+  auto L = std::make_unique<Level>();
+  L->op = &op, L->width = op.width, L->height = op.height, L->ring = ring;
+  L->A = layout_.begin(l, band_), L->B = layout_.end(l, band_);
+  L->origin = layout_.origin(l, band_), L->len = layout_.row_length(l, band_);
+  const std::size_t slots = static_cast<std::size_t>(L->ring) * L->len;
+  for (int q : {U, B, W, D})
+    if (has(q)) L->ring_of[q].assign(slots * per(q), T(0));
+  if (l == layout_.levels) return L;
   for (int j = 0; j < op.height; ++j)
     for (int d = 0; d < 5; ++d)
       if (op.row_of(j, d) >= 0 && std::abs(op.row_of(j, d) - j) > 2)
         throw std::logic_error("bands need every row's neighbours within two rows");
-  // Live rows span at most about 3 phases (check_slot says if not); the one-band plan's only
-  // the 2k + 5 rows of its pipeline, as streaming's (k: the larger of the two passes').
-  const int k = std::max(layout_.sweeps, layout_.post_sweeps);
-  allocate_ring(*L, layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16);
   if (layout_.folded) {
     if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
     for (int side = 0; side < 2; ++side) {
@@ -128,46 +97,18 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   for (int j = 0; j < op.height; ++j)
     for (int i : geo[l + 1].py.rows[j].index) L->last_touch[i] = std::max(L->last_touch[i], j);
   const std::string name = fmt::format("band{}-level{}", band_, base_ + l);
-  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L->len;
-  L->u_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-u");
-  L->b_store = std::make_unique<schedule::RowStore<T>>(set_.stores, slot, op.height, name + "-b");
-  if (l == 0 && set_.weights && set_.more_cycles && layout_.top())
-    L->w_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-w");
-  if (set_.diagonal)  // never as half floats (half_policy): pinned pixels' entries exceed their range
-    L->d_store = std::make_unique<schedule::RowStore<T>>(set_.stores, L->len, op.height, name + "-d");
+  // w only where later cycles read it back; d never as half floats (half_policy): pinned pixels'
+  // entries exceed their range.
+  const bool keep[4] = {true, true, l == 0 && set_.weights && set_.more_cycles && layout_.top(), set_.diagonal};
+  for (int q : {U, B, W, D})
+    if (keep[q])
+      L->store[q] = std::make_unique<schedule::RowStore<T>>(set_.stores, per(q) * L->len, op.height, name + "-" + "ubwd"[q]);
   return L;
 }
 
 template <class T>
-StreamedVCycle<T>::~StreamedVCycle() = default;
-
-// Row c of ring slot j % ring of level l's ring `v`, whose slots hold `per` rows (null: no ring).
-template <class T>
-T* StreamedVCycle<T>::ring_row(std::vector<T>& v, int l, int j, int c, int per) {
-  const Level& L = *levels_[l];
-  return v.empty() ? nullptr : v.data() + (static_cast<std::size_t>(j % L.ring) * per + c) * L.len;
-}
-template <class T>
-T* StreamedVCycle<T>::u_row(int l, int c, int j) { return ring_row(levels_[l]->u, l, j, c, set_.channels); }
-template <class T>
-T* StreamedVCycle<T>::b_row(int l, int c, int j) { return ring_row(levels_[l]->b, l, j, c, set_.channels); }
-template <class T>
-T* StreamedVCycle<T>::w_row(int l, int j) { return ring_row(levels_[l]->w, l, j, 0, 1); }
-template <class T>
-T* StreamedVCycle<T>::d_row(int l, int j) { return ring_row(levels_[l]->d, l, j, 0, 1); }
-template <class T>
-T* StreamedVCycle<T>::part_row(int l, int k, int j) {
-  const int c = set_.channels;
-  if (l == layout_.levels && !layout_.merged)  // the whole level below
-    return k < c ? tail_b_[k].row(j) : k == c && set_.weights ? tail_w_.row(j) : tail_d_.row(j);
-  return k < c ? b_row(l, k, j) : k == c && set_.weights ? w_row(l, j) : d_row(l, j);
-}
-template <class T>
-Columns StreamedVCycle<T>::columns(int l, int begin, int end, bool forward) const {
-  if (!layout_.single) return Columns::range(levels_[l]->width, layout_.periodic, begin, end, forward);
-  Columns whole = Columns::whole(levels_[l]->width, layout_.periodic);  // the one-band plan's only columns
-  whole.forward = forward;
-  return whole;
+Columns StreamedVCycle<T>::columns(int n, int begin, int end, bool forward) const {  // the one-band plan: whole rows, forward
+  return layout_.single ? Columns::whole(n, layout_.periodic) : Columns::range(n, layout_.periodic, begin, end, forward);
 }
 template <class T>
 Window<T> StreamedVCycle<T>::window(int l, int c, int j, bool initial) {
@@ -197,16 +138,13 @@ void StreamedVCycle<T>::begin_cycle() {
     L.arrived = L.next_phase = L.finished = L.zeroed = L.next_complete = L.needed_from = 0;
     L.rr.assign(channels, 0.0);
     L.dots.assign(channels, 0.0);
-    if (!L.u_store) continue;  // the level handed to the merged stage
-    L.u_store->clear();
-    for (schedule::RowStore<T>* store : {L.b_store.get(), L.w_store.get(), L.d_store.get()})
-      if (store && L.inputs_stored) store->rewind();  // level 0 only
-      else if (store) store->clear();
+    for (int q : {U, B, W, D})  // (none on the level handed to the merged stage)
+      if (L.store[q] && q != U && L.inputs_stored) L.store[q]->rewind();  // level 0 only
+      else if (L.store[q]) L.store[q]->clear();
   }
   if (merged_) merged_->begin_cycle();
-  for (Plane<T>& p : tail_b_) std::fill(p.data.begin(), p.data.end(), T(0));
-  std::fill(tail_w_.data.begin(), tail_w_.data.end(), T(0));
-  std::fill(tail_d_.data.begin(), tail_d_.data.end(), T(0));
+  for (int q : {B, W, D})
+    for (Plane<T>& p : whole_[q]) std::fill(p.data.begin(), p.data.end(), T(0));
   initial_rr_.assign(channels, 0.0);
   final_rr_.assign(channels, 0.0);
   for (auto& p : probes_) p = {};
@@ -229,16 +167,10 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
   if (prolongation_ || r >= L.height) throw std::logic_error("StreamedVCycle::push after the last row");
   if (u.size() != slot) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
   check_slot(0, r);
-  std::copy(u.begin(), u.end(), u_row(0, 0, r));
-  if (L.inputs_stored) {
-    L.b_store->read({b_row(0, 0, r), slot});
-    if (L.w_store) L.w_store->read({w_row(0, r), static_cast<std::size_t>(L.len)});
-    if (L.d_store) L.d_store->read({d_row(0, r), static_cast<std::size_t>(L.len)});
-  } else {
-    std::copy(b.begin(), b.end(), b_row(0, 0, r));
-    if (set_.weights) std::copy(w.begin(), w.end(), w_row(0, r));
-    if (set_.diagonal) std::copy(d.begin(), d.end(), d_row(0, r));
-  }
+  const std::span<const T> given[4] = {u, b, w, d};
+  for (int q : {U, B, W, D})  // b, w and d of later cycles from the stores
+    if (q != U && L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
+    else if (has(q) && (q == U || !L.inputs_stored)) std::copy(given[q].begin(), given[q].end(), ring_row(0, q, r));
   if (layout_.top() && cycle_ == 1) {
     std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
     // The rows across the fold as they start, before the residuals that read them.
@@ -252,85 +184,62 @@ void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::sp
   advance(0);
 }
 
+// Runs every phase of level l whose rows have arrived. Rows across the fold (G = 1): a phase's
+// sweeps of rows 0, 1, h-2 and h-1 read them as all earlier phases left them, as a whole-row
+// Gauss-Seidel sweep reads its mirror image; the last exchange on each side shows the final rows
+// to the restriction (or the last residual). Rows final after the phase are restricted
+// (restriction pass) or measured (prolongation pass, level 0 of the top stage).
 template <class T>
 void StreamedVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
-  const int G = layout_.phase_groups;
-  const int phases = phase_count(plan(), L.height);
-  while (L.next_phase < phases && (L.next_phase * G + G - 1 < L.arrived || L.arrived == L.height)) {
-    const int p = L.next_phase;
-    run_phase(l, p);
-    L.next_phase = p + 1;
+  const int G = layout_.phase_groups, k = plan().sweeps;
+  for (int& p = L.next_phase; p < phase_count(plan(), L.height) && (p * G + G - 1 < L.arrived || L.arrived == L.height); ++p) {
+    if (layout_.folded && p >= 2 && p <= 2 * k + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
+    if (layout_.folded && p >= L.height && p <= L.height + 2 * k) exchange_fold_rows(l, 1, L.fold[1].rows);
+    plan_phase(
+        plan(), l, band_, L.height, p,
+        [&](const Tile& t) {
+          for (int c = 0; c < set_.channels; ++c)
+            multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(L.width, t.lo, t.hi, t.forward),
+                             u_row(l, c, t.row), b_row(l, c, t.row), L.scratch, d_row(l, t.row));
+        },
+        [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); });
+    while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
+      const int j = L.finished++;
+      if (!prolongation_) restrict_row(l, j);
+      else if (l == 0 && layout_.top()) measure(j, false, final_rr_);
+    }
   }
 }
 
+// The strip of phase p with the neighbour on the `left` (else right) side (band_phase.h
+// strip_shape): u, then b, w and d, row by row and channel by channel, sent (`outgoing`) or received.
 template <class T>
-void StreamedVCycle<T>::run_phase(int l, int p) {
+void StreamedVCycle<T>::strip(int l, int p, bool left, bool outgoing) {
   Level& L = *levels_[l];
-  // Rows across the fold (G = 1): this phase's sweeps of rows 0, 1, h-2 and h-1 read them as all
-  // earlier phases left them, as a whole-row Gauss-Seidel sweep reads its mirror image; the last
-  // exchange on each side shows the final rows to the restriction (or the last residual).
-  if (layout_.folded) {
-    const int k = plan().sweeps;
-    if (p >= 2 && p <= 2 * k + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
-    if (p >= L.height && p <= L.height + 2 * k) exchange_fold_rows(l, 1, L.fold[1].rows);
-  }
-  plan_phase(
-      plan(), l, band_, L.height, p,
-      [&](const Tile& t) {
-        for (int c = 0; c < set_.channels; ++c)
-          multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(l, t.lo, t.hi, t.forward), u_row(l, c, t.row),
-                           b_row(l, c, t.row), L.scratch, d_row(l, t.row));
-      },
-      [&](bool left) { send_strips(l, p, left); }, [&](bool left) { receive_strips(l, p, left); });
-  while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) finish_row(l, L.finished++);
-}
-
-// The strip of phase p (band_phase.h strip_shape): u, then b, w and d, row by row and channel by
-// channel. One description for both ends: f gets each piece in the same order when sending and receiving.
-template <class T>
-template <class F>
-void StreamedVCycle<T>::strip_rows(int l, int p, bool left, bool outgoing, F&& f) {
-  Level& L = *levels_[l];
+  const int other = left ? layout_.left(band_) : layout_.right(band_);
   const StripShape s = strip_shape(plan(), l, band_, L.height, p, left, outgoing);
-  const auto n = static_cast<std::size_t>(s.u_cols[1] - s.u_cols[0]);
-  const auto m = static_cast<std::size_t>(s.b_cols[1] - s.b_cols[0]);
-  const int at = s.u_cols[0] - L.origin, bat = s.b_cols[0] - L.origin;
+  ByteWriter out;
+  std::optional<ByteReader> in;
+  if (!outgoing) in.emplace(net_.receive(other, l));
+  const auto piece = [&](T* row, const int (&cols)[2]) {
+    const auto n = static_cast<std::size_t>(cols[1] - cols[0]);
+    if (outgoing) out.put(row + (cols[0] - L.origin), n);
+    else in->get(row + (cols[0] - L.origin), n);
+  };
   for (int c = 0; c < set_.channels; ++c)
-    for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) f(u_row(l, c, row) + at, n);
+    for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) piece(u_row(l, c, row), s.u_cols);
   for (int k = 0; k < parts(); ++k)
-    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) f(part_row(l, k, row) + bat, m);
-}
-
-template <class T>
-void StreamedVCycle<T>::send_strips(int l, int p, bool to_left) {
-  const int to = to_left ? layout_.left(band_) : layout_.right(band_);
-  if (to < 0) return;
-  ByteWriter pk;
-  strip_rows(l, p, to_left, true, [&](const T* row, std::size_t n) { pk.put(row, n); });
-  net_.send(to, l, std::move(pk.bytes));
-}
-
-template <class T>
-void StreamedVCycle<T>::receive_strips(int l, int p, bool from_left) {
-  const int from_worker = from_left ? layout_.left(band_) : layout_.right(band_);
-  if (from_worker < 0) return;
-  ByteReader un(net_.receive(from_worker, l));
-  strip_rows(l, p, from_left, false, [&](T* row, std::size_t n) { un.get(row, n); });
-  un.finish();
-}
-
-template <class T>
-void StreamedVCycle<T>::finish_row(int l, int j) {
-  if (!prolongation_) return restrict_row(l, j);
-  if (l == 0 && layout_.top()) measure(j, false, final_rr_);
+    for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) piece(part_row(l, k, row), s.b_cols);
+  if (outgoing) net_.send(other, l, std::move(out.bytes));
+  else in->finish();
 }
 
 template <class T>
 void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
   Level& L = *levels_[0];
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(0, L.A, L.B), b_row(0, c, j), r_.data(), L.scratch,
+    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(L.width, L.A, L.B), b_row(0, c, j), r_.data(), L.scratch,
                         d_row(0, j));
     rr[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
@@ -342,8 +251,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   const LevelOperator<T>& op = *L.op;
   const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
   const fem::ProlongationRow& py = g.py.rows[j];
-  const bool tail = gathered(l), periodic = layout_.periodic;
-  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
+  const bool tail = gathered(l);
   if (!tail) {  // clear the coarse rows this row is the first to reach
     Level& C = *levels_[l + 1];
     for (; C.zeroed <= std::max(py.index[0], py.index[1]); ++C.zeroed) {
@@ -352,7 +260,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     }
   }
   const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
-  const int corigin = tail ? 0 : levels_[l + 1]->origin;
+  const int corigin = origin_of(l + 1);
   const int own = L.A - L.origin;
   // Across the fold (the first and last rows of a spherical level) the second coarse row is read
   // mirrored: its contributions land in other bands' columns, so they collect in whole rows
@@ -361,46 +269,38 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   const int m = g.width();
   std::vector<T> fold;
   if (across) fold.assign(static_cast<std::size_t>(parts()) * m, T(0));
-  const Columns cols = layout_.single ? Columns::whole(m, periodic) : Columns::range(m, periodic, ca, cb);
   // b of every channel (the residual's restriction), then w and d.
   for (int k = 0; k < parts(); ++k) {
     const T* fine = part_row(l, k, j);
     if (k < set_.channels) {
-      multigrid::residual(op, j, window(l, k, j), columns(l, L.A - 2, L.B + 2), b_row(l, k, j), r_.data(), L.scratch,
+      multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), b_row(l, k, j), r_.data(), L.scratch,
                           d_row(l, j));
       L.rr[k] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
       fine = r_.data();
     }
     T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);
-    multigrid::restrict_rows(g.px, py, fine, L.origin, cols, part_row(l + 1, k, py.index[0]), coarse1,
+    multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, ca, cb), part_row(l + 1, k, py.index[0]), coarse1,
                              {corigin, across ? 0 : corigin}, L.scratch);
     if (k < set_.channels && set_.weights)
       L.dots[k] += multigrid::row_dot(w_row(l, j) + own, u_row(l, k, j) + own, L.B - L.A);
   }
   if (across) add_fold_sums(l, side_of(py.mirror), fold, py.index[1]);
-  L.u_store->append({u_row(l, 0, j), slot});
-  if (!L.inputs_stored) {
-    L.b_store->append({b_row(l, 0, j), slot});
-    if (L.w_store) L.w_store->append({w_row(l, j), static_cast<std::size_t>(L.len)});
-    if (L.d_store) L.d_store->append({d_row(l, j), static_cast<std::size_t>(L.len)});
+  for (int q : {U, B, W, D})
+    if (L.store[q] && (q == U || !L.inputs_stored)) L.store[q]->append(slot_of(l, q, j));
+  // The coarse rows this row completes enter the coarser level (u zero: a correction), or the
+  // merged stage; after the last one, the level below the bands is solved.
+  while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) {
+    const int row = L.next_complete++;
+    if (l + 1 == layout_.levels) {
+      if (layout_.merged) hand_off(row);
+      if (L.next_complete == g.height()) run_tail();
+      continue;
+    }
+    check_slot(l + 1, row);
+    std::fill_n(u_row(l + 1, 0, row), static_cast<std::size_t>(set_.channels) * levels_[l + 1]->len, T(0));
+    levels_[l + 1]->arrived = row + 1;
+    advance(l + 1);
   }
-  while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) complete_coarse_row(l);
-}
-
-template <class T>
-void StreamedVCycle<T>::complete_coarse_row(int l) {
-  Level& L = *levels_[l];
-  const int row = L.next_complete++;
-  if (l + 1 == layout_.levels) {
-    if (layout_.merged) hand_off(row);
-    if (L.next_complete == ops_.levels[base_ + l + 1].height) run_tail();
-    return;
-  }
-  Level& C = *levels_[l + 1];
-  check_slot(l + 1, row);
-  std::fill_n(u_row(l + 1, 0, row), static_cast<std::size_t>(set_.channels) * C.len, T(0));
-  C.arrived = row + 1;
-  advance(l + 1);
 }
 
 template <class T>
@@ -411,10 +311,8 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
     levels_[0]->inputs_stored = layout_.top();
     for (auto& L : levels_) {
       L->arrived = L->next_phase = L->finished = L->needed_from = 0;
-      if (!L->u_store) continue;  // the level handed to the merged stage: u comes back row by row
-      L->u_store->rewind();
-      L->b_store->rewind();
-      if (L->d_store) L->d_store->rewind();
+      for (int q : {U, B, D})  // (the level handed to the merged stage has none: u comes back row by row)
+        if (L->store[q]) L->store[q]->rewind();
     }
   }
   Level& L = *levels_[0];
@@ -434,30 +332,25 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
     if (L.arrived < L.height) {
       const int r = L.arrived;
       check_slot(l, r);
-      const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
-      L.u_store->read({u_row(l, 0, r), slot});
-      L.b_store->read({b_row(l, 0, r), slot});
-      if (L.d_store) L.d_store->read({d_row(l, r), static_cast<std::size_t>(L.len)});
+      for (int q : {U, B, D})  // (w is not read after the restriction)
+        if (L.store[q]) L.store[q]->read(slot_of(l, q, r));
       const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
       const bool tail = gathered(l);
-      int corigin = 0;
+      const int corigin = origin_of(l + 1);
       if (!tail) {
-        Level& C = *levels_[l + 1];
-        C.needed_from = std::min(py.index[0], py.index[1]);
+        levels_[l + 1]->needed_from = std::min(py.index[0], py.index[1]);
         if (l + 1 == layout_.levels) take_back(std::max(py.index[0], py.index[1]));
         else ensure_final(l + 1, std::max(py.index[0], py.index[1]));
-        corigin = C.origin;
       }
       // Across the fold the second coarse row is read mirrored, from the coarse level's last
       // exchange of its rows there (the gathered level is whole anyway).
       const bool across = layout_.folded && py.mirror != fem::Mirror::None && !tail;
       for (int c = 0; c < set_.channels; ++c) {
-        const auto coarse = [&](int i) -> const T* { return tail ? tail_u_[c].row(i) : u_row(l + 1, c, i); };
-        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : coarse(py.index[1]);
-        multigrid::prolong_rows(g.px, py, coarse(py.index[0]), coarse1, {corigin, across ? 0 : corigin},
+        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : u_row(l + 1, c, py.index[1]);
+        multigrid::prolong_rows(g.px, py, u_row(l + 1, c, py.index[0]), coarse1, {corigin, across ? 0 : corigin},
                                 tail || layout_.single,
-                                columns(l, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
+                                columns(L.width, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
       }
       ++L.arrived;
     }
@@ -472,18 +365,18 @@ void StreamedVCycle<T>::held(F&& f) {
   for (int* v : {&cycle_, &pulled_}) f(*v);
   f(prolongation_);
   for (auto& L : levels_) {
-    for (std::vector<T>* ring : {&L->u, &L->b, &L->w, &L->d, &L->fold[0].rows, &L->fold[1].rows}) f(std::span<T>(*ring));
+    for (std::vector<T>* ring : {&L->ring_of[U], &L->ring_of[B], &L->ring_of[W], &L->ring_of[D], &L->fold[0].rows, &L->fold[1].rows})
+      f(std::span<T>(*ring));
     for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from}) f(*v);
     f(L->inputs_stored);
     f(L->rr);
     f(L->dots);
-    for (schedule::RowStore<T>* store : {L->u_store.get(), L->b_store.get(), L->w_store.get(), L->d_store.get()}) f(store);
+    for (auto& store : L->store) f(store.get());
   }
-  for (auto* planes : {&tail_u_, &tail_b_})
-    for (Plane<T>& p : *planes) f(std::span<T>(p.data));
-  for (std::span<T> v : {std::span<T>(tail_w_.data), std::span<T>(tail_d_.data), std::span<T>(initial_),
-                         std::span<T>(initial_fold_[0]), std::span<T>(initial_fold_[1])})
-    f(v);
+  for (int q : {U, B})
+    for (Plane<T>& p : whole_[q]) f(std::span<T>(p.data));
+  for (int q : {W, D}) f(whole_[q].empty() ? std::span<T>() : std::span<T>(whole_[q][0].data));
+  for (std::vector<T>* v : {&initial_, &initial_fold_[0], &initial_fold_[1]}) f(std::span<T>(*v));
   for (multigrid::CycleProbe& p : probes_) {
     f(p.dots);
     f(p.level_norms);
@@ -516,11 +409,6 @@ void StreamedVCycle<T>::state(Archive& a) {
   a.io(merged);
   if (merged != static_cast<bool>(merged_)) throw schedule::CorruptState("the merged stage differs");
   if (merged_) merged_->state(a);
-}
-
-template <class T>
-void StreamedVCycle<T>::saved() {
-  all_gather(net_, kSaved, {});
 }
 
 template void StreamedVCycle<float>::state(schedule::ByteWriter&);

@@ -30,9 +30,9 @@ constexpr int kStageTags = 4000;
 constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
 inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
 
-// What a streamed V-cycle is told about its problem and its scratch.
+// What a streamed V-cycle is told about its problem and its scratch (sweeps: the column plan's).
 struct CycleSettings {
-  int channels = 1;  // the sweeps are the column plan's (bands::BandLayout::sweeps)
+  int channels = 1;
   double coarse_tolerance = 1e-10;
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
@@ -40,9 +40,8 @@ struct CycleSettings {
   schedule::StorePolicy stores;
 };
 
-// The settings a solve with `opt` gives its cycles: residuals measured, weights tracked for
-// singular problems, scratch in the process's budget and then in opt.temp_dir (half floats with
-// multigrid::half_policy(opt, diagonal), which the in-core V-cycle applies alike).
+// The settings a solve with `opt` gives its cycles: weights tracked for singular problems, scratch
+// in the process's budget, then in opt.temp_dir, half floats as the in-core V-cycle rounds them.
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s;
   s.channels = channels;
@@ -58,31 +57,18 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
 
 // One V-cycle as the paper's two passes over the rows, all levels in lockstep, on band
 // `transport.rank()` of the column plan `layout` (docs/how-streaming-works.md, docs/how-bands-work.md):
-//  - restriction pass: rows of the finest level are pushed in order; rows are relaxed in groups:
-//    group t holds sweep s of row t - 2s for s = 1 .. k, which is k Gauss-Seidel sweeps when
-//    groups run in order. A row whose neighbours are final is restricted (its residual into the
-//    coarser level), and a coarse row whose last contribution arrived is pushed there in turn.
-//    Pre-smoothed u and b go to row stores.
-//  - the first level small enough to hold whole is gathered to worker 0 and solved in-core.
-//  - prolongation pass: rows are pulled in order; a row is read back, gets the prolonged
-//    correction of the coarser level (pulled on demand) and is post-smoothed by the same groups
-//    with the layout's post_sweeps (its post_pass() plan).
-// The one-band plan (BandLayout::single) is plain streaming: whole rows, always forward, one group a
-// phase, nothing exchanged, a ring of 2(k + 2) + 8 rows; every kernel call sees what in-core's
-// sees, so the results are in-core's bits. With N bands, groups alternate direction
-// (boustrophedon) and G groups make a phase (band_phase.h): the band relaxes its lead edge for all
-// of them, sends one strip to the neighbour it leads against, relaxes its interior group by
-// group, receives one strip from the neighbour it follows and relaxes its follow edge; a strip is
-// needed a whole phase after it was sent, which hides network latency. A row is restricted once
-// both halos hold the neighbours' final values (final_phase).
-// Rows handed in and out are a band's columns with `layout.halo` columns of each neighbour
-// on both sides: channels * layout.row_length(0, band) samples (w: one channel).
+// rows are pushed in order and relaxed in groups (group t: sweep s of row t - 2s), G groups a phase
+// (band_phase.h); a row whose neighbours are final is restricted and the coarse rows it completes
+// enter the next level; the first level held whole is gathered to worker 0 and solved in-core (or
+// handed to the merged stage); rows are then pulled in order, each read back from the stores, given
+// the prolonged correction and post-smoothed alike. The one-band plan (BandLayout::single) is
+// plain streaming and gives in-core's bits. Rows handed in and out are a band's columns with
+// `layout.halo` columns of each neighbour: channels * layout.row_length(0, band) samples (w: one).
 template <class T>
 class StreamedVCycle {
  public:
   StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
              const CycleSettings& settings);
-  ~StreamedVCycle();
 
   void begin_cycle();
   // Restriction pass: the next finest row (b and w only in the first cycle; later: empty).
@@ -107,14 +93,17 @@ class StreamedVCycle {
   void state(Archive& archive);
   // After every band's save: returns once all bands of the plan have saved (so that no band is
   // ever two saves ahead of another, docs/resume.md). Nothing to wait for with one band.
-  void saved();
+  void saved() { all_gather(net_, kSaved, {}); }
 
  private:
+  enum Quantity { U, B, W, D };  // a level's u, b (every channel), w and d (one row)
+  int per(int q) const { return q < W ? set_.channels : 1; }
+  bool has(int q) const { return q < W || (q == W ? set_.weights : set_.diagonal); }
   struct Level {
     const multigrid::LevelOperator<T>* op = nullptr;
     int width = 0, height = 0, ring = 0;
     int A = 0, B = 0, origin = 0, len = 0;  // owned columns [A, B); row storage from column origin
-    std::vector<T> u, b, w, d;              // ring slots: channels * len (w, d: len)
+    std::array<std::vector<T>, 4> ring_of;  // per quantity (U, B, W, D): ring slots of per(q) * len
     multigrid::Scratch<T> scratch;
     int arrived = 0;        // rows that entered this pass
     int next_phase = 0;     // the next phase to run
@@ -123,7 +112,7 @@ class StreamedVCycle {
     int next_complete = 0;  // restriction pass: coarser rows completed by this level
     int needed_from = 0;    // prolongation pass: lowest row the finer level still reads
     std::vector<int> last_touch;
-    std::unique_ptr<schedule::RowStore<T>> u_store, b_store, w_store, d_store;
+    std::array<std::unique_ptr<schedule::RowStore<T>>, 4> store;  // per quantity, where kept
     bool inputs_stored = false;
     std::vector<double> rr, dots;
     // Spherical levels (layout.folded), per side: who sees which columns across the fold, and the
@@ -139,47 +128,45 @@ class StreamedVCycle {
   template <class F>
   void held(F&& f);
   std::unique_ptr<Level> make_level(int l);
-  void allocate_ring(Level& L, int ring);
   void advance(int l);
-  void run_phase(int l, int p);
-  void send_strips(int l, int p, bool to_left);
-  void receive_strips(int l, int p, bool from_left);
-  // The pieces of the strip exchanged with the neighbour on the `left` (else right) side in
-  // phase p, as (row pointer, count) in one order for the sender (`outgoing`) and the receiver.
-  template <class F>
-  void strip_rows(int l, int p, bool left, bool outgoing, F&& f);
-  void finish_row(int l, int j);
+  void strip(int l, int p, bool left, bool outgoing);
   // |b - A u|^2 of level 0's row j (`initial`: as pushed in the first cycle) added to rr per channel.
   void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
-  void complete_coarse_row(int l);
   void run_tail();
-  void solve_tail(ByteWriter& reply);
   // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
   // level 0, handed to it row by row (restriction) and back (prolongation).
   bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
+  int origin_of(int l) const { return gathered(l - 1) ? 0 : levels_[l]->origin; }  // global column of a row's [0]
   void hand_off(int row);
   void take_back(int row);
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
   // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
   multigrid::Window<T> window(int l, int c, int j, bool initial = false);
-  // Columns [begin, end) of level l.
-  multigrid::Columns columns(int l, int begin, int end, bool forward = true) const;
+  // Columns [begin, end) of a level n wide.
+  multigrid::Columns columns(int n, int begin, int end, bool forward = true) const;
   // Spherical levels (docs/how-bands-work.md, "Across the fold"): row `row` (0, 1, h-2 or h-1),
   // whole, as the last exchange across the fold showed it.
   T* fold_row(int l, int c, int row, bool initial = false);
   void exchange_fold_rows(int l, int side, std::vector<T>& into);
   void add_fold_sums(int l, int side, const std::vector<T>& sums, int row);
-  T* ring_row(std::vector<T>& v, int l, int j, int c, int per);
-  T* u_row(int l, int c, int j);
-  T* b_row(int l, int c, int j);
-  T* w_row(int l, int j);
-  T* d_row(int l, int j);  // null without a diagonal term
+  // Channel c's part of quantity q's slot for row j on level l (null: no such ring), and the slot;
+  // the gathered level's rows are those of the whole planes.
+  T* ring_row(int l, int q, int j, int c = 0) {
+    if (l == layout_.levels && !layout_.merged) return whole_[q].empty() ? nullptr : whole_[q][c].row(j);
+    Level& L = *levels_[l];
+    return L.ring_of[q].empty() ? nullptr : L.ring_of[q].data() + (static_cast<std::size_t>(j % L.ring) * per(q) + c) * L.len;
+  }
+  std::span<T> slot_of(int l, int q, int j) { return {ring_row(l, q, j), static_cast<std::size_t>(per(q)) * levels_[l]->len}; }
+  T* u_row(int l, int c, int j) { return ring_row(l, U, j, c); }
+  T* b_row(int l, int c, int j) { return ring_row(l, B, j, c); }
+  T* w_row(int l, int j) { return ring_row(l, W, j); }
+  T* d_row(int l, int j) { return ring_row(l, D, j); }  // null without a diagonal term
   // The inputs of level l's row j as parts: b of channel k < channels, then w and d where the
-  // settings have them; level layout_.levels when gathered: the whole planes.
+  // settings have them.
   int parts() const { return set_.channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0); }
-  T* part_row(int l, int k, int j);
+  T* part_row(int l, int k, int j) { return k < set_.channels ? b_row(l, k, j) : ring_row(l, has(W) && k == set_.channels ? W : D, j); }
 
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;      // the restriction pass's plan
@@ -191,8 +178,7 @@ class StreamedVCycle {
   int band_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
-  std::vector<multigrid::Plane<T>> tail_u_, tail_b_;  // level layout_.levels, whole (worker 0 solves)
-  multigrid::Plane<T> tail_w_, tail_d_;
+  std::array<std::vector<multigrid::Plane<T>>, 4> whole_;  // the gathered level per quantity (worker 0 solves)
   std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   // A merged stage below this one (layout.merged; on the worker owning this band's group).

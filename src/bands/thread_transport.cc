@@ -5,40 +5,24 @@
 
 namespace gdp::bands {
 
-class ThreadHub::Endpoint final : public Transport {
- public:
-  Endpoint(ThreadHub& hub, int rank) : hub_(hub), rank_(rank) {}
-  int rank() const override { return rank_; }
-  int size() const override { return hub_.size_; }
-  void send(int to, int tag, Bytes data) override {
-    if (hub_.here(to)) return hub_.post(rank_, to, tag, std::move(data));
-    hub_.send_away(rank_, to, tag, std::move(data));
-  }
-  Bytes receive(int from, int tag) override {
-    return hub_.here(from) ? hub_.take(from, rank_, tag) : hub_.receive_away(from, rank_, tag);
-  }
-  void abort(const std::string& why) override { hub_.stop(why); }
-
- private:
-  ThreadHub& hub_;
-  int rank_;
-};
+void Transport::send(int to, int tag, Bytes data) { hub_->send(rank_ * stride_, to * stride_, tag + tags_, std::move(data)); }
+Bytes Transport::receive(int from, int tag) { return hub_->receive(from * stride_, rank_ * stride_, tag + tags_); }
+void Transport::abort(const std::string& why) { hub_->stop(why); }
 
 ThreadHub::ThreadHub(int local, int first, int size) : local_(local), first_(first), size_(size) {
-  for (int b = first; b < first + local; ++b) endpoints_.push_back(std::make_unique<Endpoint>(*this, b));
+  for (int b = first; b < first + local; ++b) endpoints_.emplace_back(*this, b, size);
 }
-
-ThreadHub::~ThreadHub() = default;
 
 Transport& ThreadHub::endpoint(int worker) {
   if (!here(worker)) throw std::logic_error(fmt::format("worker {} does not run in this process", worker));
-  return *endpoints_[worker - first_];
+  return endpoints_[worker - first_];
 }
 
 void ThreadHub::send_away(int, int to, int, Bytes) { throw std::logic_error(fmt::format("no worker {}", to)); }
 Bytes ThreadHub::receive_away(int from, int, int) { throw std::logic_error(fmt::format("no worker {}", from)); }
 
-void ThreadHub::post(int from, int to, int tag, Bytes data) {
+void ThreadHub::send(int from, int to, int tag, Bytes data) {
+  if (!here(to)) return send_away(from, to, tag, std::move(data));
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (stopped_) throw TransportStopped(*stopped_);
@@ -47,7 +31,8 @@ void ThreadHub::post(int from, int to, int tag, Bytes data) {
   arrived_.notify_all();
 }
 
-Bytes ThreadHub::take(int from, int to, int tag) {
+Bytes ThreadHub::receive(int from, int to, int tag) {
+  if (!here(from)) return receive_away(from, to, tag);
   std::unique_lock<std::mutex> lock(mutex_);
   auto& box = boxes_[{from, to, tag}];
   arrived_.wait(lock, [&] { return stopped_ || !box.empty(); });

@@ -20,20 +20,29 @@ using schedule::Bytes;
 // which worker stopped it and why.
 using TransportStopped = schedule::Stopped;
 
-// One worker's end. Workers are numbered 0 .. size() - 1 (worker b solves band b). Sends
-// never wait for the receiver; messages from one worker to another with the same tag arrive
-// in the order they were sent.
+class ThreadHub;
+
+// One worker's end of a hub (thread_transport.h), or a view of every other worker (a merged
+// stage). Workers are numbered 0 .. size() - 1 (worker b solves band b). Sends never wait for the
+// receiver; messages from one worker to another with the same tag arrive in the order they were sent.
 class Transport {
  public:
-  virtual ~Transport() = default;
-  virtual int rank() const = 0;
-  virtual int size() const = 0;
+  Transport(ThreadHub& hub, int rank, int size, int stride = 1, int tags = 0)
+      : hub_(&hub), rank_(rank), size_(size), stride_(stride), tags_(tags) {}
+  int rank() const { return rank_; }
+  int size() const { return size_; }
   // Starts sending `data` to worker `to` and returns (the transport keeps the bytes).
-  virtual void send(int to, int tag, Bytes data) = 0;
+  void send(int to, int tag, Bytes data);
   // The next message from worker `from` with `tag`, waiting until it has arrived.
-  virtual Bytes receive(int from, int tag) = 0;
+  Bytes receive(int from, int tag);
   // Stops every worker: their pending and later calls throw TransportStopped(why).
-  virtual void abort(const std::string& why) = 0;
+  void abort(const std::string& why);
+  // Workers 0, 2, 4, ... of this view as `size` workers of their own, tags moved by `tags`.
+  Transport every_other(int size, int tags) const { return {*hub_, rank_ / 2, size, 2 * stride_, tags_ + tags}; }
+
+ private:
+  ThreadHub* hub_;
+  int rank_, size_, stride_, tags_;  // worker w of this view is the hub's worker w * stride_
 };
 
 // The collectives, over the members 0, step, 2 step, ... of `net` (every worker, or the first

@@ -1,5 +1,4 @@
 // Under mpirun: the ranks' columns of every result row put together on rank 0, which writes the file.
-#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -7,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "bands/mpi_transport.h"
+#include "schedule/bytes.h"
 #include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
 
@@ -22,7 +22,7 @@ constexpr std::size_t kBatchSamples = std::size_t{1} << 18;
 constexpr int kBatchRows = 16;
 constexpr std::size_t kInFlight = 4;  // sends not yet completed, per rank
 
-// A message: rows [first, first + rows) of columns [begin, end), channel-major per row.
+// A message: rows [first, first + rows) of columns [begin, end), channel-major per row, then this.
 struct Header {
   int first = 0, rows = 0, begin = 0, end = 0;
 };
@@ -62,28 +62,18 @@ class ColumnGather final : public RowWriter {
  private:
   struct Received {
     Header h;
-    std::vector<unsigned char> bytes;  // the message: the header, then the samples
+    std::vector<unsigned char> bytes;  // the message: the samples, then the header
   };
 
+  // The message is built in a completed one's buffer (the hub's spare()), the header last.
   void send(int y, std::span<const float> row) {
-    // The message is built in place (the header written last): no copy but the row's columns.
-    const std::size_t row_bytes = static_cast<std::size_t>(end_ - begin_) * sizeof(float);
-    if (batch_.empty()) {
-      first_ = y;
-      batch_.reserve(sizeof(Header) + std::min(kBatchSamples * sizeof(float) + channels_ * row_bytes,
-                                               kBatchRows * channels_ * row_bytes));
-      batch_.resize(sizeof(Header));
-    }
-    for (int c = 0; c < channels_; ++c) {
-      const auto* p = reinterpret_cast<const unsigned char*>(row.data() + static_cast<std::size_t>(c) * width_ + begin_);
-      batch_.insert(batch_.end(), p, p + row_bytes);
-    }
-    const std::size_t samples = (batch_.size() - sizeof(Header)) / sizeof(float);
+    if (batch_.bytes.empty()) first_ = y, batch_.bytes = hub_->spare();
+    for (int c = 0; c < channels_; ++c) batch_.put(row.data() + static_cast<std::size_t>(c) * width_ + begin_, end_ - begin_);
+    const std::size_t samples = batch_.bytes.size() / sizeof(float);
     if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
-    const Header h{first_, y + 1 - first_, begin_, end_};
-    std::memcpy(batch_.data(), &h, sizeof h);
-    hub_->endpoint(rank_).send(0, kTag, std::move(batch_));
-    batch_.clear();
+    batch_.io(Header{first_, y + 1 - first_, begin_, end_});
+    hub_->endpoint(rank_).send(0, kTag, std::move(batch_.bytes));
+    batch_.bytes = {};
   }
 
   // Rank 0's output, opened at the first need.
@@ -96,11 +86,11 @@ class ColumnGather final : public RowWriter {
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
+      hub_->recycle(std::move(m.bytes));  // the next message lands in this one's buffer
       m.bytes = hub_->endpoint(0).receive(r, kTag);
-      const std::vector<unsigned char>& buffer = m.bytes;
-      if (buffer.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
-      std::memcpy(&m.h, buffer.data(), sizeof(Header));
-      const std::size_t count = (buffer.size() - sizeof(Header)) / sizeof(float);
+      if (m.bytes.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
+      std::memcpy(&m.h, m.bytes.data() + m.bytes.size() - sizeof(Header), sizeof(Header));
+      const std::size_t count = (m.bytes.size() - sizeof(Header)) / sizeof(float);
       if (m.h.first != y || m.h.begin < 0 || m.h.end > width_ || m.h.begin > m.h.end ||
           count != static_cast<std::size_t>(m.h.rows) * channels_ * (m.h.end - m.h.begin))
         throw std::logic_error(fmt::format("ColumnGather: rank {} sent rows {}.. columns {}..{}, row {} expected", r,
@@ -108,7 +98,7 @@ class ColumnGather final : public RowWriter {
     }
     const int n = m.h.end - m.h.begin;
     const std::size_t row_bytes = static_cast<std::size_t>(n) * sizeof(float);
-    const unsigned char* src = m.bytes.data() + sizeof(Header) + static_cast<std::size_t>(y - m.h.first) * channels_ * row_bytes;
+    const unsigned char* src = m.bytes.data() + static_cast<std::size_t>(y - m.h.first) * channels_ * row_bytes;
     for (int c = 0; c < channels_; ++c)
       std::memcpy(row_.data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * row_bytes, row_bytes);
   }
@@ -118,7 +108,7 @@ class ColumnGather final : public RowWriter {
   int width_, height_, channels_, rank_;
   int begin_ = 0, end_ = 0, first_ = 0;
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
-  std::vector<unsigned char> batch_;    // the message being filled
+  schedule::ByteWriter batch_;          // the message being filled
   std::vector<float> row_;
   std::vector<Received> from_;
 };
