@@ -39,6 +39,8 @@ GDP_INLINE T* grow(std::vector<T>& v, int n) {
 
 // a = sum_d my[d] u_{j+d}, c = sum_d cy[d] u_{j+d} at columns [begin - 2, end + 2), from s.a[0]:
 // from the rows where they hold the columns, zero beyond a non-periodic level, wrapped for Wrap.
+// Both as (sum_d my[d]) u_j + sum_d my[d] (u_{j+d} - u_j): the stiffness's rows sum to zero, so c is
+// rounded like the differences, not like u (docs/multigrid.md, "Differences").
 template <class T>
 GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, const Columns& cols, Scratch<T>& s) {
   const int n = op.width, lo = cols.begin - 2, len = cols.end - cols.begin + 4;
@@ -66,19 +68,21 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   }
   T* A = a + (from - lo);
   T* C = c + (from - lo);
+  const T ms = m[0] + m[1] + m[2] + m[3] + m[4], ks = k[0] + k[1] + k[2] + k[3] + k[4];  // ks = 0 unless alpha > 0
   if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
-    // Interior rows: symmetric coefficients, pairs of rows added before multiplying.
+    // Interior rows: symmetric coefficients, pairs of differences added before multiplying.
 #pragma GCC ivdep
     for (int i = 0; i < count; ++i) {
-      const T p1 = u[1][i] + u[3][i], p2 = u[0][i] + u[4][i];
-      A[i] = m[2] * u[2][i] + m[1] * p1 + m[0] * p2;
-      C[i] = k[2] * u[2][i] + k[1] * p1 + k[0] * p2;
+      const T v = u[2][i], p1 = (u[1][i] - v) + (u[3][i] - v), p2 = (u[0][i] - v) + (u[4][i] - v);
+      A[i] = ms * v + m[1] * p1 + m[0] * p2;
+      C[i] = ks * v + k[1] * p1 + k[0] * p2;
     }
   } else {
 #pragma GCC ivdep
     for (int i = 0; i < count; ++i) {
-      A[i] = m[0] * u[0][i] + m[1] * u[1][i] + m[2] * u[2][i] + m[3] * u[3][i] + m[4] * u[4][i];
-      C[i] = k[0] * u[0][i] + k[1] * u[1][i] + k[2] * u[2][i] + k[3] * u[3][i] + k[4] * u[4][i];
+      const T v = u[2][i], d0 = u[0][i] - v, d1 = u[1][i] - v, d3 = u[3][i] - v, d4 = u[4][i] - v;
+      A[i] = ms * v + m[0] * d0 + m[1] * d1 + m[3] * d3 + m[4] * d4;
+      C[i] = ks * v + k[0] * d0 + k[1] * d1 + k[3] * d3 + k[4] * d4;
     }
   }
   std::fill(a, A, T(0)), std::fill(c, C, T(0));
@@ -94,7 +98,8 @@ enum class Out { Au, Residual, Correction };
 
 // q[x] for column begin + x from the combined rows: per-column coefficients by the level's ends, the
 // interior's one symmetric stencil (pairs of neighbours added before multiplying) elsewhere. b[i] is column
-// i's b, `in` the interior's 1 / K_0.
+// i's b, `in` the interior's 1 / K_0. The stiffness sx acts on differences a_{x+d} - a_x (its rows sum to
+// exactly zero: hierarchy.h), as combine does for c.
 template <Out O, class T>
 GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const Scratch<T>& s, T* q,
                          const T* b = nullptr, T in = T(1)) {
@@ -105,14 +110,13 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
   // a short tile's time in its epilogue; these are a few columns).
   const auto general = [&](int from, int to, int base) __attribute__((always_inline)) {
     for (int x = from; x < to; ++x) {
-      T v = op.sx[0][x - base] * a[x - 2];
-      for (int d = 1; d < 5; ++d) v += op.sx[d][x - base] * a[x + d - 2];
-      for (int d = 0; d < 5; ++d) v += op.mx[d][x - base] * c[x + d - 2];
+      T v = op.mx[0][x - base] * c[x - 2];
+      for (int d = 1; d < 5; ++d) v += op.mx[d][x - base] * c[x + d - 2];
+      for (int d = 0; d < 5; ++d) v += d == 2 ? T(0) : op.sx[d][x - base] * (a[x + d - 2] - a[x]);
       q[x] = O == Out::Au ? v : b[x] - v;
     }
   };
-  const T sc = op.sx_in[0], s1c = op.sx_in[1], s2c = op.sx_in[2];
-  const T mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
+  const T s1c = op.sx_in[1], s2c = op.sx_in[2], mc = op.mx_in[0], m1c = op.mx_in[1], m2c = op.mx_in[2];
   for (int i = cols.begin; i < cols.end;) {  // run by run (one per periodic copy), each cut at the interior
     const Run r = copy_run(op.width, cols.periodic, i, cols.end);
     const int ib = std::clamp(op.interior_begin + r.base, i, r.end);
@@ -120,8 +124,8 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
     general(i, ib, r.base);
 #pragma GCC ivdep
     for (int x = ib; x < ie; ++x) {
-      const T v = sc * a[x] + s1c * (a[x - 1] + a[x + 1]) + s2c * (a[x - 2] + a[x + 2]) + mc * c[x] +
-                  m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
+      const T v = s1c * ((a[x - 1] - a[x]) + (a[x + 1] - a[x])) + s2c * ((a[x - 2] - a[x]) + (a[x + 2] - a[x])) +
+                  mc * c[x] + m1c * (c[x - 1] + c[x + 1]) + m2c * (c[x - 2] + c[x + 2]);
       q[x] = O == Out::Au ? v : O == Out::Residual ? b[x] - v : (b[x] - v) * in;
     }
     general(ie, r.end, r.base);
