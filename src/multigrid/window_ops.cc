@@ -255,9 +255,10 @@ GDP_CLONES void relax(const LevelOperator<T>& op, int j, const Window<T>& w, Col
 #pragma GCC ivdep
       for (int x = x0 + from; x < x0 + to; ++x) {
         const T d = diag ? diag[o + x] : T(0);
-        const Term<T> k = term(op, m0, c0, fwd, g0 - x0 + x, d);
+        const bool in = x - x0 >= ib && x - x0 < ie;  // the interior's: c's terms, q is t already
+        const Term<T> k = in ? c : term(op, m0, c0, fwd, g0 - x0 + x, d);
         kn[x] = k.kn, kf[x] = k.kf;
-        if (x - x0 < ib || x - x0 >= ie) q[x] = (q[x] - d * u[o + x]) * k.inv;
+        if (!in) q[x] = (q[x] - d * u[o + x]) * k.inv;
       }
     };
     scale(0, v0), scale(v1, count);
