@@ -69,21 +69,11 @@ GDP_INLINE void combine(const LevelOperator<T>& op, int j, const Window<T>& w, c
   T* A = a + (from - lo);
   T* C = c + (from - lo);
   const T ms = m[0] + m[1] + m[2] + m[3] + m[4], ks = k[0] + k[1] + k[2] + k[3] + k[4];  // ks = 0 unless alpha > 0
-  if (m[0] == m[4] && m[1] == m[3] && k[0] == k[4] && k[1] == k[3]) {
-    // Interior rows: symmetric coefficients, pairs of differences added before multiplying.
 #pragma GCC ivdep
-    for (int i = 0; i < count; ++i) {
-      const T v = u[2][i], p1 = (u[1][i] - v) + (u[3][i] - v), p2 = (u[0][i] - v) + (u[4][i] - v);
-      A[i] = ms * v + m[1] * p1 + m[0] * p2;
-      C[i] = ks * v + k[1] * p1 + k[0] * p2;
-    }
-  } else {
-#pragma GCC ivdep
-    for (int i = 0; i < count; ++i) {
-      const T v = u[2][i], d0 = u[0][i] - v, d1 = u[1][i] - v, d3 = u[3][i] - v, d4 = u[4][i] - v;
-      A[i] = ms * v + m[0] * d0 + m[1] * d1 + m[3] * d3 + m[4] * d4;
-      C[i] = ks * v + k[0] * d0 + k[1] * d1 + k[3] * d3 + k[4] * d4;
-    }
+  for (int i = 0; i < count; ++i) {
+    const T v = u[2][i], d0 = u[0][i] - v, d1 = u[1][i] - v, d3 = u[3][i] - v, d4 = u[4][i] - v;
+    A[i] = ms * v + m[0] * d0 + m[1] * d1 + m[3] * d3 + m[4] * d4;
+    C[i] = ks * v + k[0] * d0 + k[1] * d1 + k[3] * d3 + k[4] * d4;
   }
   std::fill(a, A, T(0)), std::fill(c, C, T(0));
   std::fill(A + count, a + len, T(0)), std::fill(C + count, c + len, T(0));
@@ -110,9 +100,8 @@ GDP_INLINE void convolve(const LevelOperator<T>& op, const Columns& cols, const 
   // a short tile's time in its epilogue; these are a few columns).
   const auto general = [&](int from, int to, int base) __attribute__((always_inline)) {
     for (int x = from; x < to; ++x) {
-      T v = op.mx[0][x - base] * c[x - 2];
-      for (int d = 1; d < 5; ++d) v += op.mx[d][x - base] * c[x + d - 2];
-      for (int d = 0; d < 5; ++d) v += d == 2 ? T(0) : op.sx[d][x - base] * (a[x + d - 2] - a[x]);
+      T v = T(0);  // (the stiffness's d = 2 term is zero)
+      for (int d = 0; d < 5; ++d) v += op.mx[d][x - base] * c[x + d - 2] + op.sx[d][x - base] * (a[x + d - 2] - a[x]);
       q[x] = O == Out::Au ? v : b[x] - v;
     }
   };
@@ -287,8 +276,10 @@ GDP_CLONES void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   for (int J = cols.begin; J < cols.end;) {
     const Run r = copy_run(m, cols.periodic, J, cols.end);
     const int k = r.base / std::max(m, 1), off = k * n - fine_origin;  // fine[off + i]: copy k's column i
-    for (; m == n && J < r.end; ++J) tmp[J] = fine[J - fine_origin];  // x not coarsened: a copy
-    if (m == n) continue;
+    if (m == n) {  // x not coarsened: a copy
+      for (; J < r.end; ++J) tmp[J] = fine[J - fine_origin];
+      continue;
+    }
     const auto edge = [&](int Jw) __attribute__((always_inline)) {
       T v = T(0);
       for (int i = 0; i < n; i = i + 1 == std::min(3, n) ? std::max(3, n - 3) : i + 1) {
@@ -308,9 +299,12 @@ GDP_CLONES void restrict_rows(const fem::Prolongation& px, const fem::Prolongati
   }
   const T w0 = static_cast<T>(py.weight[0]), w1 = static_cast<T>(py.weight[1]);
   for (int J = cols.begin; J < cols.end; ++J) coarse0[J - origin[0]] += w0 * tmp[J];
-  if (w1 != T(0) && py.mirror == fem::Mirror::None)
+  if (w1 == T(0)) return;
+  if (py.mirror == fem::Mirror::None) {
     for (int J = cols.begin; J < cols.end; ++J) coarse1[J - origin[1]] += w1 * tmp[J];
-  for (int J = cols.begin; w1 != T(0) && py.mirror != fem::Mirror::None && J < cols.end;) {
+    return;
+  }
+  for (int J = cols.begin; J < cols.end;) {
     const Run r = mirror_run(py.mirror, m, J, cols.end);
     for (; J < r.end; ++J) coarse1[r.base - J - origin[1]] += w1 * tmp[J];
   }
