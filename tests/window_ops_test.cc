@@ -230,6 +230,22 @@ double relax_error(const LevelOperator<T>& op, bool with_diag, Scratch<T>& ws) {
   return worst;
 }
 
+// The kernels apply the stiffness to differences (sum_d sx[d] a_{i+d} as sum_d sx[d] (a_{i+d} - a_i)), which takes
+// every row of sx, on every level, to sum to zero: exactly in float; in double to the rounding of the coarse levels'
+// end columns (Galerkin products such as -1.4999999999999998, whose exact value sums to zero).
+TEST_P(WindowOps, StiffnessRowsSumToZero) {
+  const auto [domain, width] = GetParam();
+  const Levels s(domain, width, 16);
+  for (std::size_t l = 0; l < s.h.levels.size(); ++l) {
+    const LevelOperator<double>& od = s.ops[l];
+    const LevelOperator<float> of(s.h.levels[l], s.h.alpha);
+    for (int i = 0; i < od.width; ++i) {
+      EXPECT_EQ(of.sx[0][i] + of.sx[1][i] + of.sx[2][i] + of.sx[3][i] + of.sx[4][i], 0.0f) << of.width << " " << i;
+      EXPECT_NEAR(od.sx[0][i] + od.sx[1][i] + od.sx[2][i] + od.sx[3][i] + od.sx[4][i], 0.0, 4e-15) << od.width << " " << i;
+    }
+  }
+}
+
 TEST_P(WindowOps, RelaxIsPointwiseGaussSeidel) {
   const auto [domain, width] = GetParam();
   const Levels s(domain, width, 16);
