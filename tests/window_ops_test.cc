@@ -1,7 +1,10 @@
 // Window kernels: a row split into bands with halo columns gives the whole-row results.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "gdp/errors.h"
 #include "multigrid/plane_ops.h"
@@ -155,6 +158,125 @@ TEST_P(WindowOps, RelaxAcrossTheWrapEqualsShiftedColumns) {
     relax(op, j, wv, Columns::range(op.width, true, -2 + shift, 18 + shift, forward), ext.data(), bext.data(), ws);
     for (int i = -2; i < 18; ++i) ASSERT_NEAR(row[i - A + kHalo], ext[i + shift], 1e-12) << i;
   }
+}
+
+// Relax is pointwise Gauss-Seidel: u_i += (b_i - ((A + D) u)_i) / (A + D)_ii, i in the sweep's order, with the
+// newest values (whole rows, wrapping on periodic levels; planar ranges in either direction, their neighbours'
+// values held), with and without a diagonal term. The kernel runs in T on u, b, D rounded to T; the reference in
+// double from the same values and coefficients. Returns the largest difference over the row, relative to the
+// largest correction or value, whichever is larger.
+template <class T>
+double relax_against_pointwise(const LevelOperator<T>& op, int j, Columns cols, bool with_diag, Scratch<T>& ws) {
+  const int n = op.width;
+  const auto rounded = [&](unsigned seed, bool positive) {
+    Plane<double> p = random_plane(n, op.height, seed);
+    for (double& x : p.data) x = static_cast<T>(positive ? 0.5 + 0.25 * x : x);
+    return p;
+  };
+  const auto as_t = [](const Plane<double>& p) {
+    Plane<T> q(p.width, p.height);
+    std::copy(p.data.begin(), p.data.end(), q.data.begin());
+    return q;
+  };
+  const Plane<double> b = rounded(11, false), diag = rounded(12, true), v0 = rounded(10, false);
+  const Plane<T> bt = as_t(b), dt = as_t(diag);
+  Plane<T> u = as_t(v0);
+  Plane<double> v = v0;
+  relax(op, j, window(op, u, j), cols, u.row(j), bt.row(j), ws, with_diag ? dt.row(j) : nullptr);
+  double moved = 0.0;
+  for (int step = 0; step < cols.end - cols.begin; ++step) {
+    const int i = cols.forward ? cols.begin + step : cols.end - 1 - step;
+    double au = 0.0, k0 = with_diag ? diag.at(i, j) : 0.0;
+    for (int dy = 0; dy < 5; ++dy) {
+      const int r = op.row_of(j, dy);
+      if (r < 0) continue;
+      for (int dx = 0; dx < 5; ++dx) {
+        const int c = op.periodic_x ? fem::wrap_index(i + dx - 2, n) : i + dx - 2;
+        const double k = double(op.sx[dx][i]) * op.my[j][dy] + double(op.mx[dx][i]) * op.cy[j][dy];
+        if (c >= 0 && c < n) au += k * v.at(c, r);
+        if (dy == 2 && dx == 2) k0 += k;
+      }
+    }
+    const double dx = (b.at(i, j) - au - (with_diag ? diag.at(i, j) * v.at(i, j) : 0.0)) / k0;
+    v.at(i, j) += dx;
+    moved = std::max(moved, std::abs(dx));
+  }
+  double worst = 0.0, size = moved;
+  for (int i = 0; i < n; ++i) {
+    worst = std::max(worst, std::abs(u.at(i, j) - v.at(i, j)));
+    size = std::max(size, std::abs(v.at(i, j)));
+  }
+  return worst / size;
+}
+
+// The rows relax_against_pointwise checks on a level: whole rows (both directions where planar; periodic ones
+// wrap forward) and planar ranges in both directions, on rows 0, 1 and the middle one, unless mirrored.
+template <class T>
+double relax_error(const LevelOperator<T>& op, bool with_diag, Scratch<T>& ws) {
+  const int n = op.width;
+  std::vector<Columns> ranges{Columns::whole(n, op.periodic_x)};
+  if (!op.periodic_x)
+    for (bool fwd : {true, false})
+      ranges.insert(ranges.end(), {Columns::range(n, false, 0, n, fwd), Columns::range(n, false, 1, n - 3, fwd),
+                                   Columns::range(n, false, 3, n - 1, fwd)});
+  double worst = 0.0;
+  for (int j : {0, std::min(1, op.height - 1), op.height / 2}) {
+    bool mirrored = false;
+    for (int d = 0; d < 5; ++d) mirrored |= op.row_of(j, d) >= 0 && op.mirror_of(j, d) != fem::Mirror::None;
+    if (mirrored) continue;
+    for (const Columns& cols : ranges)
+      if (cols.end > cols.begin) worst = std::max(worst, relax_against_pointwise(op, j, cols, with_diag, ws));
+  }
+  return worst;
+}
+
+// The kernels apply the stiffness to differences (sum_d sx[d] a_{i+d} as sum_d sx[d] (a_{i+d} - a_i)), which takes
+// every row of sx, on every level, to sum to zero: exactly in float; in double to the rounding of the coarse levels'
+// end columns (Galerkin products such as -1.4999999999999998, whose exact value sums to zero).
+TEST_P(WindowOps, StiffnessRowsSumToZero) {
+  const auto [domain, width] = GetParam();
+  const Levels s(domain, width, 16);
+  for (std::size_t l = 0; l < s.h.levels.size(); ++l) {
+    const LevelOperator<double>& od = s.ops[l];
+    const LevelOperator<float> of(s.h.levels[l], s.h.alpha);
+    for (int i = 0; i < od.width; ++i) {
+      EXPECT_EQ(of.sx[0][i] + of.sx[1][i] + of.sx[2][i] + of.sx[3][i] + of.sx[4][i], 0.0f) << of.width << " " << i;
+      EXPECT_NEAR(od.sx[0][i] + od.sx[1][i] + od.sx[2][i] + od.sx[3][i] + od.sx[4][i], 0.0, 4e-15) << od.width << " " << i;
+    }
+  }
+}
+
+TEST_P(WindowOps, RelaxIsPointwiseGaussSeidel) {
+  const auto [domain, width] = GetParam();
+  const Levels s(domain, width, 16);
+  Scratch<double> ws;
+  for (const LevelOperator<double>& op : s.ops)
+    for (bool d : {false, true}) EXPECT_LT(relax_error(op, d, ws), 1e-10) << "width " << op.width << (d ? " diag" : "");
+}
+
+// The same on narrow levels, 1 to 17 columns wide (a tall thin image's coarse levels, where the sweep's blocks of
+// eight run short), planar and periodic (3 columns at least), alpha = 0 and > 0, in double and float (to float's
+// rounding).
+TEST(WindowOpsNarrow, RelaxIsPointwiseGaussSeidelOnNarrowLevels) {
+  Scratch<double> wd;
+  Scratch<float> wf;
+  for (Domain domain : {Domain::Planar, Domain::Cylindrical})
+    for (double alpha : {0.0, 0.01})
+      for (int width = domain == Domain::Planar ? 1 : 3; width <= 17; ++width) {
+        const auto topo = topology::make_topology(domain);
+        const Hierarchy h = build_hierarchy(*topo, width, 40, alpha, 1);
+        for (const LevelGeometry& g : h.levels) {
+          const LevelOperator<double> od(g, alpha);
+          const LevelOperator<float> of(g, alpha);
+          for (bool d : {false, true}) {
+            const std::string what = "width " + std::to_string(g.width()) + " of " + std::to_string(width) +
+                                     (od.periodic_x ? " periodic" : " planar") + " alpha " + std::to_string(alpha) +
+                                     (d ? " diag" : "");
+            EXPECT_LT(relax_error(od, d, wd), 1e-10) << what;
+            EXPECT_LT(relax_error(of, d, wf), 2e-5) << what << " float";
+          }
+        }
+      }
 }
 
 TEST_P(WindowOps, RestrictAndProlongOverBandsEqualWholeRows) {

@@ -2,6 +2,7 @@
 // (docs/multigrid.md). Every schedule calls them, on whole rows or on a band's columns.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -16,11 +17,12 @@ namespace gdp::multigrid {
 // neighbour band's columns; on periodic levels unwrapped, holding the wrapped values).
 struct Columns {
   int begin = 0, end = 0;
-  bool periodic = false, wrap = false;
-  bool forward = true;  // relax: left to right, else right to left
-  static Columns whole(int n, bool periodic);
+  bool periodic = false, wrap = false, forward = true;  // forward: relax left to right, else right to left
+  static Columns whole(int n, bool periodic) { return {0, n, periodic, periodic, true}; }
   // [begin, end), clipped to [0, n) on a non-periodic level.
-  static Columns range(int n, bool periodic, int begin, int end, bool forward = true);
+  static Columns range(int n, bool periodic, int begin, int end, bool forward = true) {
+    return {periodic ? begin : std::max(begin, 0), periodic ? end : std::min(end, n), periodic, false, forward};
+  }
 };
 
 // Rows j-2 .. j+2 of one channel: rows[d][i - origin[d]] is column i of row j + d - 2, null where
@@ -30,22 +32,11 @@ struct Columns {
 template <class T>
 struct Window { std::array<const T*, 5> rows{}; std::array<int, 5> origin{}; };
 
-// Temporary rows and recurrence coefficients, one per thread, grown to the widest call and reused.
+// Temporary rows, one set per thread, grown to the widest call and reused (kn, kf: relax's per-column terms).
 template <class T>
 struct Scratch {
-  // The Gauss-Seidel recurrence's terms per column for one level and row coupling (m0, c0): 1 / K_0, and per
-  // direction (forward, backward) kn = K_{-+1} / K_0, kf = K_{-+2} / K_0 and, per block of four, the responses
-  // B, C to the corrections carried in. Where the level's interior is eight columns or more, `block` holds per
-  // direction its blocks of eight's in-block matrix (eight columns), then B, C (80 values; empty otherwise).
-  struct Coefficients {
-    const void* op = nullptr; T m0{}, c0{};
-    std::vector<T> inv, kn[2], kf[2], B[2], C[2], block[2];
-  };
-  std::vector<T> a, c, q, dx, line;
+  std::vector<T> a, c, q, line, kn, kf;
   std::array<std::vector<T>, 5> mirrored;
-  std::vector<Coefficients> cached;  // whole rows of a few (level, m0, c0), newest last
-  Coefficients local;                // with a per-pixel diagonal term: one call's columns
-  const Coefficients& coefficients(const LevelOperator<T>& op, T m0, T c0);
 };
 
 // apply: out = (A u) on row j; residual: r = b - (A u). `diag`: an optional per-pixel diagonal term
