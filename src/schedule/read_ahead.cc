@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "util/exact_io.h"
 
 namespace gdp::schedule {
 
@@ -32,12 +33,9 @@ void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chun
     if (!c) return;
     c->size = std::min(chunk, end - at);
     c->bytes.resize(c->size);
-    for (std::size_t got = 0; got < c->size && c->error.empty();) {
-      const ssize_t k = ::pread(fd, c->bytes.data() + got, c->size - got, static_cast<off_t>(at + got));
-      if (k > 0) got += static_cast<std::size_t>(k);
-      else if (k == 0 || errno != EINTR)
-        c->error = k < 0 ? std::generic_category().message(errno) : "file is shorter than written";
-    }
+    const util::Transfer t = util::pread_full(fd, c->bytes.data(), c->size, at);
+    if (t.error != 0) c->error = std::generic_category().message(t.error);
+    else if (t.done < c->size) c->error = "file is shorter than written";
     at += c->size;
     if (!c->error.empty()) at = end;  // the failed chunk is the last
     else drop.read(fd, at);

@@ -13,6 +13,7 @@
 
 #include "gdp/errors.h"
 #include "schedule/read_ahead.h"
+#include "util/exact_io.h"
 
 namespace gdp::schedule {
 namespace {
@@ -114,15 +115,7 @@ void RowStore<T>::append(std::span<const T> row) {
 
 template <class T>
 void RowStore<T>::flush() {
-  std::size_t done = 0;
-  while (done < buffered_) {
-    const ssize_t k = ::write(fd_, buffer_ + done, buffered_ - done);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0)
-      throw OutputError(fmt::format("{}: cannot write: {} (--temp DIR puts scratch files elsewhere)", where(),
-                                    k < 0 ? system_message() : "no space left on device"));
-    done += static_cast<std::size_t>(k);
-  }
+  util::write_exactly(fd_, buffer_, buffered_, {where(), {}, " (--temp DIR puts scratch files elsewhere)"});
   buffered_ = 0;
   count_disk(written_);
   if (!drop_behind_.wrote(fd_, written_))
