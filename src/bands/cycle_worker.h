@@ -221,7 +221,7 @@ class CycleWorker {
   int length_, height_, keep_, kept_;
   std::unique_ptr<RowStore<T>> carry_;
   std::vector<T> u_;  // a row of every channel
-  static constexpr int kStateVersion = 1;
+  static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
 };
 
 // The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of

@@ -72,7 +72,7 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
   const int first = side == 0 ? 0 : L.height - 2;
   exchange<T>(
       net_, L.fold[side].reads, kFoldRows + l, set_.channels, 2,
-      [&](const Piece& p) { return u_row(l, p.k, first + p.r) + (p.x - L.origin); },
+      [&](const Piece& p) { return ring_row(l, U, first + p.r, p.k) + (p.x - L.origin); },
       [&](const Piece& p) { return into.data() + (static_cast<std::size_t>(p.k) * 2 + p.r) * L.width + p.x; }, false);
 }
 
@@ -82,49 +82,38 @@ void StreamedVCycle<T>::exchange_fold_rows(int l, int side, std::vector<T>& into
 // first, then the others' in band order).
 template <class T>
 void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sums, int row) {
-  const int m = ops_.levels[base_ + l + 1].width, corigin = origin_of(l + 1);
+  const int m = levels_[l + 1]->width, corigin = levels_[l + 1]->origin;
   exchange<T>(
       net_, levels_[l]->fold[side].sums, kFoldSums + l, parts(), 1,
       [&](const Piece& p) { return sums.data() + static_cast<std::size_t>(p.k) * m + p.x; },
       [&](const Piece& p) { return part_row(l + 1, p.k, row) + (p.x - corigin); }, true);
 }
 
-// Restriction pass: coarse row `row` of the level below is complete in every band of a group; its
-// columns go to the group's owner, which pushes the merged band's row into the merged stage (u zero,
-// a correction; the halo's b comes in the merged stage's strips).
+// Restriction pass (`off`): coarse row `row` of the level below is complete in every band of a
+// group; b, w and d of the columns each owns go to the group's owner, which pushes the merged band's
+// row into the merged stage (u zero: a correction; the halo's b comes in its strips). Prolongation
+// pass: the rows up to `row`, pulled from the merged stage, go back, the columns each band stores.
 template <class T>
-void StreamedVCycle<T>::hand_off(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), origin = layout_.merged->origin(0, g);
-  const auto len = static_cast<std::size_t>(layout_.merged->row_length(0, g));
+void StreamedVCycle<T>::hand(int row, bool off) {
+  const int tl = layout_.levels, g = layout_.group_of(band_), parts = off ? this->parts() : set_.channels;
   Level& H = *levels_[tl];
-  ++H.finished;
-  std::vector<T> u(merged_ ? set_.channels * len : 0, T(0)), in(merged_ ? parts() * len : 0, T(0));
-  exchange<T>(
-      net_, group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), true), kHandOff, parts(), 1,
-      [&](const Piece& p) { return part_row(tl, p.k, row) + (p.x - H.origin); },
-      [&](const Piece& p) { return in.data() + p.k * len + (p.x - origin); }, false);
-  const auto part = [&](int k, bool has) { return has ? std::span<const T>(in.data() + k * len, len) : std::span<const T>(); };
-  if (merged_)
-    merged_->push(u, {in.data(), set_.channels * len}, part(set_.channels, set_.weights), part(parts() - 1, set_.diagonal));
-}
-
-// Prolongation pass: rows of the level below up to `row`, handed back by the merged stage (from the
-// group's owner, each band the columns it stores) into this band's ring.
-template <class T>
-void StreamedVCycle<T>::take_back(int row) {
-  const int tl = layout_.levels, g = layout_.group_of(band_), origin = layout_.merged->origin(0, g);
-  const auto len = static_cast<std::size_t>(layout_.merged->row_length(0, g));
-  Level& H = *levels_[tl];
-  const FoldPlan plan = group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), false);
-  std::vector<T> got(merged_ ? set_.channels * len : 0);
-  for (; H.arrived <= row; ++H.arrived) {
-    const int J = H.arrived;
-    if (J - H.ring >= H.needed_from)
-      throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
-    if (merged_) merged_->pull(got);
-    exchange<T>(
-        net_, plan, kHandBack, set_.channels, 1, [&](const Piece& p) { return got.data() + p.k * len + (p.x - origin); },
-        [&](const Piece& p) { return u_row(tl, p.k, J) + (p.x - H.origin); }, false);
+  const Level* M = merged_ ? merged_->levels_[0].get() : nullptr;  // (on the group's owner)
+  const std::size_t len = M ? M->len : 0;
+  std::vector<T> merged(parts * len, T(0)), zero(off ? set_.channels * len : 0, T(0));
+  const auto part = [&](int k, bool has) { return std::span<const T>(merged.data() + k * len, has ? len : 0); };
+  const FoldPlan plan = group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), off);
+  for (int& J = off ? H.finished : H.arrived; J <= row; ++J) {
+    const auto at = [&](bool ring) {
+      return [&, ring](const Piece& p) {
+        return ring ? (off ? part_row(tl, p.k, J) : ring_row(tl, U, J, p.k)) + (p.x - H.origin)
+                    : merged.data() + p.k * len + (p.x - M->origin);
+      };
+    };
+    if (!off && J - H.ring >= H.needed_from) throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
+    if (!off && M) merged_->pull(merged);
+    exchange<T>(net_, plan, off ? kHandOff : kHandBack, parts, 1, at(off), at(!off), false);
+    if (off && M)
+      merged_->push(zero, {merged.data(), zero.size()}, part(set_.channels, set_.weights), part(parts - 1, set_.diagonal));
   }
 }
 
@@ -135,14 +124,9 @@ template <class T>
 void StreamedVCycle<T>::run_tail() {
   const int channels = set_.channels, banded = layout_.levels, tl = base_ + banded;
   const bool whole = !layout_.merged;  // else the merged stage has solved the level below
-  std::vector<double> total;  // per channel: the initial residual, then per level rr and dots
-  for (int c = 0; c < channels; ++c) {
-    total.push_back(initial_rr_[c]);
-    for (int l = 0; l < banded; ++l) {
-      total.push_back(levels_[l]->rr[c]);
-      total.push_back(levels_[l]->dots[c]);
-    }
-  }
+  std::vector<double> total = initial_rr_;  // then per level rr and dots (each per channel)
+  for (int l = 0; l < banded; ++l)
+    for (const std::vector<double>* v : {&levels_[l]->rr, &levels_[l]->dots}) total.insert(total.end(), v->begin(), v->end());
   sum_in_order(net_, kSums, total);
   if (whole) {  // worker 0's own part is in place already
     const auto at = [&](const Piece& p) { return part_row(banded, p.k, p.r) + p.x; };
@@ -150,40 +134,38 @@ void StreamedVCycle<T>::run_tail() {
                 ops_.levels[tl].height, at, at, false);
   }
   ByteWriter reply;
+  const int height = levels_[banded]->height, width = levels_[banded]->width;
+  const auto plane = [&](int q, int c) -> multigrid::Plane<T>& {  // channel c of q as the tail reads it (in tail_b_)
+    for (int j = 0; j < height; ++j) std::copy_n(ring_row(banded, q, j, c), width, tail_b_.row(j));
+    return tail_b_;
+  };
   std::vector<multigrid::Plane<T>> weights;
-  if (band_ == 0 && whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, whole_[W][0]);
+  if (band_ == 0 && whole && set_.weights) weights = multigrid::restrict_weights(ops_, tl, plane(W, 0));
   if (band_ == 0 && whole && set_.diagonal) {
-    tail_diag_ = multigrid::restrict_weights(ops_, tl, whole_[D][0]);
+    tail_diag_ = multigrid::restrict_weights(ops_, tl, plane(D, 0));
     tail_->set_diagonal(&tail_diag_);
   }
   for (int c = 0; c < channels && band_ == 0; ++c) {
     multigrid::CycleProbe below = whole ? multigrid::CycleProbe{} : merged_->probe(c);
     if (whole) {
-      multigrid::Plane<T>& u = whole_[U][c];
-      std::fill(u.data.begin(), u.data.end(), T(0));
-      tail_->run(u, whole_[B][c], set_.weights ? &weights : nullptr, &below);
-      reply.put(u.data.data(), u.data.size());
+      std::fill(tail_u_.data.begin(), tail_u_.data.end(), T(0));
+      tail_->run(tail_u_, plane(B, c), set_.weights ? &weights : nullptr, &below);
+      reply.put(tail_u_.data.data(), tail_u_.data.size());
     }
     reply.io(below.dots);
     reply.io(below.level_norms);
   }
   ByteReader u(broadcast(net_, kGather, std::move(reply.bytes)));
-  const std::size_t per_channel = 1 + 2 * static_cast<std::size_t>(banded);
   for (int c = 0; c < channels; ++c) {
-    if (whole) u.get(whole_[U][c].data.data(), whole_[U][c].data.size());
+    for (int j = 0; j < height && whole; ++j) u.get(ring_row(banded, U, j, c), width);
     multigrid::CycleProbe& p = probes_[c];
-    p = {};
-    const double* sums = total.data() + c * per_channel;
-    for (int l = 0; l < banded; ++l) {
-      if (set_.weights) p.dots.push_back(sums[2 + 2 * l]);
-      p.level_norms.push_back(std::sqrt(sums[1 + 2 * l]));
+    u.io(p.dots);  // the levels below the bands', which go first
+    u.io(p.level_norms);
+    for (int l = banded - 1; l >= 0; --l) {
+      if (set_.weights) p.dots.insert(p.dots.begin(), total[(2 + 2 * l) * channels + c]);
+      p.level_norms.insert(p.level_norms.begin(), std::sqrt(total[(1 + 2 * l) * channels + c]));
     }
-    multigrid::CycleProbe below;
-    u.io(below.dots);
-    u.io(below.level_norms);
-    p.dots.insert(p.dots.end(), below.dots.begin(), below.dots.end());
-    p.level_norms.insert(p.level_norms.end(), below.level_norms.begin(), below.level_norms.end());
-    initial_rr_[c] = sums[0];
+    initial_rr_[c] = total[c];
   }
   u.finish();
 }
@@ -192,8 +174,7 @@ void StreamedVCycle<T>::run_tail() {
   template T* StreamedVCycle<T>::fold_row(int, int, int, bool);                     \
   template void StreamedVCycle<T>::exchange_fold_rows(int, int, std::vector<T>&);   \
   template void StreamedVCycle<T>::add_fold_sums(int, int, const std::vector<T>&, int); \
-  template void StreamedVCycle<T>::hand_off(int);                                   \
-  template void StreamedVCycle<T>::take_back(int);                                  \
+  template void StreamedVCycle<T>::hand(int, bool);                                 \
   template void StreamedVCycle<T>::run_tail();
 GDP_INSTANTIATE(float)
 GDP_INSTANTIATE(double)

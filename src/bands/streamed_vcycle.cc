@@ -36,22 +36,15 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
       base_(layout.first_level) {
   if (transport.size() != layout.bands)
     throw std::logic_error(fmt::format("{} workers for {} bands", transport.size(), layout.bands));
-  for (int l = 0; l < layout.levels; ++l) levels_.push_back(make_level(l));
-  const LevelOperator<T>& tail = ops.levels[base_ + layout.levels];
-  if (layout.merged) {
-    levels_.push_back(make_level(layout.levels));
-    if (band_ == layout.group_owner(layout.group_of(band_))) {
-      merged_net_ = std::make_unique<Transport>(transport.every_other(layout.merged->bands, kStageTags));
-      merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
-    }
-  } else {
-    for (int q : {U, B, W, D}) whole_[q].assign(has(q) ? per(q) : 0, Plane<T>(tail.width, tail.height));
-    if (band_ == 0) {
-      tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance,
-                                                           base_ + layout.levels);
-      tail_->set_sweeps(layout.sweeps, layout.post_sweeps);
-      tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
-    }
+  for (int l = 0; l <= layout.levels; ++l) levels_.push_back(make_level(l));
+  if (layout.merged && band_ == layout.group_owner(layout.group_of(band_))) {
+    merged_net_ = std::make_unique<Transport>(transport.every_other(layout.merged->bands, kStageTags));
+    merged_ = std::make_unique<StreamedVCycle<T>>(ops, *layout.merged, *merged_net_, set_);
+  } else if (!layout.merged && band_ == 0) {
+    tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance, base_ + layout.levels);
+    tail_->set_sweeps(layout.sweeps, layout.post_sweeps);
+    tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
+    tail_u_ = tail_b_ = Plane<T>(levels_.back()->width, levels_.back()->height);
   }
   const std::size_t slot0 = static_cast<std::size_t>(set_.channels) * levels_[0]->len;
   r_.resize(layout.row_length(0, band_) + 8);
@@ -62,8 +55,8 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
 }
 
 // Banded level l: its columns, ring, fold plans, restriction bookkeeping and row stores; level
-// `layout.levels` when merged: this band's columns handed to the merged stage row by row (b, w, d
-// as restricted; u as handed back), a few rows deep.
+// `layout.levels`: when merged, this band's columns handed to the merged stage row by row (b, w, d
+// as restricted; u as handed back), a few rows deep; else the gathered level, whole rows, every row.
 template <class T>
 std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level(int l) {
   const multigrid::LevelGeometry* geo = ops_.hierarchy->levels.data() + base_;
@@ -72,11 +65,12 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   // about 3 phases (check_slot says if not); the one-band plan's only the 2k + 5 rows of its
   // pipeline, as streaming's (k: the larger of the two passes').
   const int k = std::max(layout_.sweeps, layout_.post_sweeps);
-  const int ring = l == layout_.levels ? 8 : layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16;
+  const bool whole = l == layout_.levels && !layout_.merged;
+  const int ring = whole ? op.height : l == layout_.levels ? 8 : layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16;
   auto L = std::make_unique<Level>();
   L->op = &op, L->width = op.width, L->height = op.height, L->ring = ring;
   L->A = layout_.begin(l, band_), L->B = layout_.end(l, band_);
-  L->origin = layout_.origin(l, band_), L->len = layout_.row_length(l, band_);
+  L->origin = whole ? 0 : layout_.origin(l, band_), L->len = whole ? op.width : layout_.row_length(l, band_);
   const std::size_t slots = static_cast<std::size_t>(L->ring) * L->len;
   for (int q : {U, B, W, D})
     if (has(q)) L->ring_of[q].assign(slots * per(q), T(0));
@@ -122,7 +116,7 @@ Window<T> StreamedVCycle<T>::window(int l, int c, int j, bool initial) {
       continue;
     }
     w.rows[d] = initial ? initial_.data() + (static_cast<std::size_t>(r % 8) * set_.channels + c) * L.len
-                        : u_row(l, c, r);
+                        : ring_row(l, U, r, c);
     w.origin[d] = L.origin;
   }
   return w;
@@ -143,8 +137,6 @@ void StreamedVCycle<T>::begin_cycle() {
       else if (L.store[q]) L.store[q]->clear();
   }
   if (merged_) merged_->begin_cycle();
-  for (int q : {B, W, D})
-    for (Plane<T>& p : whole_[q]) std::fill(p.data.begin(), p.data.end(), T(0));
   initial_rr_.assign(channels, 0.0);
   final_rr_.assign(channels, 0.0);
   for (auto& p : probes_) p = {};
@@ -201,7 +193,7 @@ void StreamedVCycle<T>::advance(int l) {
         [&](const Tile& t) {
           for (int c = 0; c < set_.channels; ++c)
             multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(L.width, t.lo, t.hi, t.forward),
-                             u_row(l, c, t.row), b_row(l, c, t.row), L.scratch, d_row(l, t.row));
+                             ring_row(l, U, t.row, c), ring_row(l, B, t.row, c), L.scratch, ring_row(l, D, t.row));
         },
         [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); });
     while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
@@ -228,7 +220,7 @@ void StreamedVCycle<T>::strip(int l, int p, bool left, bool outgoing) {
     else in->get(row + (cols[0] - L.origin), n);
   };
   for (int c = 0; c < set_.channels; ++c)
-    for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) piece(u_row(l, c, row), s.u_cols);
+    for (int row = s.u_rows[0]; row <= s.u_rows[1]; ++row) piece(ring_row(l, U, row, c), s.u_cols);
   for (int k = 0; k < parts(); ++k)
     for (int row = s.b_rows[0]; row <= s.b_rows[1]; ++row) piece(part_row(l, k, row), s.b_cols);
   if (outgoing) net_.send(other, l, std::move(out.bytes));
@@ -239,8 +231,8 @@ template <class T>
 void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
   Level& L = *levels_[0];
   for (int c = 0; c < set_.channels; ++c) {
-    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(L.width, L.A, L.B), b_row(0, c, j), r_.data(), L.scratch,
-                        d_row(0, j));
+    multigrid::residual(*L.op, j, window(0, c, j, initial), columns(L.width, L.A, L.B), ring_row(0, B, j, c), r_.data(), L.scratch,
+                        ring_row(0, D, j));
     rr[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
@@ -251,16 +243,12 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   const LevelOperator<T>& op = *L.op;
   const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
   const fem::ProlongationRow& py = g.py.rows[j];
-  const bool tail = gathered(l);
-  if (!tail) {  // clear the coarse rows this row is the first to reach
-    Level& C = *levels_[l + 1];
-    for (; C.zeroed <= std::max(py.index[0], py.index[1]); ++C.zeroed) {
-      check_slot(l + 1, C.zeroed);
-      for (int k = 0; k < parts(); ++k) std::fill_n(part_row(l + 1, k, C.zeroed), C.len, T(0));
-    }
+  Level& C = *levels_[l + 1];
+  for (; C.zeroed <= std::max(py.index[0], py.index[1]); ++C.zeroed) {  // clear the coarse rows this row is the first to reach
+    check_slot(l + 1, C.zeroed);
+    for (int k = 0; k < parts(); ++k) std::fill_n(part_row(l + 1, k, C.zeroed), C.len, T(0));
   }
-  const int ca = layout_.begin(l + 1, band_), cb = layout_.end(l + 1, band_);
-  const int corigin = origin_of(l + 1);
+  const int ca = C.A, cb = C.B, corigin = C.origin;
   const int own = L.A - L.origin;
   // Across the fold (the first and last rows of a spherical level) the second coarse row is read
   // mirrored: its contributions land in other bands' columns, so they collect in whole rows
@@ -273,8 +261,8 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   for (int k = 0; k < parts(); ++k) {
     const T* fine = part_row(l, k, j);
     if (k < set_.channels) {
-      multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), b_row(l, k, j), r_.data(), L.scratch,
-                          d_row(l, j));
+      multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(), L.scratch,
+                          ring_row(l, D, j));
       L.rr[k] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
       fine = r_.data();
     }
@@ -282,7 +270,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, ca, cb), part_row(l + 1, k, py.index[0]), coarse1,
                              {corigin, across ? 0 : corigin}, L.scratch);
     if (k < set_.channels && set_.weights)
-      L.dots[k] += multigrid::row_dot(w_row(l, j) + own, u_row(l, k, j) + own, L.B - L.A);
+      L.dots[k] += multigrid::row_dot(ring_row(l, W, j) + own, ring_row(l, U, j, k) + own, L.B - L.A);
   }
   if (across) add_fold_sums(l, side_of(py.mirror), fold, py.index[1]);
   for (int q : {U, B, W, D})
@@ -292,12 +280,12 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   while (L.next_complete < g.height() && L.last_touch[L.next_complete] <= j) {
     const int row = L.next_complete++;
     if (l + 1 == layout_.levels) {
-      if (layout_.merged) hand_off(row);
+      if (layout_.merged) hand(row, true);
       if (L.next_complete == g.height()) run_tail();
       continue;
     }
     check_slot(l + 1, row);
-    std::fill_n(u_row(l + 1, 0, row), static_cast<std::size_t>(set_.channels) * levels_[l + 1]->len, T(0));
+    std::ranges::fill(slot_of(l + 1, U, row), T(0));
     levels_[l + 1]->arrived = row + 1;
     advance(l + 1);
   }
@@ -320,7 +308,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
   if (j >= L.height) throw std::logic_error("StreamedVCycle::pull after the last row");
   L.needed_from = j;
   ensure_final(0, j);
-  std::copy_n(u_row(0, 0, j), static_cast<std::size_t>(set_.channels) * L.len, u.begin());
+  std::ranges::copy(slot_of(0, U, j), u.begin());
   if (++pulled_ == L.height && layout_.top()) sum_in_order(net_, kFinal, final_rr_);
 }
 
@@ -337,20 +325,20 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
       const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
       const bool tail = gathered(l);
-      const int corigin = origin_of(l + 1);
+      const int corigin = levels_[l + 1]->origin;
       if (!tail) {
         levels_[l + 1]->needed_from = std::min(py.index[0], py.index[1]);
-        if (l + 1 == layout_.levels) take_back(std::max(py.index[0], py.index[1]));
+        if (l + 1 == layout_.levels) hand(std::max(py.index[0], py.index[1]), false);
         else ensure_final(l + 1, std::max(py.index[0], py.index[1]));
       }
       // Across the fold the second coarse row is read mirrored, from the coarse level's last
       // exchange of its rows there (the gathered level is whole anyway).
       const bool across = layout_.folded && py.mirror != fem::Mirror::None && !tail;
       for (int c = 0; c < set_.channels; ++c) {
-        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : u_row(l + 1, c, py.index[1]);
-        multigrid::prolong_rows(g.px, py, u_row(l + 1, c, py.index[0]), coarse1, {corigin, across ? 0 : corigin},
+        const T* coarse1 = across ? fold_row(l + 1, c, py.index[1]) : ring_row(l + 1, U, py.index[1], c);
+        multigrid::prolong_rows(g.px, py, ring_row(l + 1, U, py.index[0], c), coarse1, {corigin, across ? 0 : corigin},
                                 tail || layout_.single,
-                                columns(L.width, L.origin, L.origin + L.len), u_row(l, c, r), L.origin, L.scratch);
+                                columns(L.width, L.origin, L.origin + L.len), ring_row(l, U, r, c), L.origin, L.scratch);
       }
       ++L.arrived;
     }
@@ -373,9 +361,6 @@ void StreamedVCycle<T>::held(F&& f) {
     f(L->dots);
     for (auto& store : L->store) f(store.get());
   }
-  for (int q : {U, B})
-    for (Plane<T>& p : whole_[q]) f(std::span<T>(p.data));
-  for (int q : {W, D}) f(whole_[q].empty() ? std::span<T>() : std::span<T>(whole_[q][0].data));
   for (std::vector<T>* v : {&initial_, &initial_fold_[0], &initial_fold_[1]}) f(std::span<T>(*v));
   for (multigrid::CycleProbe& p : probes_) {
     f(p.dots);

@@ -134,12 +134,10 @@ class StreamedVCycle {
   void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
   void run_tail();
-  // The level below a merged stage's: level `layout.levels` of this stage is the merged stage's
-  // level 0, handed to it row by row (restriction) and back (prolongation).
-  bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }  // into the whole level
-  int origin_of(int l) const { return gathered(l - 1) ? 0 : levels_[l]->origin; }  // global column of a row's [0]
-  void hand_off(int row);
-  void take_back(int row);
+  // Level l restricts into the gathered level (whole rows, every row, on every worker); else level
+  // `layout.levels` is the merged stage's level 0, handed to it row by row and back.
+  bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }
+  void hand(int row, bool off);  // to the merged stage (restriction pass) or back
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
   // Row j's window on level l, channel c; `initial`: level 0's rows as pushed in the first cycle.
@@ -151,22 +149,16 @@ class StreamedVCycle {
   T* fold_row(int l, int c, int row, bool initial = false);
   void exchange_fold_rows(int l, int side, std::vector<T>& into);
   void add_fold_sums(int l, int side, const std::vector<T>& sums, int row);
-  // Channel c's part of quantity q's slot for row j on level l (null: no such ring), and the slot;
-  // the gathered level's rows are those of the whole planes.
+  // Channel c's part of quantity q's slot for row j on level l (null: no such ring), and the slot.
   T* ring_row(int l, int q, int j, int c = 0) {
-    if (l == layout_.levels && !layout_.merged) return whole_[q].empty() ? nullptr : whole_[q][c].row(j);
     Level& L = *levels_[l];
     return L.ring_of[q].empty() ? nullptr : L.ring_of[q].data() + (static_cast<std::size_t>(j % L.ring) * per(q) + c) * L.len;
   }
   std::span<T> slot_of(int l, int q, int j) { return {ring_row(l, q, j), static_cast<std::size_t>(per(q)) * levels_[l]->len}; }
-  T* u_row(int l, int c, int j) { return ring_row(l, U, j, c); }
-  T* b_row(int l, int c, int j) { return ring_row(l, B, j, c); }
-  T* w_row(int l, int j) { return ring_row(l, W, j); }
-  T* d_row(int l, int j) { return ring_row(l, D, j); }  // null without a diagonal term
   // The inputs of level l's row j as parts: b of channel k < channels, then w and d where the
   // settings have them.
   int parts() const { return set_.channels + (set_.weights ? 1 : 0) + (set_.diagonal ? 1 : 0); }
-  T* part_row(int l, int k, int j) { return k < set_.channels ? b_row(l, k, j) : ring_row(l, has(W) && k == set_.channels ? W : D, j); }
+  T* part_row(int l, int k, int j) { return k < set_.channels ? ring_row(l, B, j, k) : ring_row(l, has(W) && k == set_.channels ? W : D, j); }
 
   const multigrid::Operators<T>& ops_;
   const BandLayout& layout_;      // the restriction pass's plan
@@ -178,7 +170,7 @@ class StreamedVCycle {
   int band_;
   int base_;  // the hierarchy level of this stage's level 0
   std::vector<std::unique_ptr<Level>> levels_;
-  std::array<std::vector<multigrid::Plane<T>>, 4> whole_;  // the gathered level per quantity (worker 0 solves)
+  multigrid::Plane<T> tail_u_, tail_b_;  // worker 0: a channel of the gathered level as the tail solves it
   std::vector<multigrid::Plane<T>> tail_diag_;  // worker 0: tail_d_ restricted to the tail's levels
   std::unique_ptr<multigrid::InCoreVCycle<T>> tail_;
   // A merged stage below this one (layout.merged; on the worker owning this band's group).
