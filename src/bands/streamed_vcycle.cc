@@ -46,10 +46,9 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
     tail_u_ = tail_b_ = Plane<T>(levels_.back()->width, levels_.back()->height);
   }
-  const std::size_t slot0 = static_cast<std::size_t>(set_.channels) * levels_[0]->len;
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(set_.channels);
-  if (layout.top()) initial_.assign(8 * slot0, T(0));
+  if (layout.top()) initial_.assign(8 * static_cast<std::size_t>(set_.channels) * levels_[0]->len, T(0));
   if (layout.top() && layout.folded)
     for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(set_.channels) * levels_[0]->width, T(0));
 }
@@ -324,13 +323,11 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
         if (L.store[q]) L.store[q]->read(slot_of(l, q, r));
       const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
       const fem::ProlongationRow& py = g.py.rows[r];
-      const bool tail = gathered(l);
+      const bool tail = l + 1 == layout_.levels && !layout_.merged;  // from the gathered level
       const int corigin = levels_[l + 1]->origin;
-      if (!tail) {
-        levels_[l + 1]->needed_from = std::min(py.index[0], py.index[1]);
-        if (l + 1 == layout_.levels) hand(std::max(py.index[0], py.index[1]), false);
-        else ensure_final(l + 1, std::max(py.index[0], py.index[1]));
-      }
+      levels_[l + 1]->needed_from = std::min(py.index[0], py.index[1]);
+      if (l + 1 < layout_.levels) ensure_final(l + 1, std::max(py.index[0], py.index[1]));
+      else if (layout_.merged) hand(std::max(py.index[0], py.index[1]), false);
       // Across the fold the second coarse row is read mirrored, from the coarse level's last
       // exchange of its rows there (the gathered level is whole anyway).
       const bool across = layout_.folded && py.mirror != fem::Mirror::None && !tail;

@@ -134,9 +134,6 @@ class StreamedVCycle {
   void measure(int j, bool initial, std::vector<double>& rr);
   void restrict_row(int l, int j);
   void run_tail();
-  // Level l restricts into the gathered level (whole rows, every row, on every worker); else level
-  // `layout.levels` is the merged stage's level 0, handed to it row by row and back.
-  bool gathered(int l) const { return l + 1 == layout_.levels && !layout_.merged; }
   void hand(int row, bool off);  // to the merged stage (restriction pass) or back
   void ensure_final(int l, int row);
   void check_slot(int l, int row) const;
