@@ -134,20 +134,35 @@ void RowStore<T>::rewind() {
   ahead_.reset();
   buffered_ = 0;
   drop_behind_.restart(0);
-  // Chunks of whole rows (a row never straddles two), about a file buffer each.
-  const std::size_t row = encoded_bytes(), chunk = std::max<std::size_t>(1, kFileBuffer / row) * row;
-  ahead_ = std::make_unique<ReadAhead>(fd_, 0, written_, chunk, drop_behind_, where());
-  cursor_ = 0;
+  // A file is read ahead on a thread of its own (the wait for its disk is that thread's); memory
+  // is read by the reader itself, a chunk at a time into the file buffer (fill()).
+  if (on_disk()) ahead_ = std::make_unique<ReadAhead>(fd_, 0, written_, chunk_bytes(), drop_behind_, where());
+  cursor_ = read_at_ = 0;
   reading_ = true;
 }
 
-// The next chunk of the file (read ahead on the ReadAhead's thread).
+// Chunks of whole rows (a row never straddles two), about a file buffer each.
+template <class T>
+std::size_t RowStore<T>::chunk_bytes() const {
+  const std::size_t row = encoded_bytes();
+  return std::max<std::size_t>(1, kFileBuffer / row) * row;
+}
+
+// The next chunk: from the ReadAhead's thread (a file), or read here (memory).
 template <class T>
 void RowStore<T>::fill() {
   if (cursor_ != buffered_) throw std::logic_error("RowStore: a row straddles two chunks");
-  const std::span<const unsigned char> c = ahead_->next();
-  chunk_ = c.data();
-  buffered_ = c.size();
+  if (ahead_) {
+    const std::span<const unsigned char> c = ahead_->next();
+    chunk_ = c.data();
+    buffered_ = c.size();
+  } else {
+    const std::size_t n = std::min(chunk_bytes(), written_ - read_at_);
+    util::read_exactly_at(fd_, buffer_.data(), n, read_at_, {where()});
+    chunk_ = buffer_.data();
+    buffered_ = n;
+    read_at_ += n;
+  }
   cursor_ = 0;
 }
 
