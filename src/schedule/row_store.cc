@@ -34,14 +34,6 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
   return fd;
 }
 
-
-// A memfd: a file in memory, no disk behind it (OutputError when the system refuses one).
-int open_memory(const std::string& name) {
-  const int fd = ::memfd_create(("gdp-scratch-" + name).c_str(), MFD_CLOEXEC);
-  if (fd < 0) throw OutputError(fmt::format("scratch memory ({}): cannot create: {}", name, system_message()));
-  return fd;
-}
-
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
     : name_(policy.name_prefix + name),
@@ -60,11 +52,10 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
   } else if (budget_->reserve(total)) {
     // In memory: the same writes and reads as a file, into pages the kernel need not zero (a
     // fresh anonymous page must be; docs/how-streaming-works.md, "Scratch in a memfd").
-    try {
-      fd_ = open_memory(name_);
-    } catch (...) {
+    fd_ = ::memfd_create(("gdp-scratch-" + name_).c_str(), MFD_CLOEXEC);
+    if (fd_ < 0) {
       budget_->release(total);
-      throw;
+      throw OutputError(fmt::format("scratch memory ({}): cannot create: {}", name_, system_message()));
     }
     memory_ = total;
     drop_behind_ = io::DropBehind();

@@ -96,7 +96,7 @@ class RowStore {
   std::size_t disk_bytes_ = 0;            // counted so far
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream
-  std::size_t read_at_ = 0;                // bytes read back so far (memory; a file's ReadAhead counts its own)
+  std::size_t read_at_ = 0;                // bytes read back so far (memory; ReadAhead counts a file's)
   std::unique_ptr<ReadAhead> ahead_;       // a file read back: its chunks, read on a thread of their own
   const unsigned char* chunk_ = nullptr;   // the chunk being read (buffered_ bytes)
   io::DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
