@@ -9,7 +9,7 @@
 //   4k             plain mmap, faulted in 4 KB at a time by the writes
 //   4k-populate    plain mmap, mapped 4 MB at a time ahead of the writes (MADV_POPULATE_WRITE)
 //   huge           util::map_big (2 MiB-aligned, MADV_HUGEPAGE), faulted in by the writes
-//   huge-populate  util::map_big, mapped ahead with util::populate (what ScratchMemory does)
+//   huge-populate  util::map_big, mapped ahead with util::populate (what ScratchMemory did)
 // docs/how-streaming-works.md, "Huge pages", has the figures of the development VM.
 #include <sys/mman.h>
 #include <sys/resource.h>

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Prints bench/vs_dmg.sh's table for one size from its work directory: one row per run, then
-each figure's range over the runs and the gdp/DMG ratio of each interleaved pair.
+each figure's range over the runs and the gdp/DMG ratio of each interleaved pair. gdp's peak MB is
+its peak RSS plus its scratch held in memory (--stats scratch_memory_mb; memfds it never maps).
 
     bench/vs_dmg_table.py DIR SIZE RUNS
 """
@@ -22,11 +23,14 @@ def load(d, tool, r):
     out_bytes = int(open(f"{d}/{tool}_outbytes_{r}").read())
     written = sum(x["wchar"] for x in runs)
     disk = sum(x["write_bytes"] - x["cancelled_write_bytes"] for x in runs)
+    # gdp's scratch in memory is memfd pages it never maps: not in its RSS, so added from --stats.
+    stats = f"{d}/gdp_stats_{r}.json"
+    in_memfd = float(json.load(open(stats))["scratch_memory_mb"]) if tool == "gdp" and os.path.exists(stats) else 0
     return {
         "wall": max(x["end"] for x in runs) - min(x["start"] for x in runs),
         "cpu": sum(x["user"] + x["sys"] for x in runs),
         "sys": sum(x["sys"] for x in runs),
-        "peak": sum(x["peak_rss_kb"] for x in runs) / 1024.0,
+        "peak": sum(x["peak_rss_kb"] for x in runs) / 1024.0 + in_memfd,
         "scratch": (written - out_bytes) / 1e9,
         "disk": max(disk - out_bytes, 0) / 1e9,
         "faults": sum(x["minor_faults"] for x in runs),

@@ -40,7 +40,8 @@ TEST_F(Cli, StitchWritesOutputAndStatistics) {
   std::ifstream f(path("s.json"));
   const std::string json(std::istreambuf_iterator<char>(f), {});
   for (const char* key : {"\"relative_residuals\"", "\"peak_rss_mb\"", "\"seconds\"", "\"levels\"",
-                          "\"scratch_memory_mb\"", "\"scratch_disk_mb\"", "\"minor_faults_per_mpix\""})
+                          "\"peak_memory_mb\"", "\"scratch_memory_mb\"", "\"scratch_disk_mb\"",
+                          "\"minor_faults_per_mpix\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 

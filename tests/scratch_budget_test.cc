@@ -64,15 +64,16 @@ TEST(ScratchBudget, StoresSpillToFilesBeyondTheBudget) {
   EXPECT_EQ(budget.peak_on_disk(), n * rows * sizeof(float));
 }
 
-// In-memory stores map their pages a few MB at a time as rows arrive (ScratchMemory::prepare):
-// rows that straddle those steps, and a store written again after clear(), read back exactly.
-TEST(ScratchBudget, MemoryStoresKeepRowsAcrossTheirMappingSteps) {
+// In-memory stores are memfds written through a buffer like files: rows larger than the buffer,
+// and a store written again after clear(), read back exactly; they hold their budget and no disk.
+TEST(ScratchBudget, MemoryStoresKeepRowsAcrossTheirBufferFlushes) {
   ScratchBudget budget(std::size_t{64} << 20);
   StorePolicy policy;
   policy.budget = &budget;
-  const std::size_t n = 100003, rows = 27;  // 10.8 MB of 400 KB rows: no row ends on a step
+  const std::size_t n = 100003, rows = 27;  // 10.8 MB of 400 KB rows: no row ends on a page
   RowStore<float> store(policy, n, rows, "steps");
   ASSERT_FALSE(store.on_disk());
+  EXPECT_EQ(budget.in_memory(), n * rows * sizeof(float));
   std::vector<float> row(n);
   for (int pass = 0; pass < 2; ++pass) {
     store.clear();
@@ -81,6 +82,8 @@ TEST(ScratchBudget, MemoryStoresKeepRowsAcrossTheirMappingSteps) {
       store.append(row);
     }
     store.rewind();
+    EXPECT_EQ(store.bytes(), n * rows * sizeof(float));
+    EXPECT_EQ(budget.on_disk(), 0u);
     for (std::size_t r = 0; r < rows; ++r) {
       store.read(row);
       for (std::size_t i = 0; i < n; i += 997) ASSERT_EQ(row[i], static_cast<float>(pass * 1000003 + r * n + i));

@@ -25,9 +25,10 @@ int open_unlinked(const std::filesystem::path& dir, const std::string& name);
 // How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
 enum class StoreEncoding { Native, Half };
 
-// Where rows are kept: in memory while `budget` has room for the whole stream, else in an
-// unlinked file in `dir` (the space returns to the system when the store is destroyed or the
-// process dies, however it dies).
+// Where rows are kept: in memory while `budget` has room for the whole stream (an anonymous
+// memfd: page-cache pages that no disk backs, written and read like a file, never mapped), else
+// in an unlinked file in `dir` (the space returns to the system when the store is destroyed or
+// the process dies, however it dies).
 struct StorePolicy {
   std::filesystem::path dir;
   ScratchBudget* budget = nullptr;  // shared by many stores (null: ScratchBudget::process())
@@ -44,6 +45,7 @@ struct StorePolicy {
   // A file's bytes are pushed to the disk and dropped from the page cache this far behind the
   // write position (and the read position): a stream larger than memory neither churns the cache
   // nor takes fresh pages for it (io/drop_behind.h). 0: the page cache keeps what it likes.
+  // (Memory stores keep every page: they have no disk to push to.)
   std::size_t drop_behind = io::kDropBehindWindow;
 };
 
@@ -64,7 +66,7 @@ class RowStore {
   void clear();
   // Bytes of the stream so far (what it occupies on disk or in memory).
   std::size_t bytes() const { return written_; }
-  bool on_disk() const { return fd_ >= 0; }
+  bool on_disk() const { return !dir_.empty(); }
   StoreEncoding encoding() const { return encoding_; }
 
   // Checkpoints (kept files only): writes what is buffered, syncs the file and returns the
@@ -76,7 +78,7 @@ class RowStore {
  private:
   void flush();
   void fill();
-  void open_file(const StorePolicy& policy);
+  std::size_t chunk_bytes() const;
   void count_disk(std::size_t bytes);
   std::size_t encoded_bytes() const;
 
@@ -87,15 +89,14 @@ class RowStore {
   std::filesystem::path dir_;  // of the file (empty in memory)
   std::size_t row_length_;
   StoreEncoding encoding_;
-  int fd_ = -1;
-  ScratchMemory memory_;                // the whole stream, in memory (taken from the budget)
-  std::vector<unsigned char> file_buffer_;  // the I/O buffer of a file
-  unsigned char* buffer_ = nullptr;     // one of them
-  std::size_t capacity_ = 0;            // its size
-  ScratchBudget* budget_ = nullptr;       // holds memory_, counts this file's bytes
+  std::vector<unsigned char> buffer_;     // rows on their way to the file
+  int fd_ = -1;                           // the file, or the memfd of a store in memory
+  ScratchBudget* budget_ = nullptr;       // holds memory_, counts a disk file's bytes
+  std::size_t memory_ = 0;                // bytes taken from the budget (a store in memory)
   std::size_t disk_bytes_ = 0;            // counted so far
   std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
   std::size_t written_ = 0;                // bytes in the stream
+  std::size_t read_at_ = 0;                // bytes read back so far (memory; ReadAhead counts a file's)
   std::unique_ptr<ReadAhead> ahead_;       // a file read back: its chunks, read on a thread of their own
   const unsigned char* chunk_ = nullptr;   // the chunk being read (buffered_ bytes)
   io::DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)

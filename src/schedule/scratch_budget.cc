@@ -1,11 +1,5 @@
-// The process-wide scratch budget and budgeted anonymous memory for row stores.
+// The process-wide scratch budget: bytes held in memory and on disk, and their peaks.
 #include "schedule/scratch_budget.h"
-
-#include <algorithm>
-#include <new>
-#include <utility>
-
-#include "util/big_pages.h"
 
 namespace gdp::schedule {
 namespace {
@@ -43,54 +37,6 @@ void ScratchBudget::reset_peaks() {
   memory_peak_ = memory_.load();
   disk_peak_ = disk_.load();
   spilled_ = 0;
-}
-
-ScratchMemory::ScratchMemory(ScratchBudget& budget, std::size_t bytes) {
-  if (!budget.reserve(bytes)) return;
-  budget_ = &budget;
-  size_ = bytes;
-  if (bytes == 0) return;
-  // Anonymous memory, zeroed by the kernel when prepare() maps it in, taken back at unmap: 2 MiB
-  // huge pages where it is large (util::map_big), so prepare() maps a huge page per call where
-  // it would map 512 small ones (docs/how-streaming-works.md, "Huge pages").
-  try {
-    data_ = static_cast<unsigned char*>(util::map_big(bytes));
-  } catch (const std::bad_alloc&) {
-    free();
-    throw;
-  }
-}
-
-void ScratchMemory::prepare(std::size_t bytes) {
-  constexpr std::size_t kStep = std::size_t{4} << 20;
-  if (bytes <= prepared_) return;
-  const std::size_t end = std::min(std::max(bytes, prepared_ + kStep), size_);
-  util::populate(data_ + prepared_, end - prepared_);
-  prepared_ = end;
-}
-
-ScratchMemory::~ScratchMemory() { free(); }
-
-ScratchMemory::ScratchMemory(ScratchMemory&& other) noexcept { swap(other); }
-
-ScratchMemory& ScratchMemory::operator=(ScratchMemory&& other) noexcept {
-  ScratchMemory(std::move(other)).swap(*this);  // this one's old memory goes with the temporary
-  return *this;
-}
-
-void ScratchMemory::swap(ScratchMemory& other) noexcept {
-  std::swap(budget_, other.budget_);
-  std::swap(data_, other.data_);
-  std::swap(size_, other.size_);
-  std::swap(prepared_, other.prepared_);
-}
-
-void ScratchMemory::free() {
-  util::unmap_big(data_, size_);
-  if (budget_) budget_->release(size_);
-  budget_ = nullptr;
-  data_ = nullptr;
-  size_ = prepared_ = 0;
 }
 
 }  // namespace gdp::schedule

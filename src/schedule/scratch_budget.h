@@ -1,4 +1,4 @@
-// One process-wide budget of memory for scratch rows, and the memory that row stores take from it.
+// One process-wide budget of memory for scratch rows: how much row stores may keep in memory.
 #pragma once
 
 #include <atomic>
@@ -36,33 +36,6 @@ class ScratchBudget {
  private:
   std::atomic<std::size_t> limit_;
   std::atomic<std::size_t> memory_{0}, disk_{0}, memory_peak_{0}, disk_peak_{0}, spilled_{0};
-};
-
-// Scratch memory taken from a budget: `bytes` of anonymous pages, mapped in only as they are
-// written (prepare()), given back to the system and the budget on destruction.
-class ScratchMemory {
- public:
-  ScratchMemory() = default;
-  // Not held() when the budget has no room for `bytes`.
-  ScratchMemory(ScratchBudget& budget, std::size_t bytes);
-  ~ScratchMemory();
-  ScratchMemory(ScratchMemory&& other) noexcept;
-  ScratchMemory& operator=(ScratchMemory&& other) noexcept;
-
-  bool held() const { return budget_ != nullptr; }
-  unsigned char* data() const { return data_; }
-  std::size_t size() const { return size_; }
-  // The first `bytes` are about to be written: their pages are mapped in a few MB at a time,
-  // one call each instead of a page fault per 4 KB page.
-  void prepare(std::size_t bytes);
-
- private:
-  void free();
-  void swap(ScratchMemory& other) noexcept;
-  ScratchBudget* budget_ = nullptr;
-  unsigned char* data_ = nullptr;
-  std::size_t size_ = 0;
-  std::size_t prepared_ = 0;  // bytes mapped in so far (whole pages)
 };
 
 }  // namespace gdp::schedule

@@ -114,6 +114,7 @@ class Stats {
   std::map<std::string, double> seconds_;
   std::map<std::string, std::string> extra_;
   double megapixels_ = 0.0;  // of the last image() (minor page faults per Mpix)
+  double scratch_memory_mb_ = 0.0;  // the most scratch held in memory (memfds: not in the RSS)
 };
 
 // A line on stderr unless --quiet.
