@@ -9,8 +9,8 @@ namespace gdp::io {
 
 // The message of libpng's last error. A caller's libpng state derives from it and passes
 // static_cast<PngErrors*>(&state) as the error pointer with png_error_callback/png_warning_callback.
-// The error callback keeps the message and longjmp()s back to the setjmp() of the guarded call
-// that started it; guarded calls hold no C++ objects with destructors.
+// The error callback keeps the message and longjmp()s back to the guarded() call
+// (io/guarded_call.h, with png_jmpbuf(png)) that started it.
 struct PngErrors {
   char message[256] = {};
 };
