@@ -105,8 +105,7 @@ void write_palette_seams(const LabelPlane& labels, int layers, const std::string
     Png p;
     p.writing = true;
     p.file = std::fopen(temp.c_str(), "wb");
-    p.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(&p),
-                                    io::png_error_callback, io::png_warning_callback);
+    p.png = io::png_writer(p);
     p.info = p.png ? png_create_info_struct(p.png) : nullptr;
     if (p.file && p.info) ok = write_png(p, labels);
     if (!ok && !p.message[0]) std::snprintf(p.message, sizeof p.message, "%s", std::strerror(errno));
@@ -129,8 +128,7 @@ PaletteRows::PaletteRows(const std::string& path) : s_(std::make_unique<State>()
   s_->path = path;
   s_->file = std::fopen(path.c_str(), "rb");
   if (!s_->file) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  s_->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(s_.get()),
-                                   io::png_error_callback, io::png_warning_callback);
+  s_->png = io::png_reader(*s_);
   s_->info = s_->png ? png_create_info_struct(s_->png) : nullptr;
   if (!s_->info || !guarded_header(s_.get()))
     throw InputError(fmt::format("{}: not a readable PNG: {}", path, s_->message));

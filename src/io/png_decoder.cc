@@ -65,8 +65,7 @@ class PngDecoder final : public Decoder {
   explicit PngDecoder(const std::string& path) {
     s_.file = std::fopen(path.c_str(), "rb");
     if (!s_.file) throw CodecError("cannot open");
-    s_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<PngErrors*>(&s_), png_error_callback,
-                                   png_warning_callback);
+    s_.png = png_reader(s_);
     if (s_.png) s_.info = png_create_info_struct(s_.png);
     if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
     // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.

@@ -57,8 +57,7 @@ class PngEncoder final : public Encoder {
     stored_ = spec.sample_type == SampleType::UInt16 ? SampleType::UInt16 : SampleType::UInt8;
     file_ = open_written(path);
     s_.file = file_.get();
-    s_.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, static_cast<PngErrors*>(&s_), png_error_callback,
-                                    png_warning_callback);
+    s_.png = png_writer(s_);
     if (s_.png) s_.info = png_create_info_struct(s_.png);
     if (!s_.png || !s_.info) throw CodecError("cannot write: out of memory for the PNG encoder");
     static const int colors[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
