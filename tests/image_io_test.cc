@@ -57,7 +57,9 @@ void expect_error(Call&& call, const fs::path& path, const char* part = nullptr)
   } catch (const Error& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    if (part) EXPECT_NE(message.find(part), std::string::npos) << message;
+    if (part) {
+      EXPECT_NE(message.find(part), std::string::npos) << message;
+    }
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   }
 }
