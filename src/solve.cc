@@ -10,21 +10,17 @@
 #include "bands/solve_streamed.h"
 #include "schedule/scratch_budget.h"
 #include "schedule/solve_parts.h"
+#include "util/forwarding_guidance.h"
 
 namespace gdp {
 namespace {
 
 // A source whose starting guess comes from an in-memory image.
-class WithInitial final : public GuidanceSource {
+class WithInitial final : public util::ForwardingGuidance {
  public:
-  WithInitial(GuidanceSource& inner, const Image& initial) : inner_(inner), initial_(initial) {}
-  int width() const override { return inner_.width(); }
-  int height() const override { return inner_.height(); }
-  int channels() const override { return inner_.channels(); }
-  double alpha() const override { return inner_.alpha(); }
-  bool has_weights() const override { return inner_.has_weights(); }
+  WithInitial(GuidanceSource& inner, const Image& initial) : ForwardingGuidance(inner), initial_(initial) {}
   bool has_initial() const override { return true; }
-  void set_columns(int begin, int end) override { inner_.set_columns(begin, end); }
+  bool start_from_initial() const override { return true; }
   void read_row(int j, GuidanceRow& out) override {
     inner_.read_row(j, out);
     for (int c = 0; c < initial_.channels; ++c) {
@@ -34,7 +30,6 @@ class WithInitial final : public GuidanceSource {
   }
 
  private:
-  GuidanceSource& inner_;
   const Image& initial_;
 };
 

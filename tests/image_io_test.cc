@@ -47,6 +47,23 @@ Image make_float_image(int channels) {
   });
 }
 
+// Expects `call` to throw an Error whose message is one line naming `path` and holding `part`
+// (when given).
+template <class Error, class Call>
+void expect_error(Call&& call, const fs::path& path, const char* part = nullptr) {
+  try {
+    call();
+    ADD_FAILURE() << "no error thrown for " << path;
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    if (part) {
+      EXPECT_NE(message.find(part), std::string::npos) << message;
+    }
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 // Equality of every sample; reports the first difference. Integer files come back as k * (1 / levels),
 // which can differ from k / levels in the last bit, so those compare within 4 ulps (far below one
 // quantisation step); float files must match bit for bit.
@@ -236,28 +253,13 @@ TEST_F(ImageIoTest, JpegQualityChangesFileSize) {
 
 TEST_F(ImageIoTest, MissingFileIsInputErrorNamingTheFile) {
   const fs::path path = dir_ / "no-such-input.png";
-  try {
-    gdp::read_image(path);
-    FAIL() << "read_image did not throw";
-  } catch (const gdp::InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_NE(message.find("No such file"), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_error<gdp::InputError>([&] { gdp::read_image(path); }, path, "No such file");
 }
 
 TEST_F(ImageIoTest, TextFileNamedPngIsInputError) {
   const fs::path path = dir_ / "not-an-image.png";
   std::ofstream(path) << "this is plain text, not a PNG\n";
-  try {
-    gdp::read_image(path);
-    FAIL() << "read_image did not throw";
-  } catch (const gdp::InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_error<gdp::InputError>([&] { gdp::read_image(path); }, path);
 }
 
 TEST_F(ImageIoTest, FiveChannelFileIsInputError) {
@@ -270,26 +272,13 @@ TEST_F(ImageIoTest, FiveChannelFileIsInputError) {
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
     ASSERT_TRUE(out->close());
   }
-  try {
-    gdp::read_image(path);
-    FAIL() << "read_image did not throw";
-  } catch (const gdp::InputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_NE(message.find("5 channels"), std::string::npos) << message;
-  }
+  expect_error<gdp::InputError>([&] { gdp::read_image(path); }, path, "5 channels");
 }
 
 TEST_F(ImageIoTest, WritingIntoMissingDirectoryIsOutputErrorAndCreatesNothing) {
   const fs::path path = dir_ / "missing" / "out.png";
-  try {
-    gdp::write_image(path, make_quantised_image(3, 255), {});
-    FAIL() << "write_image did not throw";
-  } catch (const gdp::OutputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_NE(message.find("no such directory"), std::string::npos) << message;
-  }
+  expect_error<gdp::OutputError>([&] { gdp::write_image(path, make_quantised_image(3, 255), {}); }, path,
+                                 "no such directory");
   EXPECT_FALSE(fs::exists(dir_ / "missing"));
   EXPECT_TRUE(names_in(dir_).empty());
 }
@@ -299,14 +288,8 @@ TEST_F(ImageIoTest, WritingIntoReadOnlyDirectoryIsOutputErrorAndCreatesNothing) 
   fs::permissions(dir_, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
                             fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
   const fs::path path = dir_ / "out.png";
-  try {
-    gdp::write_image(path, make_quantised_image(3, 255), {});
-    FAIL() << "write_image did not throw";
-  } catch (const gdp::OutputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
-  }
+  expect_error<gdp::OutputError>([&] { gdp::write_image(path, make_quantised_image(3, 255), {}); }, path,
+                                 "Permission denied");
   EXPECT_TRUE(names_in(dir_).empty());
 }
 
@@ -337,14 +320,7 @@ TEST_F(ImageIoTest, FailedRenameRemovesTheTemporaryFile) {
 TEST_F(ImageIoTest, FailedOpenRemovesTheTemporaryFile) {
   // The HDR writer only takes 3 or 4 channels; its open() fails after the temporary file exists.
   const fs::path path = dir_ / "two.hdr";
-  try {
-    gdp::write_image(path, make_float_image(2), {});
-    FAIL() << "write_image did not throw";
-  } catch (const gdp::OutputError& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  }
+  expect_error<gdp::OutputError>([&] { gdp::write_image(path, make_float_image(2), {}); }, path);
   EXPECT_TRUE(names_in(dir_).empty());
 }
 

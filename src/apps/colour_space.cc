@@ -32,49 +32,51 @@ void check_lab(int channels) {
   if (channels < 3) throw UsageError("the Lab blending space needs an RGB image (3 or more channels)");
 }
 
-}  // namespace
-
-void to_space(const BlendSpace& space, std::span<float> row, int width, int channels) {
+// Log: each finite sample v becomes log_value(v); Lab: each pixel's first three channels go
+// through lab_pixel(r, g, b).
+template <class LogValue, class LabPixel>
+void convert(const BlendSpace& space, std::span<float> row, int width, int channels, LogValue&& log_value,
+             LabPixel&& lab_pixel) {
   if (space.kind == BlendSpace::Kind::Values) return;
   if (space.kind == BlendSpace::Kind::Log) {
     for (std::size_t k = 0; k < static_cast<std::size_t>(width) * channels; ++k)
-      if (std::isfinite(row[k])) row[k] = static_cast<float>(std::log(std::max(double(row[k]), 0.0) + space.log_offset));
+      if (std::isfinite(row[k])) row[k] = static_cast<float>(log_value(double(row[k])));
     return;
   }
   check_lab(channels);
   float *r = row.data(), *g = r + width, *b = g + width;
-  for (int i = 0; i < width; ++i) {
-    double rgb[3] = {r[i], g[i], b[i]}, xyz[3] = {};
+  for (int i = 0; i < width; ++i) lab_pixel(r[i], g[i], b[i]);
+}
+
+}  // namespace
+
+void to_space(const BlendSpace& space, std::span<float> row, int width, int channels) {
+  const auto log_value = [&](double v) { return std::log(std::max(v, 0.0) + space.log_offset); };
+  convert(space, row, width, channels, log_value, [&](float& r, float& g, float& b) {
+    double rgb[3] = {r, g, b}, xyz[3] = {};
     if (space.srgb_encoded)
       for (double& v : rgb) v = srgb_decode(v);
     for (int a = 0; a < 3; ++a) xyz[a] = (kToXyz[a][0] * rgb[0] + kToXyz[a][1] * rgb[1] + kToXyz[a][2] * rgb[2]) / kWhite[a];
     const double fx = lab_f(xyz[0]), fy = lab_f(xyz[1]), fz = lab_f(xyz[2]);
-    r[i] = static_cast<float>(116.0 * fy - 16.0);
-    g[i] = static_cast<float>(500.0 * (fx - fy));
-    b[i] = static_cast<float>(200.0 * (fy - fz));
-  }
+    r = static_cast<float>(116.0 * fy - 16.0);
+    g = static_cast<float>(500.0 * (fx - fy));
+    b = static_cast<float>(200.0 * (fy - fz));
+  });
 }
 
 void from_space(const BlendSpace& space, std::span<float> row, int width, int channels) {
-  if (space.kind == BlendSpace::Kind::Values) return;
-  if (space.kind == BlendSpace::Kind::Log) {
-    for (std::size_t k = 0; k < static_cast<std::size_t>(width) * channels; ++k)
-      if (std::isfinite(row[k])) row[k] = static_cast<float>(std::exp(double(row[k])) - space.log_offset);
-    return;
-  }
-  check_lab(channels);
-  float *r = row.data(), *g = r + width, *b = g + width;
-  for (int i = 0; i < width; ++i) {
-    const double fy = (r[i] + 16.0) / 116.0, fx = fy + g[i] / 500.0, fz = fy - b[i] / 200.0;
+  const auto log_value = [&](double v) { return std::exp(v) - space.log_offset; };
+  convert(space, row, width, channels, log_value, [&](float& r, float& g, float& b) {
+    const double fy = (r + 16.0) / 116.0, fx = fy + g / 500.0, fz = fy - b / 200.0;
     const double xyz[3] = {kWhite[0] * lab_f_inverse(fx), kWhite[1] * lab_f_inverse(fy), kWhite[2] * lab_f_inverse(fz)};
     double rgb[3];
     for (int a = 0; a < 3; ++a) rgb[a] = kFromXyz[a][0] * xyz[0] + kFromXyz[a][1] * xyz[1] + kFromXyz[a][2] * xyz[2];
     if (space.srgb_encoded)
       for (double& v : rgb) v = srgb_encode(v);
-    r[i] = static_cast<float>(rgb[0]);
-    g[i] = static_cast<float>(rgb[1]);
-    b[i] = static_cast<float>(rgb[2]);
-  }
+    r = static_cast<float>(rgb[0]);
+    g = static_cast<float>(rgb[1]);
+    b = static_cast<float>(rgb[2]);
+  });
 }
 
 }  // namespace gdp::apps

@@ -20,7 +20,7 @@ void check_size(const RowReader* r, const std::string& name, const GuidanceSourc
 }  // namespace
 
 FidelityGuidance::FidelityGuidance(GuidanceSource& inner, const Fidelity& fidelity)
-    : inner_(inner), fidelity_(fidelity) {
+    : ForwardingGuidance(inner), fidelity_(fidelity) {
   if (!inner.has_initial()) throw std::logic_error("FidelityGuidance needs a source with initial rows");
   check_size(fidelity.weights, fidelity.weights_name, inner);
   check_size(fidelity.pins, fidelity.pins_name, inner);
@@ -29,7 +29,7 @@ FidelityGuidance::FidelityGuidance(GuidanceSource& inner, const Fidelity& fideli
 }
 
 void FidelityGuidance::set_columns(int begin, int end) {
-  inner_.set_columns(begin, end);
+  ForwardingGuidance::set_columns(begin, end);
   for (RowReader* r : {fidelity_.weights, fidelity_.pins})
     if (r) r->set_columns(begin, end);
 }

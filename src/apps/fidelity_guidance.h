@@ -6,6 +6,7 @@
 #include "gdp/apps.h"
 #include "gdp/guidance.h"
 #include "gdp/solver.h"
+#include "util/forwarding_guidance.h"
 
 namespace gdp::apps {
 
@@ -14,21 +15,15 @@ namespace gdp::apps {
 // The values held are inner's `initial` rows (the composite, the image, or the low image),
 // so `inner` must have has_initial(). Throws InputError naming the image for a size mismatch
 // or a negative or non-finite weight.
-class FidelityGuidance final : public GuidanceSource {
+class FidelityGuidance final : public util::ForwardingGuidance {
  public:
   FidelityGuidance(GuidanceSource& inner, const Fidelity& fidelity);
-  int width() const override { return inner_.width(); }
-  int height() const override { return inner_.height(); }
-  int channels() const override { return inner_.channels(); }
-  double alpha() const override { return inner_.alpha(); }
   bool has_weights() const override { return true; }
   bool has_initial() const override { return true; }
-  bool start_from_initial() const override { return inner_.start_from_initial(); }
   void read_row(int j, GuidanceRow& out) override;
   void set_columns(int begin, int end) override;
 
  private:
-  GuidanceSource& inner_;
   Fidelity fidelity_;
   std::vector<float> weights_row_, pins_row_;
 };

@@ -63,15 +63,11 @@ class LevelStream {
 
 int pyramid_levels(int width, int height, int requested) {
   int levels = 1;
-  if (requested > 0) {
-    while (levels < requested && std::min(width, height) > 1) {
-      width = coarser(width);
-      height = coarser(height);
-      ++levels;
-    }
-    return levels;
-  }
-  while (std::min(coarser(width), coarser(height)) >= 32) {
+  const auto deeper = [&] {
+    if (requested > 0) return levels < requested && std::min(width, height) > 1;
+    return std::min(coarser(width), coarser(height)) >= 32;
+  };
+  while (deeper()) {
     width = coarser(width);
     height = coarser(height);
     ++levels;

@@ -151,6 +151,20 @@ CoarseGrid coarse_layers(SeamLayers& layers, int k, const std::function<void(dou
   return g;
 }
 
+// A grid of the layers' rows [top, end) at full resolution; its labels and free cells are the
+// caller's to fill.
+SeamGrid layer_rows(const SeamLayers& layers, int top, int end, bool wrap_x) {
+  SeamGrid g;
+  g.width = layers.width();
+  g.height = end - top;
+  g.row0 = top;
+  g.channels = layers.channels();
+  g.uncovered = layers.uncovered_cost();
+  g.wrap_x = wrap_x;
+  g.layers = layers.layers();
+  return g;
+}
+
 // The coarse labels: the depth seams' label at each cell's centre where that layer covers the
 // cell, else the first layer that does (else the depth label, fixed). Cells two or more layers
 // cover are free; `band` marks cells no layer wholly covers (refined at full resolution).
@@ -254,14 +268,7 @@ class Refinement {
   // where that layer covers the pixel, else the depth label; free in the band where 2+ layers cover.
   SeamGrid grid(int top, int end, int y0, const std::vector<Label>& above) {
     const int W = layers_.width();
-    SeamGrid g;
-    g.width = W;
-    g.height = end - top;
-    g.row0 = top;
-    g.channels = layers_.channels();
-    g.uncovered = layers_.uncovered_cost();
-    g.wrap_x = wrap_x_;
-    g.layers = layers_.layers();
+    SeamGrid g = layer_rows(layers_, top, end, wrap_x_);
     const std::size_t cells = static_cast<std::size_t>(W) * g.height;
     g.labels.assign(cells, 0);
     g.free.assign(cells, 0);
@@ -312,14 +319,7 @@ std::vector<double> seam_costs(SeamLayers& layers, const std::vector<const Label
     const int top = std::max(0, y - 1);
     layers.slide(top, y + 1);
     for (std::size_t i = 0; i < planes.size(); ++i) {
-      SeamGrid g;
-      g.width = W;
-      g.height = y + 1 - top;
-      g.row0 = top;
-      g.channels = layers.channels();
-      g.uncovered = layers.uncovered_cost();
-      g.wrap_x = wrap_x;
-      g.layers = layers.layers();
+      SeamGrid g = layer_rows(layers, top, y + 1, wrap_x);
       g.labels.resize(static_cast<std::size_t>(W) * g.height);
       if (y > 0) std::copy(previous[i].begin(), previous[i].end(), g.labels.begin());
       planes[i]->read_row(y, std::span<Label>(g.labels.data() + static_cast<std::size_t>(y - top) * W, W));

@@ -41,35 +41,39 @@ struct Residuals {
   double count = 0.0;
 };
 
+// f(i, w, observation i) for the observations [b, e) whose channel c is not clipped (w <= 0).
+template <class F>
+void each_weighted(const OverlapSamples& s, const Residuals& res, int C, std::uint32_t b, std::uint32_t e, int c, F&& f) {
+  for (std::uint32_t i = b; i < e; ++i) {
+    const double w = res.w[i * C + c];
+    if (w <= 0.0) continue;
+    f(i, w, s.obs[i]);
+  }
+}
+
 // One point's channel c: the scene value given the model, the weighted residuals, and (with
 // `n`) its contribution to the reduced normal equations. Returns the weighted squared residuals.
 double cell(const OverlapSamples& s, const Model& m, const std::vector<double>& v, std::uint32_t b, std::uint32_t e,
             int c, Residuals& res, Normal* n, std::vector<Entry>& coupling) {
   double D = 0.0, num = 0.0;
   int used = 0;
-  for (std::uint32_t i = b; i < e; ++i) {
-    const double w = res.w[i * m.C + c];
-    if (w <= 0.0) continue;
-    const OverlapObservation& q = s.obs[i];
+  each_weighted(s, res, m.C, b, e, c, [&](std::uint32_t i, double w, const OverlapObservation& q) {
     const double G = m.p[m.g(q.layer)] * v[i];
     D += w * G * G;
     num += w * G * (q.value[c] - m.p[m.o(q.layer, c)]);
     ++used;
-  }
+  });
   if (used < 2 || D <= 0.0) return 0.0;
   const double S = num / D;
   double cost = 0.0, gS = 0.0;
   coupling.clear();
   Entry J[2 + 3];
-  for (std::uint32_t i = b; i < e; ++i) {
-    const double w = res.w[i * m.C + c];
-    if (w <= 0.0) continue;
-    const OverlapObservation& q = s.obs[i];
+  each_weighted(s, res, m.C, b, e, c, [&](std::uint32_t i, double w, const OverlapObservation& q) {
     const double g = m.p[m.g(q.layer)], G = g * v[i];
     const double r = G * S + m.p[m.o(q.layer, c)] - q.value[c];
     res.r[i * m.C + c] = static_cast<float>(r);
     cost += w * r * r;
-    if (!n) continue;
+    if (!n) return;
     int k = 0;
     J[k++] = {m.g(q.layer), v[i] * S};
     J[k++] = {m.o(q.layer, c), 1.0};
@@ -81,7 +85,7 @@ double cell(const OverlapSamples& s, const Model& m, const std::vector<double>& 
       coupling.push_back({J[x].i, w * G * J[x].v});
     }
     gS += w * G * r;
-  }
+  });
   if (n)  // Schur complement of the scene value: A -= b b^T / D, rhs -= b gS / D
     for (const Entry& x : coupling) {
       n->b[x.i] -= x.v * gS / D;

@@ -26,11 +26,15 @@ bool png_extension(const std::string& path) {
   return e == ".png";
 }
 
+// InputError unless the seams (w x h) are the canvas's size (W x H).
+void check_seam_size(const std::string& path, int w, int h, int W, int H) {
+  if (w != W || h != H) throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, w, h, W, H));
+}
+
 // Label rows from gdp's grey label maps (1 = the first layer, 0 = none).
 std::function<void(int, std::vector<Label>&)> grey_labels(const std::string& path, int n, int W, int H) {
   auto file = std::make_shared<ImageFileReader>(path);
-  if (file->width() != W || file->height() != H)
-    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file->width(), file->height(), W, H));
+  check_seam_size(path, file->width(), file->height(), W, H);
   const SampleType t = file->info().sample_type;
   const float scale = t == SampleType::UInt8 ? 255.0f : t == SampleType::UInt16 ? 65535.0f : 1.0f;
   auto values = std::make_shared<std::vector<float>>(static_cast<std::size_t>(file->channels()) * W);
@@ -48,8 +52,7 @@ std::function<void(int, std::vector<Label>&)> grey_labels(const std::string& pat
 // Label rows from multiblend's palette PNGs (index = layer, 0 = the first; kPaletteNone = none).
 std::function<void(int, std::vector<Label>&)> palette_labels(const std::string& path, int n, int W, int H) {
   auto file = std::make_shared<PaletteRows>(path);
-  if (file->width() != W || file->height() != H)
-    throw InputError(fmt::format("{}: seams are {}x{} but the canvas is {}x{}", path, file->width(), file->height(), W, H));
+  check_seam_size(path, file->width(), file->height(), W, H);
   auto bytes = std::make_shared<std::vector<std::uint8_t>>(W);
   return [=](int y, std::vector<Label>& label) {
     file->read_row(*bytes);

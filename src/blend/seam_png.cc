@@ -3,7 +3,6 @@
 
 #include <cerrno>
 #include <cmath>
-#include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -14,14 +13,15 @@
 
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
+#include "io/guarded_call.h"
 #include "io/png_errors.h"
 #include "io/temp_file.h"
 
 namespace gdp::blending {
 namespace {
 
-// libpng state (errors: io/png_errors.h, longjmp()ing back to the guarded call that started
-// them; those calls hold no C++ objects).
+// libpng state (errors: io/png_errors.h; libpng is called only through io/guarded_call.h's
+// guarded()).
 struct Png : io::PngErrors {
   png_structp png = nullptr;
   png_infop info = nullptr;
@@ -35,40 +35,22 @@ struct Png : io::PngErrors {
 };
 
 bool guarded_header(Png* p) {
-  if (setjmp(png_jmpbuf(p->png))) return false;
-  png_init_io(p->png, p->file);
-  png_read_info(p->png, p->info);
-  if (png_get_bit_depth(p->png, p->info) < 8) png_set_packing(p->png);  // one index per byte
-  png_read_update_info(p->png, p->info);
-  return true;
-}
-
-bool guarded_read_row(Png* p, png_bytep row) {
-  if (setjmp(png_jmpbuf(p->png))) return false;
-  png_read_row(p->png, row, nullptr);
-  return true;
+  return io::guarded(png_jmpbuf(p->png), [p] {
+    png_init_io(p->png, p->file);
+    png_read_info(p->png, p->info);
+    if (png_get_bit_depth(p->png, p->info) < 8) png_set_packing(p->png);  // one index per byte
+    png_read_update_info(p->png, p->info);
+  });
 }
 
 bool guarded_write_header(Png* p, int w, int h, const png_color* palette) {
-  if (setjmp(png_jmpbuf(p->png))) return false;
-  png_init_io(p->png, p->file);
-  png_set_IHDR(p->png, p->info, w, h, 8, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  png_set_PLTE(p->png, p->info, palette, 256);
-  png_write_info(p->png, p->info);
-  return true;
-}
-
-bool guarded_write_row(Png* p, png_bytep row) {
-  if (setjmp(png_jmpbuf(p->png))) return false;
-  png_write_row(p->png, row);
-  return true;
-}
-
-bool guarded_write_end(Png* p) {
-  if (setjmp(png_jmpbuf(p->png))) return false;
-  png_write_end(p->png, p->info);
-  return true;
+  return io::guarded(png_jmpbuf(p->png), [=] {
+    png_init_io(p->png, p->file);
+    png_set_IHDR(p->png, p->info, w, h, 8, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_PLTE(p->png, p->info, palette, 256);
+    png_write_info(p->png, p->info);
+  });
 }
 
 // A colour per layer, far apart in hue (golden-ratio steps); black for "none".
@@ -93,9 +75,9 @@ bool write_png(Png& p, const LabelPlane& labels) {
   for (int y = 0; y < labels.height(); ++y) {
     labels.read_row(y, row);
     for (int x = 0; x < labels.width(); ++x) bytes[x] = static_cast<png_byte>(row[x] ? row[x] - 1 : kPaletteNone);
-    if (!guarded_write_row(&p, bytes.data())) return false;
+    if (!io::guarded(png_jmpbuf(p.png), [&] { png_write_row(p.png, bytes.data()); })) return false;
   }
-  return guarded_write_end(&p) && std::fflush(p.file) == 0 && !std::ferror(p.file);
+  return io::guarded(png_jmpbuf(p.png), [&] { png_write_end(p.png, p.info); }) && std::fflush(p.file) == 0 && !std::ferror(p.file);
 }
 
 }  // namespace
@@ -123,8 +105,7 @@ void write_palette_seams(const LabelPlane& labels, int layers, const std::string
     Png p;
     p.writing = true;
     p.file = std::fopen(temp.c_str(), "wb");
-    p.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(&p),
-                                    io::png_error_callback, io::png_warning_callback);
+    p.png = io::png_writer(p);
     p.info = p.png ? png_create_info_struct(p.png) : nullptr;
     if (p.file && p.info) ok = write_png(p, labels);
     if (!ok && !p.message[0]) std::snprintf(p.message, sizeof p.message, "%s", std::strerror(errno));
@@ -147,8 +128,7 @@ PaletteRows::PaletteRows(const std::string& path) : s_(std::make_unique<State>()
   s_->path = path;
   s_->file = std::fopen(path.c_str(), "rb");
   if (!s_->file) throw InputError(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  s_->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<io::PngErrors*>(s_.get()),
-                                   io::png_error_callback, io::png_warning_callback);
+  s_->png = io::png_reader(*s_);
   s_->info = s_->png ? png_create_info_struct(s_->png) : nullptr;
   if (!s_->info || !guarded_header(s_.get()))
     throw InputError(fmt::format("{}: not a readable PNG: {}", path, s_->message));
@@ -162,7 +142,7 @@ int PaletteRows::width() const { return static_cast<int>(png_get_image_width(s_-
 int PaletteRows::height() const { return static_cast<int>(png_get_image_height(s_->png, s_->info)); }
 
 void PaletteRows::read_row(std::span<std::uint8_t> row) {
-  if (!guarded_read_row(s_.get(), row.data()))
+  if (!io::guarded(png_jmpbuf(s_->png), [&] { png_read_row(s_->png, row.data(), nullptr); }))
     throw InputError(fmt::format("{}: corrupt PNG: {}", s_->path, s_->message));
 }
 

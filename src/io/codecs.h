@@ -49,6 +49,16 @@ inline CodecError write_error(const OutputFile* file, const std::string& library
   if (file && file->failed()) return CodecError("cannot write: " + file->problem());
   return CodecError("cannot write: " + library_message);
 }
+// An encoder's checked file, opened (a failure to open thrown at once) and closed.
+inline std::unique_ptr<OutputFile> open_written(const std::string& path) {
+  auto file = std::make_unique<OutputFile>(path);
+  check_written(*file);
+  return file;
+}
+inline void close_written(OutputFile& file) {
+  file.close();
+  check_written(file);
+}
 
 // Tiles decoded by gdp's TIFF and OpenEXR decoders in this process so far (tests check column
 // windows with them).

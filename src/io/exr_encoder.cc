@@ -68,8 +68,7 @@ class ExrEncoder final : public Encoder {
   }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
-    file_ = std::make_unique<OutputFile>(path);
-    check_written(*file_);
+    file_ = open_written(path);
     stream_ = std::make_unique<Stream>(path, *file_);
     width_ = spec.width;
     channels_ = spec.channels;
@@ -135,8 +134,7 @@ class ExrEncoder final : public Encoder {
       lines_.reset();
       tiles_.reset();
     });
-    file_->close();
-    check_written(*file_);
+    close_written(*file_);
   }
 
  private:

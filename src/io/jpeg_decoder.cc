@@ -4,7 +4,6 @@
 #include <jerror.h>
 #include <jpeglib.h>
 
-#include <csetjmp>
 #include <cstring>
 #include <vector>
 
@@ -13,23 +12,20 @@
 #include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
+#include "io/guarded_call.h"
+#include "io/jpeg_errors.h"
 
 namespace gdp::io {
 namespace {
 
-// libjpeg reports errors by calling error_exit(), which here records the message and longjmp()s
-// back to the setjmp() of the guarded call that started it. Only the guarded functions below call
-// libjpeg, and they hold no C++ objects with destructors. Damaged data is an error too (libjpeg
+// The decoder's libjpeg state (errors: io/jpeg_errors.h). Damaged data is an error too (libjpeg
 // itself only warns, "Corrupt JPEG data: ...", and fills in gray or garbage): every warning once
 // decoding has started, but a file missing only its end marker and stray bytes before it.
-struct JpegState {
+struct JpegState : JpegErrors {
   jpeg_decompress_struct cinfo{};
-  jpeg_error_mgr errors{};
-  std::jmp_buf jump{};
   std::FILE* file = nullptr;
   bool created = false;
   bool decoding = false;  // past the header: a warning means lost pixels
-  char message[JMSG_LENGTH_MAX] = {};
   JpegState() = default;
   JpegState(const JpegState&) = delete;
   JpegState& operator=(const JpegState&) = delete;
@@ -40,11 +36,6 @@ struct JpegState {
 };
 
 JpegState* state_of(j_common_ptr cinfo) { return static_cast<JpegState*>(cinfo->client_data); }
-
-void on_error(j_common_ptr cinfo) {
-  (*cinfo->err->format_message)(cinfo, state_of(cinfo)->message);
-  std::longjmp(state_of(cinfo)->jump, 1);
-}
 
 // Stray bytes before the end marker that some cameras' files have; more are what is left of
 // damaged data that decoded into fewer bits than it holds.
@@ -66,43 +57,36 @@ void on_message(j_common_ptr cinfo, int level) {
     if (d->output_height > 0 && d->output_scanline + last_mcu_rows >= d->output_height && !d->progressive_mode)
       return;
   }
-  on_error(cinfo);
+  jpeg_error_exit(cinfo);
 }
 
 // Reads the header; false on a libjpeg error.
 bool guarded_header(JpegState* s) {
-  if (setjmp(s->jump)) return false;
-  jpeg_create_decompress(&s->cinfo);
-  s->created = true;
-  jpeg_stdio_src(&s->cinfo, s->file);
-  jpeg_read_header(&s->cinfo, TRUE);
-  return true;
+  return guarded(s->jump, [s] {
+    jpeg_create_decompress(&s->cinfo);
+    s->created = true;
+    jpeg_stdio_src(&s->cinfo, s->file);
+    jpeg_read_header(&s->cinfo, TRUE);
+  });
 }
 
 bool guarded_start(JpegState* s, J_COLOR_SPACE out) {
-  if (setjmp(s->jump)) return false;
-  s->cinfo.out_color_space = out;
-  s->decoding = true;  // a progressive file is decoded here, whole
-  jpeg_start_decompress(&s->cinfo);
-  return true;
+  return guarded(s->jump, [s, out] {
+    s->cinfo.out_color_space = out;
+    s->decoding = true;  // a progressive file is decoded here, whole
+    jpeg_start_decompress(&s->cinfo);
+  });
 }
 
 bool guarded_rows(JpegState* s, unsigned char* const* rows, int count) {
-  if (setjmp(s->jump)) return false;
-  int done = 0;
-  while (done < count) {
-    JSAMPARRAY at = const_cast<JSAMPARRAY>(rows + done);
-    const JDIMENSION n = jpeg_read_scanlines(&s->cinfo, at, static_cast<JDIMENSION>(count - done));
-    if (n == 0) {  // suspended: cannot happen with a stdio source, but never loop on it
-      std::snprintf(s->message, sizeof s->message, "no more rows");
+  return guarded(s->jump, [=] {
+    if (!all_scanlines(*s, rows, count, [s](JSAMPARRAY at, JDIMENSION n) { return jpeg_read_scanlines(&s->cinfo, at, n); }))
       return false;
-    }
-    done += static_cast<int>(n);
-  }
-  // After the last row, read on to the end marker: data that decoded into fewer bits than the
-  // file holds (damage) shows only there.
-  if (s->cinfo.output_scanline == s->cinfo.output_height) jpeg_finish_decompress(&s->cinfo);
-  return true;
+    // After the last row, read on to the end marker: data that decoded into fewer bits than the
+    // file holds (damage) shows only there.
+    if (s->cinfo.output_scanline == s->cinfo.output_height) jpeg_finish_decompress(&s->cinfo);
+    return true;
+  });
 }
 
 class JpegDecoder final : public Decoder {
@@ -111,9 +95,7 @@ class JpegDecoder final : public Decoder {
   bool open(const std::string& path) {
     s_.file = std::fopen(path.c_str(), "rb");
     if (!s_.file) throw CodecError("cannot open");
-    s_.cinfo.err = jpeg_std_error(&s_.errors);
-    s_.errors.error_exit = on_error;
-    s_.errors.emit_message = on_message;
+    s_.cinfo.err = jpeg_errors(s_, on_message);
     s_.cinfo.client_data = &s_;
     if (!guarded_header(&s_)) throw error();
     J_COLOR_SPACE out;

@@ -4,12 +4,13 @@
 #include <jpeglib.h>
 
 #include <algorithm>
-#include <csetjmp>
 #include <cstdlib>
 #include <memory>
 #include <vector>
 
 #include "io/codecs.h"
+#include "io/guarded_call.h"
+#include "io/jpeg_errors.h"
 #include "io/output_file.h"
 
 namespace gdp::io {
@@ -17,19 +18,15 @@ namespace {
 
 constexpr std::size_t kChunk = std::size_t{1} << 16;  // compressed bytes handed to the file at a time
 
-// As in jpeg_decoder.cc: libjpeg's errors longjmp() back into the guarded functions, which hold
-// no C++ objects with destructors. Compressed bytes go to an io::OutputFile, so a full disk is a
-// recorded failure, never libjpeg's exit().
-struct JpegWriteState {
+// The encoder's libjpeg state (errors: io/jpeg_errors.h). Compressed bytes go to an
+// io::OutputFile, so a full disk is a recorded failure, never libjpeg's exit().
+struct JpegWriteState : JpegErrors {
   jpeg_compress_struct cinfo{};
-  jpeg_error_mgr errors{};
   jpeg_destination_mgr destination{};
-  std::jmp_buf jump{};
   OutputFile* file = nullptr;
   std::int64_t at = 0;
   unsigned char* chunk = nullptr;
   bool created = false;
-  char message[JMSG_LENGTH_MAX] = {};
   JpegWriteState() = default;
   JpegWriteState(const JpegWriteState&) = delete;
   JpegWriteState& operator=(const JpegWriteState&) = delete;
@@ -39,11 +36,6 @@ struct JpegWriteState {
 };
 
 JpegWriteState* state_of(j_common_ptr cinfo) { return static_cast<JpegWriteState*>(cinfo->client_data); }
-
-void on_error(j_common_ptr cinfo) {
-  (*cinfo->err->format_message)(cinfo, state_of(cinfo)->message);
-  std::longjmp(state_of(cinfo)->jump, 1);
-}
 
 void on_message(j_common_ptr, int) {}
 
@@ -69,37 +61,21 @@ void on_term(j_compress_ptr cinfo) {
 }
 
 bool guarded_start(JpegWriteState* s, int width, int height, int components, int quality) {
-  if (setjmp(s->jump)) return false;
-  jpeg_create_compress(&s->cinfo);
-  s->created = true;
-  s->destination.init_destination = on_init;
-  s->destination.empty_output_buffer = on_full;
-  s->destination.term_destination = on_term;
-  s->cinfo.dest = &s->destination;
-  s->cinfo.image_width = static_cast<JDIMENSION>(width);
-  s->cinfo.image_height = static_cast<JDIMENSION>(height);
-  s->cinfo.input_components = components;
-  s->cinfo.in_color_space = components == 1 ? JCS_GRAYSCALE : JCS_RGB;
-  jpeg_set_defaults(&s->cinfo);
-  jpeg_set_quality(&s->cinfo, quality, TRUE);
-  jpeg_start_compress(&s->cinfo, TRUE);
-  return true;
-}
-
-bool guarded_rows(JpegWriteState* s, unsigned char* const* rows, int count) {
-  if (setjmp(s->jump)) return false;
-  int done = 0;
-  while (done < count) {
-    JSAMPARRAY at = const_cast<JSAMPARRAY>(rows + done);
-    done += static_cast<int>(jpeg_write_scanlines(&s->cinfo, at, static_cast<JDIMENSION>(count - done)));
-  }
-  return true;
-}
-
-bool guarded_finish(JpegWriteState* s) {
-  if (setjmp(s->jump)) return false;
-  jpeg_finish_compress(&s->cinfo);
-  return true;
+  return guarded(s->jump, [=] {
+    jpeg_create_compress(&s->cinfo);
+    s->created = true;
+    s->destination.init_destination = on_init;
+    s->destination.empty_output_buffer = on_full;
+    s->destination.term_destination = on_term;
+    s->cinfo.dest = &s->destination;
+    s->cinfo.image_width = static_cast<JDIMENSION>(width);
+    s->cinfo.image_height = static_cast<JDIMENSION>(height);
+    s->cinfo.input_components = components;
+    s->cinfo.in_color_space = components == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_set_defaults(&s->cinfo);
+    jpeg_set_quality(&s->cinfo, quality, TRUE);
+    jpeg_start_compress(&s->cinfo, TRUE);
+  });
 }
 
 // The quality: "jpeg:Q" in WriteOptions::compression overrides jpeg_quality, as OpenImageIO did.
@@ -119,14 +95,11 @@ class JpegEncoder final : public Encoder {
   }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
-    file_ = std::make_unique<OutputFile>(path);
-    check_file();
+    file_ = open_written(path);
     chunk_.resize(kChunk);
     s_.chunk = chunk_.data();
     s_.file = file_.get();
-    s_.cinfo.err = jpeg_std_error(&s_.errors);
-    s_.errors.error_exit = on_error;
-    s_.errors.emit_message = on_message;
+    s_.cinfo.err = jpeg_errors(s_, on_message);
     s_.cinfo.client_data = &s_;
     given_ = spec.channels;
     components_ = spec.channels >= 3 ? 3 : 1;  // extra channels are dropped, as OpenImageIO does
@@ -151,18 +124,17 @@ class JpegEncoder final : public Encoder {
     } else {
       for (int y = 0; y < y1 - y0; ++y) pointers[y] = const_cast<unsigned char*>(src + y * in_row);
     }
-    if (!guarded_rows(&s_, pointers.data(), y1 - y0)) throw error();
-    check_file();
+    const auto scanlines = [this](JSAMPARRAY at, JDIMENSION n) { return jpeg_write_scanlines(&s_.cinfo, at, n); };
+    if (!guarded(s_.jump, [&] { return all_scanlines(s_, pointers.data(), y1 - y0, scanlines); })) throw error();
+    check_written(*file_);
   }
 
   void close() override {
-    if (!guarded_finish(&s_)) throw error();
-    file_->close();
-    check_file();
+    if (!guarded(s_.jump, [this] { jpeg_finish_compress(&s_.cinfo); })) throw error();
+    close_written(*file_);
   }
 
  private:
-  void check_file() const { check_written(*file_); }
   CodecError error() const { return write_error(file_.get(), s_.message); }
 
   std::unique_ptr<OutputFile> file_;

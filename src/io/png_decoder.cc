@@ -1,7 +1,6 @@
 // Decoding PNG with libpng: rows in order, palette/gray/low bit depths and tRNS expanded as OpenImageIO does.
 #include <png.h>
 
-#include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -11,13 +10,14 @@
 #include "gdp/size_check.h"
 #include "io/codec_util.h"
 #include "io/codecs.h"
+#include "io/guarded_call.h"
 #include "io/png_errors.h"
 
 namespace gdp::io {
 namespace {
 
-// The decoder's libpng state (errors: io/png_errors.h). Only the guarded functions below call
-// libpng, and they hold no C++ objects with destructors: nothing is skipped by the longjmp.
+// The decoder's libpng state (errors: io/png_errors.h; libpng is called only through
+// io/guarded_call.h's guarded()).
 struct PngState : PngErrors {
   png_structp png = nullptr;
   png_infop info = nullptr;
@@ -33,10 +33,10 @@ struct PngState : PngErrors {
 
 // Reads the header; false on a libpng error.
 bool guarded_header(PngState* s) {
-  if (setjmp(png_jmpbuf(s->png))) return false;
-  png_init_io(s->png, s->file);
-  png_read_info(s->png, s->info);
-  return true;
+  return guarded(png_jmpbuf(s->png), [s] {
+    png_init_io(s->png, s->file);
+    png_read_info(s->png, s->info);
+  });
 }
 
 // Channels once expanded (palette to RGB, transparency to alpha).
@@ -48,28 +48,16 @@ int expanded_channels(PngState* s) {
 
 // Sets the expansions (allocating the row buffers); false on a libpng error.
 bool guarded_start(PngState* s) {
-  if (setjmp(png_jmpbuf(s->png))) return false;
-  const int color = png_get_color_type(s->png, s->info);
-  const int depth = png_get_bit_depth(s->png, s->info);
-  if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s->png);
-  if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s->png);
-  if (png_get_valid(s->png, s->info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s->png);
-  if (depth == 16) png_set_swap(s->png);  // to the machine's (little-endian) order
-  if (png_get_interlace_type(s->png, s->info) != PNG_INTERLACE_NONE) png_set_interlace_handling(s->png);
-  png_read_update_info(s->png, s->info);
-  return true;
-}
-
-bool guarded_rows(PngState* s, unsigned char* const* rows, int count) {
-  if (setjmp(png_jmpbuf(s->png))) return false;
-  for (int i = 0; i < count; ++i) png_read_row(s->png, rows[i], nullptr);
-  return true;
-}
-
-bool guarded_image(PngState* s, unsigned char** rows) {
-  if (setjmp(png_jmpbuf(s->png))) return false;
-  png_read_image(s->png, rows);
-  return true;
+  return guarded(png_jmpbuf(s->png), [s] {
+    const int color = png_get_color_type(s->png, s->info);
+    const int depth = png_get_bit_depth(s->png, s->info);
+    if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s->png);
+    if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s->png);
+    if (png_get_valid(s->png, s->info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s->png);
+    if (depth == 16) png_set_swap(s->png);  // to the machine's (little-endian) order
+    if (png_get_interlace_type(s->png, s->info) != PNG_INTERLACE_NONE) png_set_interlace_handling(s->png);
+    png_read_update_info(s->png, s->info);
+  });
 }
 
 class PngDecoder final : public Decoder {
@@ -77,8 +65,7 @@ class PngDecoder final : public Decoder {
   explicit PngDecoder(const std::string& path) {
     s_.file = std::fopen(path.c_str(), "rb");
     if (!s_.file) throw CodecError("cannot open");
-    s_.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, static_cast<PngErrors*>(&s_), png_error_callback,
-                                   png_warning_callback);
+    s_.png = png_reader(s_);
     if (s_.png) s_.info = png_create_info_struct(s_.png);
     if (!s_.png || !s_.info) throw CodecError("out of memory for the PNG decoder");
     // gdp's own limits apply (1-4 channels, memory per band), not libpng's default 1M-pixel rows.
@@ -113,15 +100,18 @@ class PngDecoder final : public Decoder {
         whole_.resize(row_bytes_ * static_cast<std::size_t>(layout_.height));
         std::vector<unsigned char*> rows(static_cast<std::size_t>(layout_.height));
         for (int y = 0; y < layout_.height; ++y) rows[y] = whole_.data() + y * row_bytes_;
-        if (!guarded_image(&s_, rows.data())) throw error();
+        if (!guarded(png_jmpbuf(s_.png), [&] { png_read_image(s_.png, rows.data()); })) throw error();
       }
       for (int y = y0; y < y1; ++y)
         std::memcpy(dst + (y - y0) * out_row, whole_.data() + y * row_bytes_ + x0 * pixel, out_row);
       return;
     }
-    if (!decode_rows(y1 - y0, row_bytes_, pixel * x0, out_row, dst, scratch_,
-                     [&](unsigned char** rows, int count) { return guarded_rows(&s_, rows, count); }))
-      throw error();
+    const auto read_rows = [&](unsigned char** rows, int count) {
+      return guarded(png_jmpbuf(s_.png), [&] {
+        for (int i = 0; i < count; ++i) png_read_row(s_.png, rows[i], nullptr);
+      });
+    };
+    if (!decode_rows(y1 - y0, row_bytes_, pixel * x0, out_row, dst, scratch_, read_rows)) throw error();
   }
 
  private:

@@ -7,10 +7,10 @@
 
 namespace gdp::io {
 
-// The message of libpng's last error. A caller's libpng state derives from it and passes
-// static_cast<PngErrors*>(&state) as the error pointer with png_error_callback/png_warning_callback.
-// The error callback keeps the message and longjmp()s back to the setjmp() of the guarded call
-// that started it; guarded calls hold no C++ objects with destructors.
+// The message of libpng's last error. A caller's libpng state derives from it and makes its
+// libpng struct with png_reader(state) or png_writer(state).
+// The error callback keeps the message and longjmp()s back to the guarded() call
+// (io/guarded_call.h, with png_jmpbuf(png)) that started it.
 struct PngErrors {
   char message[256] = {};
 };
@@ -23,5 +23,13 @@ inline void png_error_callback(png_structp png, png_const_charp message) {
 
 // Warnings are benign (unknown chunks, sRGB profile notes): ignored.
 inline void png_warning_callback(png_structp, png_const_charp) {}
+
+// libpng's read and write structs reporting to `errors` (nullptr when out of memory).
+inline png_structp png_reader(PngErrors& errors) {
+  return png_create_read_struct(PNG_LIBPNG_VER_STRING, &errors, png_error_callback, png_warning_callback);
+}
+inline png_structp png_writer(PngErrors& errors) {
+  return png_create_write_struct(PNG_LIBPNG_VER_STRING, &errors, png_error_callback, png_warning_callback);
+}
 
 }  // namespace gdp::io

@@ -81,8 +81,7 @@ class TiffEncoder final : public Encoder {
   }
 
   void open(const std::string& path, const EncodeSpec& spec) override {
-    file_ = std::make_unique<OutputFile>(path);
-    check_file();
+    file_ = open_written(path);
     io_.file = file_.get();
     width_ = spec.width;
     height_ = spec.height;
@@ -175,8 +174,7 @@ class TiffEncoder final : public Encoder {
     if (!flushed) throw failure();
     TIFFClose(tif_);
     tif_ = nullptr;
-    file_->close();
-    check_file();
+    close_written(*file_);
   }
 
  private:
