@@ -1,10 +1,9 @@
-// The streamed solve (streaming and bands alike): workers (band, channel group) on threads, fed and
-// drained by the caller's thread; under mpirun, every rank reads, solves and writes its share of the columns.
+// The streamed solve (streaming and bands alike): workers (band, channel group) on threads make their
+// input rows and put their results, which the caller's thread writes; under mpirun, every rank reads,
+// solves and writes its share of the columns.
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
 #include <optional>
 
 #include <fmt/format.h>

@@ -144,13 +144,22 @@ void RowRing::need(int r, int from, int to) {
     bool claimed = false;  // row `to` not made and no one making rows: make the next one here
     marks_.wait([&](std::vector<int>& m) { return m[made_] > to || (!m[busy_] && (claimed = m[busy_] = 1)); });
     if (!claimed) return;
-    const int y = marks_.get(made_);
-    constexpr int kSlack = 4;  // a maker waiting for a slot is woken once every few rows
-    marks_.wait(readers_, readers_ + count_, y - slots_, y - slots_ + kSlack);
+    // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
+    // made before they ask (they wait less, and for no maker that lost its core).
+    constexpr int kAhead = 4, kSlack = 4;  // a maker waiting for a slot is woken once every few rows
     const double t = thread_cpu_seconds();
-    make_(y);
+    for (int y = marks_.get(made_); y < rows_ && y <= to + kAhead; ++y) {
+      bool free = y <= to;
+      if (!free)
+        marks_.wait([&](std::vector<int>& m) {
+          return free = *std::min_element(m.begin() + readers_, m.begin() + readers_ + count_) > y - slots_, true;
+        });
+      if (!free) break;
+      marks_.wait(readers_, readers_ + count_, y - slots_, y - slots_ + kSlack);
+      make_(y);
+      marks_.set(made_, y + 1);
+    }
     cpu += thread_cpu_seconds() - t;
-    marks_.set(made_, y + 1);
     marks_.set(busy_, 0);
   }
 }
