@@ -180,8 +180,10 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
 }
 
 // Result rows of every local worker put together, in a ring of kResultSlots rows: row j's slot
-// is filled once the row before it there was written.
-constexpr int kResultSlots = 16;
+// is filled once the row before it there was written. Under mpirun rank 0 writes row j once the
+// other ranks' batches of up to 16 rows hold it, and their workers need strips from rank 0's up
+// to a phase ahead: 16 slots deadlock there (BlendCli.UnderMpirunAgreesWithOneProcess), 64 do not.
+constexpr int kResultSlots = 64;
 
 }  // namespace
 
