@@ -233,7 +233,9 @@ TEST(Streaming, TallThinImageInBoundedMemory) {
   EXPECT_EQ(out.rows, h);
   for (double r : s.relative_residuals) std::printf("%.3e ", r);
   std::printf("\nmax error %.3e\n", out.max_error);
-  EXPECT_LT(out.max_error, 5e-3);
+  // 3.7e-6 with the kernels' difference form; the old form rounded A u like u, which left
+  // 3e-3 to 9e-3 along the tall axis depending on the height (docs/multigrid.md, "Differences").
+  EXPECT_LT(out.max_error, 1e-4);
   // What still grows with the height: the transfer tables (~40 bytes per row, 4 MB here).
   std::printf("peak resident memory grew by %ld MB\n", grown_mb);
   EXPECT_LT(grown_mb, 50 + 16) << "peak resident memory grew by " << grown_mb << " MB";

@@ -33,27 +33,8 @@ void MpiHub::reap() {
     int done = 0;
     MPI_Test(&sends_.front().request, &done, MPI_STATUS_IGNORE);
     if (!done) return;
-    keep(std::move(sends_.front().data));
     sends_.pop_front();
   }
-}
-
-void MpiHub::keep(Bytes used) {
-  if (spare_.size() < 8 && used.capacity() > 0) spare_.push_back(std::move(used));
-}
-
-Bytes MpiHub::spare() {
-  const std::lock_guard<std::mutex> lock(sending_);
-  if (spare_.empty()) return {};
-  Bytes b = std::move(spare_.back());
-  spare_.pop_back();
-  b.clear();
-  return b;
-}
-
-void MpiHub::recycle(Bytes used) {
-  const std::lock_guard<std::mutex> lock(sending_);
-  keep(std::move(used));
 }
 
 void MpiHub::send_away(int from, int to, int tag, Bytes data) {
@@ -69,7 +50,7 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {
-  Bytes data = spare();
+  Bytes data;
   mpi::receive_message(from / local_, mpi_tag(tag, from, to), comm_, data, [&] {
     const std::lock_guard<std::mutex> lock(sending_);
     reap();

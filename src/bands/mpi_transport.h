@@ -24,28 +24,22 @@ class MpiHub final : public ThreadHub {
   // Waits for this rank's sends, unless an exception unwinds: their receiver may be the rank that
   // failed, and MPI_Abort follows (gdp's main).
   ~MpiHub() override;
-  // An empty buffer for a message, with the capacity of an earlier one (sent, received and given
-  // back with recycle(), or none): messages of about one size stop allocating after the first few.
-  Bytes spare();
-  void recycle(Bytes used);
 
  private:
   void send_away(int from, int to, int tag, Bytes data) override;
   Bytes receive_away(int from, int to, int tag) override;
   void stop(const std::string& why) override;
   int mpi_tag(int tag, int from, int to) const { return (tag * local_ + from % local_) * local_ + to % local_; }
-  void reap();  // recycles the sends that have completed (the oldest first); call with `sending_` held
-  void keep(Bytes used);  // into spare_ unless it holds enough; call with `sending_` held
+  void reap();  // forgets the sends that have completed (the oldest first); call with `sending_` held
 
   MPI_Comm comm_ = MPI_COMM_NULL;
   const std::size_t in_flight_;
-  std::mutex sending_;  // guards sends_ and spare_
+  std::mutex sending_;  // guards sends_
   struct Pending {
     Bytes data;
     MPI_Request request = MPI_REQUEST_NULL;
   };
   std::deque<Pending> sends_;  // in the order started
-  std::vector<Bytes> spare_;
 };
 
 }  // namespace gdp::bands

@@ -65,9 +65,9 @@ class ColumnGather final : public RowWriter {
     std::vector<unsigned char> bytes;  // the message: the samples, then the header
   };
 
-  // The message is built in a completed one's buffer (the hub's spare()), the header last.
+  // The message is built in place, the header last: no copy but the row's columns.
   void send(int y, std::span<const float> row) {
-    if (batch_.bytes.empty()) first_ = y, batch_.bytes = hub_->spare();
+    if (batch_.bytes.empty()) first_ = y;
     for (int c = 0; c < channels_; ++c) batch_.put(row.data() + static_cast<std::size_t>(c) * width_ + begin_, end_ - begin_);
     const std::size_t samples = batch_.bytes.size() / sizeof(float);
     if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
@@ -86,7 +86,6 @@ class ColumnGather final : public RowWriter {
   void fill(int r, int y) {
     Received& m = from_[r];
     if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
-      hub_->recycle(std::move(m.bytes));  // the next message lands in this one's buffer
       m.bytes = hub_->endpoint(0).receive(r, kTag);
       if (m.bytes.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
       std::memcpy(&m.h, m.bytes.data() + m.bytes.size() - sizeof(Header), sizeof(Header));
