@@ -4,6 +4,9 @@
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <deque>
+#include <mutex>
 #include <optional>
 
 #include <fmt/format.h>
@@ -179,11 +182,57 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
   return units;
 }
 
-// Result rows of every local worker put together, in a ring of kResultSlots rows: row j's slot
-// is filled once the row before it there was written. Under mpirun rank 0 writes row j once the
-// other ranks' batches of up to 16 rows hold it, and their workers need strips from rank 0's up
-// to a phase ahead: 16 slots deadlock there (BlendCli.UnderMpirunAgreesWithOneProcess), 64 do not.
-constexpr int kResultSlots = 64;
+// Result rows of every local worker put together, from the first not yet written on, as many as the
+// workers put: a worker waits for the writing only while `slots` rows are ahead of it and every
+// worker of its channel group (every worker it exchanges with here) has put the next row to write,
+// so that the writing then waits for no worker that waits for it (docs/how-bands-work.md, "Why a
+// streamed solve cannot hang"). Tests set `slots` to 1 (GDP_RESULT_ROWS).
+class Results {
+ public:
+  Results(schedule::Marks& marks, int workers, int groups, std::size_t row)
+      : marks_(marks), written_(marks.add(1)), put_(marks.add(workers)), workers_(workers), groups_(groups), row_(row) {
+    const char* rows = std::getenv("GDP_RESULT_ROWS");
+    slots_ = std::max(1, rows ? std::atoi(rows) : 64);
+  }
+  // Worker k's row j (whole rows: it fills its columns), then put(k, j).
+  float* row(int k, int j) {
+    marks_.wait([&](std::vector<int>& m) {
+      bool lags = false;  // a worker of k's group has not put the next row to write
+      for (int i = k % groups_; i < workers_; i += groups_) lags = lags || m[put_ + i] <= m[written_];
+      return lags || j < m[written_] + slots_;
+    });
+    const std::lock_guard lock(mutex_);
+    for (; first_ + static_cast<int>(rows_.size()) <= j; spare_.empty() ? void() : spare_.pop_back())
+      rows_.push_back(spare_.empty() ? std::vector<float>(row_, 0.0f) : std::move(spare_.back()));
+    return rows_[j - first_].data();
+  }
+  void put(int k, int j) { marks_.set(put_ + k, j + 1); }
+  // The calling thread: row j (of h) to `out` once every worker put it.
+  void write(int j, int h, RowWriter& out) {
+    marks_.wait(put_, put_ + workers_, j, std::min({j + 4, j + slots_ - 1, h - 1}));
+    const std::vector<float>* row = nullptr;
+    {
+      const std::lock_guard lock(mutex_);
+      row = &rows_.front();  // stays where it is while rows are added
+    }
+    out.write_row(j, *row);
+    {
+      const std::lock_guard lock(mutex_);
+      spare_.push_back(std::move(rows_.front()));
+      rows_.pop_front();
+      ++first_;
+    }
+    marks_.set(written_, j + 1);
+  }
+
+ private:
+  schedule::Marks& marks_;
+  const int written_, put_, workers_, groups_;  // marks: rows written, rows each worker put
+  const std::size_t row_;
+  int slots_, first_ = 0;  // rows_[i] is row first_ + i
+  std::mutex mutex_;
+  std::deque<std::vector<float>> rows_, spare_;
+};
 
 }  // namespace
 
@@ -213,14 +262,13 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   if (checkpoint) checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
 
   // Rows between the threads: the input ring, made by the workers that read it; the input's sums
-  // (mark `summed`: known); result rows (marks `put`: rows each worker put, `written`: by this thread).
+  // (mark `summed`: known); the result rows.
   schedule::Marks marks;
   const auto units = input_units<T>(source, layout, team);
   schedule::InputRing<T> input(source, problem.hierarchy, units, marks, opt.progress);
-  const int count = team.local * team.groups, summed = marks.add(1), written = marks.add(1), put = marks.add(count);
+  const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
-  const std::size_t row = static_cast<std::size_t>(channels) * w;
-  std::vector<float> results(kResultSlots * row, 0.0f);
+  Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
   std::vector<std::unique_ptr<CycleWorker<T>>> workers;  // band-major: worker i * groups + g
   for (int i = 0; i < team.local; ++i)
     for (int g = 0; g < team.groups; ++g) {
@@ -249,12 +297,11 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       };
       const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
       wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
-        marks.wait(written, j - kResultSlots);
-        float* slot = results.data() + (j % kResultSlots) * row + a;
+        float* row = results.row(k, j) + a;
         for (int c = 0; c < n; ++c)
           std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
-                         slot + static_cast<std::size_t>(c0 + c) * w, [](T v) { return static_cast<float>(v); });
-        marks.set(put + k, j + 1);
+                         row + static_cast<std::size_t>(c0 + c) * w, [](T v) { return static_cast<float>(v); });
+        results.put(k, j);
       };
     }
 
@@ -269,9 +316,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
         marks.set(summed, 1);
         seconds_input = seconds_since(t);
         for (int j = 0; j < h; ++j) {
-          marks.wait(put, put + count, j, std::min(j + 4, h - 1));
-          out.write_row(j, {results.data() + (j % kResultSlots) * row, row});
-          marks.set(written, j + 1);
+          results.write(j, h, out);
           if (opt.progress && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
         }
       },
