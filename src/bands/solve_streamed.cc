@@ -202,8 +202,11 @@ class Results {
       return lags || j < m[written_] + slots_;
     });
     const std::lock_guard lock(mutex_);
-    for (; first_ + static_cast<int>(rows_.size()) <= j; spare_.empty() ? void() : spare_.pop_back())
-      rows_.push_back(spare_.empty() ? std::vector<float>(row_, 0.0f) : std::move(spare_.back()));
+    while (first_ + static_cast<int>(rows_.size()) <= j) {
+      if (spare_.empty()) spare_.emplace_back(row_, 0.0f);
+      rows_.push_back(std::move(spare_.back()));
+      spare_.pop_back();
+    }
     return rows_[j - first_].data();
   }
   void put(int k, int j) { marks_.set(put_ + k, j + 1); }
