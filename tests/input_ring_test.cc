@@ -1,6 +1,7 @@
-// The input pass by band: rows decoded on one thread, each band's columns made on its own, the same bits as one reader.
+// The input pass by band: rows decoded once, each band's columns made by its workers, the same bits as one reader.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -131,7 +132,7 @@ struct Case {
 
 class InputRing : public ::testing::TestWithParam<Case> {};
 
-// Each band's input rows made on its own thread from rows decoded once give the same result, bit
+// Each band's input rows made by its workers from rows decoded once give the same result, bit
 // for bit, as one thread reading whole rows (what the solver did before; 0 bands: streaming).
 TEST_P(InputRing, BandsMakeTheirColumnsWithTheSameBitsAsOneReader) {
   const Case k = GetParam();
@@ -160,46 +161,43 @@ INSTANTIATE_TEST_SUITE_P(Domains, InputRing,
                                   (i.param.precision == Precision::Float64 ? "double" : "float");
                          });
 
-// A source that records which row each slot holds: compute checks that rows j and j + 1 are in
-// their slots while it runs (its readers dawdle, so that the decoder runs ahead of them).
-class SlotCheck final : public GuidanceSource {
- public:
-  int width() const override { return 64; }
-  int height() const override { return 300; }
-  int channels() const override { return 1; }
-  void read_row(int, GuidanceRow&) override { throw std::logic_error("read whole"); }
-  bool splits() const override { return true; }
-  void set_slots(int slots) override { held_ = std::make_unique<std::atomic<int>[]>(slots_ = slots); }
-  void decode(int y) override { held_[y % slots_] = y; }
-  void compute(int j, GuidanceRow& out, int begin, int) const override {
-    if (j % 7 == begin % 5) std::this_thread::sleep_for(std::chrono::microseconds(200));
-    const bool held = held_[j % slots_] == j && (j + 1 == height() || held_[(j + 1) % slots_] == j + 1);
-    out.counted[begin] = held ? 1 : 0;
-  }
-
- private:
-  int slots_ = 0;
-  std::unique_ptr<std::atomic<int>[]> held_;
-};
-
-// The ring never decodes into a slot whose row a reader may still read, and every reader sees
-// every row in order.
-TEST(InputRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
-  SlotCheck source;
-  schedule::InputRing ring(source, 3);
-  const int edges[] = {0, 10, 30, 64};  // reader r's columns: [edges[r], edges[r + 1])
-  std::vector<int> wrong(3, 0);
-  schedule::run_workers(4, [&](int k) {
-    if (k == 0) return ring.decode_all();
-    GuidanceRow row;
-    row.counted.assign(64, 1);
-    for (int j = 0; j < source.height(); ++j) {
-      ring.read(k - 1, j, row, edges[k - 1], edges[k]);
-      wrong[k - 1] += row.counted[edges[k - 1]] == 0;
+// The ring never makes a row into a slot whose row a reader may still read, and every reader sees
+// every row in order, whoever made it (readers dawdle at different rows, so that each makes some).
+TEST(RowRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
+  constexpr int kRows = 300, kSlots = 16;
+  std::vector<std::atomic<int>> held(kSlots);
+  std::vector<int> made_by(kRows, -1), wrong(3, 0);
+  thread_local int me = -1;
+  schedule::Marks marks;
+  schedule::RowRing ring(marks, 3, kSlots, kRows, [&](int y) {
+    held[y % kSlots] = y;
+    made_by[y] = me;
+  });
+  schedule::run_workers(3, [&](int k) {
+    me = k;
+    for (int j = 0; j < kRows; ++j) {
+      ring.need(k, j, std::min(j + 1, kRows - 1));
+      if (j % 7 == k * 2) std::this_thread::sleep_for(std::chrono::microseconds(200));
+      wrong[k] += held[j % kSlots] != j || (j + 1 < kRows && held[(j + 1) % kSlots] != j + 1);
     }
-    ring.finished(k - 1);
+    ring.done(k);
   });
   EXPECT_EQ(wrong, std::vector<int>(3, 0));
+  EXPECT_EQ(std::count(made_by.begin(), made_by.end(), -1), 0);
+}
+
+// A stop ends every wait on the marks with Stopped, and later waits too.
+TEST(RowRingSlots, StopEndsEveryWait) {
+  schedule::Marks marks;
+  const int m = marks.add(2);
+  schedule::run_workers(3, [&](int k) {
+    if (k == 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      return marks.stop();
+    }
+    EXPECT_THROW(marks.wait(m + k - 1, 5), schedule::Stopped);
+  });
+  EXPECT_THROW(marks.wait(m, m + 2, -1, -1), schedule::Stopped);
 }
 
 // A row that cannot be decoded, or a band's columns that cannot be made, stops the whole run with

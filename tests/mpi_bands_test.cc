@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 #include "cli_fixture.h"
 #include "image_compare.h"
@@ -131,6 +132,49 @@ TEST_F(MpiBands, WaitingRanksNeverYieldTheirCore) {
     ASSERT_EQ(sharpen("threads.tif", 2 * bands, 0, "--scratch float").code, 0);
     EXPECT_EQ(test::max_difference(result("mpi.tif"), result("threads.tif")), 0.0);
     EXPECT_LE(test::max_difference(result("mpi.tif"), one), 1e-4 * range(one));
+  }
+}
+
+// The smallest result ring (GDP_RESULT_ROWS=1: a worker runs ahead of the writing by one row
+// unless a worker of its group has not put the row to write) on a tall problem with bands of 28
+// columns and a wide, low one, with two V-cycles and three channels (channel groups on threads): on
+// threads with 1-4 bands and under mpirun with 2 and 3 ranks every run finishes (a hang fails by
+// its timeout) with the in-core result (one band: its bits; more: 1e-4 of the range) and, on ranks,
+// the threads' bits. A ring of a fixed 16 rows hung under mpirun (docs/how-bands-work.md, "Why a
+// streamed solve cannot hang"); 1 row hangs at once without that rule.
+TEST_F(MpiBands, SmallestResultRingNeverHangs) {
+  for (const auto& [w, h] : {std::pair{170, 700}, std::pair{1000, 40}}) {
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
+    Image im(w, h, 3);
+    const Image noise = test::random_image(w, h, 3, 7);
+    for (int c = 0; c < 3; ++c) {
+      const Image wave = test::cosine_image(w, h, 2 + c, 3 - c);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          im.at(c, x, y) = 0.5f + 0.3f * wave.at(0, x, y) + (x > w / 2 ? 0.1f : 0.0f) + 0.05f * noise.at(c, x, y);
+    }
+    write_image(path("s.tif"), im, {});
+    const auto run = [&](const std::string& out, const std::string& how, int ranks = 0) {
+      const std::string cli = std::string(GDP_CLI_PATH) + " sharpen " + path("s.tif") + " -o " + path(out) +
+                              " --depth float -q --scratch float --vcycles 2 --incore-bytes 4096 --threads 14 " + how;
+      const test::CliRun r = ranks ? mpi("-np " + std::to_string(ranks) + " -x GDP_RESULT_ROWS=1 " + cli)
+                                   : gdp_raw("GDP_RESULT_ROWS=1 timeout 60 " + cli);
+      EXPECT_EQ(r.code, 0) << how << " on " << ranks << " ranks: " << r.err;
+      return r.code == 0 ? result(out) : Image();
+    };
+    const Image in_core = run("in_core.tif", "--in-core");
+    ASSERT_FALSE(in_core.data.empty());
+    std::vector<Image> threads(7);
+    for (int bands = 1; bands <= 6; bands += bands < 4 ? 1 : 2) {
+      threads[bands] = run("threads.tif", "--bands " + std::to_string(bands));
+      ASSERT_FALSE(threads[bands].data.empty());
+      EXPECT_LE(test::max_difference(threads[bands], in_core), bands == 1 ? 0.0 : 1e-4 * range(in_core)) << bands;
+    }
+    for (const auto& [ranks, bands] : {std::pair{2, 1}, std::pair{3, 2}, std::pair{2, 2}}) {
+      const Image m = run("mpi.tif", "--bands " + std::to_string(bands), ranks);
+      ASSERT_FALSE(m.data.empty());
+      EXPECT_EQ(test::max_difference(m, threads[ranks * bands]), 0.0) << ranks << " ranks x " << bands << " bands";
+    }
   }
 }
 

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <iterator>
 #include <functional>
-#include <future>
 #include <memory>
 #include <optional>
 #include <span>
@@ -23,15 +22,11 @@
 #include "multigrid/input_rows.h"
 #include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
-#include "util/bounded_queue.h"
-#include "util/recycle_pool.h"
 
 namespace gdp::bands {
 
 using schedule::CorruptState;
 using schedule::RowStore;
-
-constexpr std::size_t kQueued = 2;  // batches in flight per worker and direction
 
 // How far a worker got, saved with its state (docs/resume.md): in V-cycle `cycle` (from 0), pass
 // 0 is the restriction pass with `rows` rows pushed, 1 the restriction pass done (the in-core
@@ -45,36 +40,28 @@ struct CycleMark {
   }
 };
 
-// Rows handed between threads at a time: about 64K samples (256 KB of floats), 1 to 16 rows: a
-// worker per channel keeps no more batch memory than one for all channels did with 1 MB batches.
-inline int batch_rows(int length, int channels) { return std::clamp((1 << 16) / std::max(1, length * channels), 1, 16); }
-
-// Rows first .. first + rows - 1: u and b (channels * length samples per row), w and d (length
-// per row, or empty when the problem has none). Handed back for reuse emptied (the vectors keep
-// their capacity).
+// Where a worker's rows come from and go (set by the driver): row j of its band's input (u and b:
+// its channels, w and d: empty where the V-cycle takes none), the input's sums (every band's: once
+// the worker asks for no more input), and its own columns of result row j (u as pulled).
 template <class T>
-struct Batch {
-  int first = 0, rows = 0;
-  std::vector<T> u, b, w, d;
-  Batch&& emptied() {
-    first = rows = 0;
-    for (std::vector<T>* v : {&u, &b, &w, &d}) v->clear();
-    return std::move(*this);
-  }
+struct WorkerRows {
+  std::function<void(int j, std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d)> input;
+  std::function<const multigrid::InputTotals&()> totals;
+  std::function<void(int j, std::span<const T> u)> result;
 };
 
 // Channels [c0, c0 + n) of band `net.rank()`: the V-cycles of its StreamedVCycle on rows of the
-// band's columns with their halo, the first cycle's from the batches in `in`, later cycles' from
-// the previous result (a row store), each result shifted to keep the input's mean (alpha == 0),
-// V-cycles until `opt`'s count or tolerance, and the last result's own columns out in batches.
+// band's columns with their halo, the first cycle's from its input, later cycles' from the
+// previous result (a row store), each result shifted to keep the input's mean (alpha == 0),
+// V-cycles until `opt`'s count or tolerance, and the last result to `rows.result`.
 template <class T>
 class CycleWorker {
  public:
   CycleWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
               CycleSettings s, int c0, int n, schedule::ResidualLog& log)
-      : in(kQueued), out(kQueued), c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)),
-        opt_(opt), singular_(ops.singular), log_(log), length_(layout.row_length(0, band)),
-        height_(ops.levels[0].height), keep_(layout.halo), kept_(layout.end(0, band) - layout.begin(0, band)) {
+      : c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)), opt_(opt),
+        singular_(ops.singular), log_(log), length_(layout.row_length(0, band)), height_(ops.levels[0].height),
+        w_(s.weights ? length_ : 0), d_(s.diagonal ? length_ : 0) {
     if (cycles() > 1)
       carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * length_, height_,
                                              fmt::format("band{}-c{}-result", band, c0));
@@ -104,18 +91,17 @@ class CycleWorker {
     log_.state(a, c0, n);
   }
 
-  // `totals`: the input's sums, every band's (waited for once every input row is pushed). Throws
-  // TransportStopped once a queue is closed (the solve was stopped).
-  void run(const std::shared_future<multigrid::InputTotals>& totals) {
+  // Throws schedule::Stopped once the solve is stopped.
+  void run() {
     u_.resize(static_cast<std::size_t>(n) * length_);
+    b_.resize(u_.size());
     std::vector<double> shift(n);
-    Batch<T> result;
     const CycleMark from = at;  // restored, or the start
     for (int k = from.cycle; k < cycles(); ++k) {
       const int pass = k == from.cycle ? from.pass : 0;
       if (pass == 2) continue;  // this cycle's result is stored: on to the next
       if (pass == 0) restriction_pass(k, k == from.cycle ? from.rows : 0);
-      const multigrid::InputTotals& sums = totals.get();
+      const multigrid::InputTotals& sums = rows.totals();
       for (int c = 0; c < n; ++c) {
         if (k == 0) {
           log_.set_rhs_norm(c0 + c, std::sqrt(sums.rhs_norms2[c0 + c]));
@@ -134,7 +120,7 @@ class CycleWorker {
           for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
         }
         if (!surely_last) carry_->append(u_);
-        else emit(result, j, u_);
+        else rows.result(j, u_);
       }
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < n; ++c) {
@@ -146,7 +132,7 @@ class CycleWorker {
         carry_->rewind();
         for (int j = 0; j < height_; ++j) {
           carry_->read(u_);
-          emit(result, j, u_);
+          rows.result(j, u_);
         }
         return;
       }
@@ -154,45 +140,28 @@ class CycleWorker {
     }
   }
 
-  util::BoundedQueue<Batch<T>> in, out;
-  util::RecyclePool<Batch<T>> spent_in, spent_out;  // batches of `in` and `out` the taker is done with (emptied)
+  WorkerRows<T> rows;
   const int c0, n, band;
   StreamedVCycle<T> vcycle;
 
  private:
   int cycles() const { return opt_.cycle_cap(); }
 
-  // Pushes cycle k's rows from `first` on (the first cycle's from the batches in `in`, later ones'
-  // from the previous result).
+  // Pushes cycle k's rows from `first` on (the first cycle's from the input, later ones' from the
+  // previous result).
   void restriction_pass(int k, int first) {
     if (first == 0) {
       vcycle.begin_cycle();
       if (carry_) carry_->rewind();
     }
-    const std::size_t row = static_cast<std::size_t>(n) * length_;
-    Batch<T> batch;
-    int next_in = 0;  // row of `batch` to push next
     for (int j = first; j < height_; ++j) {
       if (k > 0) {
         carry_->read(u_);
         vcycle.push(u_, {}, {});
         continue;
       }
-      if (next_in == batch.rows) {
-        auto b = in.pop();
-        if (!b) throw TransportStopped("stopped");
-        spent_in.give(batch.emptied());
-        batch = std::move(*b);
-        next_in = 0;
-      }
-      const std::size_t off = static_cast<std::size_t>(next_in) * row;
-      const auto pixel_row = [&](const std::vector<T>& v) {
-        return v.empty() ? std::span<const T>{}
-                         : std::span<const T>{v.data() + static_cast<std::size_t>(next_in) * length_,
-                                              static_cast<std::size_t>(length_)};
-      };
-      vcycle.push({batch.u.data() + off, row}, {batch.b.data() + off, row}, pixel_row(batch.w), pixel_row(batch.d));
-      ++next_in;
+      rows.input(j, u_, b_, w_, d_);
+      vcycle.push(u_, b_, w_, d_);
       if ((j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
     }
     save({k, 1, 0});
@@ -202,25 +171,12 @@ class CycleWorker {
     at = m;
     if (unit_done) unit_done();
   }
-  // The kept columns of row j into the result batch, sent when full or last.
-  void emit(Batch<T>& result, int j, const std::vector<T>& u) {
-    if (result.rows == 0) result.first = j;
-    for (int c = 0; c < n; ++c) {
-      const T* p = u.data() + static_cast<std::size_t>(c) * length_ + keep_;
-      result.u.insert(result.u.end(), p, p + kept_);
-    }
-    ++result.rows;
-    if (result.rows < batch_rows(kept_, n) && j + 1 < height_) return;
-    if (!out.push(std::move(result))) throw TransportStopped("stopped");
-    result = spent_out.take();
-  }
-
   const SolverOptions& opt_;
   bool singular_;
   schedule::ResidualLog& log_;
-  int length_, height_, keep_, kept_;
+  int length_, height_;
   std::unique_ptr<RowStore<T>> carry_;
-  std::vector<T> u_;  // a row of every channel
+  std::vector<T> u_, b_, w_, d_;  // a row (u, b: of every channel)
   static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
 };
 
@@ -273,9 +229,8 @@ class StreamedCheckpoint {
   // Row stores of local band i's group g are named with this prefix.
   std::string prefix(int i, int g) const { return fmt::format("lane{}-", lane(i, g)); }
   // Local band i's group g (worker, V-cycle) saves here; when resuming, its state is restored.
-  // Returns the input rows it already has.
   template <class T>
-  int attach(CycleWorker<T>& worker, int i, int g, int width) {
+  void attach(CycleWorker<T>& worker, int i, int g, int width) {
     // A unit of the first pass stores about four times what a save writes (the rows held). The
     // bands of a plan must save at the same rows: theirs is a function of the plan, about four
     // times the rows its levels' rings hold (twice level 0's), not of the band.
@@ -292,7 +247,7 @@ class StreamedCheckpoint {
       worker.vcycle.saved();  // every band of the plan has saved
     };
     const std::optional<std::string> saved = cp_->resuming() ? cp_->load(lane) : std::nullopt;
-    if (!saved) return 0;
+    if (!saved) return;
     try {
       ByteReader in(Bytes(saved->begin(), saved->end()));
       worker.state(in);
@@ -300,7 +255,6 @@ class StreamedCheckpoint {
     } catch (const CorruptState& e) {
       throw InputError(fmt::format("--resume {}: {} is corrupt ({})", cp_->dir().string(), cp_->state_name(lane), e.what()));
     }
-    return worker.at.cycle > 0 || worker.at.pass > 0 ? worker.height() : worker.at.rows;
   }
 
  private:

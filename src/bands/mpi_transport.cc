@@ -58,6 +58,21 @@ Bytes MpiHub::receive_away(int from, int to, int tag) {
   return data;
 }
 
+std::optional<Bytes> MpiHub::poll(int from, int to, int tag) {
+  int found = 0;
+  MPI_Message message;
+  MPI_Status status;
+  MPI_Improbe(from / local_, mpi_tag(tag, from, to), comm_, &found, &message, &status);
+  if (!found) return std::nullopt;
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  Bytes data(static_cast<std::size_t>(count));
+  MPI_Request request;  // a large message arrives in pieces: completed without spinning
+  MPI_Imrecv(data.data(), count, MPI_BYTE, &message, &request);
+  mpi::wait_request(request);
+  return data;
+}
+
 void MpiHub::stop(const std::string& why) { mpi::abort_ranks(why); }
 
 }  // namespace gdp::bands

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <optional>
 
 #include <mpi.h>
 
@@ -24,6 +25,9 @@ class MpiHub final : public ThreadHub {
   // Waits for this rank's sends, unless an exception unwinds: their receiver may be the rank that
   // failed, and MPI_Abort follows (gdp's main).
   ~MpiHub() override;
+  // The next message from worker `from` (on another rank) to `to` with `tag` if it has arrived,
+  // else none: it never waits for one to be sent (the column gather's rank 0, docs/how-bands-work.md).
+  std::optional<Bytes> poll(int from, int to, int tag);
 
  private:
   void send_away(int from, int to, int tag, Bytes data) override;

@@ -1,11 +1,12 @@
-// The streamed solve (streaming and bands alike): workers (band, channel group) on threads, fed and
-// drained by the caller's thread; under mpirun, every rank reads, solves and writes its share of the columns.
+// The streamed solve (streaming and bands alike): workers (band, channel group) on threads make their
+// input rows and put their results, which the caller's thread writes; under mpirun, every rank reads,
+// solves and writes its share of the columns.
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
-#include <future>
+#include <cstdlib>
+#include <deque>
+#include <mutex>
 #include <optional>
 
 #include <fmt/format.h>
@@ -69,17 +70,16 @@ InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team) {
   return total;
 }
 
-// Columns [origin, origin + length) of a full row of n samples: wrapped on periodic rows,
-// zero outside the row otherwise.
+// Columns [origin, origin + out.size()) of a full row of n samples into `out`: wrapped on periodic
+// rows, zero outside the row otherwise (copied in runs).
 template <class T>
-void cut(const T* row, int n, bool periodic, int origin, int length, std::vector<T>& out) {
-  for (int x = 0; x < length;) {  // appended in runs (no zero fill of what is copied)
+void cut(const T* row, int n, bool periodic, int origin, std::span<T> out) {
+  const int length = static_cast<int>(out.size());
+  for (int x = 0; x < length;) {
     const int i = periodic ? fem::wrap_index(origin + x, n) : origin + x;
     const int run = i < 0 ? std::min(length - x, -i) : i >= n ? length - x : std::min(length - x, n - i);
-    if (i < 0 || i >= n)
-      out.insert(out.end(), static_cast<std::size_t>(run), T(0));
-    else
-      out.insert(out.end(), row + i, row + i + run);
+    if (i < 0 || i >= n) std::fill_n(out.begin() + x, run, T(0));
+    else std::copy_n(row + i, run, out.begin() + x);
     x += run;
   }
 }
@@ -166,103 +166,76 @@ void share_columns(const BandLayout& layout, const Team& team, GuidanceSource& s
   out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
-// One reader of the input pass: local bands [first, last) (worker indices first * groups ..),
-// their input rows made from the ring's decoded rows.
+// The input units (one per local band where the source splits, else one for all) and their readers:
+// each band's workers.
 template <class T>
-struct Reader {
-  int first, last;
-  std::unique_ptr<multigrid::InputRows<T>> input;
-};
-
-// The input pass's ring and readers: one reader per local band where the source splits
-// (GuidanceSource::splits), each computing its band's columns; else one reader for all.
-template <class T>
-struct InputPass {
-  std::unique_ptr<schedule::InputRing> ring;
-  std::vector<Reader<T>> readers;
-};
-
-template <class T>
-InputPass<T> make_input_pass(GuidanceSource& source, const schedule::Problem<T>& problem, const BandLayout& layout,
-                             const Team& team) {
+std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSource& source, const BandLayout& layout,
+                                                               const Team& team) {
   const int count = source.splits() && !layout.folded ? team.local : 1;
-  InputPass<T> pass{std::make_unique<schedule::InputRing>(source, count), {}};
+  std::vector<typename schedule::InputRing<T>::Unit> units;
   for (int l = 0; l < count; ++l) {
     const int first = team.first + l * team.local / count, last = team.first + (l + 1) * team.local / count;
     const InputWindow window = input_window(layout, first, last - 1, source.width());
-    std::vector<std::pair<int, int>> own;
-    for (int i = first; i < last; ++i) own.emplace_back(layout.begin(0, i), layout.end(0, i));
-    pass.readers.push_back({first - team.first, last - team.first,
-                            std::make_unique<multigrid::InputRows<T>>(
-                                source, problem.hierarchy, own, window.rows,
-                                [ring = pass.ring.get(), l, g = window.guidance](int j, GuidanceRow& row) {
-                                  ring->read(l, j, row, g.first, g.second);
-                                })});
+    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups});
+    for (int i = first; i < last; ++i) units.back().sums.emplace_back(layout.begin(0, i), layout.end(0, i));
   }
-  return pass;
+  return units;
 }
 
-// A reader's thread: every input row of its bands cut into their workers' batches (columns of their
-// band with its halo, channels of their group). Returns its CPU seconds.
-template <class T>
-double feed(Reader<T>& reader, const GuidanceSource& source, const SolverOptions& opt,
-            const schedule::Problem<T>& problem, const BandLayout& layout, const Team& team, std::vector<std::unique_ptr<CycleWorker<T>>>& workers,
-            const std::vector<int>& skip) {
-  const int w = source.width(), h = source.height();
-  const std::size_t n = static_cast<std::size_t>(source.channels()) * w;
-  std::vector<T> u(n), b(n), wt(w), d(source.has_weights() ? w : 0);
-  std::vector<Batch<T>> batches(workers.size());
-  for (int j = 0; j < h; ++j) {
-    reader.input->next(u, b, wt, d);
-    const bool last = j + 1 == h;
-    for (int k = reader.first * team.groups; k < reader.last * team.groups; ++k) {
-      if (j < skip[k]) continue;  // resumed: the worker has this row
-      CycleWorker<T>& wk = *workers[k];
-      Batch<T>& batch = batches[k];
-      const int origin = layout.origin(0, wk.band), length = layout.row_length(0, wk.band);
-      if (batch.rows == 0) batch.first = j;
-      for (int c = wk.c0; c < wk.c0 + wk.n; ++c) {
-        cut(u.data() + static_cast<std::size_t>(c) * w, w, layout.periodic, origin, length, batch.u);
-        cut(b.data() + static_cast<std::size_t>(c) * w, w, layout.periodic, origin, length, batch.b);
-      }
-      if (!wt.empty() && problem.ops.singular) cut(wt.data(), w, layout.periodic, origin, length, batch.w);
-      if (!d.empty()) cut(d.data(), w, layout.periodic, origin, length, batch.d);
-      if (++batch.rows < batch_rows(length, wk.n) && !last) continue;
-      if (!wk.in.push(std::move(batch))) throw TransportStopped("stopped");
-      batch = wk.spent_in.take();
-    }
-    if (opt.progress && reader.first == 0 && j % 64 == 63) opt.progress(0.5 * (j + 1) / h);
+// Result rows of every local worker put together, from the first not yet written on, as many as the
+// workers put: a worker waits for the writing only while `slots` rows are ahead of it and every
+// worker of its channel group (every worker it exchanges with here) has put the next row to write,
+// so that the writing then waits for no worker that waits for it (docs/how-bands-work.md, "Why a
+// streamed solve cannot hang"). Tests set `slots` to 1 (GDP_RESULT_ROWS).
+class Results {
+ public:
+  Results(schedule::Marks& marks, int workers, int groups, std::size_t row)
+      : marks_(marks), written_(marks.add(1)), put_(marks.add(workers)), workers_(workers), groups_(groups), row_(row) {
+    const char* rows = std::getenv("GDP_RESULT_ROWS");
+    slots_ = std::max(1, rows ? std::atoi(rows) : 64);
   }
-  return schedule::thread_cpu_seconds();
-}
+  // Worker k's row j (whole rows: it fills its columns), then put(k, j).
+  float* row(int k, int j) {
+    marks_.wait([&](std::vector<int>& m) {
+      bool lags = false;  // a worker of k's group has not put the next row to write
+      for (int i = k % groups_; i < workers_; i += groups_) lags = lags || m[put_ + i] <= m[written_];
+      return lags || j < m[written_] + slots_;
+    });
+    const std::lock_guard lock(mutex_);
+    while (first_ + static_cast<int>(rows_.size()) <= j) {
+      if (spare_.empty()) spare_.emplace_back(row_, 0.0f);
+      rows_.push_back(std::move(spare_.back()));
+      spare_.pop_back();
+    }
+    return rows_[j - first_].data();
+  }
+  void put(int k, int j) { marks_.set(put_ + k, j + 1); }
+  // The calling thread: row j (of h) to `out` once every worker put it.
+  void write(int j, int h, RowWriter& out) {
+    marks_.wait(put_, put_ + workers_, j, std::min({j + 4, j + slots_ - 1, h - 1}));
+    const std::vector<float>* row = nullptr;
+    {
+      const std::lock_guard lock(mutex_);
+      row = &rows_.front();  // stays where it is while rows are added
+    }
+    out.write_row(j, *row);
+    {
+      const std::lock_guard lock(mutex_);
+      spare_.push_back(std::move(rows_.front()));
+      rows_.pop_front();
+      ++first_;
+    }
+    marks_.set(written_, j + 1);
+  }
 
-// Then: this process's columns of every result row, in order, to `out`.
-template <class T>
-void drain(const SolverOptions& opt, const BandLayout& layout, std::vector<std::unique_ptr<CycleWorker<T>>>& workers,
-           int w, int h, int channels, RowWriter& out) {
-  std::vector<Batch<T>> results(workers.size());
-  std::vector<float> row(static_cast<std::size_t>(channels) * w, 0.0f);
-  for (int j = 0; j < h; ++j) {
-    for (std::size_t k = 0; k < workers.size(); ++k) {
-      CycleWorker<T>& wk = *workers[k];
-      Batch<T>& r = results[k];
-      if (r.rows == 0 || j >= r.first + r.rows) {
-        auto next = wk.out.pop();
-        if (!next) throw TransportStopped("stopped");
-        wk.spent_out.give(r.emptied());
-        r = std::move(*next);
-      }
-      const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
-      const T* src = r.u.data() + static_cast<std::size_t>(j - r.first) * wk.n * own;
-      for (int c = 0; c < wk.n; ++c)
-        std::transform(src + static_cast<std::size_t>(c) * own, src + static_cast<std::size_t>(c + 1) * own,
-                       row.begin() + static_cast<std::ptrdiff_t>(wk.c0 + c) * w + a,
-                       [](T v) { return static_cast<float>(v); });
-    }
-    out.write_row(j, row);
-    if (opt.progress && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
-  }
-}
+ private:
+  schedule::Marks& marks_;
+  const int written_, put_, workers_, groups_;  // marks: rows written, rows each worker put
+  const std::size_t row_;
+  int slots_, first_ = 0;  // rows_[i] is row first_ + i
+  std::mutex mutex_;
+  std::deque<std::vector<float>> rows_, spare_;
+};
 
 }  // namespace
 
@@ -272,7 +245,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   const schedule::Problem<T>& problem = *setup.problem;
   const multigrid::Operators<T>& ops = problem.ops;
   if (ops.count() == 1) return schedule::solve_incore<T>(source, opt, out, summary);  // nothing to stream
-  const int channels = source.channels();
+  const int channels = source.channels(), w = source.width(), h = source.height();
   const BandLayout& layout = *setup.layout;
   const auto t_start = Clock::now();
   summary.schedule = layout.single ? "streaming" : "bands";
@@ -287,69 +260,76 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
                                                       team.groups, settings.stores);
   if (!setup.distributed)
     for (int g = 0; g < team.groups; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
-
-  std::promise<InputTotals> totals_promise;
-  std::shared_future<InputTotals> totals = totals_promise.get_future().share();
   std::vector<schedule::ResidualLog> logs;  // per local band, all channels (band 0's lines are kept)
   for (int i = 0; i < team.local; ++i) logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
   if (checkpoint) checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
+
+  // Rows between the threads: the input ring, made by the workers that read it; the input's sums
+  // (mark `summed`: known); the result rows.
+  schedule::Marks marks;
+  const auto units = input_units<T>(source, layout, team);
+  schedule::InputRing<T> input(source, problem.hierarchy, units, marks, opt.progress);
+  const int count = team.local * team.groups, summed = marks.add(1);
+  InputTotals totals;
+  Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
   std::vector<std::unique_ptr<CycleWorker<T>>> workers;  // band-major: worker i * groups + g
-  std::vector<int> skip;  // input rows each worker already has (resumed)
   for (int i = 0; i < team.local; ++i)
     for (int g = 0; g < team.groups; ++g) {
-      const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups;
+      const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups, k = i * team.groups + g;
       if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
-      workers.push_back(std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings,
-                                                         c0, c1 - c0, logs[i]));
-      skip.push_back(checkpoint ? checkpoint->attach(*workers.back(), i, g, source.width()) : 0);
+      auto& wk = *workers.emplace_back(std::make_unique<CycleWorker<T>>(
+          ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, c1 - c0, logs[i]));
+      if (checkpoint) checkpoint->attach(wk, i, g, w);
+      const int l = i * static_cast<int>(units.size()) / team.local;  // its unit, and its reader there
+      const int r = k - l * team.local / static_cast<int>(units.size()) * team.groups;
+      const int n = c1 - c0, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
+      wk.rows.input = [&, l, r, c0, n, length, origin](int j, std::span<T> u, std::span<T> b, std::span<T> wt,
+                                                       std::span<T> d) {
+        const auto in = input.row(l, r, j);
+        for (int c = 0; c < n; ++c) {
+          cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, u.subspan(c * length, length));
+          cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, b.subspan(c * length, length));
+        }
+        if (!wt.empty()) cut(in.w.data(), w, layout.periodic, origin, wt);
+        if (!d.empty()) cut(in.d.data(), w, layout.periodic, origin, d);
+      };
+      wk.rows.totals = [&, l, r]() -> const InputTotals& {
+        input.done(l, r);
+        marks.wait(summed, 0);
+        return totals;
+      };
+      const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
+      wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
+        float* row = results.row(k, j) + a;
+        for (int c = 0; c < n; ++c)
+          std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
+                         row + static_cast<std::size_t>(c0 + c) * w, [](T v) { return static_cast<float>(v); });
+        results.put(k, j);
+      };
     }
 
-  // The input pass: this thread decodes every input row (then writes the results), readers make
-  // their bands' input rows from them (run_workers' workers 1 .. readers), the others solve.
-  InputPass<T> input = make_input_pass(source, problem, layout, team);
-  std::vector<Reader<T>>& readers = input.readers;
-  schedule::InputRing& ring = *input.ring;
-  const int reader_count = static_cast<int>(readers.size());
-  const auto stop_all = [&](const std::string& why) {
-    try {  // workers waiting for the sums stop too
-      totals_promise.set_exception(std::make_exception_ptr(TransportStopped(why)));
-    } catch (const std::future_error&) {
-    }
-    ring.stop();
-    team.abort(why);
-    for (auto& wk : workers) {
-      wk->in.close();
-      wk->out.close();
-    }
-  };
+  // This thread: the input's sums once every row is made, then the result rows, in order, to `out`.
   double seconds_input = 0.0;
-  std::vector<double> reader_cpu(reader_count, 0.0);
   schedule::run_workers(
-      1 + reader_count + static_cast<int>(workers.size()),
+      1 + count,
       [&](int k) {
-        if (k > reader_count) return workers[k - 1 - reader_count]->run(totals);
-        if (k > 0) {
-          reader_cpu[k - 1] = feed(readers[k - 1], source, opt, problem, layout, team, workers, skip);
-          return ring.finished(k - 1);
-        }
+        if (k > 0) return workers[k - 1]->run();
         const auto t = Clock::now();
-        const double cpu = schedule::thread_cpu_seconds();
-        ring.decode_all();  // returns when every reader has finished
-        summary.cpu_rhs_decode = schedule::thread_cpu_seconds() - cpu;
-        std::vector<InputTotals> sums;  // every local band's, in band order
-        for (const Reader<T>& reader : readers)
-          sums.insert(sums.end(), reader.input->range_totals().begin(), reader.input->range_totals().end());
-        totals_promise.set_value(exchange_totals(sums, team));
+        totals = exchange_totals(input.totals(), team);
+        marks.set(summed, 1);
         seconds_input = seconds_since(t);
-        drain(opt, layout, workers, source.width(), source.height(), channels, out);
+        for (int j = 0; j < h; ++j) {
+          results.write(j, h, out);
+          if (opt.progress && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
+        }
       },
       [&](int k, const std::string& what) {
-        if (k == 0) return stop_all(fmt::format("the input/output thread stopped: {}", what));
-        if (k <= reader_count)
-          return stop_all(fmt::format("the input of band {} stopped: {}", team.first + readers[k - 1].first, what));
-        stop_all(fmt::format("band {} stopped: {}", workers[k - 1 - reader_count]->band, what));
+        marks.stop();
+        team.abort(k == 0 ? fmt::format("the input/output thread stopped: {}", what)
+                          : fmt::format("band {} stopped: {}", workers[k - 1]->band, what));
       });
-  for (const double cpu : reader_cpu) summary.cpu_rhs_columns += cpu;
+  summary.cpu_rhs_decode = input.decode_cpu();
+  summary.cpu_rhs_columns = input.column_cpu();
   for (const auto& wk : workers) {
     summary.scratch_bytes += wk->vcycle.store_bytes() + wk->carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();

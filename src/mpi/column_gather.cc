@@ -1,5 +1,6 @@
 // Under mpirun: the ranks' columns of every result row put together on rank 0, which writes the file.
 #include <cstring>
+#include <deque>
 #include <stdexcept>
 #include <vector>
 
@@ -15,12 +16,12 @@ namespace {
 
 // The messages' tag on the gather's own hub (bands::MpiHub, a communicator of its own).
 constexpr int kTag = 1;
-// Rows per message: about 1 MiB of floats, and at most 16 rows. Rank 0 waits for a message only
-// when it needs its first row, so a message must never hold rows that the sender can only solve
-// once rank 0's workers, blocked behind rank 0's writing, have gone further.
+// Rows per message: about 1 MiB of floats, and at most 16 rows. No rank's writing ever waits for
+// another rank (docs/how-bands-work.md, "Why a streamed solve cannot hang"): the other ranks send
+// without waiting for rank 0 to receive, and rank 0 takes the messages that have arrived, keeps
+// its own rows until the others' columns of them are in, and waits for the rest only in commit().
 constexpr std::size_t kBatchSamples = std::size_t{1} << 18;
 constexpr int kBatchRows = 16;
-constexpr std::size_t kInFlight = 4;  // sends not yet completed, per rank
 
 // A message: rows [first, first + rows) of columns [begin, end), channel-major per row, then this.
 struct Header {
@@ -40,7 +41,7 @@ class ColumnGather final : public RowWriter {
     file();
     begin_ = begin;
     end_ = end;
-    hub_ = std::make_unique<bands::MpiHub>(1, kInFlight);
+    hub_ = std::make_unique<bands::MpiHub>(1);
   }
 
   void write_row(int y, std::span<const float> row) override {
@@ -49,14 +50,16 @@ class ColumnGather final : public RowWriter {
       return;
     }
     if (rank_ != 0) return send(y, row);
-    row_.assign(row.begin(), row.end());
-    for (int r = 1; r < static_cast<int>(from_.size()); ++r) fill(r, y);
-    file().write_row(y, row_);
+    rows_.emplace_back(row.begin(), row.end());
+    for (int r = 1; r < static_cast<int>(from_.size()); ++r)
+      while (auto m = hub_->poll(r, 0, kTag)) take(r, std::move(*m));
+    write_complete(false);
   }
 
   void commit() override {
-    if (rank_ == 0) return file().commit();
-    hub_.reset();  // waits for this rank's sends
+    if (rank_ != 0) return hub_.reset();  // waits for this rank's sends
+    if (hub_) write_complete(true);
+    file().commit();
   }
 
  private:
@@ -82,24 +85,37 @@ class ColumnGather final : public RowWriter {
     return *file_;
   }
 
-  // Rank r's columns of row y into row_, receiving its next message when needed.
-  void fill(int r, int y) {
-    Received& m = from_[r];
-    if (m.h.rows == 0 || y >= m.h.first + m.h.rows) {
-      m.bytes = hub_->endpoint(0).receive(r, kTag);
-      if (m.bytes.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
-      std::memcpy(&m.h, m.bytes.data() + m.bytes.size() - sizeof(Header), sizeof(Header));
-      const std::size_t count = (m.bytes.size() - sizeof(Header)) / sizeof(float);
-      if (m.h.first != y || m.h.begin < 0 || m.h.end > width_ || m.h.begin > m.h.end ||
-          count != static_cast<std::size_t>(m.h.rows) * channels_ * (m.h.end - m.h.begin))
-        throw std::logic_error(fmt::format("ColumnGather: rank {} sent rows {}.. columns {}..{}, row {} expected", r,
-                                           m.h.first, m.h.begin, m.h.end, y));
+  // Rank r's next message (rows in order).
+  void take(int r, std::vector<unsigned char> bytes) {
+    std::deque<Received>& q = from_[r];
+    const int next = q.empty() ? written_ : q.back().h.first + q.back().h.rows;
+    Received& m = q.emplace_back(Received{{}, std::move(bytes)});
+    if (m.bytes.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
+    std::memcpy(&m.h, m.bytes.data() + m.bytes.size() - sizeof(Header), sizeof(Header));
+    const std::size_t count = (m.bytes.size() - sizeof(Header)) / sizeof(float);
+    if (m.h.first != next || m.h.rows < 1 || m.h.begin < 0 || m.h.end > width_ || m.h.begin > m.h.end ||
+        count != static_cast<std::size_t>(m.h.rows) * channels_ * (m.h.end - m.h.begin))
+      throw std::logic_error(fmt::format("ColumnGather: rank {} sent rows {}.. columns {}..{}, row {} expected", r,
+                                         m.h.first, m.h.begin, m.h.end, next));
+  }
+
+  // Writes rank 0's rows, in order, while every rank's columns of the next one are in; `wait`: all
+  // of them, receiving what has not arrived.
+  void write_complete(bool wait) {
+    for (; !rows_.empty(); rows_.pop_front(), ++written_) {
+      for (int r = 1; r < static_cast<int>(from_.size()); ++r) {
+        std::deque<Received>& q = from_[r];
+        if (!q.empty() && written_ >= q.front().h.first + q.front().h.rows) q.pop_front();
+        if (q.empty() && !wait) return;
+        if (q.empty()) take(r, hub_->endpoint(0).receive(r, kTag));
+        const Received& m = q.front();
+        const std::size_t n = static_cast<std::size_t>(m.h.end - m.h.begin) * sizeof(float);
+        const unsigned char* src = m.bytes.data() + static_cast<std::size_t>(written_ - m.h.first) * channels_ * n;
+        for (int c = 0; c < channels_; ++c)
+          std::memcpy(rows_.front().data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * n, n);
+      }
+      file().write_row(written_, rows_.front());
     }
-    const int n = m.h.end - m.h.begin;
-    const std::size_t row_bytes = static_cast<std::size_t>(n) * sizeof(float);
-    const unsigned char* src = m.bytes.data() + static_cast<std::size_t>(y - m.h.first) * channels_ * row_bytes;
-    for (int c = 0; c < channels_; ++c)
-      std::memcpy(row_.data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * row_bytes, row_bytes);
   }
 
   MpiRun::OpenFile open_file_;
@@ -108,8 +124,9 @@ class ColumnGather final : public RowWriter {
   int begin_ = 0, end_ = 0, first_ = 0;
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
   schedule::ByteWriter batch_;          // the message being filled
-  std::vector<float> row_;
-  std::vector<Received> from_;
+  std::deque<std::vector<float>> rows_;  // rank 0: its rows from `written_` on, not yet written
+  int written_ = 0;
+  std::vector<std::deque<Received>> from_;  // rank 0: each rank's messages not yet used up
 };
 
 }  // namespace

@@ -1,78 +1,68 @@
-// The input ring: one decoding thread, readers computing their columns, waits on one condition.
+// The input ring: decoded rows and each unit's input rows, made by whichever worker needs them first.
 #include "schedule/input_ring.h"
 
 #include <algorithm>
-#include <climits>
-
-#include "schedule/parallel.h"
 
 namespace gdp::schedule {
 
-InputRing::InputRing(GuidanceSource& source, int readers, int slots)
-    : source_(source), split_(source.splits()), slots_(slots), height_(source.height()), released_(readers, 0) {
-  if (split_) source.set_slots(slots);
-}
-
-void InputRing::read(int reader, int j, GuidanceRow& out, int begin, int end) {
-  if (!split_) return source_.read_row(j, out);
-  wait_decoded(std::min(j + 1, height_ - 1));
-  source_.compute(j, out, begin, end);
-  release(reader, j + 1);
-}
-
-// A thread that must wait asks for a few rows more than it needs (kBatch), so that threads are
-// woken about once every kBatch rows; whoever changes what it waits for wakes it (the *_wants_).
-void InputRing::decode_all() {
-  const auto released = [&] { return *std::min_element(released_.begin(), released_.end()); };
-  for (int y = split_ ? 0 : height_; y <= height_; ++y) {
-    std::unique_lock lock(mutex_);
-    decoded_ = y;
-    if (decoded_ > reader_wants_) {
-      reader_wants_ = INT_MAX;
-      readers_.notify_all();
-    }
-    // Row y's slot is free once every reader is past row y - slots; at the end: all finished.
-    const int need = y < height_ ? y - slots_ : INT_MAX - 1;
-    const int target = y < height_ ? std::min(need + kBatch, height_) : need;
-    if (released() <= need)
-      while (!stopped_ && released() <= target) {
-        decoder_wants_ = target;
-        decoder_.wait(lock);
-      }
-    if (stopped_) throw Stopped("stopped");
-    lock.unlock();
-    if (y < height_) source_.decode(y);
+template <class T>
+InputRing<T>::InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units,
+                        Marks& marks, std::function<void(double)> progress)
+    : source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
+  if (source.splits()) {
+    source.set_slots(kSlots);
+    decoded_ = std::make_unique<RowRing>(marks, static_cast<int>(units.size()), kSlots, source.height(),
+                                         [&source](int y) { source.decode(y); });
   }
+  for (std::size_t l = 0; l < units.size(); ++l)
+    units_.push_back(std::make_unique<Made>(*this, units[l], static_cast<int>(l), hierarchy, l == 0 ? progress : nullptr));
 }
 
-void InputRing::wait_decoded(int y) {
-  std::unique_lock lock(mutex_);
-  while (!stopped_ && decoded_ <= y) {
-    reader_wants_ = std::min(reader_wants_, std::min(y + kBatch, height_ - 1));
-    readers_.wait(lock);
-  }
-  if (stopped_) throw Stopped("stopped");
+template <class T>
+InputRing<T>::Made::Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy,
+                         std::function<void(double)> progress)
+    : input(in.source_, hierarchy, unit.sums, unit.rows,
+            [&in, l, g = unit.guidance](int j, GuidanceRow& row) {
+              if (!in.decoded_) return in.source_.read_row(j, row);
+              in.decoded_->need(l, j, std::min(j + 1, in.source_.height() - 1));  // the right-hand side reads row j + 1
+              in.source_.compute(j, row, g.first, g.second);
+            }),
+      u(static_cast<std::size_t>(kSlots) * in.source_.channels() * in.source_.width()), b(u.size()),
+      w(static_cast<std::size_t>(kSlots) * in.source_.width()), d(in.source_.has_weights() ? w.size() : 0),
+      ring(in.marks_, unit.readers, kSlots, in.source_.height(), [this, &in, l, progress](int j) {
+        const std::size_t n = u.size() / kSlots, m = w.size() / kSlots, s = j % kSlots;
+        input.next({u.data() + s * n, n}, {b.data() + s * n, n}, {w.data() + s * m, m},
+                   d.empty() ? std::span<T>{} : std::span<T>{d.data() + s * m, m});
+        const int h = in.source_.height();
+        if (progress && (j % 64 == 63)) progress(0.5 * (j + 1) / h);
+        if (j + 1 == h) in.marks_.set(in.finished_ + l, 1);
+      }) {}
+
+template <class T>
+typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j) {
+  Made& m = *units_[l];
+  m.ring.need(r, j, j);
+  const std::size_t n = m.u.size() / kSlots, k = m.w.size() / kSlots, s = j % kSlots;
+  return {{m.u.data() + s * n, n}, {m.b.data() + s * n, n}, {m.w.data() + s * k, k},
+          m.d.empty() ? std::span<const T>{} : std::span<const T>{m.d.data() + s * k, k}};
 }
 
-void InputRing::release(int reader, int rows) {
-  std::unique_lock lock(mutex_);
-  released_[reader] = rows;
-  if (*std::min_element(released_.begin(), released_.end()) > decoder_wants_) {
-    decoder_wants_ = INT_MAX;
-    lock.unlock();
-    decoder_.notify_one();
-  }
+template <class T>
+std::vector<multigrid::InputTotals> InputRing<T>::totals() {
+  marks_.wait(finished_, finished_ + static_cast<int>(units_.size()), 0, 0);
+  std::vector<multigrid::InputTotals> all;
+  for (const auto& m : units_) all.insert(all.end(), m->input.range_totals().begin(), m->input.range_totals().end());
+  return all;
 }
 
-void InputRing::finished(int reader) { release(reader, INT_MAX); }
-
-void InputRing::stop() {
-  {
-    const std::lock_guard lock(mutex_);
-    stopped_ = true;
-  }
-  readers_.notify_all();
-  decoder_.notify_all();
+template <class T>
+double InputRing<T>::column_cpu() const {
+  double cpu = -decode_cpu();
+  for (const auto& m : units_) cpu += m->ring.cpu;
+  return cpu;
 }
+
+template class InputRing<float>;
+template class InputRing<double>;
 
 }  // namespace gdp::schedule

@@ -1,45 +1,63 @@
-// Guidance rows decoded on one thread and made by columns on several: the input pass by band.
+// The input pass by band: guidance rows decoded once, each unit's input rows made from them, on demand.
 #pragma once
 
-#include <climits>
-#include <condition_variable>
-#include <mutex>
+#include <functional>
+#include <memory>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "gdp/guidance.h"
+#include "multigrid/hierarchy.h"
+#include "multigrid/input_rows.h"
+#include "schedule/parallel.h"
 
 namespace gdp::schedule {
 
-// A source's decoded rows (GuidanceSource::splits), shared by one decoding thread and `readers`
-// readers on threads of their own, each computing its columns of every row (read): row y is
-// decoded into slot y % slots once every reader is done with row y - slots. A source that does not
-// split is read whole by its one reader (read_row), and decode_all only waits for it.
+// A unit is a set of bands whose input rows one InputRows makes (one per band where the source
+// splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
+// of its bands) make its rows as they need them, and a unit making a row decodes the source's
+// rows it needs: row y goes to decode slot y % 16 once every unit is past row y - 16, a unit's
+// row j to its slot j % 16 once every reader of the unit is past row j - 16. So no thread of its
+// own decodes or makes rows, and the workers that need rows first make them.
+template <class T>
 class InputRing {
  public:
-  InputRing(GuidanceSource& source, int readers, int slots = 16);  // slots > 8
-  // The decoding thread: every row, in order; then waits until every reader is finished.
-  void decode_all();
-  // Reader r: row j (rows in order), as GuidanceSource::read_row, columns [begin, end) filled.
-  void read(int reader, int j, GuidanceRow& out, int begin, int end);
-  // Reader r has every row it needs.
-  void finished(int reader);
-  // Wakes every thread waiting here; they throw Stopped.
-  void stop();
+  using Range = std::pair<int, int>;  // columns [first, second)
+  struct Unit {
+    std::vector<Range> sums;  // its bands' own columns, whose sums are kept apart
+    Range rows, guidance;     // the columns it makes, and those of the guidance they read
+    int readers;
+  };
+  InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units, Marks& marks,
+            std::function<void(double)> progress = {});
+  // Whole rows, the unit's columns made (the others 0): u and b channels x width, w and d width
+  // (d empty without per-pixel weights).
+  struct Row {
+    std::span<const T> u, b, w, d;
+  };
+  // Reader r of unit l: row j (rows in order).
+  Row row(int l, int r, int j);
+  // Reader r of unit l reads no more; returns once the unit has made every row (its sums are final).
+  void done(int l, int r) { units_[l]->ring.done(r); }
+  // Waits until every unit has made every row, then: each unit's sums over its ranges, in order.
+  std::vector<multigrid::InputTotals> totals();
+  double decode_cpu() const { return decoded_ ? decoded_->cpu : 0.0; }
+  double column_cpu() const;
 
  private:
-  void wait_decoded(int y);  // until row y is decoded
-  void release(int reader, int rows);  // the reader is done with rows < `rows`
-
+  static constexpr int kSlots = 16;
+  struct Made {
+    Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
+    multigrid::InputRows<T> input;
+    std::vector<T> u, b, w, d;  // kSlots rows each
+    RowRing ring;
+  };
   GuidanceSource& source_;
-  const bool split_;
-  const int slots_, height_;
-  static constexpr int kBatch = 4;  // slots_ > 2 * kBatch
-  std::mutex mutex_;
-  std::condition_variable readers_, decoder_;
-  int decoded_ = 0;                                 // rows decoded
-  std::vector<int> released_;                       // per reader: rows it is done with
-  int reader_wants_ = INT_MAX, decoder_wants_ = INT_MAX;  // what a waiting thread waits to exceed
-  bool stopped_ = false;
+  Marks& marks_;
+  int finished_;  // marks: unit l has made every row (finished_ + l)
+  std::unique_ptr<RowRing> decoded_;  // when the source splits
+  std::vector<std::unique_ptr<Made>> units_;
 };
 
 }  // namespace gdp::schedule

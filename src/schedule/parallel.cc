@@ -1,9 +1,10 @@
-// Workers on threads with the first exception carried back to the caller.
+// Workers on threads with the first exception carried back to the caller; marks and row rings.
 #include "schedule/parallel.h"
 
 #include <algorithm>
 #include <atomic>
 #include <barrier>
+#include <ctime>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -81,6 +82,86 @@ void run_steps(int count, const std::function<int()>& next, const std::function<
     }
   });
   if (error) std::rethrow_exception(error);
+}
+
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
+}
+
+int Marks::add(int count) {
+  const std::lock_guard lock(mutex_);
+  marks_.insert(marks_.end(), count, 0);
+  return static_cast<int>(marks_.size()) - count;
+}
+
+int Marks::get(int m) {
+  const std::lock_guard lock(mutex_);
+  return marks_[m];
+}
+
+void Marks::set(int m, int value) {
+  const std::lock_guard lock(mutex_);
+  marks_[m] = value;
+  for (Waiter* w : waiters_)
+    if (!w->done && (w->done = w->ready(marks_))) w->wake.notify_one();
+}
+
+void Marks::wait(const Ready& ready) {
+  std::unique_lock lock(mutex_);
+  Waiter me{ready, !stopped_ && ready(marks_), {}};
+  if (!me.done) {
+    waiters_.push_back(&me);
+    while (!stopped_ && !me.done) me.wake.wait(lock);
+    std::erase(waiters_, &me);
+  }
+  if (stopped_) throw Stopped("stopped");
+}
+
+void Marks::wait(int a, int b, int after, int until) {
+  int bar = after;  // then `until`, once it waits
+  wait([&](std::vector<int>& m) {
+    const bool above = *std::min_element(m.begin() + a, m.begin() + b) > bar;
+    bar = std::max(after, until);
+    return above;
+  });
+}
+
+void Marks::stop() {
+  const std::lock_guard lock(mutex_);
+  stopped_ = true;
+  for (Waiter* w : waiters_) w->wake.notify_one();
+}
+
+RowRing::RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make)
+    : marks_(marks), readers_(marks.add(readers)), count_(readers), made_(marks.add(1)), busy_(marks.add(1)),
+      slots_(slots), rows_(rows), make_(std::move(make)) {}
+
+void RowRing::need(int r, int from, int to) {
+  marks_.set(readers_ + r, from);
+  for (;;) {
+    bool claimed = false;  // row `to` not made and no one making rows: make the next one here
+    marks_.wait([&](std::vector<int>& m) { return m[made_] > to || (!m[busy_] && (claimed = m[busy_] = 1)); });
+    if (!claimed) return;
+    // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
+    // made before they ask (they wait less, and for no maker that lost its core).
+    constexpr int kAhead = 4, kSlack = 4;  // a maker waiting for a slot is woken once every few rows
+    const double t = thread_cpu_seconds();
+    for (int y = marks_.get(made_); y < rows_ && y <= to + kAhead; ++y) {
+      bool free = y <= to;
+      if (!free)
+        marks_.wait([&](std::vector<int>& m) {
+          return free = *std::min_element(m.begin() + readers_, m.begin() + readers_ + count_) > y - slots_, true;
+        });
+      if (!free) break;
+      marks_.wait(readers_, readers_ + count_, y - slots_, y - slots_ + kSlack);
+      make_(y);
+      marks_.set(made_, y + 1);
+    }
+    cpu += thread_cpu_seconds() - t;
+    marks_.set(busy_, 0);
+  }
 }
 
 }  // namespace gdp::schedule

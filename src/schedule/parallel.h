@@ -1,8 +1,13 @@
-// Running a few workers on threads: the calling thread takes worker 0; one stop policy, one error wins.
+// Running a few workers on threads: the calling thread takes worker 0; one stop policy, one error wins;
+// rows handed between them through marks and rings that the same stop ends.
 #pragma once
 
+#include <climits>
+#include <condition_variable>
 #include <functional>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "gdp/errors.h"
 
@@ -28,5 +33,56 @@ void run_workers(int count, const std::function<void(int)>& worker,
 // the next not yet taken. Everything next() and the tasks of a step write is seen by the next
 // step. The first exception stops the run (no more tasks or steps) and is rethrown here.
 void run_steps(int count, const std::function<int()>& next, const std::function<void(int, int)>& task);
+
+// CPU seconds (user + system) of the calling thread so far.
+double thread_cpu_seconds();
+
+// Counts (rows done) that threads raise and wait on. stop() ends every wait, now and later, with
+// Stopped: a solve's one stop for every hand-off between its threads.
+class Marks {
+ public:
+  using Ready = std::function<bool(std::vector<int>& marks)>;
+  // `count` more marks, each 0 (before any thread uses them); returns the first one's number.
+  int add(int count);
+  int get(int m);
+  void set(int m, int value);
+  // Returns once `ready` holds. It is asked under the marks' lock, now and after each set() while
+  // it waits, until it first says yes, and may set marks then (a claim).
+  void wait(const Ready& ready);
+  // Until every mark in [a, b) is above `after`; one that must wait first waits until they are
+  // above `until` (>= after: asking a few rows more wakes threads once every few rows).
+  void wait(int a, int b, int after, int until);
+  void wait(int m, int after) { wait(m, m + 1, after, after); }
+  void stop();
+
+ private:
+  struct Waiter {
+    const Ready& ready;
+    bool done = false;
+    std::condition_variable wake;
+  };
+  std::mutex mutex_;
+  std::vector<int> marks_;
+  std::vector<Waiter*> waiters_;
+  bool stopped_ = false;
+};
+
+// Rows made in order by the threads that read them: a reader that needs a row no one has made
+// makes it, if no other reader is making one (make(y)), in slot y % slots once every reader is past
+// row y - slots.
+class RowRing {
+ public:
+  RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make);
+  // Reader r is done with rows < `from` and needs rows up to `to`.
+  void need(int r, int from, int to);
+  // Reader r reads no more; returns once every row is made (made here while no other reader does).
+  void done(int r) { need(r, INT_MAX, rows_ - 1); }
+  double cpu = 0.0;  // CPU seconds of the makes
+
+ private:
+  Marks& marks_;
+  const int readers_, count_, made_, busy_, slots_, rows_;  // marks: readers' `from`, rows made, making
+  std::function<void(int)> make_;
+};
 
 }  // namespace gdp::schedule

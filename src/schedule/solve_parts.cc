@@ -2,17 +2,10 @@
 #include "schedule/solve_parts.h"
 
 #include <algorithm>
-#include <ctime>
 
 #include <fmt/format.h>
 
 namespace gdp::schedule {
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
-}
 
 template <class T>
 Problem<T>::Problem(const GuidanceSource& source, const SolverOptions& options, SolveSummary& summary)

@@ -10,6 +10,7 @@
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
 #include "schedule/bytes.h"
+#include "schedule/parallel.h"
 #include "topology/topology.h"
 
 namespace gdp::schedule {
@@ -70,8 +71,6 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
-// CPU seconds (user + system) of the calling thread so far.
-double thread_cpu_seconds();
 
 template <class T>
 void solve_incore(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
