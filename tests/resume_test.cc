@@ -115,6 +115,15 @@ TEST_F(Resume, EmptyMissingOrCorruptDirectoriesAreRefused) {
   expect_failure(stitch("r.tif", "--resume " + path("missing")), "no such directory");
   const std::string env = "GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=3";
   ASSERT_EQ(gdp_env(env, stitch("r.tif", "--checkpoint " + path("cp") + " --threads 1")).code, 137);
+  {  // a state of another layout version (the first int after the header line) is named as such
+    std::fstream f(path("cp/lane0.1.state"), std::ios::in | std::ios::out | std::ios::binary);
+    std::string head;
+    std::getline(f, head);
+    const int old_version = 1;
+    f.seekp(static_cast<std::streamoff>(head.size() + 1));
+    f.write(reinterpret_cast<const char*>(&old_version), sizeof old_version);
+  }
+  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt (state version 1, written by another gdp");
   fs::resize_file(path("cp/lane0.1.state"), 100);  // the third save's (states alternate between two files)
   expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt");
   std::ofstream(path("cp/manifest")) << "gdp checkpoint 1\nsizes\n";

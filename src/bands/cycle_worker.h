@@ -83,9 +83,12 @@ class CycleWorker {
     int version = kStateVersion;
     a.io(version);
     a.io(at);
-    if (version != kStateVersion || at.cycle < 0 || at.cycle >= cycles() || at.pass < 0 || at.pass > 2 || at.rows < 0 ||
+    if (version != kStateVersion)
+      throw CorruptState(fmt::format("state version {}, written by another gdp; this one reads version {}: start "
+                                     "afresh without --resume", version, kStateVersion));
+    if (at.cycle < 0 || at.cycle >= cycles() || at.pass < 0 || at.pass > 2 || at.rows < 0 ||
         at.rows > height_)
-      throw CorruptState("unknown version or position");
+      throw CorruptState("unknown position");
     vcycle.state(a);
     store_state(a, carry_.get());
     log_.state(a, c0, n);

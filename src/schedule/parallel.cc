@@ -142,7 +142,12 @@ void RowRing::need(int r, int from, int to) {
   marks_.set(readers_ + r, from);
   for (;;) {
     bool claimed = false;  // row `to` not made and no one making rows: make the next one here
-    marks_.wait([&](std::vector<int>& m) { return m[made_] > to || (!m[busy_] && (claimed = m[busy_] = 1)); });
+    marks_.wait([&](std::vector<int>& m) {
+      if (m[made_] > to) return true;
+      if (m[busy_]) return false;
+      m[busy_] = 1;
+      return claimed = true;
+    });
     if (!claimed) return;
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
