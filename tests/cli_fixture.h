@@ -18,8 +18,10 @@
 
 namespace gdp::test {
 
-// mpirun as the tests start it; `timeout` turns a hang into a failure (exit status 124).
-inline const std::string kMpirun = "timeout 60 mpirun --oversubscribe --allow-run-as-root";
+// mpirun as the tests start it; `timeout` turns a hang into a failure (timed_out below). The KILL
+// 30 s after the TERM: an mpirun stuck in its own PMIx finalize never handles a TERM (docs/faults.md,
+// "Rank death"), and without it the test would wait for ctest's limit and leave mpirun behind.
+inline const std::string kMpirun = "timeout -v -k 30 60 mpirun --oversubscribe --allow-run-as-root";
 
 // True when mpirun can start 2 processes here (MPI tests skip otherwise).
 inline bool mpirun_works() {
@@ -31,6 +33,12 @@ struct CliRun {
   int code = -1;
   std::string err;
 };
+
+// Whether kMpirun's `timeout` had to end the job: status 124 after a TERM, 137 after the KILL
+// (also what mpirun returns for a rank killed by signal 9), so `-v`'s line is what tells.
+inline bool timed_out(const CliRun& r) {
+  return r.code == 124 || r.err.find("timeout: sending signal") != std::string::npos;
+}
 
 class CliFixture : public ::testing::Test {
  protected:

@@ -234,7 +234,7 @@ TEST_F(MpiBands, RankFilesHoldTheColumnsOfTheSharedResult) {
   std::filesystem::remove(path("tmp_1"));
   const test::CliRun bad = mpi("-np 2 " + stitch + "--bands 1 -q -o " + path("x.tif") + " --temp " + path("tmp_{rank}"));
   EXPECT_NE(bad.code, 0);
-  EXPECT_NE(bad.code, 124) << "timed out: a rank hung";
+  EXPECT_FALSE(test::timed_out(bad)) << "a rank hung: " << bad.err;
   EXPECT_NE(bad.err.find("tmp_1"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(path("x.tif")));
 }
@@ -367,7 +367,7 @@ TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
   const std::string tail = " -o " + path("out.tif") + " --depth float -q --bands 1";
   const test::CliRun r = mpi("-np 1 " + good + tail + " : -np 1 " + bad + tail);
   EXPECT_NE(r.code, 0);
-  EXPECT_NE(r.code, 124) << "timed out: a rank hung";
+  EXPECT_FALSE(test::timed_out(r)) << "a rank hung: " << r.err;
   EXPECT_NE(r.err.find("missing.tif"), std::string::npos) << r.err;
   EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
 }
@@ -375,11 +375,15 @@ TEST_F(MpiBands, MissingInputOnOneRankStopsEveryRank) {
 // Rank 0 itself failing (here its output disk full: a file-size limit on rank 0 alone) ends every
 // rank, and its temporary output file goes too.
 TEST_F(MpiBands, FullOutputDiskOnRankZeroLeavesNoTemporary) {
-  // Rows are written while the ranks still solve (more than one band of rows).
+  // Rows are written while the ranks still solve (more than one band of rows). Not through Open
+  // MPI's shared memory (btl vader): rank 0's file-size limit also fails the ftruncate of its
+  // segment file in MPI_Init, and Open MPI's error paths after that are what went wrong under
+  // load (docs/faults.md, "Rank death").
   write_image(path("in.tif"), test::random_image(1000, 400, 1, 3), {});
   const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
                           " --depth float -q --bands 1";
-  const test::CliRun r = mpi("-np 1 sh -c \"trap '' XFSZ; ulimit -f 100; exec " + run + "\" : -np 1 " + run);
+  const test::CliRun r =
+      mpi("--mca btl ^vader -np 1 sh -c \"trap '' XFSZ; ulimit -f 100; exec " + run + "\" : -np 1 " + run);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("out.tif"), std::string::npos) << r.err;
   EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
@@ -397,7 +401,7 @@ TEST_F(MpiBands, RanksThatDisagreeStopTogether) {
 TEST_F(MpiBands, CommandsThatDoNotGatherAreRefused) {
   const test::CliRun r = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " reconstruct " + path("in.tif") + " --bands 1");
   EXPECT_NE(r.code, 0);
-  EXPECT_NE(r.code, 124);
+  EXPECT_FALSE(test::timed_out(r)) << r.err;
   EXPECT_NE(r.err.find("only stitch"), std::string::npos) << r.err;
   const test::CliRun s = mpi("-np 2 " + std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " +
                              path("out.tif") + " --in-core");

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "gdp: %s\nRun 'gdp --help' or 'gdp SUBCOMMAND --help' for usage.\n", e.what());
     return 2;
   }
+  // After the agreement, so after every rank's MPI_Init (FaultCampaign.RankDeathUnderMpirun waits for them).
   gdp::cleanup::install_signal_handlers();
   try {
     for (auto& c : commands) {
