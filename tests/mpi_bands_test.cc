@@ -378,12 +378,13 @@ TEST_F(MpiBands, FullOutputDiskOnRankZeroLeavesNoTemporary) {
   // Rows are written while the ranks still solve (more than one band of rows). Not through Open
   // MPI's shared memory (btl vader): rank 0's file-size limit also fails the ftruncate of its
   // segment file in MPI_Init, and Open MPI's error paths after that are what went wrong under
-  // load (docs/faults.md, "Rank death").
+  // load (docs/faults.md, "Rank death"). The limit (1 MiB) holds each scratch store (a memfd, a
+  // file to the limit too: 500 x 400 floats and a halo) but not the 1.6 MB output.
   write_image(path("in.tif"), test::random_image(1000, 400, 1, 3), {});
   const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
                           " --depth float -q --bands 1";
   const test::CliRun r =
-      mpi("--mca btl ^vader -np 1 sh -c \"trap '' XFSZ; ulimit -f 100; exec " + run + "\" : -np 1 " + run);
+      mpi("--mca btl ^vader -np 1 sh -c \"trap '' XFSZ; ulimit -f 1024; exec " + run + "\" : -np 1 " + run);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("out.tif"), std::string::npos) << r.err;
   EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
