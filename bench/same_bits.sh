@@ -59,7 +59,7 @@ ck() {  # NAME KILLER RESUMER SAVES GEOMETRY [FLAGS]: killed after SAVES saves, 
   local name=$1 K=$2 R=$3 after=$4 geo=$5
   shift 5
   local -n g=$geo
-  rm -rf "$W/cp-$name"
+  rm -rf "$W/cp-$name" "$W/$name.r.tif"  # no earlier run's output to compare by mistake
   gdp "$A" stitch -q --depth float "${g[@]}" "$@" --temp "$W/tmp" -o "$W/$name.ref.tif"
   GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=$after gdp "$K" stitch -q --depth float "${g[@]}" "$@" \
     --temp "$W/tmp" -o "$W/$name.r.tif" --checkpoint "$W/cp-$name" 2> /dev/null
