@@ -127,7 +127,7 @@ TEST_F(BlendCli, PinAndWeightsByLayerOrImage) {
 
 // mpirun with 2 processes, or "" where it cannot start them.
 std::string mpirun_two() {
-  const std::string mpirun = "timeout 120 mpirun --oversubscribe --allow-run-as-root";
+  const std::string mpirun = "timeout -v -k 30 120 mpirun --oversubscribe --allow-run-as-root";
   if (std::system((mpirun + " -np 2 true > /dev/null 2>&1").c_str()) != 0) return "";
   return mpirun + " -np 2 ";
 }

@@ -60,7 +60,7 @@ class BlendSweeps : public test::CliFixture {
         for (int y = 0; y < l.height; ++y)
           for (int x = 0; x < l.width; ++x) rgba.at(c, x, y) = std::clamp(l.at(c, x, y), 0.0f, 1.0f);
       const std::string name = path("weir" + std::to_string(k) + ".tif");
-      test::write_nona_tiff(name, {{&rgba, cut.placed[k].x, cut.placed[k].y, 8}}, 640, 480);
+      test::write_nona_tiff(name, {{&rgba, static_cast<int>(cut.placed[k].x), static_cast<int>(cut.placed[k].y), 8}}, 640, 480);
       names += " " + name;
     }
     return names;
