@@ -111,7 +111,8 @@ void RowStore<T>::append(std::span<const T> row) {
 
 template <class T>
 void RowStore<T>::flush() {
-  const char* hint = on_disk() ? " (--temp DIR puts scratch files elsewhere)" : " (--memory SIZE keeps less in memory; a file size limit, ulimit -f, bounds it too)";
+  const char* hint = on_disk() ? " (--temp DIR puts scratch files elsewhere)"
+                               : " (--memory SIZE keeps less in memory; a file size limit, ulimit -f, bounds it too)";
   util::write_exactly(fd_, buffer_.data(), buffered_, {where(), {}, hint});
   buffered_ = 0;
   count_disk(written_);
