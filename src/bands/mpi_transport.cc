@@ -9,8 +9,7 @@
 
 namespace gdp::bands {
 
-MpiHub::MpiHub(int local, std::size_t in_flight)
-    : ThreadHub(local, MpiRun::rank() * local, MpiRun::size() * local), in_flight_(in_flight) {
+MpiHub::MpiHub(int local) : ThreadHub(local, MpiRun::rank() * local, MpiRun::size() * local) {
   MPI_Request request;  // a rank that comes early waits without holding a core
   MPI_Comm_idup(MPI_COMM_WORLD, &comm_, &request);
   mpi::wait_request(request);
@@ -44,9 +43,6 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
   p.data = std::move(data);
   MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, to / local_, mpi_tag(tag, from, to), comm_,
             &p.request);
-  if (sends_.size() <= in_flight_) return;
-  mpi::wait_request(sends_.front().request);  // (now null: reap() takes it)
-  reap();
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {

@@ -15,13 +15,13 @@ namespace gdp::bands {
 // workers of one rank go through the ThreadHub's mailboxes; the others through MPI on a duplicate
 // of MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
-// (tag * local + from % local) * local + to % local. At most `in_flight` sends are pending (one
-// more waits for the oldest). abort() ends every rank (mpi::abort_ranks). Needs MPI initialised
+// (tag * local + from % local) * local + to % local. Sends are not bounded: each keeps its bytes
+// until it completes, forgotten at the next send or receive. abort() ends every rank (mpi::abort_ranks). Needs MPI initialised
 // with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective (a rank that comes first
 // waits without holding a core).
 class MpiHub final : public ThreadHub {
  public:
-  explicit MpiHub(int local, std::size_t in_flight = SIZE_MAX);
+  explicit MpiHub(int local);
   // Waits for this rank's sends, unless an exception unwinds: their receiver may be the rank that
   // failed, and MPI_Abort follows (gdp's main).
   ~MpiHub() override;
@@ -37,7 +37,6 @@ class MpiHub final : public ThreadHub {
   void reap();  // forgets the sends that have completed (the oldest first); call with `sending_` held
 
   MPI_Comm comm_ = MPI_COMM_NULL;
-  const std::size_t in_flight_;
   std::mutex sending_;  // guards sends_
   struct Pending {
     Bytes data;
