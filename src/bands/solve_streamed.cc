@@ -20,6 +20,7 @@
 #include "mpi/ranks.h"
 #include "schedule/input_ring.h"
 #include "multigrid/input_rows.h"
+#include "util/recycle_pool.h"
 
 namespace gdp::bands {
 
@@ -203,9 +204,8 @@ class Results {
     });
     const std::lock_guard lock(mutex_);
     while (first_ + static_cast<int>(rows_.size()) <= j) {
-      if (spare_.empty()) spare_.emplace_back(row_, 0.0f);
-      rows_.push_back(std::move(spare_.back()));
-      spare_.pop_back();
+      rows_.push_back(spare_.take());
+      rows_.back().resize(row_);
     }
     return rows_[j - first_].data();
   }
@@ -221,7 +221,7 @@ class Results {
     out.write_row(j, *row);
     {
       const std::lock_guard lock(mutex_);
-      spare_.push_back(std::move(rows_.front()));
+      spare_.give(std::move(rows_.front()));
       rows_.pop_front();
       ++first_;
     }
@@ -234,7 +234,8 @@ class Results {
   const std::size_t row_;
   int slots_, first_ = 0;  // rows_[i] is row first_ + i
   std::mutex mutex_;
-  std::deque<std::vector<float>> rows_, spare_;
+  std::deque<std::vector<float>> rows_;
+  util::RecyclePool<std::vector<float>> spare_;  // rows written, for reuse
 };
 
 }  // namespace
