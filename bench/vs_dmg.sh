@@ -14,7 +14,9 @@
 #
 # Per SIZE, bench/make_composite cuts a SIZE x SIZE composite and label map (PNG, 8-bit) from a real
 # photo (../shared/data, named in one line when missing) and the photo without the exposure offsets
-# (the held-out truth). Runs alternate gdp, DMG, gdp, DMG ... N times each:
+# (the held-out truth). Runs alternate gdp, DMG, DMG, gdp, gdp, DMG ... N times each (pair r is
+# the two tools' run r, side by side; the order swaps every pair, so that a machine growing slower
+# or faster during the runs does not always favour one tool):
 #   gdp: gdp stitch --threads 2 (streaming, its defaults: 3 sweeps, 1 V-cycle, narrow scratch;
 #        the tables in docs/vs-dmg.md before it became the default: GDP_ARGS="--scratch float")
 #   DMG: ServerSocket --count 1 --verbose + ClientSocket --threads 2 on 127.0.0.1 (streaming, no --inCore;
@@ -153,9 +155,14 @@ for size in "${sizes[@]}"; do
     mv "$d/truth.part.tif" "$d/truth.tif"
   fi
   rm -f "$d"/{gdp,dmg}_*
-  for ((r = 1; r <= runs; ++r)); do
-    run_gdp "$d" "$r" && score "$d" gdp "$r"
-    run_dmg "$d" "$r" && score "$d" dmg "$r"
+  for ((r = 1; r <= runs; ++r)); do  # gdp first in odd runs, DMG first in even ones
+    if ((r % 2)); then
+      run_gdp "$d" "$r" && score "$d" gdp "$r"
+      run_dmg "$d" "$r" && score "$d" dmg "$r"
+    else
+      run_dmg "$d" "$r" && score "$d" dmg "$r"
+      run_gdp "$d" "$r" && score "$d" gdp "$r"
+    fi
   done
   "$here/$build/bench/blend_layers" error "$d/out_gdp.tif" "$d/out_dmg.tif" > "$d/gdp_vs_dmg_error"
   rm -f "$d/out_gdp.tif" "$d/out_dmg.tif"

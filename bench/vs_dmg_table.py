@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Prints bench/vs_dmg.sh's table for one size from its work directory: one row per run, then
-each figure's range over the runs and the gdp/DMG ratio of each interleaved pair. gdp's peak MB is
+each figure's range over the runs and the gdp/DMG ratio of each interleaved pair (with their median
+when there are several: on a shared machine one slow spell can spoil a single pair). gdp's peak MB is
 its peak RSS plus its scratch held in memory (--stats scratch_memory_mb; memfds it never maps).
 
     bench/vs_dmg_table.py DIR SIZE RUNS
@@ -8,6 +9,7 @@ its peak RSS plus its scratch held in memory (--stats scratch_memory_mb; memfds 
 import json
 import os
 import re
+import statistics
 import sys
 
 
@@ -65,7 +67,10 @@ def main(d, size, runs):
     for key, name, fmt in COLUMNS:
         g, m = [x[key] for x in rows["gdp"]], [x[key] for x in rows["dmg"]]
         ratios = [a / b for a, b in zip(g, m) if float(fmt.format(b)) > 0]  # none against a zero as printed
-        print(f"| {name} | {span(g, fmt)} | {span(m, fmt)} | {span(ratios, '{:.2f}x') if ratios else '-'} |")
+        each = span(ratios, '{:.2f}x') if ratios else '-'
+        if len(ratios) > 1:
+            each += f" (median {statistics.median(ratios):.2f}x)"
+        print(f"| {name} | {span(g, fmt)} | {span(m, fmt)} | {each} |")
     cg = [re.search(r"Server Conjugate Gradient: *([0-9.]+)", open(f"{d}/dmg_server_{r}.log").read())
           for r in range(1, runs + 1)]
     if all(cg):

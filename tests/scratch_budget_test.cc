@@ -31,6 +31,24 @@ TEST(ScratchBudget, ReservesOnlyWhatFits) {
   EXPECT_FALSE(budget.reserve(std::size_t(-1)));  // no wrap-around
 }
 
+
+// A budget holds at most half of what the system can still give, however large its limit: a
+// store that the limit allows goes to a file when memory is short.
+TEST(ScratchBudget, HoldsAtMostHalfOfWhatIsAvailable) {
+  ScratchBudget budget(std::size_t{1} << 30, [] { return std::size_t{1000}; });
+  EXPECT_FALSE(budget.reserve(501));
+  EXPECT_TRUE(budget.reserve(300));
+  EXPECT_FALSE(budget.reserve(201));
+  EXPECT_TRUE(budget.reserve(200));
+  EXPECT_EQ(budget.in_memory(), 500u);
+  ScratchBudget short_of_memory(std::size_t{1} << 30, [] { return std::size_t{4096}; });
+  StorePolicy policy;
+  policy.budget = &short_of_memory;
+  RowStore<float> store(policy, 100, 200, "short");  // 80000 bytes, within the limit
+  EXPECT_TRUE(store.on_disk());
+  EXPECT_EQ(short_of_memory.spilled(), 1u);
+  EXPECT_GT(ScratchBudget::system_available(), 0u);  // this machine's MemAvailable
+}
 TEST(ScratchBudget, StoresSpillToFilesBeyondTheBudget) {
   ScratchBudget budget(100000);
   StorePolicy policy;

@@ -1,6 +1,11 @@
 // The process-wide scratch budget: bytes held in memory and on disk, and their peaks.
 #include "schedule/scratch_budget.h"
 
+#include <algorithm>
+#include <fstream>
+#include <limits>
+#include <string>
+
 namespace gdp::schedule {
 namespace {
 
@@ -17,10 +22,21 @@ ScratchBudget& ScratchBudget::process() {
   return budget;
 }
 
+std::size_t ScratchBudget::system_available() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  std::size_t kb = 0;
+  while (meminfo >> key >> kb)
+    if (key == "MemAvailable:") return kb << 10;
+    else meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  return std::numeric_limits<std::size_t>::max();
+}
+
 bool ScratchBudget::reserve(std::size_t bytes) {
+  const std::size_t room = std::min(limit_.load(), available_() / 2);
   std::size_t held = memory_.load();
   do {
-    if (bytes > limit_.load() || held > limit_.load() - bytes) return false;
+    if (bytes > room || held > room - bytes) return false;
   } while (!memory_.compare_exchange_weak(held, held + bytes));
   raise_peak(memory_peak_, held + bytes);
   return true;

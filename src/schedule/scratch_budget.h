@@ -11,14 +11,22 @@ namespace gdp::schedule {
 // their stores concurrently. Also counts what went where, for --stats.
 class ScratchBudget {
  public:
-  explicit ScratchBudget(std::size_t limit = 0) : limit_(limit) {}
+  // What the system can still give, in bytes (the default: MemAvailable of /proc/meminfo, read at
+  // each reserve(); none: no bound). A store in memory is a memfd, whose pages nothing can reclaim
+  // without swap, so the budget holds at most half of it: on a machine that others have filled,
+  // stores go to files rather than push out the page cache or call in the OOM killer.
+  using Available = std::size_t (*)();
+  static std::size_t system_available();
+  explicit ScratchBudget(std::size_t limit = 0, Available available = &system_available)
+      : limit_(limit), available_(available) {}
   // The budget every solve of this process shares (its limit set from SolverOptions::scratch_memory).
   static ScratchBudget& process();
 
   void set_limit(std::size_t bytes) { limit_.store(bytes); }
   std::size_t limit() const { return limit_.load(); }
 
-  // Takes `bytes` from the budget if they fit (true), else takes nothing (false).
+  // Takes `bytes` from the budget if they fit its limit and half of what is available (true),
+  // else takes nothing (false).
   bool reserve(std::size_t bytes);
   void release(std::size_t bytes);
   // Bytes written to (or dropped from) scratch files.
@@ -35,6 +43,7 @@ class ScratchBudget {
 
  private:
   std::atomic<std::size_t> limit_;
+  Available available_;
   std::atomic<std::size_t> memory_{0}, disk_{0}, memory_peak_{0}, disk_peak_{0}, spilled_{0};
 };
 
