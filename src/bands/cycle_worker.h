@@ -60,8 +60,7 @@ class CycleWorker {
   CycleWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
               CycleSettings s, int c0, int n, schedule::ResidualLog& log)
       : c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)), opt_(opt),
-        singular_(ops.singular), log_(log), length_(layout.row_length(0, band)), height_(ops.levels[0].height),
-        w_(s.weights ? length_ : 0), d_(s.diagonal ? length_ : 0) {
+        singular_(ops.singular), log_(log), length_(layout.row_length(0, band)), height_(ops.levels[0].height) {
     if (cycles() > 1)
       carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * length_, height_,
                                              fmt::format("band{}-c{}-result", band, c0));
@@ -97,7 +96,6 @@ class CycleWorker {
   // Throws schedule::Stopped once the solve is stopped.
   void run() {
     u_.resize(static_cast<std::size_t>(n) * length_);
-    b_.resize(u_.size());
     std::vector<double> shift(n);
     const CycleMark from = at;  // restored, or the start
     for (int k = from.cycle; k < cycles(); ++k) {
@@ -157,15 +155,12 @@ class CycleWorker {
       vcycle.begin_cycle();
       if (carry_) carry_->rewind();
     }
-    for (int j = first; j < height_; ++j) {
-      if (k > 0) {
-        carry_->read(u_);
-        vcycle.push(u_, {}, {});
-        continue;
-      }
-      rows.input(j, u_, b_, w_, d_);
-      vcycle.push(u_, b_, w_, d_);
-      if ((j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
+    for (int j = first; j < height_; ++j) {  // into the V-cycle's ring
+      const auto slots = vcycle.next_row();
+      if (k > 0) carry_->read(slots.u);
+      else rows.input(j, slots.u, slots.b, slots.w, slots.d);
+      vcycle.push();
+      if (k == 0 && (j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
     }
     save({k, 1, 0});
   }
@@ -179,7 +174,7 @@ class CycleWorker {
   schedule::ResidualLog& log_;
   int length_, height_;
   std::unique_ptr<RowStore<T>> carry_;
-  std::vector<T> u_, b_, w_, d_;  // a row (u, b: of every channel)
+  std::vector<T> u_;  // a result row (every channel)
   static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
 };
 

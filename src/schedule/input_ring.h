@@ -19,7 +19,9 @@ namespace gdp::schedule {
 // of its bands) make its rows as they need them, and a unit making a row decodes the source's
 // rows it needs: row y goes to decode slot y % 16 once every unit is past row y - 16, a unit's
 // row j to its slot j % 16 once every reader of the unit is past row j - 16. So no thread of its
-// own decodes or makes rows, and the workers that need rows first make them.
+// own decodes or makes rows, and the workers that need rows first make them. Any number of slots
+// works (docs/how-bands-work.md, "Why a streamed solve cannot hang"): tests set 1 (GDP_INPUT_ROWS;
+// the decoded rows keep 2, a row and the next, which the right-hand side reads).
 template <class T>
 class InputRing {
  public:
@@ -46,11 +48,11 @@ class InputRing {
   double column_cpu() const;
 
  private:
-  static constexpr int kSlots = 16;
+  const int slots_;  // per unit (16)
   struct Made {
     Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
     multigrid::InputRows<T> input;
-    std::vector<T> u, b, w, d;  // kSlots rows each
+    std::vector<T> u, b, w, d;  // slots_ rows each
     RowRing ring;
   };
   GuidanceSource& source_;
