@@ -164,10 +164,8 @@ template <class T>
 void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
   const Slots s = next_row();
   if (u.size() != s.u.size()) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
-  const std::span<const T> given[4] = {u, b, w, d};
-  const std::span<T> slot[4] = {s.u, s.b, s.w, s.d};
-  for (int q : {U, B, W, D})
-    if (!slot[q].empty()) std::copy(given[q].begin(), given[q].end(), slot[q].begin());
+  for (const auto& [from, to] : {std::pair{u, s.u}, std::pair{b, s.b}, std::pair{w, s.w}, std::pair{d, s.d}})
+    if (!to.empty()) std::ranges::copy(from, to.begin());
   push();
 }
 
@@ -178,8 +176,7 @@ void StreamedVCycle<T>::push() {
   for (int q : {B, W, D})  // b, w and d of later cycles from the stores
     if (L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
   if (layout_.top() && cycle_ == 1) {
-    const std::span<T> u = slot_of(0, U, r);
-    std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * u.size());
+    std::ranges::copy(slot_of(0, U, r), initial_.begin() + static_cast<std::ptrdiff_t>(r % 8) * set_.channels * L.len);
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
     if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);

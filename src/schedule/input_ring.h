@@ -16,12 +16,11 @@ namespace gdp::schedule {
 
 // A unit is a set of bands whose input rows one InputRows makes (one per band where the source
 // splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
-// of its bands) make its rows as they need them, and a unit making a row decodes the source's
-// rows it needs: row y goes to decode slot y % 16 once every unit is past row y - 16, a unit's
-// row j to its slot j % 16 once every reader of the unit is past row j - 16. So no thread of its
-// own decodes or makes rows, and the workers that need rows first make them. Any number of slots
-// works (docs/how-bands-work.md, "Why a streamed solve cannot hang"): tests set 1 (GDP_INPUT_ROWS;
-// the decoded rows keep 2, a row and the next, which the right-hand side reads).
+// of its bands) make its rows as they need them into a RowRing of 16 slots, and a unit making a
+// row decodes the source's rows it needs into one of 16 shared by the units: no thread of its own
+// decodes or makes rows. No wait for a slot hangs, however far readers drift, with at least
+// kUnitSlots and kDecodedSlots (docs/how-bands-work.md, "Why a streamed solve cannot hang");
+// GDP_INPUT_ROWS (tests) sets fewer, down to these.
 template <class T>
 class InputRing {
  public:
@@ -48,6 +47,9 @@ class InputRing {
   double column_cpu() const;
 
  private:
+  // RowRing's makers wait for kSlack = 4 rows more than they need and make up to kAhead = 4 rows
+  // ahead (parallel.cc); a unit's row j reads decoded rows up to j + 2.
+  static constexpr int kSlack = 4, kAhead = 4, kUnitSlots = kSlack + 1, kDecodedSlots = kAhead + kSlack + 3;
   const int slots_;  // per unit (16)
   struct Made {
     Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
