@@ -18,9 +18,8 @@ namespace gdp::schedule {
 // splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
 // of its bands) make its rows as they need them into a RowRing of 16 slots, and a unit making a
 // row decodes the source's rows it needs into one of 16 shared by the units: no thread of its own
-// decodes or makes rows. No wait for a slot hangs, however far readers drift, with at least
-// kUnitSlots and kDecodedSlots (docs/how-bands-work.md, "Why a streamed solve cannot hang");
-// GDP_INPUT_ROWS (tests) sets fewer, down to these.
+// decodes or makes rows. No slot wait hangs, however far readers drift, with kUnitSlots and
+// kDecodedSlots or more (docs/how-bands-work.md, "Why a streamed solve cannot hang"; GDP_INPUT_ROWS).
 template <class T>
 class InputRing {
  public:
@@ -47,8 +46,7 @@ class InputRing {
   double column_cpu() const;
 
  private:
-  // RowRing's makers wait for kSlack = 4 rows more than they need and make up to kAhead = 4 rows
-  // ahead (parallel.cc); a unit's row j reads decoded rows up to j + 2.
+  // RowRing's slack and look-ahead (parallel.cc); a unit's row j reads decoded rows up to j + 2.
   static constexpr int kSlack = 4, kAhead = 4, kUnitSlots = kSlack + 1, kDecodedSlots = kAhead + kSlack + 3;
   const int slots_;  // per unit (16)
   struct Made {
