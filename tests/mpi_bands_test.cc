@@ -56,6 +56,23 @@ class MpiBands : public test::CliFixture {
 
   Image result(const std::string& name) const { return read_image(path(name)).image; }
 
+  // A w x h RGB image of waves, an offset in the right half and noise, to `name`; and a label map
+  // of slanted stripes (regions of w/6 columns) to labels.png.
+  void write_waves(const std::string& name, int w, int h) const {
+    Image im(w, h, 3), labels(w, h, 1);
+    const Image noise = test::random_image(w, h, 3, 7);
+    for (int c = 0; c < 3; ++c) {
+      const Image wave = test::cosine_image(w, h, 2 + c, 3 - c);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          im.at(c, x, y) = 0.5f + 0.3f * wave.at(0, x, y) + (x > w / 2 ? 0.1f : 0.0f) + 0.05f * noise.at(c, x, y);
+          labels.at(0, x, y) = static_cast<float>((x + y / 2) / (w / 6 + 1) % 6 + 1) / 8.0f;
+        }
+    }
+    write_image(path(name), im, {});
+    write_image(path("labels.png"), labels, {});
+  }
+
   static double range(const Image& a) {
     const auto [lo, hi] = std::minmax_element(a.data.begin(), a.data.end());
     return *hi - *lo;
@@ -145,15 +162,7 @@ TEST_F(MpiBands, WaitingRanksNeverYieldTheirCore) {
 TEST_F(MpiBands, SmallestResultRingNeverHangs) {
   for (const auto& [w, h] : {std::pair{170, 700}, std::pair{1000, 40}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h));
-    Image im(w, h, 3);
-    const Image noise = test::random_image(w, h, 3, 7);
-    for (int c = 0; c < 3; ++c) {
-      const Image wave = test::cosine_image(w, h, 2 + c, 3 - c);
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-          im.at(c, x, y) = 0.5f + 0.3f * wave.at(0, x, y) + (x > w / 2 ? 0.1f : 0.0f) + 0.05f * noise.at(c, x, y);
-    }
-    write_image(path("s.tif"), im, {});
+    write_waves("s.tif", w, h);
     const auto run = [&](const std::string& out, const std::string& how, int ranks = 0) {
       const std::string cli = std::string(GDP_CLI_PATH) + " sharpen " + path("s.tif") + " -o " + path(out) +
                               " --depth float -q --scratch float --vcycles 2 --incore-bytes 4096 --threads 14 " + how;
@@ -176,6 +185,42 @@ TEST_F(MpiBands, SmallestResultRingNeverHangs) {
       EXPECT_EQ(test::max_difference(m, threads[ranks * bands]), 0.0) << ranks << " ranks x " << bands << " bands";
     }
   }
+}
+
+// The smallest input rings (GDP_INPUT_ROWS=1: the fewest slots InputRing takes, 5 for a unit's rows
+// and 11 for the decoded rows; with GDP_RESULT_ROWS=1) on a sharpen (one unit for all bands) and a
+// stitch (a unit per band, one decoded ring), the tall and the wide problem, two V-cycles, three
+// channel groups, on threads with 1-4 and 6 bands and under mpirun with 2 and 3 ranks: every run
+// finishes (a hang fails by its timeout) with the bits of 16 slots (docs/how-bands-work.md, "Why a
+// streamed solve cannot hang": fewer slots than these hang).
+TEST_F(MpiBands, SmallestInputRingNeverHangs) {
+  for (const auto& [w, h] : {std::pair{170, 700}, std::pair{1000, 40}})
+    for (const std::string& app : {"sharpen " + path("s.tif"), "stitch -c " + path("s.tif") + " -l " + path("labels.png")}) {
+      SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + " " + app.substr(0, 7));
+      write_waves("s.tif", w, h);
+      const auto run = [&](bool tiny, int bands, int ranks = 0) {  // under mpirun: tiny rings
+        const std::string cli = std::string(GDP_CLI_PATH) + " " + app + " -o " + path("out.tif") +
+                                " --depth float -q --scratch float --vcycles 2 --incore-bytes 4096 --threads 14 --bands " +
+                                std::to_string(bands);
+        const test::CliRun r =
+            ranks ? mpi("-np " + std::to_string(ranks) + " -x GDP_INPUT_ROWS=1 -x GDP_RESULT_ROWS=1 " + cli)
+                  : gdp_raw(std::string(tiny ? "GDP_INPUT_ROWS=1 GDP_RESULT_ROWS=1 " : "") + "timeout 60 " + cli);
+        EXPECT_EQ(r.code, 0) << (tiny ? "tiny rings, " : "") << bands << " bands on " << ranks << " ranks: " << r.err;
+        return r.code == 0 ? result("out.tif") : Image();
+      };
+      std::vector<Image> slots16(7);
+      for (int bands = 1; bands <= 6; bands += bands < 4 ? 1 : 2) {
+        slots16[bands] = run(false, bands);
+        const Image one = run(true, bands);
+        ASSERT_FALSE(one.data.empty() || slots16[bands].data.empty());
+        EXPECT_EQ(test::max_difference(one, slots16[bands]), 0.0) << bands << " bands";
+      }
+      for (const auto& [ranks, bands] : {std::pair{2, 1}, std::pair{3, 2}, std::pair{2, 2}}) {
+        const Image m = run(true, bands, ranks);
+        ASSERT_FALSE(m.data.empty());
+        EXPECT_EQ(test::max_difference(m, slots16[ranks * bands]), 0.0) << ranks << " ranks x " << bands << " bands";
+      }
+    }
 }
 
 // A stitch (a pure gradient problem: the kept mean needs every rank's input sums), every rank

@@ -40,12 +40,12 @@ struct CycleMark {
   }
 };
 
-// Where a worker's rows come from and go (set by the driver): row j of its band's input (u and b:
-// its channels, w and d: empty where the V-cycle takes none), the input's sums (every band's: once
-// the worker asks for no more input), and its own columns of result row j (u as pulled).
+// Where a worker's rows come from and go (set by the driver): row j of its band's input into the
+// V-cycle's slots (u and b: its channels, w and d: empty where it takes none), the input's sums
+// (every band's: once the worker asks for no more input), and its own columns of result row j.
 template <class T>
 struct WorkerRows {
-  std::function<void(int j, std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d)> input;
+  std::function<void(int j, const typename StreamedVCycle<T>::Slots& to)> input;
   std::function<const multigrid::InputTotals&()> totals;
   std::function<void(int j, std::span<const T> u)> result;
 };
@@ -60,8 +60,7 @@ class CycleWorker {
   CycleWorker(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& net, const SolverOptions& opt,
               CycleSettings s, int c0, int n, schedule::ResidualLog& log)
       : c0(c0), n(n), band(net.rank()), vcycle(ops, layout, net, (s.channels = n, s)), opt_(opt),
-        singular_(ops.singular), log_(log), length_(layout.row_length(0, band)), height_(ops.levels[0].height),
-        w_(s.weights ? length_ : 0), d_(s.diagonal ? length_ : 0) {
+        singular_(ops.singular), log_(log), length_(layout.row_length(0, band)), height_(ops.levels[0].height) {
     if (cycles() > 1)
       carry_ = std::make_unique<RowStore<T>>(s.stores, static_cast<std::size_t>(n) * length_, height_,
                                              fmt::format("band{}-c{}-result", band, c0));
@@ -96,8 +95,7 @@ class CycleWorker {
 
   // Throws schedule::Stopped once the solve is stopped.
   void run() {
-    u_.resize(static_cast<std::size_t>(n) * length_);
-    b_.resize(u_.size());
+    std::vector<T> u(static_cast<std::size_t>(n) * length_);  // a result row (every channel)
     std::vector<double> shift(n);
     const CycleMark from = at;  // restored, or the start
     for (int k = from.cycle; k < cycles(); ++k) {
@@ -116,14 +114,14 @@ class CycleWorker {
       const bool surely_last = k + 1 == cycles();
       if (carry_ && !surely_last) carry_->clear();
       for (int j = 0; j < height_; ++j) {
-        vcycle.pull(u_);
+        vcycle.pull(u);
         for (int c = 0; c < n; ++c) {
           if (shift[c] == 0.0) continue;
-          T* p = u_.data() + static_cast<std::size_t>(c) * length_;
+          T* p = u.data() + static_cast<std::size_t>(c) * length_;
           for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
         }
-        if (!surely_last) carry_->append(u_);
-        else rows.result(j, u_);
+        if (!surely_last) carry_->append(u);
+        else rows.result(j, u);
       }
       bool converged = opt_.tolerance > 0.0;
       for (int c = 0; c < n; ++c) {
@@ -134,8 +132,8 @@ class CycleWorker {
       if (converged) {  // the carried result is the answer (every worker sees the same sums)
         carry_->rewind();
         for (int j = 0; j < height_; ++j) {
-          carry_->read(u_);
-          rows.result(j, u_);
+          carry_->read(u);
+          rows.result(j, u);
         }
         return;
       }
@@ -157,15 +155,12 @@ class CycleWorker {
       vcycle.begin_cycle();
       if (carry_) carry_->rewind();
     }
-    for (int j = first; j < height_; ++j) {
-      if (k > 0) {
-        carry_->read(u_);
-        vcycle.push(u_, {}, {});
-        continue;
-      }
-      rows.input(j, u_, b_, w_, d_);
-      vcycle.push(u_, b_, w_, d_);
-      if ((j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
+    for (int j = first; j < height_; ++j) {  // into the V-cycle's ring
+      const auto slots = vcycle.next_row();
+      if (k > 0) carry_->read(slots.u);
+      else rows.input(j, slots);
+      vcycle.push();
+      if (k == 0 && (j + 1) % unit_rows == 0 && j + 1 < height_) save({k, 0, j + 1});
     }
     save({k, 1, 0});
   }
@@ -179,7 +174,6 @@ class CycleWorker {
   schedule::ResidualLog& log_;
   int length_, height_;
   std::unique_ptr<RowStore<T>> carry_;
-  std::vector<T> u_, b_, w_, d_;  // a row (u, b: of every channel)
   static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
 };
 

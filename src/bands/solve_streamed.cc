@@ -284,15 +284,14 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       const int l = i * static_cast<int>(units.size()) / team.local;  // its unit, and its reader there
       const int r = k - l * team.local / static_cast<int>(units.size()) * team.groups;
       const int n = c1 - c0, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
-      wk.rows.input = [&, l, r, c0, n, length, origin](int j, std::span<T> u, std::span<T> b, std::span<T> wt,
-                                                       std::span<T> d) {
-        const auto in = input.row(l, r, j);
+      wk.rows.input = [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
+        const auto in = input.row(l, r, j);  // cut straight into the V-cycle's ring
         for (int c = 0; c < n; ++c) {
-          cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, u.subspan(c * length, length));
-          cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, b.subspan(c * length, length));
+          cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.u.subspan(c * length, length));
+          cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.b.subspan(c * length, length));
         }
-        if (!wt.empty()) cut(in.w.data(), w, layout.periodic, origin, wt);
-        if (!d.empty()) cut(in.d.data(), w, layout.periodic, origin, d);
+        if (!to.w.empty()) cut(in.w.data(), w, layout.periodic, origin, to.w);
+        if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
       };
       wk.rows.totals = [&, l, r]() -> const InputTotals& {
         input.done(l, r);

@@ -151,19 +151,32 @@ void StreamedVCycle<T>::check_slot(int l, int row) const {
 }
 
 template <class T>
+typename StreamedVCycle<T>::Slots StreamedVCycle<T>::next_row() {
+  const Level& L = *levels_[0];
+  const int r = L.arrived;
+  if (prolongation_ || r >= L.height) throw std::logic_error("StreamedVCycle::push after the last row");
+  check_slot(0, r);
+  const auto given = [&](int q) { return has(q) && !L.inputs_stored ? slot_of(0, q, r) : std::span<T>{}; };
+  return {slot_of(0, U, r), given(B), given(W), given(D)};
+}
+
+template <class T>
 void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
+  const Slots s = next_row();
+  if (u.size() != s.u.size()) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
+  for (const auto& [from, to] : {std::pair{u, s.u}, std::pair{b, s.b}, std::pair{w, s.w}, std::pair{d, s.d}})
+    if (!to.empty()) std::ranges::copy(from, to.begin());
+  push();
+}
+
+template <class T>
+void StreamedVCycle<T>::push() {
   Level& L = *levels_[0];
   const int r = L.arrived;
-  const std::size_t slot = static_cast<std::size_t>(set_.channels) * L.len;
-  if (prolongation_ || r >= L.height) throw std::logic_error("StreamedVCycle::push after the last row");
-  if (u.size() != slot) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
-  check_slot(0, r);
-  const std::span<const T> given[4] = {u, b, w, d};
-  for (int q : {U, B, W, D})  // b, w and d of later cycles from the stores
-    if (q != U && L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
-    else if (has(q) && (q == U || !L.inputs_stored)) std::copy(given[q].begin(), given[q].end(), ring_row(0, q, r));
+  for (int q : {B, W, D})  // b, w and d of later cycles from the stores
+    if (L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
   if (layout_.top() && cycle_ == 1) {
-    std::copy(u.begin(), u.end(), initial_.data() + static_cast<std::size_t>(r % 8) * slot);
+    std::ranges::copy(slot_of(0, U, r), initial_.begin() + static_cast<std::ptrdiff_t>(r % 8) * set_.channels * L.len);
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
     if (layout_.folded && r == L.height - 1) exchange_fold_rows(0, 1, initial_fold_[1]);

@@ -2,16 +2,18 @@
 #include "schedule/input_ring.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace gdp::schedule {
 
 template <class T>
 InputRing<T>::InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units,
                         Marks& marks, std::function<void(double)> progress)
-    : source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
+    : slots_(std::max(kUnitSlots, std::getenv("GDP_INPUT_ROWS") ? std::atoi(std::getenv("GDP_INPUT_ROWS")) : 16)),
+      source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
   if (source.splits()) {
-    source.set_slots(kSlots);
-    decoded_ = std::make_unique<RowRing>(marks, static_cast<int>(units.size()), kSlots, source.height(),
+    source.set_slots(std::max(kDecodedSlots, slots_));
+    decoded_ = std::make_unique<RowRing>(marks, static_cast<int>(units.size()), std::max(kDecodedSlots, slots_), source.height(),
                                          [&source](int y) { source.decode(y); });
   }
   for (std::size_t l = 0; l < units.size(); ++l)
@@ -27,10 +29,10 @@ InputRing<T>::Made::Made(InputRing& in, const Unit& unit, int l, const multigrid
               in.decoded_->need(l, j, std::min(j + 1, in.source_.height() - 1));  // the right-hand side reads row j + 1
               in.source_.compute(j, row, g.first, g.second);
             }),
-      u(static_cast<std::size_t>(kSlots) * in.source_.channels() * in.source_.width()), b(u.size()),
-      w(static_cast<std::size_t>(kSlots) * in.source_.width()), d(in.source_.has_weights() ? w.size() : 0),
-      ring(in.marks_, unit.readers, kSlots, in.source_.height(), [this, &in, l, progress](int j) {
-        const std::size_t n = u.size() / kSlots, m = w.size() / kSlots, s = j % kSlots;
+      u(static_cast<std::size_t>(in.slots_) * in.source_.channels() * in.source_.width()), b(u.size()),
+      w(static_cast<std::size_t>(in.slots_) * in.source_.width()), d(in.source_.has_weights() ? w.size() : 0),
+      ring(in.marks_, unit.readers, in.slots_, in.source_.height(), [this, &in, l, progress](int j) {
+        const std::size_t n = u.size() / in.slots_, m = w.size() / in.slots_, s = j % in.slots_;
         input.next({u.data() + s * n, n}, {b.data() + s * n, n}, {w.data() + s * m, m},
                    d.empty() ? std::span<T>{} : std::span<T>{d.data() + s * m, m});
         const int h = in.source_.height();
@@ -42,7 +44,7 @@ template <class T>
 typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j) {
   Made& m = *units_[l];
   m.ring.need(r, j, j);
-  const std::size_t n = m.u.size() / kSlots, k = m.w.size() / kSlots, s = j % kSlots;
+  const std::size_t n = m.u.size() / slots_, k = m.w.size() / slots_, s = j % slots_;
   return {{m.u.data() + s * n, n}, {m.b.data() + s * n, n}, {m.w.data() + s * k, k},
           m.d.empty() ? std::span<const T>{} : std::span<const T>{m.d.data() + s * k, k}};
 }

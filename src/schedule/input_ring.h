@@ -16,10 +16,10 @@ namespace gdp::schedule {
 
 // A unit is a set of bands whose input rows one InputRows makes (one per band where the source
 // splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
-// of its bands) make its rows as they need them, and a unit making a row decodes the source's
-// rows it needs: row y goes to decode slot y % 16 once every unit is past row y - 16, a unit's
-// row j to its slot j % 16 once every reader of the unit is past row j - 16. So no thread of its
-// own decodes or makes rows, and the workers that need rows first make them.
+// of its bands) make its rows as they need them into a RowRing of 16 slots, and a unit making a
+// row decodes the source's rows it needs into one of 16 shared by the units: no thread of its own
+// decodes or makes rows. No slot wait hangs, however far readers drift, with kUnitSlots and
+// kDecodedSlots or more (docs/how-bands-work.md, "Why a streamed solve cannot hang"; GDP_INPUT_ROWS).
 template <class T>
 class InputRing {
  public:
@@ -46,11 +46,13 @@ class InputRing {
   double column_cpu() const;
 
  private:
-  static constexpr int kSlots = 16;
+  // RowRing's slack and look-ahead (parallel.cc); a unit's row j reads decoded rows up to j + 2.
+  static constexpr int kSlack = 4, kAhead = 4, kUnitSlots = kSlack + 1, kDecodedSlots = kAhead + kSlack + 3;
+  const int slots_;  // per unit (16)
   struct Made {
     Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
     multigrid::InputRows<T> input;
-    std::vector<T> u, b, w, d;  // kSlots rows each
+    std::vector<T> u, b, w, d;  // slots_ rows each
     RowRing ring;
   };
   GuidanceSource& source_;
