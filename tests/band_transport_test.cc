@@ -3,7 +3,7 @@
 
 #include <thread>
 
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
 #include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "test_util.h"
@@ -42,7 +42,7 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
         seen[w] = e.what();
       }
     });
-  hub.endpoint(2).abort("band 2 stopped: disk full");
+  hub.stop("band 2 stopped: disk full");
   for (auto& t : waiters) t.join();
   EXPECT_EQ(seen[0], "band 2 stopped: disk full");
   EXPECT_EQ(seen[1], "band 2 stopped: disk full");

@@ -1,5 +1,7 @@
 // Mailboxes guarded by one mutex: posting never waits, taking waits for its message or a stop.
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
+
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -7,9 +9,8 @@ namespace gdp::bands {
 
 void Transport::send(int to, int tag, Bytes data) { hub_->send(rank_ * stride_, to * stride_, tag + tags_, std::move(data)); }
 Bytes Transport::receive(int from, int tag) { return hub_->receive(from * stride_, rank_ * stride_, tag + tags_); }
-void Transport::abort(const std::string& why) { hub_->stop(why); }
 
-ThreadHub::ThreadHub(int local, int first, int size) : local_(local), first_(first), size_(size) {
+ThreadHub::ThreadHub(int local, int first, int size) : local_(local), first_(first) {
   for (int b = first; b < first + local; ++b) endpoints_.emplace_back(*this, b, size);
 }
 
