@@ -38,7 +38,7 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
     waiters.emplace_back([&, w] {
       try {
         hub.endpoint(w).receive(2, 0);
-      } catch (const TransportStopped& e) {
+      } catch (const schedule::Stopped& e) {
         seen[w] = e.what();
       }
     });
@@ -46,7 +46,7 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
   for (auto& t : waiters) t.join();
   EXPECT_EQ(seen[0], "band 2 stopped: disk full");
   EXPECT_EQ(seen[1], "band 2 stopped: disk full");
-  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), TransportStopped);
+  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), schedule::Stopped);
 }
 
 // Guidance that fails part-way through, like a truncated input file.

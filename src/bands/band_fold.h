@@ -18,8 +18,6 @@ using ColumnRuns = std::vector<std::pair<int, int>>;
 // takes from itself.
 struct FoldPlan {
   std::vector<ColumnRuns> to, from;
-  bool sends(int b) const { return !to[b].empty(); }
-  bool receives(int b) const { return !from[b].empty(); }
 };
 
 // Rows across the fold on banded level l (n columns): a band shows the columns it owns to every

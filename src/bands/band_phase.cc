@@ -33,16 +33,15 @@ std::vector<int> interior_lanes(const BandLayout& L, int l, int band) {
 
 }  // namespace
 
+// Group t is sweep s of row t - 2s; the one-band plan (G = 1) has no phase that only exchanges strips.
 int phase_count(const BandLayout& L, int height) {
-  if (L.single) return height + 2 * L.sweeps;  // group t: sweep s of row t - 2s
-  return (height - 1 + 2 * L.sweeps) / L.phase_groups + 2;
+  return (height - 1 + 2 * L.sweeps) / L.phase_groups + (L.single ? 1 : 2);
 }
 
 int final_phase(const BandLayout& L, int height, int j) {
   // Rows j - 2 .. j + 2 have had their last sweep (group row + 2k) and, one phase later, the
   // neighbour's writes into this band's edge have come back in its strip (no neighbour: at once).
-  if (L.single) return std::min(j + 2, height - 1) + 2 * L.sweeps;
-  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + 1;
+  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + (L.single ? 0 : 1);
 }
 
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,

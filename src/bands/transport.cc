@@ -26,7 +26,7 @@ void ThreadHub::send(int from, int to, int tag, Bytes data) {
   if (!here(to)) return send_away(from, to, tag, std::move(data));
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (stopped_) throw TransportStopped(*stopped_);
+    if (stopped_) throw schedule::Stopped(*stopped_);
     boxes_[{from, to, tag}].push_back(std::move(data));
   }
   arrived_.notify_all();
@@ -37,7 +37,7 @@ Bytes ThreadHub::receive(int from, int to, int tag) {
   std::unique_lock<std::mutex> lock(mutex_);
   auto& box = boxes_[{from, to, tag}];
   arrived_.wait(lock, [&] { return stopped_ || !box.empty(); });
-  if (stopped_) throw TransportStopped(*stopped_);
+  if (stopped_) throw schedule::Stopped(*stopped_);
   Bytes data = std::move(box.front());
   box.pop_front();
   return data;

@@ -21,15 +21,11 @@ using schedule::ByteReader;
 using schedule::ByteWriter;
 using schedule::Bytes;
 
-// Thrown by a transport's calls once any worker has stopped the solve (ThreadHub::stop); what()
-// says which worker stopped it and why.
-using TransportStopped = schedule::Stopped;
-
 class ThreadHub;
 
-// One worker's end of a hub, or a view of every other worker (a merged
-// stage). Workers are numbered 0 .. size() - 1 (worker b solves band b). Sends never wait for the
-// receiver; messages from one worker to another with the same tag arrive in the order they were sent.
+// One worker's end of a hub, or a view of every other worker (a merged stage). Workers are numbered
+// 0 .. size() - 1 (worker b solves band b). Sends never wait for the receiver; messages from one
+// worker to another with the same tag arrive in the order they were sent.
 class Transport {
  public:
   Transport(ThreadHub& hub, int rank, int size, int stride = 1, int tags = 0)
@@ -58,7 +54,7 @@ class ThreadHub {
   Transport& endpoint(int worker);       // worker in [first(), first() + local)
   void send(int from, int to, int tag, Bytes data);
   Bytes receive(int from, int to, int tag);
-  // Stops every worker: their waiting and later calls throw TransportStopped(why).
+  // Stops every worker: their waiting and later calls throw schedule::Stopped(why).
   virtual void stop(const std::string& why);
 
  protected:

@@ -13,7 +13,7 @@
 
 namespace gdp::schedule {
 
-// What a worker throws when it was stopped because another one failed (bands::TransportStopped).
+// What a worker throws when it was stopped because another one failed (also bands::ThreadHub::stop).
 class Stopped : public Error {
  public:
   using Error::Error;
