@@ -10,10 +10,8 @@
 namespace gdp::bands {
 
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post, int max_levels) {
-  BandLayout L;
-  L.bands = bands;
-  L.sweeps = std::max(pre, post);  // the geometry fits both passes; each stage gets pre and post
-  L.periodic = periodic;
+  // The geometry fits both passes (the larger sweep count); each stage gets pre and post below.
+  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic};
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
   L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
@@ -75,13 +73,7 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
 }
 
 BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels) {
-  BandLayout L;
-  L.single = true;
-  L.sweeps = pre;
-  L.post_sweeps = post;
-  L.periodic = periodic;
-  L.halo = 0;
-  L.levels = levels;
+  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .periodic = periodic, .single = true};
   for (int l = 0; l <= levels; ++l) L.bounds.push_back({0, h.levels[l].width()});
   return L;
 }
