@@ -9,7 +9,8 @@
 
 namespace gdp::bands {
 
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post, int max_levels) {
+BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post,
+                            int max_levels) {
   // The geometry fits both passes (the larger sweep count); each stage gets pre and post below.
   BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic};
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
@@ -26,11 +27,13 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
   // 2^(total - 1), so they halve exactly through every banded level).
   const auto bounds = [&](const std::vector<int>& cuts, int l) {
     std::vector<int> at;
-    for (std::size_t i = 0; i < cuts.size(); ++i) at.push_back(i + 1 == cuts.size() ? h.levels[l].width() : cuts[i] >> l);
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) at.push_back(cuts[i] >> l);
+    at.push_back(h.levels[l].width());
     return at;
   };
   const auto narrow = [&](const std::vector<int>& at) {
-    return std::adjacent_find(at.begin(), at.end(), [&](int a, int b) { return b - a < L.min_band_width(); }) != at.end();
+    const auto closer = [&](int a, int b) { return b - a < L.min_band_width(); };
+    return std::adjacent_find(at.begin(), at.end(), closer) != at.end();
   };
   // The stage of bands `cuts` from level `start` on, banded down to level `total` and merging where
   // they grow too narrow; null where some banded level cannot have bands wide enough.
