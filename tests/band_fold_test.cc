@@ -83,7 +83,7 @@ TEST(BandFoldPartners, EqualBandsReadTheirMirrorPartners) {
   const FoldPlan bottom = fold_reads(L, 0, n, fem::Mirror::Bottom, 1);
   ASSERT_EQ(bottom.from[0].size(), 1u);
   EXPECT_EQ(bottom.from[0][0], (std::pair{0, 100}));
-  EXPECT_FALSE(bottom.receives(2));
+  EXPECT_TRUE(bottom.from[2].empty());
 }
 
 // A group of bands meeting at its first (a merge's hand-off and take-back, the gathered level):

@@ -3,7 +3,7 @@
 
 #include <thread>
 
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
 #include "gdp/errors.h"
 #include "gdp/solver.h"
 #include "test_util.h"
@@ -38,15 +38,15 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
     waiters.emplace_back([&, w] {
       try {
         hub.endpoint(w).receive(2, 0);
-      } catch (const TransportStopped& e) {
+      } catch (const schedule::Stopped& e) {
         seen[w] = e.what();
       }
     });
-  hub.endpoint(2).abort("band 2 stopped: disk full");
+  hub.stop("band 2 stopped: disk full");
   for (auto& t : waiters) t.join();
   EXPECT_EQ(seen[0], "band 2 stopped: disk full");
   EXPECT_EQ(seen[1], "band 2 stopped: disk full");
-  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), TransportStopped);
+  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), schedule::Stopped);
 }
 
 // Guidance that fails part-way through, like a truncated input file.

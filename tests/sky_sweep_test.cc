@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
 #include "gdp/errors.h"
 #include "gdp/sky.h"
 #include "image_stream_util.h"

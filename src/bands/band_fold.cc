@@ -7,15 +7,25 @@ namespace {
 // Which of the n columns wrap([r.first, r.second)) covers.
 std::vector<char> covered(int n, std::pair<int, int> r) {
   std::vector<char> in(n, 0);
-  if (r.second - r.first >= n) return std::vector<char>(n, 1);
-  for (int i = r.first; i < r.second; ++i) in[fem::wrap_index(i, n)] = 1;
+  for (int i = r.first; i < r.second && i < r.first + n; ++i) in[fem::wrap_index(i, n)] = 1;
   return in;
 }
 
-std::pair<int, int> own(const BandLayout& L, int l, int b) { return {L.begin(l, b), L.end(l, b)}; }
-std::pair<int, int> stored(const BandLayout& L, int l, int b) {
-  return {L.origin(l, b), L.origin(l, b) + L.row_length(l, b)};
+// The columns x in wrap([held)) whose mirror image (fem::mirror_column(side, x, n)) lies in
+// wrap([mirrored)); ranges are in unwrapped global columns.
+ColumnRuns fold_columns(int n, fem::Mirror side, std::pair<int, int> held, std::pair<int, int> mirrored) {
+  const std::vector<char> have = covered(n, held), want = covered(n, mirrored);
+  ColumnRuns runs;
+  for (int x = 0; x < n; ++x) {
+    if (!have[x] || !want[fem::mirror_column(side, x, n)]) continue;
+    if (!runs.empty() && runs.back().second == x) ++runs.back().second;
+    else runs.emplace_back(x, x + 1);
+  }
+  return runs;
 }
+
+std::pair<int, int> own(const BandLayout& L, int l, int b) { return {L.begin(l, b), L.end(l, b)}; }
+std::pair<int, int> stored(const BandLayout& L, int l, int b) { return {L.origin(l, b), L.end(l, b) + L.halo}; }
 
 template <class Held, class Mirrored>
 FoldPlan plan(const BandLayout& L, int n, fem::Mirror side, int band, Held held, Mirrored mirrored) {
@@ -28,17 +38,6 @@ FoldPlan plan(const BandLayout& L, int n, fem::Mirror side, int band, Held held,
 }
 
 }  // namespace
-
-ColumnRuns fold_columns(int n, fem::Mirror side, std::pair<int, int> held, std::pair<int, int> mirrored) {
-  const std::vector<char> have = covered(n, held), want = covered(n, mirrored);
-  ColumnRuns runs;
-  for (int x = 0; x < n; ++x) {
-    if (!have[x] || !want[fem::mirror_column(side, x, n)]) continue;
-    if (!runs.empty() && runs.back().second == x) ++runs.back().second;
-    else runs.emplace_back(x, x + 1);
-  }
-  return runs;
-}
 
 FoldPlan fold_reads(const BandLayout& L, int l, int n, fem::Mirror side, int band) {
   // Sender s -> receiver r: the columns s owns whose mirror r stores.

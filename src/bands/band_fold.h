@@ -13,17 +13,11 @@ namespace gdp::bands {
 // Runs [begin, end) of columns of a row of n samples, in increasing order.
 using ColumnRuns = std::vector<std::pair<int, int>>;
 
-// The columns x in wrap([held)) whose mirror image (fem::mirror_column(side, x, n)) lies in
-// wrap([mirrored)); ranges are in unwrapped global columns.
-ColumnRuns fold_columns(int n, fem::Mirror side, std::pair<int, int> held, std::pair<int, int> mirrored);
-
 // One exchange of column runs between bands (across the fold, or at a merge), seen by one band:
 // the columns it sends to band b (to[b]) and receives from band b (from[b]); from[band] is what it
 // takes from itself.
 struct FoldPlan {
   std::vector<ColumnRuns> to, from;
-  bool sends(int b) const { return !to[b].empty(); }
-  bool receives(int b) const { return !from[b].empty(); }
 };
 
 // Rows across the fold on banded level l (n columns): a band shows the columns it owns to every

@@ -9,33 +9,31 @@
 
 namespace gdp::bands {
 
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, SweepCounts sweeps, int max_levels,
-                            int green_lane, int phase_groups) {
-  BandLayout L;
-  L.bands = bands;
-  L.sweeps = sweeps.most();  // the geometry fits both passes; each stage gets pre and post below
-  L.post_sweeps = sweeps.most();
-  L.periodic = periodic;
-  // Lower G until the finest bands are at least 16 min_band_width() wide: edges that are a large
-  // part of a band reorder its rows more (agreement with streaming, tests/bands_test.cc).
-  const int finest = h.levels[0].width() / std::max(bands, 1);
+BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post,
+                            int max_levels) {
+  // The geometry fits both passes (the larger sweep count); each stage gets pre and post below.
+  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic};
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
   L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
-  L.phase_groups = L.folded ? 1 : std::max(phase_groups, 1);
-  while (L.phase_groups > 1 && finest < 16 * L.min_band_width()) L.phase_groups /= 2;
-  L.halo = band_halo(sweeps.most(), L.phase_groups);
-  L.green_lane = std::max(green_lane, 2 * L.edge());
-  const int count = static_cast<int>(h.levels.size()), n = h.levels[0].width();
-  // Band b of a stage with level-0 boundaries `cuts` (multiples of 2^(total - 1), so they halve
-  // exactly through every banded level) on level l; whether some band there is too narrow.
-  const auto bound = [&](const std::vector<int>& cuts, int i, int l) {
-    return i + 1 == static_cast<int>(cuts.size()) ? h.levels[l].width() : cuts[i] >> l;
+  L.phase_groups = L.folded ? 1 : kDefaultPhaseGroups;
+  // Lower G until the finest bands are at least 16 min_band_width() wide: edges that are a large
+  // part of a band reorder its rows more (agreement with streaming, tests/bands_test.cc).
+  const int n = h.levels[0].width();
+  while (L.phase_groups > 1 && n / bands < 16 * L.min_band_width()) L.phase_groups /= 2;
+  L.halo = band_halo(L.sweeps, L.phase_groups);
+  L.green_lane = std::max(4096, 2 * L.edge());
+  // The band boundaries on level l of a stage whose level-0 boundaries are `cuts` (multiples of
+  // 2^(total - 1), so they halve exactly through every banded level).
+  const auto bounds = [&](const std::vector<int>& cuts, int l) {
+    std::vector<int> at;
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) at.push_back(cuts[i] >> l);
+    at.push_back(h.levels[l].width());
+    return at;
   };
-  const auto narrow = [&](const std::vector<int>& cuts, int l) {
-    for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
-      if (bound(cuts, static_cast<int>(i) + 1, l) - bound(cuts, static_cast<int>(i), l) < L.min_band_width()) return true;
-    return false;
+  const auto narrow = [&](const std::vector<int>& at) {
+    const auto closer = [&](int a, int b) { return b - a < L.min_band_width(); };
+    return std::adjacent_find(at.begin(), at.end(), closer) != at.end();
   };
   // The stage of bands `cuts` from level `start` on, banded down to level `total` and merging where
   // they grow too narrow; null where some banded level cannot have bands wide enough.
@@ -45,7 +43,7 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
     std::shared_ptr<const BandLayout> below;
     for (; end < total; ++end) {
       if (end > 0 && h.levels[end].width() == h.levels[end - 1].width()) return nullptr;
-      if (!narrow(cuts, end)) continue;
+      if (!narrow(bounds(cuts, end))) continue;
       const int have = static_cast<int>(cuts.size()) - 1;
       if (end == start || L.folded || have == 1) return nullptr;
       std::vector<int> merged;  // pairs; the last group takes three bands when the count is odd
@@ -59,16 +57,13 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
     S->first_level = start;
     S->levels = end - start;
     S->merged = below;
-    S->sweeps = sweeps.pre;
-    S->post_sweeps = sweeps.post;
-    for (int r = 0; r <= S->levels; ++r) {
-      S->bounds.emplace_back();
-      for (int b = 0; b <= S->bands; ++b) S->bounds[r].push_back(bound(cuts, b, start + r));
-    }
+    S->sweeps = pre;
+    S->post_sweeps = post;
+    for (int l = start; l <= end; ++l) S->bounds.push_back(bounds(cuts, l));
     return S;
   };
-  for (int total = std::min(max_levels, count - 1); total >= 1; --total) {
-    const int unit = 1 << std::max(total - 1, 0);
+  for (int total = std::min(max_levels, static_cast<int>(h.levels.size()) - 1); total >= 1; --total) {
+    const int unit = 1 << (total - 1);
     std::vector<int> cuts;
     for (int b = 0; b <= bands; ++b) {
       const long long at = static_cast<long long>(n) * b / bands;
@@ -77,17 +72,11 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
     if (const auto top = stage(stage, cuts, 0, total)) return *top;
   }
   throw UsageError(fmt::format("{} bands need an image at least {} pixels wide ({} per band with {} sweeps), got {}",
-                               bands, bands * L.min_band_width(), L.min_band_width(), sweeps.most(), h.levels[0].width()));
+                               bands, bands * L.min_band_width(), L.min_band_width(), L.sweeps, n));
 }
 
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, SweepCounts sweeps, int levels) {
-  BandLayout L;
-  L.single = true;
-  L.sweeps = sweeps.pre;
-  L.post_sweeps = sweeps.post;
-  L.periodic = periodic;
-  L.halo = 0;
-  L.levels = levels;
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels) {
+  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .periodic = periodic, .single = true};
   for (int l = 0; l <= levels; ++l) L.bounds.push_back({0, h.levels[l].width()});
   return L;
 }

@@ -53,7 +53,6 @@ struct BandLayout {
   int lead_offset(int l) const { return (l == 0 && top()) || folded ? 2 * (steps() - 1) : 0; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
-  // The narrowest band a level may have.
   int min_band_width() const { return 2 * edge() + 4; }
   // The merged stage's band that band b's columns join (merged: non-null).
   int group_of(int b) const { return std::min(b / 2, merged->bands - 1); }
@@ -67,29 +66,20 @@ struct BandLayout {
   int banded_levels() const { return levels + (merged ? merged->banded_levels() : 0); }
 };
 
-// Sweeps before restriction and after prolongation (one number: both).
-struct SweepCounts {
-  SweepCounts(int k) : pre(k), post(k) {}  // NOLINT(google-explicit-constructor): k both ways
-  SweepCounts(int pre_sweeps, int post_sweeps) : pre(pre_sweeps), post(post_sweeps) {}
-  int pre, post;
-  int most() const { return std::max(pre, post); }
-};
-
 // The halo a band keeps of each neighbour for k sweeps and G groups per phase: max(2(G + k - 1), 4).
 inline int band_halo(int sweeps, int phase_groups) { return std::max(2 * (phase_groups + sweeps - 1), 4); }
 
-// Row groups per phase when none is asked for: enough rows between a strip's sending and its use
-// to hide about a millisecond of network latency on the images measured in docs/how-bands-work.md.
+// Row groups per phase where the bands are wide enough: enough rows between a strip's sending and
+// its use to hide about a millisecond of network latency on the images of docs/how-bands-work.md.
 constexpr int kDefaultPhaseGroups = 16;
 
 // Bands of (nearly) equal width, boundaries on multiples of 2^(levels - 1) so that each level's
 // bands halve into the next one's, banded up to `max_levels` (the first level held whole, on worker
 // 0), merging where they would grow narrower than min_band_width() (not on spherical images: there
-// the level is gathered). G is lowered while the finest bands are narrower than 16
-// min_band_width(). Throws UsageError when even the finest level is too narrow for G = 1.
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, SweepCounts sweeps, int max_levels,
-                            int green_lane = 4096, int phase_groups = kDefaultPhaseGroups);
+// the level is gathered); `pre` and `post` sweeps. G is lowered while the finest bands are narrower
+// than 16 min_band_width(). Throws UsageError when even the finest level is too narrow for G = 1.
+BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post, int max_levels);
 // The one-band plan (`single`) over levels 0 .. levels - 1, level `levels` held whole.
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, SweepCounts sweeps, int levels);
+BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels);
 
 }  // namespace gdp::bands

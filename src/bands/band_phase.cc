@@ -2,32 +2,24 @@
 #include "bands/band_phase.h"
 
 #include <algorithm>
+#include <array>
+#include <utility>
 #include <vector>
 
 namespace gdp::bands {
 namespace {
 
-// One step's regions: lead, interior (before lane splitting), follow. Every boundary moves 2
-// columns a step (the stencil's reach); the follow region reaches 2u columns into the leading
-// neighbour's band.
-struct PhaseRegions {
-  int lead[2], mid[2], follow[2];
-};
-
-PhaseRegions phase_regions(const BandLayout& L, int l, int band, int p, int u) {
+// One step's regions, columns [first, second): lead, interior (before lane splitting), follow. Every
+// boundary moves 2 columns a step (the stencil's reach); the follow region reaches 2u columns into
+// the leading neighbour's band.
+using Columns = std::pair<int, int>;
+enum { kLead, kMid, kFollow };
+std::array<Columns, 3> phase_regions(const BandLayout& L, int l, int band, int p, int u) {
   const int A = L.begin(l, band), B = L.end(l, band), C = L.edge(), o = L.lead_offset(l);
   const int left = L.left(band) >= 0 ? 2 * u - o : 0, right = L.right(band) >= 0 ? 2 * u - o : 0;
-  PhaseRegions r;
-  if (p % 2 == 0) {  // lead at the left edge, follow at the right one
-    r.lead[0] = A + left, r.lead[1] = A + C - 2 * u;
-    r.mid[0] = A + C - 2 * u, r.mid[1] = B - C - 2 * u;
-    r.follow[0] = B - C - 2 * u, r.follow[1] = B + right;
-  } else {
-    r.lead[0] = B - C + 2 * u, r.lead[1] = B - right;
-    r.mid[0] = A + C + 2 * u, r.mid[1] = B - C + 2 * u;
-    r.follow[0] = A - left, r.follow[1] = A + C + 2 * u;
-  }
-  return r;
+  if (p % 2 == 0)  // lead at the left edge, follow at the right one
+    return {{{A + left, A + C - 2 * u}, {A + C - 2 * u, B - C - 2 * u}, {B - C - 2 * u, B + right}}};
+  return {{{B - C + 2 * u, B - right}, {A + C + 2 * u, B - C + 2 * u}, {A - left, A + C + 2 * u}}};
 }
 
 // Interior lane boundaries (without the per-sweep shift), first and last excluded.
@@ -41,16 +33,15 @@ std::vector<int> interior_lanes(const BandLayout& L, int l, int band) {
 
 }  // namespace
 
+// Group t is sweep s of row t - 2s; the one-band plan (G = 1) has no phase that only exchanges strips.
 int phase_count(const BandLayout& L, int height) {
-  if (L.single) return height + 2 * L.sweeps;  // group t: sweep s of row t - 2s
-  return (height - 1 + 2 * L.sweeps) / L.phase_groups + 2;
+  return (height - 1 + 2 * L.sweeps) / L.phase_groups + (L.single ? 1 : 2);
 }
 
 int final_phase(const BandLayout& L, int height, int j) {
   // Rows j - 2 .. j + 2 have had their last sweep (group row + 2k) and, one phase later, the
   // neighbour's writes into this band's edge have come back in its strip (no neighbour: at once).
-  if (L.single) return std::min(j + 2, height - 1) + 2 * L.sweeps;
-  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + 1;
+  return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + (L.single ? 0 : 1);
 }
 
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
@@ -64,13 +55,13 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
   if (L.single)  // the one-band plan: whole rows, forward, nothing to exchange
     return each([&](int t, int s, int) { relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true}); });
   const bool lead_left = p % 2 == 0;
-  const auto tile = [&](int t, int s, int lo, int hi) {
-    if (lo < hi) relax(Tile{t - 2 * s, s, lo, hi, t % 2 == 0});
+  const auto tile = [&](int t, int s, Columns c) {
+    if (c.first < c.second) relax(Tile{t - 2 * s, s, c.first, c.second, t % 2 == 0});
   };
-  each([&](int t, int s, int u) {
-    const PhaseRegions r = phase_regions(L, l, band, p, u);
-    tile(t, s, r.lead[0], r.lead[1]);
-  });
+  const auto region = [&](int which) {  // the lead or follow region, every step
+    each([&](int t, int s, int u) { tile(t, s, phase_regions(L, l, band, p, u)[which]); });
+  };
+  region(kLead);
   if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
   const std::vector<int> inner = interior_lanes(L, l, band);
   const int lanes = static_cast<int>(inner.size()) + 1;
@@ -81,17 +72,14 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
       for (int s = 1; s <= k; ++s) {
         if (t - 2 * s < 0 || t - 2 * s >= height) continue;
         // Inner lane boundaries move with the traversal, 2(k - s) columns (section 6.2).
-        const PhaseRegions r = phase_regions(L, l, band, p, t - t0 + s - 1);
+        const auto [lo, hi] = phase_regions(L, l, band, p, t - t0 + s - 1)[kMid];
         const int d = forward ? L.shift(s) : -L.shift(s);
-        tile(t, s, q == 0 ? r.mid[0] : inner[q - 1] + d, q == lanes - 1 ? r.mid[1] : inner[q] + d);
+        tile(t, s, {q == 0 ? lo : inner[q - 1] + d, q == lanes - 1 ? hi : inner[q] + d});
       }
     }
   }
   if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
-  each([&](int t, int s, int u) {
-    const PhaseRegions r = phase_regions(L, l, band, p, u);
-    tile(t, s, r.follow[0], r.follow[1]);
-  });
+  region(kFollow);
 }
 
 StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {

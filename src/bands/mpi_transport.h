@@ -7,7 +7,7 @@
 
 #include <mpi.h>
 
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
 
 namespace gdp::bands {
 

@@ -14,7 +14,6 @@
 #include "bands/cycle_worker.h"
 #include "bands/mpi_transport.h"
 #include "bands/streamed_vcycle.h"
-#include "bands/thread_transport.h"
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "mpi/ranks.h"
@@ -50,7 +49,7 @@ struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;  // per channel group (under mpirun one MpiHub)
   int first = 0, local = 1, groups = 1;
   Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
-  void abort(const std::string& why) { for (auto& hub : hubs) hub->endpoint(first).abort(why); }
+  void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
 // The input sums of all bands, added in band order (the same bits however the bands are spread
@@ -108,9 +107,9 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
     if (p.ops.count() > 1) {
       const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
       const int whole_from = schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
-      const SweepCounts sweeps(opt.sweeps, opt.post_sweeps);
-      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, sweeps, whole_from)
-                                  : make_band_layout(p.hierarchy, periodic, total_bands, sweeps, whole_from);
+      const int pre = opt.sweeps, post = opt.post_sweeps;
+      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, pre, post, whole_from)
+                                  : make_band_layout(p.hierarchy, periodic, total_bands, pre, post, whole_from);
     }
   } catch (const Error& e) {
     if (!s.distributed) throw;

@@ -35,7 +35,7 @@ void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows
   };
   const int me = net.rank();
   for (int b = 0; b < net.size(); ++b) {
-    if (b == me || !plan.sends(b)) continue;
+    if (b == me || plan.to[b].empty()) continue;
     ByteWriter pk;
     each(plan.to[b], [&](const Piece& p) { pk.put(from(p), p.n); });
     net.send(b, tag, std::move(pk.bytes));
@@ -43,7 +43,7 @@ void exchange(Transport& net, const FoldPlan& plan, int tag, int parts, int rows
   each(plan.from[me], [&](const Piece& p) { land(p, from(p)); });
   std::vector<T> got;
   for (int b = 0; b < net.size(); ++b) {
-    if (b == me || !plan.receives(b)) continue;
+    if (b == me || plan.from[b].empty()) continue;
     ByteReader un(net.receive(b, tag));
     each(plan.from[b], [&](const Piece& p) {
       got.resize(p.n);

@@ -1,9 +1,14 @@
 // How the workers of a band solve talk: point-to-point messages, one interface for threads and MPI.
 #pragma once
 
+#include <condition_variable>
 #include <cstddef>
-#include <stdexcept>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -16,15 +21,11 @@ using schedule::ByteReader;
 using schedule::ByteWriter;
 using schedule::Bytes;
 
-// Thrown by a transport's calls once any worker has stopped the solve (abort()); what() says
-// which worker stopped it and why.
-using TransportStopped = schedule::Stopped;
-
 class ThreadHub;
 
-// One worker's end of a hub (thread_transport.h), or a view of every other worker (a merged
-// stage). Workers are numbered 0 .. size() - 1 (worker b solves band b). Sends never wait for the
-// receiver; messages from one worker to another with the same tag arrive in the order they were sent.
+// One worker's end of a hub, or a view of every other worker (a merged stage). Workers are numbered
+// 0 .. size() - 1 (worker b solves band b). Sends never wait for the receiver; messages from one
+// worker to another with the same tag arrive in the order they were sent.
 class Transport {
  public:
   Transport(ThreadHub& hub, int rank, int size, int stride = 1, int tags = 0)
@@ -35,14 +36,43 @@ class Transport {
   void send(int to, int tag, Bytes data);
   // The next message from worker `from` with `tag`, waiting until it has arrived.
   Bytes receive(int from, int tag);
-  // Stops every worker: their pending and later calls throw TransportStopped(why).
-  void abort(const std::string& why);
   // Workers 0, 2, 4, ... of this view as `size` workers of their own, tags moved by `tags`.
   Transport every_other(int size, int tags) const { return {*hub_, rank_ / 2, size, 2 * stride_, tags_ + tags}; }
 
  private:
   ThreadHub* hub_;
   int rank_, size_, stride_, tags_;  // worker w of this view is the hub's worker w * stride_
+};
+
+// The mailboxes of `size` workers, threads of one process. endpoint(b) is worker b's Transport
+// (one thread each).
+class ThreadHub {
+ public:
+  explicit ThreadHub(int size) : ThreadHub(size, 0, size) {}
+  virtual ~ThreadHub() = default;
+  int first() const { return first_; }  // the first worker of this process
+  Transport& endpoint(int worker);       // worker in [first(), first() + local)
+  void send(int from, int to, int tag, Bytes data);
+  Bytes receive(int from, int to, int tag);
+  // Stops every worker: their waiting and later calls throw schedule::Stopped(why).
+  virtual void stop(const std::string& why);
+
+ protected:
+  // Workers [first, first + local) of `size` run in this process; messages to and from the others
+  // go through send_away and receive_away (MpiHub, mpi_transport.h).
+  ThreadHub(int local, int first, int size);
+  virtual void send_away(int from, int to, int tag, Bytes data);
+  virtual Bytes receive_away(int from, int to, int tag);
+  const int local_, first_;
+
+ private:
+  bool here(int worker) const { return worker >= first_ && worker < first_ + local_; }
+
+  mutable std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::map<std::tuple<int, int, int>, std::deque<Bytes>> boxes_;  // (from, to, tag)
+  std::optional<std::string> stopped_;
+  std::vector<Transport> endpoints_;
 };
 
 // The collectives, over the members 0, step, 2 step, ... of `net` (every worker, or the first
@@ -78,14 +108,13 @@ inline std::vector<Bytes> all_gather(Transport& net, int tag, Bytes mine, int st
 }
 
 // Every member's `v` becomes the elementwise sum of all members' `v`, added in member order.
-inline void sum_in_order(Transport& net, int tag, std::vector<double>& v, int step = 1) {
+inline void sum_in_order(Transport& net, int tag, std::vector<double>& v) {
   ByteWriter mine;
   mine.io(v);
   std::vector<double> part;
-  const std::vector<Bytes> parts = all_gather(net, tag, std::move(mine.bytes), step);
+  const std::vector<Bytes> parts = all_gather(net, tag, std::move(mine.bytes));
   for (std::size_t m = 0; m < parts.size(); ++m) {
-    ByteReader r(parts[m]);
-    r.io(part);
+    ByteReader(parts[m]).io(part);
     for (std::size_t i = 0; i < v.size(); ++i) v[i] = m == 0 ? part[i] : v[i] + part[i];
   }
 }

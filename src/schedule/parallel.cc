@@ -11,50 +11,51 @@
 #include <vector>
 
 namespace gdp::schedule {
+namespace {
+
+// CPU seconds (user + system) of the calling thread so far.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
+}
+
+}  // namespace
 
 void run_workers(int count, const std::function<void(int)>& worker,
                  const std::function<void(int, const std::string&)>& stop) {
-  std::vector<std::exception_ptr> errors;  // in the order they were thrown
+  std::exception_ptr first, cause;  // the first thrown, and the first that is not Stopped
   std::mutex error_mutex;
-  const auto failed = [&](int t, const std::string& what) {
+  const auto failed = [&](int t, const std::string& what, bool stopped) {
     {
       const std::lock_guard<std::mutex> lock(error_mutex);
-      errors.push_back(std::current_exception());
+      if (!first) first = std::current_exception();
+      if (!stopped && !cause) cause = std::current_exception();
     }
     if (stop) stop(t, what);
   };
   const auto guarded = [&](int t) {
     try {
       worker(t);
+    } catch (const Stopped& e) {
+      failed(t, e.what(), true);
     } catch (const std::exception& e) {
-      failed(t, e.what());
+      failed(t, e.what(), false);
     } catch (...) {
-      failed(t, "an unknown error");
+      failed(t, "an unknown error", false);
     }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < count; ++t) pool.emplace_back(guarded, t);
   if (count > 0) guarded(0);
   for (std::thread& th : pool) th.join();
-  for (const std::exception_ptr& e : errors) {
-    try {
-      std::rethrow_exception(e);
-    } catch (const Stopped&) {
-    }
-  }
-  if (!errors.empty()) std::rethrow_exception(errors.front());
+  if (first) std::rethrow_exception(cause ? cause : first);
 }
 
 void run_steps(int count, const std::function<int()>& next, const std::function<void(int, int)>& task) {
   count = std::max(count, 1);
-  std::exception_ptr error;
-  std::mutex error_mutex;
   std::atomic<bool> failed{false};
-  const auto keep = [&] {
-    const std::lock_guard<std::mutex> lock(error_mutex);
-    if (!error) error = std::current_exception();
-    failed.store(true);
-  };
+  std::exception_ptr next_error;  // (the barrier's completion must not throw)
   int tasks = -1;  // the current step's (written only while every worker waits)
   std::atomic<int> taken{0};
   std::barrier sync(count, [&]() noexcept {
@@ -64,41 +65,29 @@ void run_steps(int count, const std::function<int()>& next, const std::function<
     try {
       tasks = next();
     } catch (...) {
-      keep();
-      tasks = -1;
+      next_error = std::current_exception();
     }
   });
   run_workers(count, [&](int t) {
-    for (;;) {
-      sync.arrive_and_wait();
-      if (tasks < 0) return;
-      for (int i = 0; !failed.load(std::memory_order_relaxed) && (i = taken.fetch_add(1)) < tasks;) {
-        try {
-          task(t, i);
-        } catch (...) {
-          keep();
-        }
+    try {
+      for (;;) {
+        sync.arrive_and_wait();
+        if (tasks < 0) return;
+        for (int i = 0; !failed.load(std::memory_order_relaxed) && (i = taken.fetch_add(1)) < tasks;) task(t, i);
       }
+    } catch (...) {  // the others take no more tasks, finish the step without this worker and stop
+      failed.store(true);
+      sync.arrive_and_drop();
+      throw;
     }
   });
-  if (error) std::rethrow_exception(error);
-}
-
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
+  if (next_error) std::rethrow_exception(next_error);
 }
 
 int Marks::add(int count) {
   const std::lock_guard lock(mutex_);
   marks_.insert(marks_.end(), count, 0);
   return static_cast<int>(marks_.size()) - count;
-}
-
-int Marks::get(int m) {
-  const std::lock_guard lock(mutex_);
-  return marks_[m];
 }
 
 void Marks::set(int m, int value) {
@@ -141,19 +130,20 @@ RowRing::RowRing(Marks& marks, int readers, int slots, int rows, std::function<v
 void RowRing::need(int r, int from, int to) {
   marks_.set(readers_ + r, from);
   for (;;) {
-    bool claimed = false;  // row `to` not made and no one making rows: make the next one here
+    int next = -1;  // row `to` not made and no one making rows: make rows from `next` on here
     marks_.wait([&](std::vector<int>& m) {
       if (m[made_] > to) return true;
       if (m[busy_]) return false;
       m[busy_] = 1;
-      return claimed = true;
+      next = m[made_];
+      return true;
     });
-    if (!claimed) return;
+    if (next < 0) return;
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
     constexpr int kAhead = 4, kSlack = 4;  // a maker waiting for a slot is woken once every few rows
     const double t = thread_cpu_seconds();
-    for (int y = marks_.get(made_); y < rows_ && y <= to + kAhead; ++y) {
+    for (int y = next; y < rows_ && y <= to + kAhead; ++y) {
       bool free = y <= to;
       if (!free)
         marks_.wait([&](std::vector<int>& m) {

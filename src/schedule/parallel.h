@@ -13,7 +13,7 @@
 
 namespace gdp::schedule {
 
-// What a worker throws when it was stopped because another one failed (bands::TransportStopped).
+// What a worker throws when it was stopped because another one failed (also bands::ThreadHub::stop).
 class Stopped : public Error {
  public:
   using Error::Error;
@@ -34,9 +34,6 @@ void run_workers(int count, const std::function<void(int)>& worker,
 // step. The first exception stops the run (no more tasks or steps) and is rethrown here.
 void run_steps(int count, const std::function<int()>& next, const std::function<void(int, int)>& task);
 
-// CPU seconds (user + system) of the calling thread so far.
-double thread_cpu_seconds();
-
 // Counts (rows done) that threads raise and wait on. stop() ends every wait, now and later, with
 // Stopped: a solve's one stop for every hand-off between its threads.
 class Marks {
@@ -44,7 +41,6 @@ class Marks {
   using Ready = std::function<bool(std::vector<int>& marks)>;
   // `count` more marks, each 0 (before any thread uses them); returns the first one's number.
   int add(int count);
-  int get(int m);
   void set(int m, int value);
   // Returns once `ready` holds. It is asked under the marks' lock, now and after each set() while
   // it waits, until it first says yes, and may set marks then (a claim).

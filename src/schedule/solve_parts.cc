@@ -2,6 +2,7 @@
 #include "schedule/solve_parts.h"
 
 #include <algorithm>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -27,9 +28,7 @@ Problem<T>::Problem(const GuidanceSource& source, const SolverOptions& options, 
 
 double mean_shift(bool singular, double target_sum, double weight_total, const std::vector<double>& dots) {
   if (!singular || weight_total <= 0.0) return 0.0;
-  double predicted = 0.0;
-  for (double d : dots) predicted += d;
-  return (target_sum - predicted) / weight_total;
+  return (target_sum - std::accumulate(dots.begin(), dots.end(), 0.0)) / weight_total;
 }
 
 ResidualLog::ResidualLog(int channels, bool keep_lines)

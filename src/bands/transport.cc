@@ -1,5 +1,7 @@
 // Mailboxes guarded by one mutex: posting never waits, taking waits for its message or a stop.
-#include "bands/thread_transport.h"
+#include "bands/transport.h"
+
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -7,9 +9,8 @@ namespace gdp::bands {
 
 void Transport::send(int to, int tag, Bytes data) { hub_->send(rank_ * stride_, to * stride_, tag + tags_, std::move(data)); }
 Bytes Transport::receive(int from, int tag) { return hub_->receive(from * stride_, rank_ * stride_, tag + tags_); }
-void Transport::abort(const std::string& why) { hub_->stop(why); }
 
-ThreadHub::ThreadHub(int local, int first, int size) : local_(local), first_(first), size_(size) {
+ThreadHub::ThreadHub(int local, int first, int size) : local_(local), first_(first) {
   for (int b = first; b < first + local; ++b) endpoints_.emplace_back(*this, b, size);
 }
 
@@ -25,7 +26,7 @@ void ThreadHub::send(int from, int to, int tag, Bytes data) {
   if (!here(to)) return send_away(from, to, tag, std::move(data));
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (stopped_) throw TransportStopped(*stopped_);
+    if (stopped_) throw schedule::Stopped(*stopped_);
     boxes_[{from, to, tag}].push_back(std::move(data));
   }
   arrived_.notify_all();
@@ -36,7 +37,7 @@ Bytes ThreadHub::receive(int from, int to, int tag) {
   std::unique_lock<std::mutex> lock(mutex_);
   auto& box = boxes_[{from, to, tag}];
   arrived_.wait(lock, [&] { return stopped_ || !box.empty(); });
-  if (stopped_) throw TransportStopped(*stopped_);
+  if (stopped_) throw schedule::Stopped(*stopped_);
   Bytes data = std::move(box.front());
   box.pop_front();
   return data;
