@@ -12,7 +12,8 @@ namespace gdp::bands {
 BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post,
                             int max_levels) {
   // The geometry fits both passes (the larger sweep count); each stage gets pre and post below.
-  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic};
+  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic, .bounds = {},
+               .merged = {}};
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
   L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
@@ -76,7 +77,8 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
 }
 
 BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels) {
-  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .periodic = periodic, .single = true};
+  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .periodic = periodic,
+               .single = true, .bounds = {}, .merged = {}};
   for (int l = 0; l <= levels; ++l) L.bounds.push_back({0, h.levels[l].width()});
   return L;
 }
