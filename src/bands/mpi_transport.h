@@ -17,7 +17,7 @@ namespace gdp::bands {
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
 // (tag * local + from % local) * local + to % local. Sends are not bounded: each keeps its bytes
 // until it completes, then up to kSpares of them are kept (reaped at the next send or receive) and
-// receives fill those: no fresh pages per message (docs/how-bands-work.md, "mpirun's extra CPU").
+// receives fill those: no fresh pages per message (docs/how-bands-work.md, "mpirun's extra CPU, where it goes").
 // abort() ends every rank (mpi::abort_ranks). Needs MPI initialised
 // with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective (a rank that comes first
 // waits without holding a core).

@@ -81,7 +81,7 @@ class ColumnGather final : public RowWriter {
       first_ = y;
       batch_.bytes = hub_->spare();
       batch_.bytes.clear();
-      const std::size_t samples = static_cast<std::size_t>(channels_) * (end_ - begin_);
+      const std::size_t samples = std::max<std::size_t>(1, static_cast<std::size_t>(channels_) * (end_ - begin_));
       const std::size_t rows = std::min<std::size_t>(kBatchRows, (kBatchSamples + samples - 1) / samples);
       batch_.bytes.reserve(rows * samples * sizeof(float) + sizeof(Header));
     }
