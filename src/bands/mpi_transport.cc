@@ -32,8 +32,27 @@ void MpiHub::reap() {
     int done = 0;
     MPI_Test(&sends_.front().request, &done, MPI_STATUS_IGNORE);
     if (!done) return;
+    keep(std::move(sends_.front().data));
     sends_.pop_front();
   }
+}
+
+void MpiHub::keep(Bytes used) {
+  if (spares_.size() < kSpares && used.capacity() > 0) spares_.push_back(std::move(used));
+}
+
+Bytes MpiHub::spare() {
+  const std::lock_guard<std::mutex> lock(sending_);
+  reap();
+  if (spares_.empty()) return {};
+  Bytes b = std::move(spares_.back());
+  spares_.pop_back();
+  return b;
+}
+
+void MpiHub::recycle(Bytes used) {
+  const std::lock_guard<std::mutex> lock(sending_);
+  keep(std::move(used));
 }
 
 void MpiHub::send_away(int from, int to, int tag, Bytes data) {
@@ -46,7 +65,7 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {
-  Bytes data;
+  Bytes data = spare();
   mpi::receive_message(from / local_, mpi_tag(tag, from, to), comm_, data, [&] {
     const std::lock_guard<std::mutex> lock(sending_);
     reap();
@@ -62,7 +81,8 @@ std::optional<Bytes> MpiHub::poll(int from, int to, int tag) {
   if (!found) return std::nullopt;
   int count = 0;
   MPI_Get_count(&status, MPI_BYTE, &count);
-  Bytes data(static_cast<std::size_t>(count));
+  Bytes data = spare();
+  data.resize(static_cast<std::size_t>(count));
   MPI_Request request;  // a large message arrives in pieces: completed without spinning
   MPI_Imrecv(data.data(), count, MPI_BYTE, &message, &request);
   mpi::wait_request(request);

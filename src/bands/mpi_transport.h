@@ -16,7 +16,9 @@ namespace gdp::bands {
 // of MPI_COMM_WORLD: MPI_Isend (the bytes are kept until the send completes) and a receive that
 // waits for the matching (source rank, tag) with MPI_Improbe + MPI_Mrecv, MPI tag
 // (tag * local + from % local) * local + to % local. Sends are not bounded: each keeps its bytes
-// until it completes, forgotten at the next send or receive. abort() ends every rank (mpi::abort_ranks). Needs MPI initialised
+// until it completes, then up to kSpares of them are kept (reaped at the next send or receive) and
+// receives fill those: no fresh pages per message (docs/how-bands-work.md, "mpirun's extra CPU, where it goes").
+// abort() ends every rank (mpi::abort_ranks). Needs MPI initialised
 // with MPI_THREAD_MULTIPLE (gdp::MpiRun); constructing is collective (a rank that comes first
 // waits without holding a core).
 class MpiHub final : public ThreadHub {
@@ -28,21 +30,28 @@ class MpiHub final : public ThreadHub {
   // The next message from worker `from` (on another rank) to `to` with `tag` if it has arrived,
   // else none: it never waits for one to be sent (the column gather's rank 0, docs/how-bands-work.md).
   std::optional<Bytes> poll(int from, int to, int tag);
+  // A buffer to fill (a completed send's or a recycled one, its size kept: resizing it down and up
+  // again writes no page twice), else an empty one; recycle() hands back one done with.
+  Bytes spare();
+  void recycle(Bytes used);
 
  private:
   void send_away(int from, int to, int tag, Bytes data) override;
   Bytes receive_away(int from, int to, int tag) override;
   void stop(const std::string& why) override;
   int mpi_tag(int tag, int from, int to) const { return (tag * local_ + from % local_) * local_ + to % local_; }
-  void reap();  // forgets the sends that have completed (the oldest first); call with `sending_` held
+  void reap();  // keeps the bytes of the sends that have completed (the oldest first); with `sending_` held
+  void keep(Bytes used);  // with `sending_` held
 
   MPI_Comm comm_ = MPI_COMM_NULL;
-  std::mutex sending_;  // guards sends_
+  std::mutex sending_;  // guards sends_ and spares_
   struct Pending {
     Bytes data;
     MPI_Request request = MPI_REQUEST_NULL;
   };
   std::deque<Pending> sends_;  // in the order started
+  std::vector<Bytes> spares_;  // at most kSpares
+  static constexpr std::size_t kSpares = 8;
 };
 
 }  // namespace gdp::bands

@@ -1,4 +1,5 @@
 // Under mpirun: the ranks' columns of every result row put together on rank 0, which writes the file.
+#include <algorithm>
 #include <cstring>
 #include <deque>
 #include <stdexcept>
@@ -50,7 +51,13 @@ class ColumnGather final : public RowWriter {
       return;
     }
     if (rank_ != 0) return send(y, row);
-    rows_.emplace_back(row.begin(), row.end());
+    std::vector<float>& mine = rows_.emplace_back();  // a written row's buffer, only this rank's columns
+    if (!spare_rows_.empty()) mine.swap(spare_rows_.back()), spare_rows_.pop_back();
+    mine.resize(row.size());
+    for (int c = 0; c < channels_; ++c) {
+      const std::size_t at = static_cast<std::size_t>(c) * width_ + begin_;
+      std::copy_n(row.begin() + at, end_ - begin_, mine.begin() + at);
+    }
     for (int r = 1; r < static_cast<int>(from_.size()); ++r)
       while (auto m = hub_->poll(r, 0, kTag)) take(r, std::move(*m));
     write_complete(false);
@@ -70,7 +77,14 @@ class ColumnGather final : public RowWriter {
 
   // The message is built in place, the header last: no copy but the row's columns.
   void send(int y, std::span<const float> row) {
-    if (batch_.bytes.empty()) first_ = y;
+    if (batch_.bytes.empty()) {  // a sent batch's buffer: no fresh pages
+      first_ = y;
+      batch_.bytes = hub_->spare();
+      batch_.bytes.clear();
+      const std::size_t samples = std::max<std::size_t>(1, static_cast<std::size_t>(channels_) * (end_ - begin_));
+      const std::size_t rows = std::min<std::size_t>(kBatchRows, (kBatchSamples + samples - 1) / samples);
+      batch_.bytes.reserve(rows * samples * sizeof(float) + sizeof(Header));
+    }
     for (int c = 0; c < channels_; ++c) batch_.put(row.data() + static_cast<std::size_t>(c) * width_ + begin_, end_ - begin_);
     const std::size_t samples = batch_.bytes.size() / sizeof(float);
     if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
@@ -105,7 +119,10 @@ class ColumnGather final : public RowWriter {
     for (; !rows_.empty(); rows_.pop_front(), ++written_) {
       for (int r = 1; r < static_cast<int>(from_.size()); ++r) {
         std::deque<Received>& q = from_[r];
-        if (!q.empty() && written_ >= q.front().h.first + q.front().h.rows) q.pop_front();
+        if (!q.empty() && written_ >= q.front().h.first + q.front().h.rows) {
+          hub_->recycle(std::move(q.front().bytes));
+          q.pop_front();
+        }
         if (q.empty() && !wait) return;
         if (q.empty()) take(r, hub_->endpoint(0).receive(r, kTag));
         const Received& m = q.front();
@@ -115,6 +132,7 @@ class ColumnGather final : public RowWriter {
           std::memcpy(rows_.front().data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * n, n);
       }
       file().write_row(written_, rows_.front());
+      spare_rows_.push_back(std::move(rows_.front()));
     }
   }
 
@@ -125,6 +143,7 @@ class ColumnGather final : public RowWriter {
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
   schedule::ByteWriter batch_;          // the message being filled
   std::deque<std::vector<float>> rows_;  // rank 0: its rows from `written_` on, not yet written
+  std::vector<std::vector<float>> spare_rows_;  // rank 0: written rows' buffers, reused
   int written_ = 0;
   std::vector<std::deque<Received>> from_;  // rank 0: each rank's messages not yet used up
 };
