@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "multigrid/coarse_cg.h"
 #include "multigrid/plane_ops.h"
@@ -24,14 +25,26 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
     const LevelGeometry& g = ops.hierarchy->levels[l + 1];
     Plane<T> coarse(g.width(), g.height());
     const Plane<T>& fine = out.back();
-    for (int j = 0; j < fine.height; ++j) {
+    for (int j = 0; j < ops.levels[l].height; ++j) {
       const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_rows(g.px, py, fine.row(j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
+      restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
                     coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
     }
     out.push_back(std::move(coarse));
   }
   return out;
+}
+
+template <class T>
+void WeightRows<T>::add() {
+  // Compared as bytes: a plane of one row must give every row's exact bits.
+  if (plane_.height == 1 && rows_ > 0 && std::memcmp(row_.data(), plane_.row(0), row_.size() * sizeof(T)) != 0) {
+    Plane<T> whole(plane_.width, height_);
+    for (int j = 0; j < rows_; ++j) std::copy_n(plane_.row(0), plane_.width, whole.row(j));
+    plane_ = std::move(whole);
+  }
+  std::copy(row_.begin(), row_.end(), plane_.row(plane_.height == 1 ? 0 : rows_));
+  ++rows_;
 }
 
 template <class T>
@@ -84,7 +97,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
                    [](double v) { return static_cast<T>(v); });
     if (weights && probe) {
       double s = 0.0;
-      for (int j = 0; j < op.height; ++j) s += row_dot(W(levels - 1).row(j), U(levels - 1).row(j), op.width);
+      for (int j = 0; j < op.height; ++j) s += row_dot(weight_row(W(levels - 1), j), U(levels - 1).row(j), op.width);
       probe->dots.push_back(s);
     }
   }
@@ -119,7 +132,7 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
         relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
     const int j = t - 2 * sweeps_;
     if (j < 0) continue;
-    if (w) dots += row_dot(w->row(j), u.row(j), op.width);
+    if (w) dots += row_dot(weight_row(*w, j), u.row(j), op.width);
     residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
     if (norms) rr += row_dot(r_row_.data(), r_row_.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
@@ -209,6 +222,8 @@ double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
 
 template struct Operators<float>;
 template struct Operators<double>;
+template class WeightRows<float>;
+template class WeightRows<double>;
 template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
 template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);

@@ -1,6 +1,7 @@
 // The in-core schedule: a V-cycle over whole planes held in memory (the reference schedule).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "multigrid/half_policy.h"
@@ -33,9 +34,29 @@ struct CycleProbe {
   std::vector<double> level_norms;   // |r_l| after pre-smoothing, per level (coarsest: after the solve)
 };
 
-// Weights restricted to every level from `first` down (result[0] is level `first`).
+// Weights restricted to every level from `first` down (result[0] is level `first`). A weight plane of
+// one row stands for a level whose rows are all that row (an image every pixel of which counts).
 template <class T>
 std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
+template <class T>
+const T* weight_row(const Plane<T>& w, int j) { return w.row(w.height == 1 ? 0 : j); }
+
+// Gathers the finest level's mean weights row by row (for restrict_weights): one row while every
+// row is the same, the whole plane from the first row that differs (its pages are touched only
+// then: fresh memory costs the most here, docs/multigrid.md, "In-core memory on a PVM guest").
+template <class T>
+class WeightRows {
+ public:
+  WeightRows(int width, int height) : height_(height), row_(width), plane_(width, height > 0 ? 1 : 0) {}
+  std::span<T> next() { return row_; }  // where the next row goes; then add()
+  void add();
+  Plane<T> take() { return std::move(plane_); }
+
+ private:
+  int height_, rows_ = 0;
+  std::vector<T> row_;
+  Plane<T> plane_;
+};
 
 // The direction of a row's Gauss-Seidel sweep: always left to right (every schedule's), alternating
 // from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).

@@ -1,11 +1,16 @@
 // The in-core solve schedule: every level in memory, channels spread over threads.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <mutex>
+#include <span>
+
+#include <fmt/format.h>
 
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/input_rows.h"
 #include "schedule/parallel.h"
+#include "schedule/row_store.h"
 #include "schedule/solve_parts.h"
 
 namespace gdp::schedule {
@@ -37,36 +42,58 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
 
   const int cycles = opt.cycle_cap();
   const multigrid::HalfPolicy half = multigrid::half_policy(opt, source.has_weights());
+  const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
   const auto t_rhs = Clock::now();
-  // Each plane made once, in place (not copies of one), its pages mapped in one call.
+  // Worker t solves channels t, t + threads, ... in one pair of planes (u, b), made once, in place,
+  // their pages mapped in one call. A channel waits for its worker's planes in row stores (memfds:
+  // a fresh mapped page costs far more than a written unmapped one, docs/multigrid.md, "In-core
+  // memory on a PVM guest"), and so does an earlier channel's result for the output.
   std::vector<Plane<T>> u, b, weights, diagonal;
-  for (int c = 0; c < channels; ++c) u.push_back(prefaulted_plane<T>(w, h)), b.push_back(prefaulted_plane<T>(w, h));
+  for (int t = 0; t < threads; ++t) u.push_back(prefaulted_plane<T>(w, h)), b.push_back(prefaulted_plane<T>(w, h));
+  StorePolicy stores;
+  stores.dir = opt.temp_dir, stores.budget = &ScratchBudget::process();
+  std::vector<std::unique_ptr<RowStore<T>>> parked_u(channels), parked_b(channels);
+  const auto park = [&](std::vector<std::unique_ptr<RowStore<T>>>& to, const char* name, int c) {
+    to[c] = std::make_unique<RowStore<T>>(stores, w, h, fmt::format("incore-{}{}", name, c));
+    return to[c].get();
+  };
+  const auto load = [&](std::unique_ptr<RowStore<T>>& from, Plane<T>& to) {
+    from->rewind();
+    for (int j = 0; j < h; ++j) from->read({to.row(j), static_cast<std::size_t>(w)});
+    from.reset();
+  };
+  for (int c = threads; c < channels; ++c) park(parked_u, "u", c), park(parked_b, "b", c);
   multigrid::InputRows<T> input(source, problem.hierarchy);
   {
-    // The mean weights only where the mean is fixed by them (alpha == 0), else one row reused.
+    // The mean weights only where the mean is fixed by them (alpha == 0), else one row reused;
+    // kept as one row while every row is the same.
     const bool keep_weights = ops.singular;
-    Plane<T> wt = prefaulted_plane<T>(w, keep_weights ? h : 1);
+    multigrid::WeightRows<T> wt(w, keep_weights ? h : 1);
     Plane<T> d = prefaulted_plane<T>(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
     std::vector<T> ur(n), br(n);
     for (int j = 0; j < h; ++j) {
-      input.next(ur, br, {wt.row(keep_weights ? j : 0), static_cast<std::size_t>(w)},
+      input.next(ur, br, wt.next(),
                  {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)});
+      if (keep_weights) wt.add();
       for (int c = 0; c < channels; ++c) {
-        std::copy_n(ur.begin() + static_cast<std::ptrdiff_t>(c) * w, w, u[c].row(j));
-        std::copy_n(br.begin() + static_cast<std::ptrdiff_t>(c) * w, w, b[c].row(j));
+        const std::size_t at = static_cast<std::size_t>(c) * w;
+        const std::span<const T> uc(ur.data() + at, w), bc(br.data() + at, w);
+        if (c >= threads) parked_u[c]->append(uc), parked_b[c]->append(bc);
+        else std::copy(uc.begin(), uc.end(), u[c].row(j)), std::copy(bc.begin(), bc.end(), b[c].row(j));
       }
     }
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
     if (keep_weights) {
-      if (half.rounds(0, "w") && cycles > 1) multigrid::round_to_half(wt.data.data(), wt.data.size());
-      weights = multigrid::restrict_weights(ops, 0, std::move(wt));
+      Plane<T> finest = wt.take();
+      if (half.rounds(0, "w") && cycles > 1) multigrid::round_to_half(finest.data.data(), finest.data.size());
+      weights = multigrid::restrict_weights(ops, 0, std::move(finest));
     }
     if (source.has_weights()) diagonal = multigrid::restrict_weights(ops, 0, std::move(d));
   }
   summary.seconds_rhs = seconds_since(t_rhs);
   const multigrid::InputTotals totals = input.totals();
-  summary.window_bytes = 2 * n * h * sizeof(T);
+  summary.window_bytes = 2 * static_cast<std::size_t>(threads) * w * h * sizeof(T);
 
   const auto t_solve = Clock::now();
   ResidualLog log(channels, static_cast<bool>(opt.log));
@@ -77,39 +104,52 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     std::lock_guard<std::mutex> lock(progress_mutex);
     opt.progress(std::min(1.0, double(++cycles_done) / (double(channels) * cycles)));
   };
-  const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc) {
+  const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc, Plane<T>& u, Plane<T>& b) {
     log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
-    log.initial(c, vc.residual_norm(u[c], b[c]));
+    log.initial(c, vc.residual_norm(u, b));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
-      vc.run(u[c], b[c], weights.empty() ? nullptr : &weights, &probe);
-      log.cycle(c, vc.residual_norm(u[c], b[c]), probe);
+      vc.run(u, b, weights.empty() ? nullptr : &weights, &probe);
+      log.cycle(c, vc.residual_norm(u, b), probe);
       const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probe.dots);
       if (shift != 0.0)
-        for (T& v : u[c].data) v = static_cast<T>(static_cast<double>(v) + shift);
+        for (T& v : u.data) v = static_cast<T>(static_cast<double>(v) + shift);
       // The streamed schedule carries the result to the next cycle in a store ("result").
-      if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u[c].data.data(), u[c].data.size());
+      if (k + 1 < cycles && half.rounds("result")) multigrid::round_to_half(u.data.data(), u.data.size());
       report();
       if (log.settled(c, opt.tolerance)) break;
     }
   };
-  const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
   const auto worker = [&](int t) {
     multigrid::InCoreVCycle<T> vc(ops, opt.sweeps, opt.coarse_tolerance);
     vc.set_sweeps(opt.sweeps, opt.post_sweeps);
     if (!diagonal.empty()) vc.set_diagonal(&diagonal);
     vc.set_half(&half);
-    for (int c = t; c < channels; c += threads) solve_channel(c, vc);
+    for (int c = t; c < channels; c += threads) {
+      if (c >= threads) {  // the previous channel's result out of the planes, this channel's input in
+        RowStore<T>* result = park(parked_u, "u", c - threads);
+        for (int j = 0; j < h; ++j) result->append({u[t].row(j), static_cast<std::size_t>(w)});
+        load(parked_u[c], u[t]);
+        load(parked_b[c], b[t]);
+      }
+      solve_channel(c, vc, u[t], b[t]);
+    }
   };
   run_workers(threads, worker);
   summary.seconds_solve = seconds_since(t_solve);
   log.finish(summary, opt);
 
+  for (auto& p : parked_u)
+    if (p) p->rewind();
   std::vector<float> row(n);
+  std::vector<T> from_store(w);
   for (int j = 0; j < h; ++j) {
-    for (int c = 0; c < channels; ++c)
-      std::transform(u[c].row(j), u[c].row(j) + w, row.begin() + static_cast<std::ptrdiff_t>(c) * w,
+    for (int c = 0; c < channels; ++c) {
+      const T* uc = u[c % threads].row(j);
+      if (parked_u[c]) parked_u[c]->read(from_store), uc = from_store.data();
+      std::transform(uc, uc + w, row.begin() + static_cast<std::ptrdiff_t>(c) * w,
                      [](T v) { return static_cast<float>(v); });
+    }
     out.write_row(j, row);
   }
 }
