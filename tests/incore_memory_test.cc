@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
@@ -93,6 +94,35 @@ TEST(InCoreMemory, ParkedChannelsAndOneRowWeightsChangeNoBit) {
         EXPECT_TRUE(test::same_bits(reference, solve_as(Schedule::InCore, threads, memory)))
             << threads << " threads, memory " << memory;
     EXPECT_TRUE(test::same_bits(reference, solve_as(Schedule::Streaming, 1, 1 << 30)));
+  }
+}
+
+// The norms a V-cycle measures in its own passes are residual_norm()'s bits, before and after, on
+// several levels or one, with uneven sweep counts.
+TEST(InCoreMemory, NormsMeasuredInTheCyclesPassesAreResidualNorms) {
+  for (const Domain domain : {Domain::Planar, Domain::Spherical}) {
+    for (const int coarsest : {8, 1 << 20}) {
+      SCOPED_TRACE(std::string(test::domain_name(domain)) + (coarsest == 8 ? ", levels" : ", one level"));
+      const auto topo = topology::make_topology(domain);
+      const int w = domain == Domain::Spherical ? 128 : 53, h = domain == Domain::Spherical ? 32 : 41;
+      const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, coarsest);
+      const multigrid::Operators<float> ops(hier);
+      const Image noise = test::random_image(w, h, 2, 3);
+      Plane<float> u(w, h), b(w, h);
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) u.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f);
+      multigrid::InCoreVCycle<float> vc(ops, 2, 1e-6);
+      vc.set_sweeps(2, 3);
+      for (int k = 0; k < 2; ++k) {
+        const double before = vc.residual_norm(u, b);
+        multigrid::CycleProbe probe;
+        probe.norm_before = probe.norm_after = true;
+        vc.run(u, b, nullptr, &probe);
+        EXPECT_EQ(probe.before, before);
+        EXPECT_EQ(probe.after, vc.residual_norm(u, b));
+        EXPECT_LT(probe.after, before);
+      }
+    }
   }
 }
 

@@ -32,6 +32,10 @@ struct Operators {
 struct CycleProbe {
   std::vector<double> dots;          // <w_l, u_l> per level (when weights are given)
   std::vector<double> level_norms;   // |r_l| after pre-smoothing, per level (coarsest: after the solve)
+  // In-core only, asked for by the caller: |b - A u| on level `first` before and after the cycle,
+  // summed in the cycle's own passes over the rows (the bits of InCoreVCycle::residual_norm).
+  bool norm_before = false, norm_after = false;
+  double before = 0.0, after = 0.0;
 };
 
 // Weights restricted to every level from `first` down (result[0] is level `first`). A weight plane of
@@ -89,8 +93,9 @@ class InCoreVCycle {
 
  private:
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
-                 double& dots, bool norms);
-  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
+                 double& dots, bool norms, double* before);
+  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
+  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j);
   Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;

@@ -106,11 +106,13 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   };
   const auto solve_channel = [&](int c, multigrid::InCoreVCycle<T>& vc, Plane<T>& u, Plane<T>& b) {
     log.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
-    log.initial(c, vc.residual_norm(u, b));
+    if (cycles < 1) log.initial(c, vc.residual_norm(u, b));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
+      probe.norm_before = k == 0, probe.norm_after = true;  // measured in the cycle's own passes
       vc.run(u, b, weights.empty() ? nullptr : &weights, &probe);
-      log.cycle(c, vc.residual_norm(u, b), probe);
+      if (k == 0) log.initial(c, probe.before);
+      log.cycle(c, probe.after, probe);
       const double shift = mean_shift(ops.singular, totals.weighted_sums[c], totals.weight_total, probe.dots);
       if (shift != 0.0)
         for (T& v : u.data) v = static_cast<T>(static_cast<double>(v) + shift);
