@@ -16,18 +16,57 @@
 namespace gdp::schedule {
 namespace {
 
-// A zeroed w x h plane. A large one is huge pages (Plane's util::BigVector), all mapped in one
-// call before the zero fill touches them (util::populate; docs/multigrid.md, "In-core allocation").
+// The channels' planes. Worker t solves channels t, t + threads, ... in one pair (u, b), made
+// once, in place, their pages mapped in one call. A channel waits for its worker's planes in row
+// stores (memfds: a fresh mapped page costs far more than a written unmapped one, docs/multigrid.md,
+// "In-core memory on a PVM guest"), and so does an earlier channel's result for the output.
 template <class T>
-multigrid::Plane<T> prefaulted_plane(int w, int h) {
-  multigrid::Plane<T> p;
-  p.width = w, p.height = h;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
-  p.data.reserve(n);
-  if (n * sizeof(T) >= util::kBigBuffer) util::populate(p.data.data(), n * sizeof(T));
-  p.data.resize(n, T(0));
-  return p;
-}
+class ChannelPlanes {
+ public:
+  ChannelPlanes(const SolverOptions& opt, int w, int h, int channels, int threads)
+      : w_(w), h_(h), threads_(threads), parked_u_(channels), parked_b_(channels) {
+    stores_.dir = opt.temp_dir, stores_.budget = &ScratchBudget::process();
+    for (int t = 0; t < threads; ++t) u_.push_back(multigrid::Plane<T>::mapped(w, h)), b_.push_back(multigrid::Plane<T>::mapped(w, h));
+    for (int c = threads; c < channels; ++c) park(parked_u_, "u", c), park(parked_b_, "b", c);
+  }
+  multigrid::Plane<T>& u(int c) { return u_[c % threads_]; }
+  multigrid::Plane<T>& b(int c) { return b_[c % threads_]; }
+  // Row j of channel c's input, rows in order.
+  void put(int c, int j, std::span<const T> u, std::span<const T> b) {
+    if (c >= threads_) return parked_u_[c]->append(u), parked_b_[c]->append(b);
+    std::copy(u.begin(), u.end(), u_[c].row(j)), std::copy(b.begin(), b.end(), b_[c].row(j));
+  }
+  // Channel c's worker moves on to it: the previous channel's result out of the planes, c's input in.
+  void turn_to(int c) {
+    RowStore<T>* result = park(parked_u_, "u", c - threads_);
+    for (int j = 0; j < h_; ++j) result->append({u(c).row(j), static_cast<std::size_t>(w_)});
+    load(parked_u_[c], u(c));
+    load(parked_b_[c], b(c));
+  }
+  // Channel c's result row j, rows in order (into `buffer` when it waits in a store).
+  const T* result_row(int c, int j, std::vector<T>& buffer) {
+    if (!parked_u_[c]) return u(c).row(j);
+    if (j == 0) parked_u_[c]->rewind();
+    parked_u_[c]->read(buffer);
+    return buffer.data();
+  }
+
+ private:
+  RowStore<T>* park(std::vector<std::unique_ptr<RowStore<T>>>& to, const char* name, int c) {
+    to[c] = std::make_unique<RowStore<T>>(stores_, w_, h_, fmt::format("incore-{}{}", name, c));
+    return to[c].get();
+  }
+  void load(std::unique_ptr<RowStore<T>>& from, multigrid::Plane<T>& to) {
+    from->rewind();
+    for (int j = 0; j < h_; ++j) from->read({to.row(j), static_cast<std::size_t>(w_)});
+    from.reset();
+  }
+
+  int w_, h_, threads_;
+  StorePolicy stores_;
+  std::vector<multigrid::Plane<T>> u_, b_;  // per worker
+  std::vector<std::unique_ptr<RowStore<T>>> parked_u_, parked_b_;  // per channel, while it waits
+};
 
 }  // namespace
 
@@ -44,32 +83,15 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
   const multigrid::HalfPolicy half = multigrid::half_policy(opt, source.has_weights());
   const int threads = std::clamp(opt.threads, 1, std::max(channels, 1));
   const auto t_rhs = Clock::now();
-  // Worker t solves channels t, t + threads, ... in one pair of planes (u, b), made once, in place,
-  // their pages mapped in one call. A channel waits for its worker's planes in row stores (memfds:
-  // a fresh mapped page costs far more than a written unmapped one, docs/multigrid.md, "In-core
-  // memory on a PVM guest"), and so does an earlier channel's result for the output.
-  std::vector<Plane<T>> u, b, weights, diagonal;
-  for (int t = 0; t < threads; ++t) u.push_back(prefaulted_plane<T>(w, h)), b.push_back(prefaulted_plane<T>(w, h));
-  StorePolicy stores;
-  stores.dir = opt.temp_dir, stores.budget = &ScratchBudget::process();
-  std::vector<std::unique_ptr<RowStore<T>>> parked_u(channels), parked_b(channels);
-  const auto park = [&](std::vector<std::unique_ptr<RowStore<T>>>& to, const char* name, int c) {
-    to[c] = std::make_unique<RowStore<T>>(stores, w, h, fmt::format("incore-{}{}", name, c));
-    return to[c].get();
-  };
-  const auto load = [&](std::unique_ptr<RowStore<T>>& from, Plane<T>& to) {
-    from->rewind();
-    for (int j = 0; j < h; ++j) from->read({to.row(j), static_cast<std::size_t>(w)});
-    from.reset();
-  };
-  for (int c = threads; c < channels; ++c) park(parked_u, "u", c), park(parked_b, "b", c);
+  std::vector<Plane<T>> weights, diagonal;
+  ChannelPlanes<T> planes(opt, w, h, channels, threads);
   multigrid::InputRows<T> input(source, problem.hierarchy);
   {
     // The mean weights only where the mean is fixed by them (alpha == 0), else one row reused;
     // kept as one row while every row is the same.
     const bool keep_weights = ops.singular;
     multigrid::WeightRows<T> wt(w, keep_weights ? h : 1);
-    Plane<T> d = prefaulted_plane<T>(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
+    Plane<T> d = Plane<T>::mapped(source.has_weights() ? w : 0, source.has_weights() ? h : 0);
     std::vector<T> ur(n), br(n);
     for (int j = 0; j < h; ++j) {
       input.next(ur, br, wt.next(),
@@ -77,9 +99,7 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
       if (keep_weights) wt.add();
       for (int c = 0; c < channels; ++c) {
         const std::size_t at = static_cast<std::size_t>(c) * w;
-        const std::span<const T> uc(ur.data() + at, w), bc(br.data() + at, w);
-        if (c >= threads) parked_u[c]->append(uc), parked_b[c]->append(bc);
-        else std::copy(uc.begin(), uc.end(), u[c].row(j)), std::copy(bc.begin(), bc.end(), b[c].row(j));
+        planes.put(c, j, {ur.data() + at, static_cast<std::size_t>(w)}, {br.data() + at, static_cast<std::size_t>(w)});
       }
     }
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
@@ -128,27 +148,19 @@ void solve_incore(GuidanceSource& source, const SolverOptions& opt, RowWriter& o
     if (!diagonal.empty()) vc.set_diagonal(&diagonal);
     vc.set_half(&half);
     for (int c = t; c < channels; c += threads) {
-      if (c >= threads) {  // the previous channel's result out of the planes, this channel's input in
-        RowStore<T>* result = park(parked_u, "u", c - threads);
-        for (int j = 0; j < h; ++j) result->append({u[t].row(j), static_cast<std::size_t>(w)});
-        load(parked_u[c], u[t]);
-        load(parked_b[c], b[t]);
-      }
-      solve_channel(c, vc, u[t], b[t]);
+      if (c >= threads) planes.turn_to(c);
+      solve_channel(c, vc, planes.u(c), planes.b(c));
     }
   };
   run_workers(threads, worker);
   summary.seconds_solve = seconds_since(t_solve);
   log.finish(summary, opt);
 
-  for (auto& p : parked_u)
-    if (p) p->rewind();
   std::vector<float> row(n);
-  std::vector<T> from_store(w);
+  std::vector<T> buffer(w);
   for (int j = 0; j < h; ++j) {
     for (int c = 0; c < channels; ++c) {
-      const T* uc = u[c % threads].row(j);
-      if (parked_u[c]) parked_u[c]->read(from_store), uc = from_store.data();
+      const T* uc = planes.result_row(c, j, buffer);
       std::transform(uc, uc + w, row.begin() + static_cast<std::ptrdiff_t>(c) * w,
                      [](T v) { return static_cast<float>(v); });
     }
