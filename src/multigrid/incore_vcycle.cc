@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "multigrid/coarse_cg.h"
 #include "multigrid/plane_ops.h"
@@ -24,14 +25,26 @@ std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane
     const LevelGeometry& g = ops.hierarchy->levels[l + 1];
     Plane<T> coarse(g.width(), g.height());
     const Plane<T>& fine = out.back();
-    for (int j = 0; j < fine.height; ++j) {
+    for (int j = 0; j < ops.levels[l].height; ++j) {
       const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_rows(g.px, py, fine.row(j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
+      restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
                     coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
     }
     out.push_back(std::move(coarse));
   }
   return out;
+}
+
+template <class T>
+void WeightRows<T>::add() {
+  // Compared as bytes: a plane of one row must give every row's exact bits.
+  if (plane_.height == 1 && rows_ > 0 && std::memcmp(row_.data(), plane_.row(0), row_.size() * sizeof(T)) != 0) {
+    Plane<T> whole(plane_.width, height_);
+    for (int j = 0; j < rows_; ++j) std::copy_n(plane_.row(0), plane_.width, whole.row(j));
+    plane_ = std::move(whole);
+  }
+  std::copy(row_.begin(), row_.end(), plane_.row(plane_.height == 1 ? 0 : rows_));
+  ++rows_;
 }
 
 template <class T>
@@ -54,12 +67,20 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
 
+  // |b - A u| on level `first` before and after, where asked, in the passes of descend and ascend
+  // (a single level has none: then residual_norm()).
+  double* before = probe && probe->norm_before ? &probe->before : nullptr;
+  double* after = probe && probe->norm_after ? &probe->after : nullptr;
+  const bool passes = first_ + 1 < levels;
+  if (probe) probe->before = probe->after = 0.0;
+  if (before && !passes) *before = residual_norm(u0, b0);
   for (int l = first_; l + 1 < levels; ++l) {
     Plane<T>& coarse_b = b_[l - first_];  // zeroed by descend as its rows are reached, like U(l) for l > first
     if (l + 2 == levels) std::fill(U(l + 1).data.begin(), U(l + 1).data.end(), T(0));  // the coarsest's guess
     double dots = 0.0;
     const double rr =
-        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, probe != nullptr);
+        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, probe != nullptr,
+                l == first_ ? before : nullptr);
     if (weights && probe) probe->dots.push_back(dots);
     if (probe) probe->level_norms.push_back(std::sqrt(rr));
     if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
@@ -84,12 +105,22 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
                    [](double v) { return static_cast<T>(v); });
     if (weights && probe) {
       double s = 0.0;
-      for (int j = 0; j < op.height; ++j) s += row_dot(W(levels - 1).row(j), U(levels - 1).row(j), op.width);
+      for (int j = 0; j < op.height; ++j) s += row_dot(weight_row(W(levels - 1), j), U(levels - 1).row(j), op.width);
       probe->dots.push_back(s);
     }
   }
 
-  for (int l = levels - 2; l >= first_; --l) ascend(l, U(l), B(l), D(l), U(l + 1));
+  for (int l = levels - 2; l >= first_; --l) ascend(l, U(l), B(l), D(l), U(l + 1), l == first_ ? after : nullptr);
+  if (before && passes) *before = std::sqrt(*before);
+  if (after) *after = passes ? std::sqrt(*after) : residual_norm(u0, b0);
+}
+
+// Row j's |b - A u|^2 on level l (as residual_norm() sums it).
+template <class T>
+double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j) {
+  const LevelOperator<T>& op = ops_.levels[l];
+  residual(op, j, window(op, u, j), whole_row(op), b.row(j), r_row_.data(), scratch_, diag_row(d, j));
+  return row_dot(r_row_.data(), r_row_.data(), op.width);
 }
 
 // Pre-smoothing, then residual and restriction, in one pass down the rows: at step t sweep s + 1
@@ -101,7 +132,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
-                                const Plane<T>* w, double& dots, bool norms) {
+                                const Plane<T>* w, double& dots, bool norms, double* before) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
@@ -112,14 +143,17 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
     done = std::max(done, to);
   };
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
+  // `before`: row j's residual reads rows j - 2 .. j + 2, all as they came while j - 2 is unrelaxed.
+  for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b, d, j);
   for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
+    if (before && t + 2 < op.height) *before += row_residual2(l, u, b, d, t + 2);
     for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
       if (j >= 0 && j < op.height)
         relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
     const int j = t - 2 * sweeps_;
     if (j < 0) continue;
-    if (w) dots += row_dot(w->row(j), u.row(j), op.width);
+    if (w) dots += row_dot(weight_row(*w, j), u.row(j), op.width);
     residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
     if (norms) rr += row_dot(r_row_.data(), r_row_.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
@@ -134,11 +168,14 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
 // at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
 template <class T>
-void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse) {
+void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse,
+                             double* after) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
-  for (int t = 0; t < op.height + 2 * post_sweeps_; ++t) {
+  // `after`: row j is final at step j + 2 * post_sweeps, so row j's residual two steps later.
+  const int last = 2 + 2 * post_sweeps_;
+  for (int t = 0; t < op.height + (after ? last : 2 * post_sweeps_); ++t) {
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
@@ -148,6 +185,7 @@ void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<
       if (j >= 0 && j < op.height)
         relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch_,
               diag_row(d, j));
+    if (after && t >= last && t - last < op.height) *after += row_residual2(l, u, b, d, t - last);
   }
 }
 
@@ -197,18 +235,15 @@ void InCoreVCycle<T>::set_half(const HalfPolicy* half) {
 
 template <class T>
 double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
-  const LevelOperator<T>& op = ops_.levels[first_];
   double rr = 0.0;
-  for (int j = 0; j < op.height; ++j) {
-    residual(op, j, window(op, u, j), whole_row(op), b.row(j), r_row_.data(), scratch_,
-             diag_ ? (*diag_)[0].row(j) : nullptr);
-    rr += row_dot(r_row_.data(), r_row_.data(), op.width);
-  }
+  for (int j = 0; j < u.height; ++j) rr += row_residual2(first_, u, b, diag_ ? &(*diag_)[0] : nullptr, j);
   return std::sqrt(rr);
 }
 
 template struct Operators<float>;
 template struct Operators<double>;
+template class WeightRows<float>;
+template class WeightRows<double>;
 template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
 template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);

@@ -1,6 +1,7 @@
 // The in-core schedule: a V-cycle over whole planes held in memory (the reference schedule).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "multigrid/half_policy.h"
@@ -31,11 +32,35 @@ struct Operators {
 struct CycleProbe {
   std::vector<double> dots;          // <w_l, u_l> per level (when weights are given)
   std::vector<double> level_norms;   // |r_l| after pre-smoothing, per level (coarsest: after the solve)
+  // In-core only, asked for by the caller: |b - A u| on level `first` before and after the cycle,
+  // summed in the cycle's own passes over the rows (the bits of InCoreVCycle::residual_norm).
+  bool norm_before = false, norm_after = false;
+  double before = 0.0, after = 0.0;
 };
 
-// Weights restricted to every level from `first` down (result[0] is level `first`).
+// Weights restricted to every level from `first` down (result[0] is level `first`). A weight plane of
+// one row stands for a level whose rows are all that row (an image every pixel of which counts).
 template <class T>
 std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
+template <class T>
+const T* weight_row(const Plane<T>& w, int j) { return w.row(w.height == 1 ? 0 : j); }
+
+// Gathers the finest level's mean weights row by row (for restrict_weights): one row while every
+// row is the same, the whole plane from the first row that differs (its pages are touched only
+// then: fresh memory costs the most here, docs/multigrid.md, "In-core memory on a PVM guest").
+template <class T>
+class WeightRows {
+ public:
+  WeightRows(int width, int height) : height_(height), row_(width), plane_(width, height > 0 ? 1 : 0) {}
+  std::span<T> next() { return row_; }  // where the next row goes; then add()
+  void add();
+  Plane<T> take() { return std::move(plane_); }
+
+ private:
+  int height_, rows_ = 0;
+  std::vector<T> row_;
+  Plane<T> plane_;
+};
 
 // The direction of a row's Gauss-Seidel sweep: always left to right (every schedule's), alternating
 // from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).
@@ -68,8 +93,9 @@ class InCoreVCycle {
 
  private:
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
-                 double& dots, bool norms);
-  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse);
+                 double& dots, bool norms, double* before);
+  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
+  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j);
   Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;

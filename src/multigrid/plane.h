@@ -16,6 +16,17 @@ struct Plane {
 
   Plane() = default;
   Plane(int w, int h) : width(w), height(h), data(static_cast<std::size_t>(w) * h, T(0)) {}
+  // The same, a large plane's pages all mapped in one call before the zero fill touches them
+  // (util::populate; docs/multigrid.md, "In-core allocation").
+  static Plane mapped(int w, int h) {
+    Plane p;
+    p.width = w, p.height = h;
+    const std::size_t n = static_cast<std::size_t>(w) * h;
+    p.data.reserve(n);
+    if (n * sizeof(T) >= util::kBigBuffer) util::populate(p.data.data(), n * sizeof(T));
+    p.data.resize(n, T(0));
+    return p;
+  }
   T* row(int j) { return data.data() + static_cast<std::size_t>(j) * width; }
   const T* row(int j) const { return data.data() + static_cast<std::size_t>(j) * width; }
   T& at(int i, int j) { return row(j)[i]; }

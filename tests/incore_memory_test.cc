@@ -1,0 +1,132 @@
+// The in-core schedule's memory savings change no bit: one-row mean weights, channels parked in row stores.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include "gdp/solver.h"
+#include "multigrid/incore_vcycle.h"
+#include "image_compare.h"
+#include "schedule_problems.h"
+#include "test_util.h"
+#include "topology/topology.h"
+
+namespace gdp {
+namespace {
+
+using multigrid::Plane;
+
+bool same_plane_bits(const Plane<float>& a, const Plane<float>& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
+}
+
+// Feeds `rows` rows of `width` to WeightRows, row j holding value(j, i).
+template <class F>
+Plane<float> gathered(int width, int rows, F value) {
+  multigrid::WeightRows<float> w(width, rows);
+  for (int j = 0; j < rows; ++j) {
+    const std::span<float> row = w.next();
+    for (int i = 0; i < width; ++i) row[i] = value(j, i);
+    w.add();
+  }
+  return w.take();
+}
+
+TEST(InCoreMemory, WeightRowsKeepOneRowUntilARowDiffers) {
+  const Plane<float> same = gathered(7, 9, [](int, int i) { return i % 3 == 0 ? 0.0f : 1.0f; });
+  EXPECT_EQ(same.height, 1);
+  EXPECT_EQ(same.at(3, 0), 0.0f);
+  EXPECT_EQ(same.at(4, 0), 1.0f);
+  // -0 equals 0 but is not the same bits: the plane must become whole there.
+  const Plane<float> differs = gathered(7, 9, [](int j, int i) { return j == 5 && i == 2 ? -0.0f : float(i == 2 ? 0 : 1); });
+  ASSERT_EQ(differs.height, 9);
+  for (int j = 0; j < 9; ++j) EXPECT_EQ(std::signbit(differs.at(2, j)), j == 5) << j;
+  EXPECT_EQ(differs.at(1, 0), 1.0f);
+  EXPECT_EQ(differs.at(1, 8), 1.0f);
+}
+
+// A one-row plane restricts to the same bits at every level as the whole plane of that row.
+TEST(InCoreMemory, OneRowWeightsRestrictLikeTheWholePlane) {
+  for (const Domain domain : {Domain::Planar, Domain::Cylindrical, Domain::Spherical}) {
+    SCOPED_TRACE(test::domain_name(domain));
+    const auto topo = topology::make_topology(domain);
+    const int w = domain == Domain::Spherical ? 128 : 45, h = domain == Domain::Spherical ? 32 : 37;
+    const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, 4);
+    const multigrid::Operators<float> ops(hier);
+    const auto value = [](int, int i) { return i % 5 == 1 ? 0.0f : 1.0f; };
+    const Plane<float> one = gathered(w, h, value);
+    ASSERT_EQ(one.height, 1);
+    Plane<float> whole(w, h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) whole.at(i, j) = value(j, i);
+    const auto a = multigrid::restrict_weights(ops, 0, one), b = multigrid::restrict_weights(ops, 0, whole);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GE(a.size(), 3u);
+    for (std::size_t l = 1; l < a.size(); ++l) EXPECT_TRUE(same_plane_bits(a[l], b[l])) << "level " << l;
+  }
+}
+
+// 3 channels on 1, 2 and 3 threads (2, 1 and no channels parked), scratch in memory or in files,
+// mean weights of one row or (a non-finite starting pixel weighs 0) the whole plane: the same bits,
+// and the streamed schedule's.
+TEST(InCoreMemory, ParkedChannelsAndOneRowWeightsChangeNoBit) {
+  const Image img = test::random_image(61, 43, 3, 5);
+  for (const bool hole : {false, true}) {
+    Image start = test::with_seams(img, 0.08f, -0.06f, 0.03f);
+    if (hole) start.at(1, 30, 20) = std::numeric_limits<float>::quiet_NaN();
+    const auto solve_as = [&](Schedule schedule, int threads, std::size_t memory) {
+      SolverOptions o;
+      o.schedule = schedule;
+      o.threads = threads;
+      o.vcycles = 2;
+      o.coarsest_size = 8;
+      o.scratch_memory = memory;
+      test::ExactGradients src(img, Domain::Planar, 0.0, 1.0);
+      return solve(src, o, &start, nullptr);
+    };
+    SCOPED_TRACE(hole ? "a hole in the start" : "every pixel counted");
+    const Image reference = solve_as(Schedule::InCore, 3, 1 << 30);
+    for (const int threads : {1, 2})
+      for (const std::size_t memory : {std::size_t{1} << 30, std::size_t{0}})
+        EXPECT_TRUE(test::same_bits(reference, solve_as(Schedule::InCore, threads, memory)))
+            << threads << " threads, memory " << memory;
+    EXPECT_TRUE(test::same_bits(reference, solve_as(Schedule::Streaming, 1, 1 << 30)));
+  }
+}
+
+// The norms a V-cycle measures in its own passes are residual_norm()'s bits, before and after, on
+// several levels or one, with uneven sweep counts.
+TEST(InCoreMemory, NormsMeasuredInTheCyclesPassesAreResidualNorms) {
+  for (const Domain domain : {Domain::Planar, Domain::Spherical}) {
+    for (const int coarsest : {8, 1 << 20}) {
+      SCOPED_TRACE(std::string(test::domain_name(domain)) + (coarsest == 8 ? ", levels" : ", one level"));
+      const auto topo = topology::make_topology(domain);
+      const int w = domain == Domain::Spherical ? 128 : 53, h = domain == Domain::Spherical ? 32 : 41;
+      const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, coarsest);
+      const multigrid::Operators<float> ops(hier);
+      const Image noise = test::random_image(w, h, 2, 3);
+      Plane<float> u(w, h), b(w, h);
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) u.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f);
+      multigrid::InCoreVCycle<float> vc(ops, 2, 1e-6);
+      vc.set_sweeps(2, 3);
+      for (int k = 0; k < 2; ++k) {
+        const double before = vc.residual_norm(u, b);
+        multigrid::CycleProbe probe;
+        probe.norm_before = probe.norm_after = true;
+        vc.run(u, b, nullptr, &probe);
+        EXPECT_EQ(probe.before, before);
+        EXPECT_EQ(probe.after, vc.residual_norm(u, b));
+        if (k == 0) {  // (one level: the first CG solve leaves only what it cannot reach)
+          EXPECT_LT(probe.after, before);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gdp
