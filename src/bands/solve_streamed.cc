@@ -4,7 +4,6 @@
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <deque>
 #include <mutex>
 #include <optional>
@@ -19,6 +18,7 @@
 #include "mpi/ranks.h"
 #include "schedule/input_ring.h"
 #include "multigrid/input_rows.h"
+#include "util/env_int.h"
 #include "util/recycle_pool.h"
 
 namespace gdp::bands {
@@ -190,10 +190,8 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
 class Results {
  public:
   Results(schedule::Marks& marks, int workers, int groups, std::size_t row)
-      : marks_(marks), written_(marks.add(1)), put_(marks.add(workers)), workers_(workers), groups_(groups), row_(row) {
-    const char* rows = std::getenv("GDP_RESULT_ROWS");
-    slots_ = std::max(1, rows ? std::atoi(rows) : 64);
-  }
+      : marks_(marks), written_(marks.add(1)), put_(marks.add(workers)), workers_(workers), groups_(groups),
+        row_(row), slots_(std::max(1, util::env_int("GDP_RESULT_ROWS", 64))) {}
   // Worker k's row j (whole rows: it fills its columns), then put(k, j).
   float* row(int k, int j) {
     marks_.wait([&](std::vector<int>& m) {

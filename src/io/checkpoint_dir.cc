@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "gdp/errors.h"
+#include "util/env_int.h"
 #include "util/exact_io.h"
 
 namespace gdp {
@@ -60,11 +61,6 @@ std::vector<std::string> split_tabs(const std::string& line) {
 }
 
 std::string system_message() { return std::generic_category().message(errno); }
-
-int env_int(const char* name) {
-  const char* v = std::getenv(name);
-  return v ? std::atoi(v) : 0;
-}
 
 // Files a checkpoint consists of (removed by a fresh run and after success).
 bool is_checkpoint_file(const std::string& name) {
@@ -131,7 +127,7 @@ Manifest read_manifest(const std::filesystem::path& dir, int rank) {
 Checkpoint::Checkpoint(const SolverOptions& options, const std::string& sizes, int& lanes, int first_lane, int rank,
                        int all_lanes)
     : dir_(options.checkpoint_dir), resume_(options.resume), identity_(options.checkpoint_identity), sizes_(sizes),
-      first_(first_lane), rank_(rank), kill_after_(env_int("GDP_CHECKPOINT_KILL_AFTER")) {
+      first_(first_lane), rank_(rank), kill_after_(util::env_int("GDP_CHECKPOINT_KILL_AFTER")) {
   if (resume_) {
     check_resume(dir_, identity_);
     const Manifest m = read_manifest(dir_, rank);
@@ -172,7 +168,7 @@ Checkpoint::Checkpoint(const SolverOptions& options, const std::string& sizes, i
 }
 
 int Checkpoint::unit_rows(int rows) const {
-  const int forced = env_int("GDP_CHECKPOINT_ROWS");
+  const int forced = util::env_int("GDP_CHECKPOINT_ROWS");
   return forced > 0 ? forced : std::max(rows, 1);
 }
 

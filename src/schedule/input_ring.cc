@@ -2,18 +2,20 @@
 #include "schedule/input_ring.h"
 
 #include <algorithm>
-#include <cstdlib>
+
+#include "util/env_int.h"
 
 namespace gdp::schedule {
 
 template <class T>
 InputRing<T>::InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units,
                         Marks& marks, std::function<void(double)> progress)
-    : slots_(std::max(kUnitSlots, std::getenv("GDP_INPUT_ROWS") ? std::atoi(std::getenv("GDP_INPUT_ROWS")) : 16)),
+    : slots_(std::max(kUnitSlots, util::env_int("GDP_INPUT_ROWS", 16))),
       source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
   if (source.splits()) {
-    source.set_slots(std::max(kDecodedSlots, slots_));
-    decoded_ = std::make_unique<RowRing>(marks, static_cast<int>(units.size()), std::max(kDecodedSlots, slots_), source.height(),
+    const int decoded = std::max(kDecodedSlots, slots_);
+    source.set_slots(decoded);
+    decoded_ = std::make_unique<RowRing>(marks, static_cast<int>(units.size()), decoded, source.height(),
                                          [&source](int y) { source.decode(y); });
   }
   for (std::size_t l = 0; l < units.size(); ++l)

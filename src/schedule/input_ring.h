@@ -46,9 +46,9 @@ class InputRing {
   double column_cpu() const;
 
  private:
-  // RowRing's slack and look-ahead (parallel.cc); a unit's row j reads decoded rows up to j + 2.
-  static constexpr int kSlack = 4, kAhead = 4, kUnitSlots = kSlack + 1, kDecodedSlots = kAhead + kSlack + 3;
-  const int slots_;  // per unit (16)
+  // From RowRing's slack and look-ahead; a unit's row j reads decoded rows up to j + 2.
+  static constexpr int kUnitSlots = RowRing::kSlack + 1, kDecodedSlots = RowRing::kAhead + RowRing::kSlack + 3;
+  const int slots_;  // per unit (16; GDP_INPUT_ROWS, never below kUnitSlots)
   struct Made {
     Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
     multigrid::InputRows<T> input;

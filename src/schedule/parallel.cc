@@ -141,7 +141,6 @@ void RowRing::need(int r, int from, int to) {
     if (next < 0) return;
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
-    constexpr int kAhead = 4, kSlack = 4;  // a maker waiting for a slot is woken once every few rows
     const double t = thread_cpu_seconds();
     for (int y = next; y < rows_ && y <= to + kAhead; ++y) {
       bool free = y <= to;

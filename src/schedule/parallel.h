@@ -74,6 +74,9 @@ class RowRing {
   // Reader r reads no more; returns once every row is made (made here while no other reader does).
   void done(int r) { need(r, INT_MAX, rows_ - 1); }
   double cpu = 0.0;  // CPU seconds of the makes
+  // A maker makes up to kAhead rows past the one asked for while their slots are free; a maker
+  // waiting for a slot is woken once kSlack more are free (woken once every few rows).
+  static constexpr int kAhead = 4, kSlack = 4;
 
  private:
   Marks& marks_;
