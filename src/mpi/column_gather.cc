@@ -11,6 +11,7 @@
 #include "schedule/bytes.h"
 #include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
+#include "util/recycle_pool.h"
 
 namespace gdp {
 namespace {
@@ -51,8 +52,7 @@ class ColumnGather final : public RowWriter {
       return;
     }
     if (rank_ != 0) return send(y, row);
-    std::vector<float>& mine = rows_.emplace_back();  // a written row's buffer, only this rank's columns
-    if (!spare_rows_.empty()) mine.swap(spare_rows_.back()), spare_rows_.pop_back();
+    std::vector<float>& mine = rows_.emplace_back(spare_rows_.take());  // only this rank's columns
     mine.resize(row.size());
     for (int c = 0; c < channels_; ++c) {
       const std::size_t at = static_cast<std::size_t>(c) * width_ + begin_;
@@ -132,7 +132,7 @@ class ColumnGather final : public RowWriter {
           std::memcpy(rows_.front().data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * n, n);
       }
       file().write_row(written_, rows_.front());
-      spare_rows_.push_back(std::move(rows_.front()));
+      spare_rows_.give(std::move(rows_.front()));
     }
   }
 
@@ -143,7 +143,7 @@ class ColumnGather final : public RowWriter {
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
   schedule::ByteWriter batch_;          // the message being filled
   std::deque<std::vector<float>> rows_;  // rank 0: its rows from `written_` on, not yet written
-  std::vector<std::vector<float>> spare_rows_;  // rank 0: written rows' buffers, reused
+  util::RecyclePool<std::vector<float>> spare_rows_;  // rank 0: written rows' buffers, reused
   int written_ = 0;
   std::vector<std::deque<Received>> from_;  // rank 0: each rank's messages not yet used up
 };
