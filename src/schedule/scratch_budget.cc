@@ -33,6 +33,7 @@ std::size_t ScratchBudget::system_available() {
 }
 
 bool ScratchBudget::reserve(std::size_t bytes) {
+  if (bytes > limit_.load()) return false;  // (--memory 0: no /proc/meminfo read per store)
   const std::size_t room = std::min(limit_.load(), available_() / 2);
   std::size_t held = memory_.load();
   do {

@@ -12,9 +12,11 @@ namespace gdp::schedule {
 class ScratchBudget {
  public:
   // What the system can still give, in bytes (the default: MemAvailable of /proc/meminfo, read at
-  // each reserve(); none: no bound). A store in memory is a memfd, whose pages nothing can reclaim
-  // without swap, so the budget holds at most half of it: on a machine that others have filled,
-  // stores go to files rather than push out the page cache or call in the OOM killer.
+  // each reserve() within the limit). A store in memory is a memfd, whose pages nothing can reclaim
+  // without swap, so what the budget holds stays within half of what is available: on a machine
+  // that others have filled, stores go to files rather than push out the page cache or call in the
+  // OOM killer. MemAvailable already leaves out the memfd pages held, so in practice the stores
+  // take at most a third of what was available before the first of them.
   using Available = std::size_t (*)();
   static std::size_t system_available();
   explicit ScratchBudget(std::size_t limit = 0, Available available = &system_available)
