@@ -123,14 +123,10 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
 
 namespace {
 
-// The schedule and precision the options ask for; streaming is the one-band plan.
+// The precision the options ask for; every schedule (in-core, streaming, bands) is solve_streamed's.
 void solve_with_schedule(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& s) {
-  const bool streamed = options.schedule != Schedule::InCore;
-  if (options.precision == Precision::Float64) {
-    streamed ? bands::solve_streamed<double>(source, options, out, s) : schedule::solve_incore<double>(source, options, out, s);
-  } else {
-    streamed ? bands::solve_streamed<float>(source, options, out, s) : schedule::solve_incore<float>(source, options, out, s);
-  }
+  if (options.precision == Precision::Float64) bands::solve_streamed<double>(source, options, out, s);
+  else bands::solve_streamed<float>(source, options, out, s);
 }
 
 }  // namespace

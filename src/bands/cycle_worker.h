@@ -115,11 +115,7 @@ class CycleWorker {
       if (carry_ && !surely_last) carry_->clear();
       for (int j = 0; j < height_; ++j) {
         vcycle.pull(u);
-        for (int c = 0; c < n; ++c) {
-          if (shift[c] == 0.0) continue;
-          T* p = u.data() + static_cast<std::size_t>(c) * length_;
-          for (int i = 0; i < length_; ++i) p[i] = static_cast<T>(static_cast<double>(p[i]) + shift[c]);
-        }
+        for (int c = 0; c < n; ++c) schedule::shift_mean(std::span<T>(u).subspan(static_cast<std::size_t>(c) * length_, length_), shift[c]);
         if (!surely_last) carry_->append(u);
         else rows.result(j, u);
       }

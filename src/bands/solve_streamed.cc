@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "bands/cycle_worker.h"
+#include "bands/incore_worker.h"
 #include "bands/mpi_transport.h"
 #include "bands/streamed_vcycle.h"
 #include "gdp/errors.h"
@@ -84,13 +85,14 @@ void cut(const T* row, int n, bool periodic, int origin, std::span<T> out) {
   }
 }
 
-// Everything a streamed solve sets up before its workers start: the problem, the column plan
-// (one band, or opt.bands per process), the team and the columns this process reads and writes.
+// Everything a solve sets up before its workers start: the problem and the column plan (in-core,
+// where there is one level or --in-core asks for it: one band of whole levels; streaming: one band;
+// else opt.bands per process).
 template <class T>
 struct Setup {
   std::unique_ptr<schedule::Problem<T>> problem;
   std::optional<BandLayout> layout;
-  bool distributed = false;
+  bool distributed = false, incore = false;
 };
 
 template <class T>
@@ -104,13 +106,12 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
   try {
     s.problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
     const schedule::Problem<T>& p = *s.problem;
-    if (p.ops.count() > 1) {
-      const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
-      const int whole_from = schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
-      const int pre = opt.sweeps, post = opt.post_sweeps;
-      s.layout = total_bands == 1 ? single_band_layout(p.hierarchy, periodic, pre, post, whole_from)
-                                  : make_band_layout(p.hierarchy, periodic, total_bands, pre, post, whole_from);
-    }
+    const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+    s.incore = opt.schedule == Schedule::InCore || p.ops.count() == 1;
+    const int whole_from = s.incore ? 0 : schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
+    const int pre = opt.sweeps, post = opt.post_sweeps;
+    s.layout = total_bands == 1 || s.incore ? single_band_layout(p.hierarchy, periodic, pre, post, whole_from)
+                                            : make_band_layout(p.hierarchy, periodic, total_bands, pre, post, whole_from);
   } catch (const Error& e) {
     if (!s.distributed) throw;
     setup_error = e.what();
@@ -120,6 +121,7 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
                                        opt.post_sweeps, opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
                                        static_cast<long long>(sizeof(T)),
                                        s.problem ? s.problem->ops.count() : -1});
+  s.distributed = s.distributed && !s.incore;  // (one level: every rank solves it whole)
   return s;
 }
 
@@ -127,15 +129,15 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
 // of the plan, in channel groups (up to one a channel, two threads left to the codecs). A single
 // band on more than one thread takes one group per channel even where that leaves the codecs no
 // core of their own: else its one worker does every V-cycle sample while the other cores wait
-// (docs/scaling.md, "1 gigapixel on the 2-core machine").
-Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, int channels) {
+// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread.
+Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, bool incore, int channels) {
   Team team;
   team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
   if (distributed) {
     team.hubs.push_back(std::make_unique<MpiHub>(team.local));
     team.first = team.hubs[0]->first();
   } else {
-    const int spare = team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
+    const int spare = incore ? opt.threads : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
     team.groups = std::clamp(spare, 1, channels);
   }
   return team;
@@ -242,18 +244,17 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   Setup<T> setup = set_up<T>(source, opt, summary);
   const schedule::Problem<T>& problem = *setup.problem;
   const multigrid::Operators<T>& ops = problem.ops;
-  if (ops.count() == 1) return schedule::solve_incore<T>(source, opt, out, summary);  // nothing to stream
   const int channels = source.channels(), w = source.width(), h = source.height();
   const BandLayout& layout = *setup.layout;
   const auto t_start = Clock::now();
-  summary.schedule = layout.single ? "streaming" : "bands";
+  summary.schedule = setup.incore ? "in-core" : layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
   auto settings = cycle_settings(opt, ops.singular, channels, source.has_weights());
 
-  Team team = make_team(opt, layout, setup.distributed, channels);
+  Team team = make_team(opt, layout, setup.distributed, setup.incore, channels);
   if (setup.distributed) share_columns(layout, team, source, out);
   std::unique_ptr<StreamedCheckpoint> checkpoint;
-  if (!opt.checkpoint_dir.empty())
+  if (!opt.checkpoint_dir.empty() && !setup.incore)
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, ops, channels, layout.bands, team.local, team.first,
                                                       team.groups, settings.stores);
   if (!setup.distributed)
@@ -270,39 +271,50 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
   Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
+  InCoreShared<T> shared{marks, marks.add(1), channels};
   std::vector<std::unique_ptr<CycleWorker<T>>> workers;  // band-major: worker i * groups + g
+  std::vector<std::unique_ptr<InCoreWorker<T>>> incore;  // (in-core: these instead)
+  // Worker k (local band i): its input cut from its unit's reader straight into the V-cycle's ring
+  // (in-core: its planes), the input's sums once known, its own columns of the result rows.
+  const auto wire = [&](auto& wk, int i, int k) {
+    const int l = i * static_cast<int>(units.size()) / team.local;  // its unit, and its reader there
+    const int r = k - l * team.local / static_cast<int>(units.size()) * team.groups;
+    const int c0 = wk.c0, n = wk.n, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
+    wk.rows.input = [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
+      const auto in = input.row(l, r, j);
+      for (int c = 0; c < n; ++c) {
+        cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.u.subspan(c * length, length));
+        cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.b.subspan(c * length, length));
+      }
+      if (!to.w.empty()) cut(in.w.data(), w, layout.periodic, origin, to.w);
+      if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
+    };
+    wk.rows.totals = [&, l, r]() -> const InputTotals& {
+      input.done(l, r);
+      marks.wait(summed, 0);
+      return totals;
+    };
+    const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
+    wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
+      float* row = results.row(k, j) + a;
+      for (int c = 0; c < n; ++c)
+        std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
+                       row + static_cast<std::size_t>(c0 + c) * w, [](T v) { return static_cast<float>(v); });
+      results.put(k, j);
+    };
+  };
   for (int i = 0; i < team.local; ++i)
     for (int g = 0; g < team.groups; ++g) {
-      const int c0 = g * channels / team.groups, c1 = (g + 1) * channels / team.groups, k = i * team.groups + g;
+      const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
+      if (setup.incore) {
+        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, source.has_weights(), c0, n, logs[i], shared)), i, k);
+        continue;
+      }
       if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
-      auto& wk = *workers.emplace_back(std::make_unique<CycleWorker<T>>(
-          ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, c1 - c0, logs[i]));
+      auto& wk = *workers.emplace_back(
+          std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, n, logs[i]));
       if (checkpoint) checkpoint->attach(wk, i, g, w);
-      const int l = i * static_cast<int>(units.size()) / team.local;  // its unit, and its reader there
-      const int r = k - l * team.local / static_cast<int>(units.size()) * team.groups;
-      const int n = c1 - c0, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
-      wk.rows.input = [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
-        const auto in = input.row(l, r, j);  // cut straight into the V-cycle's ring
-        for (int c = 0; c < n; ++c) {
-          cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.u.subspan(c * length, length));
-          cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.b.subspan(c * length, length));
-        }
-        if (!to.w.empty()) cut(in.w.data(), w, layout.periodic, origin, to.w);
-        if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
-      };
-      wk.rows.totals = [&, l, r]() -> const InputTotals& {
-        input.done(l, r);
-        marks.wait(summed, 0);
-        return totals;
-      };
-      const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
-      wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
-        float* row = results.row(k, j) + a;
-        for (int c = 0; c < n; ++c)
-          std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
-                         row + static_cast<std::size_t>(c0 + c) * w, [](T v) { return static_cast<float>(v); });
-        results.put(k, j);
-      };
+      wire(wk, i, k);
     }
 
   // This thread: the input's sums once every row is made, then the result rows, in order, to `out`.
@@ -310,20 +322,20 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   schedule::run_workers(
       1 + count,
       [&](int k) {
-        if (k > 0) return workers[k - 1]->run();
+        if (k > 0) return setup.incore ? incore[k - 1]->run() : workers[k - 1]->run();
         const auto t = Clock::now();
         totals = exchange_totals(input.totals(), team);
         marks.set(summed, 1);
         seconds_input = seconds_since(t);
         for (int j = 0; j < h; ++j) {
           results.write(j, h, out);
-          if (opt.progress && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
+          if (opt.progress && !setup.incore && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
         }
       },
       [&](int k, const std::string& what) {
         marks.stop();
         team.abort(k == 0 ? fmt::format("the input/output thread stopped: {}", what)
-                          : fmt::format("band {} stopped: {}", workers[k - 1]->band, what));
+                          : fmt::format("band {} stopped: {}", team.first + (k - 1) / team.groups, what));
       });
   summary.cpu_rhs_decode = input.decode_cpu();
   summary.cpu_rhs_columns = input.column_cpu();
@@ -331,6 +343,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     summary.scratch_bytes += wk->vcycle.store_bytes() + wk->carry_bytes();
     summary.window_bytes += wk->vcycle.window_bytes();
   }
+  for (const auto& wk : incore) summary.window_bytes += wk->window_bytes();
   summary.seconds_rhs = seconds_input;
   summary.seconds_solve = seconds_since(t_start) - seconds_input;
   logs[0].finish(summary, opt);

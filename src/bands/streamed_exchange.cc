@@ -90,30 +90,32 @@ void StreamedVCycle<T>::add_fold_sums(int l, int side, const std::vector<T>& sum
 }
 
 // Restriction pass (`off`): coarse row `row` of the level below is complete in every band of a
-// group; b, w and d of the columns each owns go to the group's owner, which pushes the merged band's
-// row into the merged stage (u zero: a correction; the halo's b comes in its strips). Prolongation
-// pass: the rows up to `row`, pulled from the merged stage, go back, the columns each band stores.
+// group; b, w and d of the columns each owns go to the group's owner, straight into the merged
+// stage's next row (u zero: a correction; zero outside the group's columns, where the halo's b comes
+// in its strips). Prolongation pass: the rows up to `row`, pulled from the merged stage, go back,
+// the columns each band stores.
 template <class T>
 void StreamedVCycle<T>::hand(int row, bool off) {
   const int tl = layout_.levels, g = layout_.group_of(band_), parts = off ? this->parts() : set_.channels;
   Level& H = *levels_[tl];
   const Level* M = merged_ ? merged_->levels_[0].get() : nullptr;  // (on the group's owner)
-  const std::size_t len = M ? M->len : 0;
-  std::vector<T> merged(parts * len, T(0)), zero(off ? set_.channels * len : 0, T(0));
-  const auto part = [&](int k, bool has) { return std::span<const T>(merged.data() + k * len, has ? len : 0); };
+  std::vector<T> back(!off && M ? parts * M->len : 0);  // a row pulled from the merged stage
   const FoldPlan plan = group_plan(layout_, tl, band_, layout_.group_owner(g), layout_.group_end(g), off);
   for (int& J = off ? H.finished : H.arrived; J <= row; ++J) {
     const auto at = [&](bool ring) {
       return [&, ring](const Piece& p) {
-        return ring ? (off ? part_row(tl, p.k, J) : ring_row(tl, U, J, p.k)) + (p.x - H.origin)
-                    : merged.data() + p.k * len + (p.x - M->origin);
+        if (ring) return (off ? part_row(tl, p.k, J) : ring_row(tl, U, J, p.k)) + (p.x - H.origin);
+        return (off ? merged_->part_row(0, p.k, J) : back.data() + p.k * M->len) + (p.x - M->origin);
       };
     };
     if (!off && J - H.ring >= H.needed_from) throw std::logic_error(fmt::format("band ring overrun on the merged level at row {}", J));
-    if (!off && M) merged_->pull(merged);
+    if (!off && M) merged_->pull(back);
+    if (off && M) {  // the merged row's slots, zero until the exchange lands the group's columns
+      const Slots s = merged_->next_row();
+      for (std::span<T> slot : {s.u, s.b, s.w, s.d}) std::ranges::fill(slot, T(0));
+    }
     exchange<T>(net_, plan, off ? kHandOff : kHandBack, parts, 1, at(off), at(!off), false);
-    if (off && M)
-      merged_->push(zero, {merged.data(), zero.size()}, part(set_.channels, set_.weights), part(parts - 1, set_.diagonal));
+    if (off && M) merged_->push();
   }
 }
 

@@ -161,15 +161,6 @@ typename StreamedVCycle<T>::Slots StreamedVCycle<T>::next_row() {
 }
 
 template <class T>
-void StreamedVCycle<T>::push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d) {
-  const Slots s = next_row();
-  if (u.size() != s.u.size()) throw std::logic_error("StreamedVCycle::push: row of the wrong length");
-  for (const auto& [from, to] : {std::pair{u, s.u}, std::pair{b, s.b}, std::pair{w, s.w}, std::pair{d, s.d}})
-    if (!to.empty()) std::ranges::copy(from, to.begin());
-  push();
-}
-
-template <class T>
 void StreamedVCycle<T>::push() {
   Level& L = *levels_[0];
   const int r = L.arrived;

@@ -72,11 +72,10 @@ class StreamedVCycle {
 
   void begin_cycle();
   // Restriction pass: the next finest row's ring slots to fill, then push(): u, and b, w and d where
-  // it takes them (the first cycle's; later from the stores: empty). Or push rows given.
+  // it takes them (the first cycle's; later from the stores: empty).
   struct Slots { std::span<T> u, b, w, d; };
   Slots next_row();
   void push();
-  void push(std::span<const T> u, std::span<const T> b, std::span<const T> w, std::span<const T> d = {});
   // Prolongation pass: the next finished row, halo columns included.
   void pull(std::span<T> u);
 

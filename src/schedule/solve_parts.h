@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,12 @@ int first_whole_level(const multigrid::Operators<T>& ops, int channels, std::siz
 // weighted mean is the starting guess's: (target sum - predicted sum) / total weight, the
 // prediction being the sum of the cycle's per-level dots (multigrid::CycleProbe).
 double mean_shift(bool singular, double target_sum, double weight_total, const std::vector<double>& dots);
+// Adds `shift` (mean_shift's) to every value, in double.
+template <class T>
+void shift_mean(std::span<T> values, double shift) {
+  if (shift != 0.0)
+    for (T& v : values) v = static_cast<T>(static_cast<double>(v) + shift);
+}
 
 // Relative residuals and per-cycle log lines of every channel, turned into the summary.
 class ResidualLog {
@@ -71,8 +78,5 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
-
-template <class T>
-void solve_incore(GuidanceSource& source, const SolverOptions& options, RowWriter& out, SolveSummary& summary);
 
 }  // namespace gdp::schedule

@@ -1,0 +1,165 @@
+// One worker of the in-core schedule under the streamed driver: its channels whole in memory, one at a time.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "bands/cycle_worker.h"
+#include "multigrid/half_policy.h"
+#include "multigrid/incore_vcycle.h"
+#include "schedule/row_store.h"
+#include "schedule/scratch_budget.h"
+
+namespace gdp::bands {
+
+// What the in-core workers share: the mean weights' and the diagonal's pyramids, made once by the
+// worker of channel 0 from the rows it was given (mark `ready` set once they are), and the progress.
+template <class T>
+struct InCoreShared {
+  schedule::Marks& marks;
+  int ready, channels;
+  std::vector<multigrid::Plane<T>> weights = {}, diagonal = {};
+  std::mutex progress_mutex = {};
+  int cycles_done = 0;
+};
+
+// Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
+// every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
+// (alpha == 0), then the result rows out (rows.result). One pair of planes (u, b), made once, in
+// place, their pages mapped in one call; the other channels wait for it in row stores (memfds: a
+// fresh mapped page costs far more than a written unmapped one, docs/multigrid.md, "In-core memory
+// on a PVM guest"), and so does an earlier channel's result for the output.
+template <class T>
+class InCoreWorker {
+ public:
+  InCoreWorker(const multigrid::Operators<T>& ops, const SolverOptions& opt, bool diagonal, int c0, int n,
+               schedule::ResidualLog& log, InCoreShared<T>& shared)
+      : c0(c0), n(n), ops_(ops), opt_(opt), half_(multigrid::half_policy(opt, diagonal)), diagonal_(diagonal),
+        log_(log), shared_(shared), w_(ops.levels[0].width), h_(ops.levels[0].height),
+        u_(multigrid::Plane<T>::mapped(w_, h_)), b_(multigrid::Plane<T>::mapped(w_, h_)), parked_u_(n), parked_b_(n) {
+    stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
+    for (int i = 1; i < n; ++i) park(parked_u_, "u", i), park(parked_b_, "b", i);
+  }
+  std::size_t window_bytes() const { return 2 * u_.data.size() * sizeof(T); }
+
+  void run() {
+    read_input();
+    const multigrid::InputTotals& totals = rows.totals();
+    shared_.marks.wait(shared_.ready, 0);
+    multigrid::InCoreVCycle<T> vc(ops_, opt_.sweeps, opt_.coarse_tolerance);
+    vc.set_sweeps(opt_.sweeps, opt_.post_sweeps);
+    if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
+    vc.set_half(&half_);
+    for (int i = 0; i < n; ++i) {
+      if (i > 0) turn_to(i);
+      solve(c0 + i, vc, totals);
+    }
+    std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
+    for (int j = 0; j < h_; ++j) {
+      for (int i = 0; i < n; ++i) std::copy_n(result_row(i, j), w_, u.begin() + static_cast<std::ptrdiff_t>(i) * w_);
+      rows.result(j, u);
+    }
+  }
+
+  WorkerRows<T> rows;
+  const int c0, n, band = 0;
+
+ private:
+  using Plane = multigrid::Plane<T>;
+  using Store = std::unique_ptr<schedule::RowStore<T>>;
+
+  // Every row in: one channel straight into the planes, more through a row (the first into the
+  // planes, the others into their stores). Channel 0's worker also takes the mean weights (where the
+  // mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
+  // diagonal, and makes the pyramids every worker reads.
+  void read_input() {
+    const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
+    multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
+    Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
+    std::vector<T> u(n > 1 ? static_cast<std::size_t>(n) * w_ : 0), b(u.size());
+    const auto row = [&](std::vector<T>& v, Plane& p, int j) { return v.empty() ? std::span<T>(p.row(j), w_) : std::span<T>(v); };
+    for (int j = 0; j < h_; ++j) {
+      rows.input(j, {row(u, u_, j), row(b, b_, j), weights ? wt.next() : std::span<T>{},
+                     {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
+      if (weights) wt.add();
+      for (int i = 0; i < n && n > 1; ++i) {
+        const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
+        if (i > 0) parked_u_[i]->append(ui), parked_b_[i]->append(bi);
+        else std::ranges::copy(ui, u_.row(j)), std::ranges::copy(bi, b_.row(j));
+      }
+    }
+    if (c0 != 0) return;
+    // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
+    // exact in half floats; rounded here all the same so that both read the same values).
+    if (weights) {
+      Plane finest = wt.take();
+      if (half_.rounds(0, "w") && opt_.cycle_cap() > 1) multigrid::round_to_half(finest.data.data(), finest.data.size());
+      shared_.weights = multigrid::restrict_weights(ops_, 0, std::move(finest));
+    }
+    if (diagonal) shared_.diagonal = multigrid::restrict_weights(ops_, 0, std::move(d));
+    shared_.marks.set(shared_.ready, 1);
+  }
+
+  void solve(int c, multigrid::InCoreVCycle<T>& vc, const multigrid::InputTotals& totals) {
+    const int cycles = opt_.cycle_cap();
+    log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
+    for (int k = 0; k < cycles; ++k) {
+      multigrid::CycleProbe probe;
+      probe.norm_before = k == 0, probe.norm_after = true;  // measured in the cycle's own passes
+      vc.run(u_, b_, shared_.weights.empty() ? nullptr : &shared_.weights, &probe);
+      if (k == 0) log_.initial(c, probe.before);
+      log_.cycle(c, probe.after, probe);
+      schedule::shift_mean(std::span<T>(u_.data), schedule::mean_shift(ops_.singular, totals.weighted_sums[c],
+                                                                        totals.weight_total, probe.dots));
+      // The streamed schedule carries the result to the next cycle in a store ("result").
+      if (k + 1 < cycles && half_.rounds("result")) multigrid::round_to_half(u_.data.data(), u_.data.size());
+      if (opt_.progress) {  // the solve is the second half (the input the first; no output before)
+        const std::lock_guard lock(shared_.progress_mutex);
+        opt_.progress(0.5 + 0.5 * std::min(1.0, ++shared_.cycles_done / (double(shared_.channels) * cycles)));
+      }
+      if (log_.settled(c, opt_.tolerance)) break;
+    }
+  }
+
+  // Local channel i moves into the planes: the previous one's result out to a store, i's input in.
+  void turn_to(int i) {
+    schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
+    for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)});
+    for (auto [from, to] : {std::pair{&parked_u_[i], &u_}, std::pair{&parked_b_[i], &b_}}) {
+      (*from)->rewind();
+      for (int j = 0; j < h_; ++j) (*from)->read({to->row(j), static_cast<std::size_t>(w_)});
+      from->reset();
+    }
+  }
+  // Local channel i's result row j, rows in order.
+  const T* result_row(int i, int j) {
+    if (!parked_u_[i]) return u_.row(j);
+    if (j == 0) parked_u_[i]->rewind();
+    parked_u_[i]->read(buffer_);
+    return buffer_.data();
+  }
+  schedule::RowStore<T>* park(std::vector<Store>& to, const char* name, int i) {
+    to[i] = std::make_unique<schedule::RowStore<T>>(stores_, w_, h_, fmt::format("incore-{}{}", name, c0 + i));
+    return to[i].get();
+  }
+
+  const multigrid::Operators<T>& ops_;
+  const SolverOptions& opt_;
+  const multigrid::HalfPolicy half_;
+  const bool diagonal_;
+  schedule::ResidualLog& log_;
+  InCoreShared<T>& shared_;
+  const int w_, h_;
+  schedule::StorePolicy stores_;
+  Plane u_, b_;
+  std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
+  std::vector<T> buffer_ = std::vector<T>(w_);
+};
+
+}  // namespace gdp::bands
