@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <utility>
-#include <vector>
 
 namespace gdp::bands {
 namespace {
@@ -20,15 +19,6 @@ std::array<Columns, 3> phase_regions(const BandLayout& L, int l, int band, int p
   if (p % 2 == 0)  // lead at the left edge, follow at the right one
     return {{{A + left, A + C - 2 * u}, {A + C - 2 * u, B - C - 2 * u}, {B - C - 2 * u, B + right}}};
   return {{{B - C + 2 * u, B - right}, {A + C + 2 * u, B - C + 2 * u}, {A - left, A + C + 2 * u}}};
-}
-
-// Interior lane boundaries (without the per-sweep shift), first and last excluded.
-std::vector<int> interior_lanes(const BandLayout& L, int l, int band) {
-  const int a = L.begin(l, band) + L.edge(), b = L.end(l, band) - L.edge();
-  const int width = b - a, count = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
-  std::vector<int> inner;
-  for (int q = 1; q < count; ++q) inner.push_back(a + static_cast<int>(static_cast<long long>(width) * q / count));
-  return inner;
 }
 
 }  // namespace
@@ -63,8 +53,10 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
   };
   region(kLead);
   if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
-  const std::vector<int> inner = interior_lanes(L, l, band);
-  const int lanes = static_cast<int>(inner.size()) + 1;
+  // The interior [a, a + width) in lanes of about green_lane columns; bound(q): boundary q, unshifted.
+  const int a = L.begin(l, band) + L.edge(), width = L.end(l, band) - L.edge() - a;
+  const int lanes = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
+  const auto bound = [&](int q) { return a + static_cast<int>(static_cast<long long>(width) * q / lanes); };
   for (int t = t0; t < t0 + G; ++t) {
     const bool forward = t % 2 == 0;
     for (int i = 0; i < lanes; ++i) {
@@ -74,7 +66,7 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
         // Inner lane boundaries move with the traversal, 2(k - s) columns (section 6.2).
         const auto [lo, hi] = phase_regions(L, l, band, p, t - t0 + s - 1)[kMid];
         const int d = forward ? L.shift(s) : -L.shift(s);
-        tile(t, s, {q == 0 ? lo : inner[q - 1] + d, q == lanes - 1 ? hi : inner[q] + d});
+        tile(t, s, {q == 0 ? lo : bound(q) + d, q == lanes - 1 ? hi : bound(q + 1) + d});
       }
     }
   }

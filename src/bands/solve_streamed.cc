@@ -48,6 +48,8 @@ void io(Archive& a, Totals& t) {
 // problems: a group's bands talk among themselves only (a hub each; under mpirun one group).
 struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;  // per channel group (under mpirun one MpiHub)
+  std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
+  std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
   int first = 0, local = 1, groups = 1;
   Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
@@ -129,17 +131,26 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
 // of the plan, in channel groups (up to one a channel, two threads left to the codecs). A single
 // band on more than one thread takes one group per channel even where that leaves the codecs no
 // core of their own: else its one worker does every V-cycle sample while the other cores wait
-// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread.
-Team make_team(const SolverOptions& opt, const BandLayout& layout, bool distributed, bool incore, int channels) {
+// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread. Then their
+// checkpoint (which may set the group count, resuming), hubs and logs.
+template <class T>
+Team make_team(const SolverOptions& opt, const Setup<T>& setup, int channels, schedule::StorePolicy& stores) {
   Team team;
-  team.local = distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
-  if (distributed) {
+  const BandLayout& layout = *setup.layout;
+  team.local = setup.distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
+  if (setup.distributed) {
     team.hubs.push_back(std::make_unique<MpiHub>(team.local));
     team.first = team.hubs[0]->first();
   } else {
-    const int spare = incore ? opt.threads : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
+    const int spare = setup.incore ? opt.threads : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
     team.groups = std::clamp(spare, 1, channels);
   }
+  if (!opt.checkpoint_dir.empty() && !setup.incore)
+    team.checkpoint = std::make_unique<StreamedCheckpoint>(opt, setup.problem->ops, channels, layout.bands, team.local,
+                                                           team.first, team.groups, stores);
+  for (int g = 0; g < team.groups && !setup.distributed; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
+  for (int i = 0; i < team.local; ++i) team.logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
+  if (team.checkpoint) team.checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
   return team;
 }
 
@@ -251,17 +262,8 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   summary.streamed_levels = layout.banded_levels();
   auto settings = cycle_settings(opt, ops.singular, channels, source.has_weights());
 
-  Team team = make_team(opt, layout, setup.distributed, setup.incore, channels);
+  Team team = make_team(opt, setup, channels, settings.stores);
   if (setup.distributed) share_columns(layout, team, source, out);
-  std::unique_ptr<StreamedCheckpoint> checkpoint;
-  if (!opt.checkpoint_dir.empty() && !setup.incore)
-    checkpoint = std::make_unique<StreamedCheckpoint>(opt, ops, channels, layout.bands, team.local, team.first,
-                                                      team.groups, settings.stores);
-  if (!setup.distributed)
-    for (int g = 0; g < team.groups; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
-  std::vector<schedule::ResidualLog> logs;  // per local band, all channels (band 0's lines are kept)
-  for (int i = 0; i < team.local; ++i) logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
-  if (checkpoint) checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
 
   // Rows between the threads: the input ring, made by the workers that read it; the input's sums
   // (mark `summed`: known); the result rows.
@@ -307,13 +309,13 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (setup.incore) {
-        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, source.has_weights(), c0, n, logs[i], shared)), i, k);
+        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, source.has_weights(), c0, n, team.logs[i], shared)), i, k);
         continue;
       }
-      if (checkpoint) settings.stores.name_prefix = checkpoint->prefix(i, g);
+      if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);
       auto& wk = *workers.emplace_back(
-          std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, n, logs[i]));
-      if (checkpoint) checkpoint->attach(wk, i, g, w);
+          std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, n, team.logs[i]));
+      if (team.checkpoint) team.checkpoint->attach(wk, i, g, w);
       wire(wk, i, k);
     }
 
@@ -346,7 +348,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   for (const auto& wk : incore) summary.window_bytes += wk->window_bytes();
   summary.seconds_rhs = seconds_input;
   summary.seconds_solve = seconds_since(t_start) - seconds_input;
-  logs[0].finish(summary, opt);
+  team.logs[0].finish(summary, opt);
 }
 
 template void solve_streamed<float>(GuidanceSource&, const SolverOptions&, RowWriter&, SolveSummary&);

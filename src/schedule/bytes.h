@@ -36,8 +36,7 @@ class ByteWriter {
   }
   template <class V>
   void io(const std::vector<V>& v) {
-    io(static_cast<std::uint64_t>(v.size()));
-    put(v.data(), v.size());
+    io_sized(std::span<const V>(v));
   }
   template <class V>
   void io_sized(std::span<V> v) {
