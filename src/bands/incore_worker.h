@@ -4,14 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <mutex>
+#include <functional>
+#include <numeric>
 #include <span>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "bands/cycle_worker.h"
-#include "multigrid/half_policy.h"
 #include "multigrid/incore_vcycle.h"
 #include "schedule/row_store.h"
 #include "schedule/scratch_budget.h"
@@ -19,14 +19,21 @@
 namespace gdp::bands {
 
 // What the in-core workers share: the mean weights' and the diagonal's pyramids, made once by the
-// worker of channel 0 from the rows it was given (mark `ready` set once they are), and the progress.
+// worker of channel 0 from the rows it was given (mark `ready` set once they are), and the count of
+// V-cycles done (worker k's in mark `cycled + k`; `cycles` in all, a settled channel's left counted).
 template <class T>
 struct InCoreShared {
   schedule::Marks& marks;
-  int ready, channels;
+  int ready, cycled, workers, cycles;
   std::vector<multigrid::Plane<T>> weights = {}, diagonal = {};
-  std::mutex progress_mutex = {};
-  int cycles_done = 0;
+  // The calling thread: the V-cycles' progress, 0.5 to 1, reported there, where a Python caller's
+  // Ctrl-C is seen (the input's is 0 to 0.5).
+  void report(const std::function<void(double)>& progress) {
+    for (int done = 1; done <= cycles; ++done) {
+      marks.wait([&](std::vector<int>& m) { return std::reduce(m.begin() + cycled, m.begin() + cycled + workers, 0) >= done; });
+      if (progress) progress(0.5 + 0.5 * done / cycles);
+    }
+  }
 };
 
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
@@ -38,10 +45,10 @@ struct InCoreShared {
 template <class T>
 class InCoreWorker {
  public:
-  InCoreWorker(const multigrid::Operators<T>& ops, const SolverOptions& opt, bool diagonal, int c0, int n,
-               schedule::ResidualLog& log, InCoreShared<T>& shared)
-      : c0(c0), n(n), ops_(ops), opt_(opt), half_(multigrid::half_policy(opt, diagonal)), diagonal_(diagonal),
-        log_(log), shared_(shared), w_(ops.levels[0].width), h_(ops.levels[0].height),
+  InCoreWorker(const multigrid::Operators<T>& ops, const SolverOptions& opt, const CycleSettings& s, int c0, int n,
+               schedule::ResidualLog& log, InCoreShared<T>& shared, int k)
+      : c0(c0), n(n), ops_(ops), opt_(opt), half_(s.stores.half), diagonal_(s.diagonal),
+        log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
         u_(multigrid::Plane<T>::mapped(w_, h_)), b_(multigrid::Plane<T>::mapped(w_, h_)), parked_u_(n), parked_b_(n) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
     for (int i = 1; i < n; ++i) park(parked_u_, "u", i), park(parked_b_, "b", i);
@@ -119,11 +126,11 @@ class InCoreWorker {
                                                                         totals.weight_total, probe.dots));
       // The streamed schedule carries the result to the next cycle in a store ("result").
       if (k + 1 < cycles && half_.rounds("result")) multigrid::round_to_half(u_.data.data(), u_.data.size());
-      if (opt_.progress) {  // the solve is the second half (the input the first; no output before)
-        const std::lock_guard lock(shared_.progress_mutex);
-        opt_.progress(0.5 + 0.5 * std::min(1.0, ++shared_.cycles_done / (double(shared_.channels) * cycles)));
-      }
-      if (log_.settled(c, opt_.tolerance)) break;
+      // One V-cycle more done (every one left once the channel has settled); a stopped solve stops here.
+      const bool settled = log_.settled(c, opt_.tolerance);
+      shared_.marks.set(cycled_, done_ += settled ? cycles - k : 1);
+      shared_.marks.wait(cycled_, done_ - 1);
+      if (settled) break;
     }
   }
 
@@ -155,6 +162,8 @@ class InCoreWorker {
   const bool diagonal_;
   schedule::ResidualLog& log_;
   InCoreShared<T>& shared_;
+  const int cycled_;  // its mark of V-cycles done
+  int done_ = 0;
   const int w_, h_;
   schedule::StorePolicy stores_;
   Plane u_, b_;

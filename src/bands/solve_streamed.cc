@@ -253,8 +253,7 @@ class Results {
 template <class T>
 void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
   Setup<T> setup = set_up<T>(source, opt, summary);
-  const schedule::Problem<T>& problem = *setup.problem;
-  const multigrid::Operators<T>& ops = problem.ops;
+  const multigrid::Operators<T>& ops = setup.problem->ops;
   const int channels = source.channels(), w = source.width(), h = source.height();
   const BandLayout& layout = *setup.layout;
   const auto t_start = Clock::now();
@@ -269,11 +268,11 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   // (mark `summed`: known); the result rows.
   schedule::Marks marks;
   const auto units = input_units<T>(source, layout, team);
-  schedule::InputRing<T> input(source, problem.hierarchy, units, marks, opt.progress);
+  schedule::InputRing<T> input(source, setup.problem->hierarchy, units, marks, opt.progress);
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
   Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
-  InCoreShared<T> shared{marks, marks.add(1), channels};
+  InCoreShared<T> shared{marks, marks.add(1), marks.add(count), count, channels * opt.cycle_cap()};
   std::vector<std::unique_ptr<CycleWorker<T>>> workers;  // band-major: worker i * groups + g
   std::vector<std::unique_ptr<InCoreWorker<T>>> incore;  // (in-core: these instead)
   // Worker k (local band i): its input cut from its unit's reader straight into the V-cycle's ring
@@ -309,7 +308,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (setup.incore) {
-        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, source.has_weights(), c0, n, team.logs[i], shared)), i, k);
+        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k)), i, k);
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);
@@ -329,6 +328,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
         totals = exchange_totals(input.totals(), team);
         marks.set(summed, 1);
         seconds_input = seconds_since(t);
+        if (setup.incore) shared.report(opt.progress);
         for (int j = 0; j < h; ++j) {
           results.write(j, h, out);
           if (opt.progress && !setup.incore && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
