@@ -15,6 +15,7 @@
 #include "io/codecs.h"
 #include "io/temp_file.h"
 #include "util/bounded_queue.h"
+#include "util/clones.h"
 #include "util/recycle_pool.h"
 
 namespace gdp {
@@ -28,9 +29,11 @@ struct Band {
 };
 
 // Channels [0, Ch) of a channel-major row into `ch` interleaved samples of type T (Ch == ch, a
-// constant, lets the pixel loop vectorise: each pixel's samples are one store group).
+// constant, lets the pixel loop vectorise: each pixel's samples are one store group); compiled
+// for x86-64-v3 (AVX2) and the baseline, the loader picking one (this file is compiled with
+// -ffp-contract=off: both round as the plain loop does).
 template <int Ch, class T, class Convert>
-void interleave_n(const float* row, int w, int ch, T* dst, Convert convert) {
+GDP_CLONES void interleave_n(const float* row, int w, int ch, T* dst, Convert convert) {
   const int n = Ch > 0 ? Ch : ch;
   if constexpr (Ch > 0) {
     const float* src[Ch > 0 ? Ch : 1];
