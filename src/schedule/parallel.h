@@ -3,7 +3,8 @@
 #pragma once
 
 #include <climits>
-#include <condition_variable>
+#include <atomic>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -52,14 +53,21 @@ class Marks {
   void stop();
 
  private:
+  // A waiter sleeps on a futex word of the marks' own (`bells_`, taken from `spare_` while it
+  // waits): set() rings it after unlocking, one futex call on each side. A condition variable
+  // notified under the lock costs three and a second switch (the woken thread sleeps again at once
+  // on the lock), dear on a guest where each wake-up is. A late ring of a word since handed to
+  // another waiter is a spurious wake-up: the waiter looks again under the lock.
   struct Waiter {
     const Ready& ready;
     bool done = false;
-    std::condition_variable wake;
+    std::atomic<int>* bell = nullptr;  // 0 armed, 1 rung, 2 asleep
   };
   std::mutex mutex_;
   std::vector<int> marks_;
   std::vector<Waiter*> waiters_;
+  std::deque<std::atomic<int>> bells_;
+  std::vector<std::atomic<int>*> spare_;
   bool stopped_ = false;
 };
 
