@@ -124,9 +124,8 @@ void Marks::wait(const Ready& ready) {
   std::unique_lock lock(mutex_);
   Waiter me{ready, !stopped_ && ready(marks_)};
   if (!me.done && !stopped_) {
-    if (spare_.empty()) spare_.push_back(&bells_.emplace_back(0));
-    me.bell = spare_.back();
-    spare_.pop_back();
+    me.bell = spare_.empty() ? &bells_.emplace_back(0) : spare_.back();
+    if (!spare_.empty()) spare_.pop_back();
     waiters_.push_back(&me);
     while (!stopped_ && !me.done) {
       me.bell->store(0);  // (under the lock: set() rings it only after marking it done)
@@ -186,7 +185,7 @@ void RowRing::need(int r, int from, int to) {
         });
       if (!free) break;
       marks_.wait(readers_, readers_ + count_, y - slots_, y - slots_ + kSlack);
-        make_(y);
+      make_(y);
       marks_.set(made_, y + 1);
     }
     cpu += thread_cpu_seconds() - t;

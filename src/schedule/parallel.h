@@ -2,8 +2,8 @@
 // rows handed between them through marks and rings that the same stop ends.
 #pragma once
 
-#include <climits>
 #include <atomic>
+#include <climits>
 #include <deque>
 #include <functional>
 #include <mutex>
