@@ -83,7 +83,8 @@ class RowRing {
   void done(int r) { need(r, INT_MAX, rows_ - 1); }
   double cpu = 0.0;  // CPU seconds of the makes
   // A maker makes up to kAhead rows past the one asked for while their slots are free; a maker
-  // waiting for a slot is woken once kSlack more are free (woken once every few rows).
+  // waiting for a slot is woken once kSlack more are free, a reader waiting for another's makes once
+  // kSlack more rows are made or it stops making (woken once every few rows).
   static constexpr int kAhead = 4, kSlack = 4;
 
  private:
