@@ -1,5 +1,5 @@
 // The window kernels per sample on a whole row, a 72-column edge tile, a 4096-column interior lane and a
-// 72-column interior tile, as ratios.
+// 72-column interior tile, as ratios; then the half-float conversions of the row stores.
 #include <time.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "multigrid/half_policy.h"
 #include "multigrid/plane_ops.h"
 #include "multigrid/window_ops.h"
 #include "topology/topology.h"
@@ -124,6 +125,23 @@ std::uint64_t checksum(Domain domain) {
   return hs;
 }
 
+// CPU ns per sample of the row stores' half-float conversions (to_half, from_half) on the fixture's u,
+// the minimum over `trials` (run against another build's libgdp through LD_LIBRARY_PATH to compare).
+void print_half_conversions(Fixture& f, int trials) {
+  std::vector<_Float16> half(f.u.data.size());
+  std::vector<float> back(f.u.data.size());
+  double best[2] = {1e30, 1e30};
+  for (int t = 0; t < trials; ++t) {
+    double t0 = cpu_seconds();
+    for (int k = 0; k < 4; ++k) to_half(f.u.data.data(), half.data(), half.size());
+    best[0] = std::min(best[0], (cpu_seconds() - t0) * 1e9 / (4.0 * double(half.size())));
+    t0 = cpu_seconds();
+    for (int k = 0; k < 4; ++k) from_half(half.data(), back.data(), back.size());
+    best[1] = std::min(best[1], (cpu_seconds() - t0) * 1e9 / (4.0 * double(back.size())));
+  }
+  std::printf("half floats: to_half %.3f, from_half %.3f CPU ns per sample\n", best[0], best[1]);
+}
+
 // `kernel_bench check`: one hash per domain and precision, to compare builds bit for bit.
 int print_checksums() {
   for (Domain domain : {Domain::Planar, Domain::Cylindrical, Domain::Spherical})
@@ -167,5 +185,6 @@ int main(int argc, char** argv) {
                 best[3], best[1] / best[0], best[2] / best[0], best[3] / best[0], best[1] / best[3]);
   }
   std::printf("CPU seconds in all: %.2f\n", total);
+  if (!kernel_only) print_half_conversions(f, trials);
   return 0;
 }

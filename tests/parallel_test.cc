@@ -1,7 +1,9 @@
-// Workers on threads: each runs, an exception reaches the caller (no terminate), steps run in order on kept workers.
+// Workers on threads: each runs, an exception reaches the caller (no terminate), steps run in order on kept workers;
+// marks wake every waiter whose wait is met (however many at once), and only those.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -102,6 +104,68 @@ TEST(RunSteps, AnExceptionStopsTheRunAndReachesTheCaller) {
     }
     EXPECT_EQ(steps, 2);
   }
+}
+
+// Twelve threads wait on one mark (more than set() wakes after unlocking: the rest under the lock),
+// each for its own value; raising it step by step releases them in order, none early.
+TEST(Marks, EveryWaiterWakesOnceItsWaitIsMetAndNotBefore) {
+  Marks marks;
+  const int m = marks.add(1), count = 12;
+  std::atomic<int> woken{0};
+  std::vector<int> seen(count, -1);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < count; ++t)
+    threads.emplace_back([&, t] {
+      marks.wait(m, t / 2);  // until the mark is above t / 2
+      seen[t] = woken.fetch_add(1);
+    });
+  for (int v = 1; v <= count / 2; ++v) {
+    marks.set(m, v);
+    // Waiters of values below v go (a lost wake-up hangs here); the others must not have gone.
+    while (woken.load() < 2 * v) std::this_thread::yield();
+    EXPECT_EQ(woken.load(), 2 * v) << "mark " << v;
+  }
+  for (std::thread& th : threads) th.join();
+  EXPECT_EQ(woken.load(), count);
+}
+
+// Two threads hand a count back and forth 20000 times through two marks (waiters coming and going,
+// their wake-ups reused): no hand-off is lost (a lost one hangs) and each sees the other's value.
+TEST(Marks, HandOffsBackAndForthAreNeverLost) {
+  Marks marks;
+  const int ping = marks.add(1), pong = marks.add(1), rounds = 20000;
+  std::thread other([&] {
+    for (int i = 1; i <= rounds; ++i) {
+      marks.wait(ping, i - 1);
+      marks.set(pong, i);
+    }
+  });
+  for (int i = 1; i <= rounds; ++i) {
+    marks.set(ping, i);
+    marks.wait(pong, i - 1);
+  }
+  other.join();
+  SUCCEED();
+}
+
+TEST(Marks, StopEndsEveryWaitWithStopped) {
+  Marks marks;
+  const int m = marks.add(1);
+  std::atomic<int> stopped{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 10; ++t)
+    threads.emplace_back([&] {
+      try {
+        marks.wait(m, 5);
+      } catch (const Stopped&) {
+        ++stopped;
+      }
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  marks.stop();
+  for (std::thread& th : threads) th.join();
+  EXPECT_EQ(stopped.load(), 10);
+  EXPECT_THROW(marks.wait(m, 5), Stopped);
 }
 
 }  // namespace

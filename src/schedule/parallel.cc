@@ -2,6 +2,7 @@
 #include "schedule/parallel.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <barrier>
 #include <ctime>
@@ -9,6 +10,10 @@
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include <linux/futex.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 namespace gdp::schedule {
 namespace {
@@ -18,6 +23,16 @@ double thread_cpu_seconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
+}
+
+// A waiter's futex word: sleep_on() returns once it is rung (or spuriously), ring() wakes the
+// sleeper, if it sleeps yet.
+void sleep_on(std::atomic<int>& bell) {
+  int armed = 0;
+  if (bell.compare_exchange_strong(armed, 2)) syscall(SYS_futex, &bell, FUTEX_WAIT_PRIVATE, 2, nullptr, nullptr, 0);
+}
+void ring(std::atomic<int>& bell) {
+  if (bell.exchange(1) == 2) syscall(SYS_futex, &bell, FUTEX_WAKE_PRIVATE, 1, nullptr, nullptr, 0);
 }
 
 }  // namespace
@@ -91,19 +106,35 @@ int Marks::add(int count) {
 }
 
 void Marks::set(int m, int value) {
-  const std::lock_guard lock(mutex_);
-  marks_[m] = value;
-  for (Waiter* w : waiters_)
-    if (!w->done && (w->done = w->ready(marks_))) w->wake.notify_one();
+  std::array<std::atomic<int>*, 8> rung;  // rung after unlocking (more at once: under the lock)
+  std::size_t n = 0;
+  {
+    const std::lock_guard lock(mutex_);
+    marks_[m] = value;
+    for (Waiter* w : waiters_)
+      if (!w->done && (w->done = w->ready(marks_))) {
+        if (n < rung.size()) rung[n++] = w->bell;
+        else ring(*w->bell);
+      }
+  }
+  for (std::size_t i = 0; i < n; ++i) ring(*rung[i]);
 }
 
 void Marks::wait(const Ready& ready) {
   std::unique_lock lock(mutex_);
-  Waiter me{ready, !stopped_ && ready(marks_), {}};
-  if (!me.done) {
+  Waiter me{ready, !stopped_ && ready(marks_)};
+  if (!me.done && !stopped_) {
+    me.bell = spare_.empty() ? &bells_.emplace_back(0) : spare_.back();
+    if (!spare_.empty()) spare_.pop_back();
     waiters_.push_back(&me);
-    while (!stopped_ && !me.done) me.wake.wait(lock);
+    while (!stopped_ && !me.done) {
+      me.bell->store(0);  // (under the lock: set() rings it only after marking it done)
+      lock.unlock();
+      sleep_on(*me.bell);
+      lock.lock();
+    }
     std::erase(waiters_, &me);
+    spare_.push_back(me.bell);
   }
   if (stopped_) throw Stopped("stopped");
 }
@@ -120,7 +151,7 @@ void Marks::wait(int a, int b, int after, int until) {
 void Marks::stop() {
   const std::lock_guard lock(mutex_);
   stopped_ = true;
-  for (Waiter* w : waiters_) w->wake.notify_one();
+  for (Waiter* w : waiters_) ring(*w->bell);
 }
 
 RowRing::RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make)
@@ -131,9 +162,13 @@ void RowRing::need(int r, int from, int to) {
   marks_.set(readers_ + r, from);
   for (;;) {
     int next = -1;  // row `to` not made and no one making rows: make rows from `next` on here
+    // Waiting for another reader's makes: until kSlack rows more are made (woken once every few
+    // rows, not once a row) or it stops making, but never past a row whose slot this reader holds.
+    int bar = to;
     marks_.wait([&](std::vector<int>& m) {
+      if (m[made_] > bar) return true;
+      if (m[busy_]) return bar = std::max(to, std::min(to + kSlack, from + slots_ - 1)), false;
       if (m[made_] > to) return true;
-      if (m[busy_]) return false;
       m[busy_] = 1;
       next = m[made_];
       return true;

@@ -2,8 +2,9 @@
 // rows handed between them through marks and rings that the same stop ends.
 #pragma once
 
+#include <atomic>
 #include <climits>
-#include <condition_variable>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -52,14 +53,21 @@ class Marks {
   void stop();
 
  private:
+  // A waiter sleeps on a futex word of the marks' own (`bells_`, taken from `spare_` while it
+  // waits): set() rings it after unlocking, one futex call on each side. A condition variable
+  // notified under the lock costs three and a second switch (the woken thread sleeps again at once
+  // on the lock), dear on a guest where each wake-up is. A late ring of a word since handed to
+  // another waiter is a spurious wake-up: the waiter looks again under the lock.
   struct Waiter {
     const Ready& ready;
     bool done = false;
-    std::condition_variable wake;
+    std::atomic<int>* bell = nullptr;  // 0 armed, 1 rung, 2 asleep
   };
   std::mutex mutex_;
   std::vector<int> marks_;
   std::vector<Waiter*> waiters_;
+  std::deque<std::atomic<int>> bells_;
+  std::vector<std::atomic<int>*> spare_;
   bool stopped_ = false;
 };
 
@@ -75,7 +83,8 @@ class RowRing {
   void done(int r) { need(r, INT_MAX, rows_ - 1); }
   double cpu = 0.0;  // CPU seconds of the makes
   // A maker makes up to kAhead rows past the one asked for while their slots are free; a maker
-  // waiting for a slot is woken once kSlack more are free (woken once every few rows).
+  // waiting for a slot is woken once kSlack more are free, a reader waiting for another's makes once
+  // kSlack more rows are made or it stops making (woken once every few rows).
   static constexpr int kAhead = 4, kSlack = 4;
 
  private:
