@@ -6,7 +6,8 @@
 # script once to make it). Modes: memfd = every store in memory within the default budget
 # (GDP_DIRECT_SCRATCH=off); direct = --memory 0 (every store an O_DIRECT file); files = --memory 0
 # with GDP_DIRECT_SCRATCH=off (page-cache files with drop-behind, the path before O_DIRECT); default =
-# neither (stores from ScratchBudget::kDirectFrom on O_DIRECT, smaller ones in memory). Every run
+# neither (stores from ScratchBudget::kDirectFrom on O_DIRECT, smaller ones in memory); from=SIZE =
+# the default with GDP_DIRECT_SCRATCH=SIZE (stores from SIZE on O_DIRECT). Every run
 # waits PAUSE seconds first (freed memory goes back to this VM's host: docs/multigrid.md). Scratch
 # files go to $TMPDIR (default /tmp). Prints each run, the medians, and checks that every mode's
 # output is the same file (cmp). At 16384² and up run it under `flock /tmp/big.lock`.
@@ -26,6 +27,7 @@ run() {  # MODE ROUND
     direct) flags=(--memory 0) ;;
     files) env=(GDP_DIRECT_SCRATCH=off); flags=(--memory 0) ;;
     default) ;;
+    from=*) env=(GDP_DIRECT_SCRATCH=${1#from=}) ;;
   esac
   sleep "$pause"
   env "${env[@]}" python3 "$here/bench/measure_run.py" "$work/$1-$2.json" -- "$gdp" stitch -c "$comp/composite.png" \

@@ -144,6 +144,27 @@ TEST(ScratchFiles, LargeStoresAreDirectFilesThatBypassThePageCache) {
   EXPECT_FALSE(schedule::RowStore<float>(policy, n, rows, "off").on_disk());
 }
 
+// Rows longer than an O_DIRECT chunk (2 MiB): each spans several, and comes back whole.
+TEST(ScratchFiles, DirectRowsLongerThanAChunkComeBackWhole) {
+  if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";
+  schedule::ScratchBudget budget(0);  // no memory: past the budget, a file (O_DIRECT from 1 MiB)
+  schedule::StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 1300001, rows = 5;  // rows of 5.2 MB
+  schedule::RowStore<float> store(policy, n, rows, "long-rows");
+  ASSERT_TRUE(store.direct());
+  std::vector<float> row(n);
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t i = 0; i < n; ++i) row[i] = sample(0, r, i);
+    store.append(row);
+  }
+  store.rewind();
+  for (std::size_t r = 0; r < rows; ++r) {
+    store.read(row);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(0, r, i)) << "row " << r << " sample " << i;
+  }
+}
+
 // A checkpoint's O_DIRECT store: made durable at a length inside a block, written on, restored
 // by a new store to that length (the padded file truncated), written on again: every row as
 // written, and the kept file as long as the stream once it is made durable... and restored.
