@@ -26,7 +26,7 @@ bool make_direct(int fd);
 // A sequential stream of records of `record` bytes on `fd` (owned: closed by the destructor):
 // append them, rewind(), read them back in the same order (as often as needed); clear() starts
 // writing anew. Its buffers are made once (one for Memory, three for File, of 256 KB or the
-// `expected` length if shorter; two for Direct, of 64 KB to 2 MiB) and reused for every pass. A
+// `expected` length if shorter; two for Direct, of 64 KB to 1 MiB) and reused for every pass. A
 // Direct stream writes whole blocks, its last padded; bytes() is the length written, and
 // make_durable()/restore() keep it (a checkpoint's file may be longer; restore truncates it).
 // Errors are OutputError naming `where`, with `hint` after a failed write's reason.
