@@ -1,4 +1,4 @@
-// Scratch files keep only a window of their stream in the page cache (RowStore's drop-behind).
+// Scratch files: a window of the stream in the page cache (drop-behind), or none (O_DIRECT, checkpoints too).
 #include <dirent.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "gdp/errors.h"
+#include "io/scratch_stream.h"
 #include "schedule/row_store.h"
 
 namespace gdp {
@@ -51,7 +53,8 @@ std::size_t resident(int fd, std::size_t bytes) {
 // Writes and reads back 8 MB through a file store with the given drop-behind window; returns the
 // bytes of the file in the page cache after writing and after reading.
 std::pair<std::size_t, std::size_t> cached_bytes(std::size_t drop_behind, const std::string& name) {
-  schedule::ScratchBudget none(0);  // no memory: a file
+  schedule::ScratchBudget none(0);  // no memory: a file through the page cache
+  none.set_direct(false, 0);
   schedule::StorePolicy policy;
   policy.budget = &none;
   policy.drop_behind = drop_behind;
@@ -88,6 +91,125 @@ TEST(ScratchFiles, KeepOnlyAWindowOfTheStreamInThePageCache) {
   EXPECT_GE(kept_read, total * 9 / 10);
   EXPECT_LE(dropped_written, total / 2);
   EXPECT_LE(dropped_read, total / 2);
+}
+
+// True where the temp directory takes O_DIRECT files (not tmpfs).
+bool temp_takes_direct() {
+  const int fd = schedule::open_unlinked(fs::temp_directory_path(), "probe");
+  const bool direct = io::make_direct(fd);
+  ::close(fd);
+  return direct;
+}
+
+// Row r, sample i: exact in half floats too (small integers).
+float sample(std::size_t pass, std::size_t r, std::size_t i) { return static_cast<float>((pass * 7 + r * 3 + i) % 2000); }
+
+// A store from the budget's direct_from() on is an O_DIRECT file even when the budget has room
+// for it: rows that straddle its 4 KB blocks and chunks read back exactly, native and half,
+// rewound twice, cleared and written again, and none of it in the page cache.
+TEST(ScratchFiles, LargeStoresAreDirectFilesThatBypassThePageCache) {
+  if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";
+  schedule::ScratchBudget budget(std::size_t{1} << 30);
+  budget.set_direct(true, std::size_t{4} << 20);
+  schedule::StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 3001, rows = 1500;  // 18 MB (9 as half floats): rows of 12004 and 6002 bytes
+  for (const char* name : {"direct-native", "direct-half"}) {
+    policy.half.all = name == std::string("direct-half");
+    schedule::RowStore<float> store(policy, n, rows, name);
+    ASSERT_TRUE(store.direct()) << name;
+    EXPECT_EQ(budget.in_memory(), 0u);
+    const int fd = open_scratch_again(name);
+    std::vector<float> row(n);
+    for (std::size_t pass = 0; pass < 2; ++pass) {
+      store.clear();
+      for (std::size_t r = 0; r < rows - pass; ++r) {
+        for (std::size_t i = 0; i < n; ++i) row[i] = sample(pass, r, i);
+        store.append(row);
+      }
+      for (int again = 0; again < 2; ++again) {
+        store.rewind();
+        for (std::size_t r = 0; r < rows - pass; ++r) {
+          store.read(row);
+          for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(pass, r, i)) << name << " row " << r;
+        }
+      }
+      EXPECT_EQ(store.bytes(), (rows - pass) * n * (store.encoding() == schedule::StoreEncoding::Half ? 2 : 4));
+      EXPECT_EQ(budget.on_disk(), rows * n * (store.encoding() == schedule::StoreEncoding::Half ? 2 : 4));
+      EXPECT_LE(resident(fd, store.bytes()), store.bytes() / 10) << name;
+    }
+    ::close(fd);
+  }
+  budget.set_direct(false, 0);  // off: the same store in memory
+  EXPECT_FALSE(schedule::RowStore<float>(policy, n, rows, "off").on_disk());
+}
+
+// Rows longer than an O_DIRECT chunk (2 MiB): each spans several, and comes back whole.
+TEST(ScratchFiles, DirectRowsLongerThanAChunkComeBackWhole) {
+  if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";
+  schedule::ScratchBudget budget(0);  // no memory: past the budget, a file (O_DIRECT from 1 MiB)
+  schedule::StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 1300001, rows = 5;  // rows of 5.2 MB
+  schedule::RowStore<float> store(policy, n, rows, "long-rows");
+  ASSERT_TRUE(store.direct());
+  std::vector<float> row(n);
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t i = 0; i < n; ++i) row[i] = sample(0, r, i);
+    store.append(row);
+  }
+  store.rewind();
+  for (std::size_t r = 0; r < rows; ++r) {
+    store.read(row);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(0, r, i)) << "row " << r << " sample " << i;
+  }
+}
+
+// A checkpoint's O_DIRECT store: made durable at a length inside a block, written on, restored
+// by a new store to that length (the padded file truncated), written on again: every row as
+// written, and the kept file as long as the stream once it is made durable... and restored.
+TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) {
+  const fs::path dir = fs::temp_directory_path() / ("gdp-direct-test-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  schedule::ScratchBudget budget(0);
+  schedule::StorePolicy policy;
+  policy.budget = &budget;
+  policy.keep_dir = dir;
+  const std::size_t n = 1001, rows = 900, kept = 517;  // 3.6 MB; 517 rows end inside a block
+  std::vector<float> row(n);
+  const auto fill = [&](std::size_t pass, std::size_t r) {
+    for (std::size_t i = 0; i < n; ++i) row[i] = sample(pass, r, i);
+  };
+  std::size_t length = 0;
+  {
+    schedule::RowStore<float> store(policy, n, rows, "kept");
+    EXPECT_EQ(store.direct(), temp_takes_direct());
+    for (std::size_t r = 0; r < rows; ++r) {
+      fill(0, r);
+      store.append(row);
+      if (r + 1 == kept) length = store.make_durable();
+    }
+    store.rewind();
+  }
+  ASSERT_EQ(length, kept * n * sizeof(float));
+  ASSERT_NE(length % 4096, 0u);
+  schedule::RowStore<float> store(policy, n, rows, "kept");
+  store.restore(length);
+  EXPECT_EQ(fs::file_size(dir / "kept.store"), length);
+  for (std::size_t r = kept; r < rows; ++r) {
+    fill(1, r);
+    store.append(row);
+  }
+  EXPECT_EQ(store.make_durable(), rows * n * sizeof(float));
+  store.rewind();
+  for (std::size_t r = 0; r < rows; ++r) {
+    store.read(row);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(r < kept ? 0 : 1, r, i)) << "row " << r;
+  }
+  schedule::RowStore<float> shorter(policy, n, rows, "kept");
+  EXPECT_THROW(shorter.restore(fs::file_size(dir / "kept.store") + 1), OutputError);
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -7,16 +7,14 @@
 #include <span>
 #include <string>
 #include <type_traits>
-#include <vector>
 
 #include "multigrid/half_policy.h"
 #include "io/drop_behind.h"
+#include "io/scratch_stream.h"
 #include "schedule/bytes.h"
 #include "schedule/scratch_budget.h"
 
 namespace gdp::schedule {
-
-class ReadAhead;
 
 // An exclusive file in `dir`, unlinked at once: only the returned descriptor keeps it alive
 // (OutputError naming the directory when it cannot be created).
@@ -50,7 +48,10 @@ struct StorePolicy {
 };
 
 // A sequential stream of equal-length rows of T: append them, rewind(), read them back in the
-// same order (as often as needed); clear() starts writing anew.
+// same order (as often as needed); clear() starts writing anew. The bytes go through an
+// io::ScratchStream: a memfd, a file through the page cache, or an O_DIRECT file (a store of at
+// least ScratchBudget::direct_from() bytes whatever the budget, or one past the budget: "Scratch in
+// O_DIRECT files", docs/how-streaming-works.md).
 template <class T>
 class RowStore {
  public:
@@ -63,10 +64,11 @@ class RowStore {
   void append(std::span<const T> row);
   void rewind();
   void read(std::span<T> row);
-  void clear();
+  void clear() { stream_->clear(); }
   // Bytes of the stream so far (what it occupies on disk or in memory).
-  std::size_t bytes() const { return written_; }
-  bool on_disk() const { return !dir_.empty(); }
+  std::size_t bytes() const { return stream_->bytes(); }
+  bool on_disk() const { return stream_->kind() != io::StreamKind::Memory; }
+  bool direct() const { return stream_->kind() == io::StreamKind::Direct; }
   StoreEncoding encoding() const { return encoding_; }
 
   // Checkpoints (kept files only): writes what is buffered, syncs the file and returns the
@@ -76,31 +78,15 @@ class RowStore {
   void restore(std::size_t bytes);
 
  private:
-  void flush();
-  void fill();
-  std::size_t chunk_bytes() const;
-  void count_disk(std::size_t bytes);
+  void count_disk();
   std::size_t encoded_bytes() const;
 
-  // "scratch file in DIR (NAME)": messages name the directory (the disk that filled up).
-  std::string where() const;
-
-  std::string name_;
-  std::filesystem::path dir_;  // of the file (empty in memory)
   std::size_t row_length_;
   StoreEncoding encoding_;
-  std::vector<unsigned char> buffer_;     // rows on their way to the file
-  int fd_ = -1;                           // the file, or the memfd of a store in memory
-  ScratchBudget* budget_ = nullptr;       // holds memory_, counts a disk file's bytes
-  std::size_t memory_ = 0;                // bytes taken from the budget (a store in memory)
-  std::size_t disk_bytes_ = 0;            // counted so far
-  std::size_t buffered_ = 0, cursor_ = 0;  // bytes in buffer_ and read position within it
-  std::size_t written_ = 0;                // bytes in the stream
-  std::size_t read_at_ = 0;                // bytes read back so far (memory; ReadAhead counts a file's)
-  std::unique_ptr<ReadAhead> ahead_;       // a file read back: its chunks, read on a thread of their own
-  const unsigned char* chunk_ = nullptr;   // the chunk being read (buffered_ bytes)
-  io::DropBehind drop_behind_;                 // a file's pages out of the page cache (StorePolicy::drop_behind)
-  bool reading_ = false;
+  ScratchBudget* budget_ = nullptr;  // holds memory_, counts a disk file's bytes
+  std::size_t memory_ = 0;           // bytes taken from the budget (a store in memory)
+  std::size_t disk_bytes_ = 0;       // counted so far
+  std::unique_ptr<io::ScratchStream> stream_;
 };
 
 // A row store's length in a checkpoint state (Archive: ByteWriter or ByteReader): saving makes

@@ -2,9 +2,12 @@
 #include "schedule/scratch_budget.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <string>
+
+#include "gdp/solver.h"
 
 namespace gdp::schedule {
 namespace {
@@ -19,6 +22,13 @@ void raise_peak(std::atomic<std::size_t>& peak, std::size_t value) {
 
 ScratchBudget& ScratchBudget::process() {
   static ScratchBudget budget;
+  static const bool read = [] {
+    const char* v = std::getenv("GDP_DIRECT_SCRATCH");
+    const std::string text = v ? v : "";
+    budget.set_direct(text != "off", text.empty() || text == "off" ? kDirectFrom : parse_memory_size(text));
+    return true;
+  }();
+  (void)read;
   return budget;
 }
 

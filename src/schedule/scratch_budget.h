@@ -26,6 +26,15 @@ class ScratchBudget {
 
   void set_limit(std::size_t bytes) { limit_.store(bytes); }
   std::size_t limit() const { return limit_.load(); }
+  // Stores of at least direct_from() bytes are O_DIRECT files where the directory takes them,
+  // even when they would fit the budget (SIZE_MAX, the default here: never); with direct_files()
+  // false no store is O_DIRECT, not even one past the budget. The process's budget takes both
+  // from GDP_DIRECT_SCRATCH ("off", or a size: kDirectFrom without it; docs/how-streaming-works.md,
+  // "Scratch in O_DIRECT files").
+  static constexpr std::size_t kDirectFrom = std::size_t{256} << 20;
+  void set_direct(bool files, std::size_t from) { direct_files_ = files, direct_from_ = from; }
+  bool direct_files() const { return direct_files_.load(); }
+  std::size_t direct_from() const { return direct_from_.load(); }
 
   // Takes `bytes` from the budget if they fit its limit and half of what is available (true),
   // else takes nothing (false).
@@ -44,7 +53,8 @@ class ScratchBudget {
   void reset_peaks();
 
  private:
-  std::atomic<std::size_t> limit_;
+  std::atomic<std::size_t> limit_, direct_from_{static_cast<std::size_t>(-1)};
+  std::atomic<bool> direct_files_{true};
   Available available_;
   std::atomic<std::size_t> memory_{0}, disk_{0}, memory_peak_{0}, disk_peak_{0}, spilled_{0};
 };
