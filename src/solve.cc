@@ -87,6 +87,11 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
 
 int band_halo_columns(int sweeps) { return bands::band_halo(sweeps, bands::kDefaultPhaseGroups); }
 
+std::size_t direct_scratch_from() {
+  const auto& budget = schedule::ScratchBudget::process();
+  return budget.direct_files() ? budget.direct_from() : static_cast<std::size_t>(-1);
+}
+
 void ScheduleFlags::apply(SolverOptions& options) const {
   options.domain = parse_domain(domain);
   if (sphere) {

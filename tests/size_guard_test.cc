@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include "gdp/solver.h"
+#include "schedule/scratch_budget.h"
 #include "scratch_split.h"
 #include "test_util.h"
 
@@ -45,6 +46,33 @@ TEST(SizeGuard, ScratchBoundsHoldForEveryBudget) {
   EXPECT_GT(split_unevenly, 0) << "no budget left room unused: the test shows nothing";
 }
 
+// Stores as large as the O_DIRECT threshold are files even when the budget holds everything: the
+// bound counts all the scratch on disk then, and the solve keeps within it.
+TEST(SizeGuard, DirectStoresCountOnDisk) {
+  const int w = 160, h = 120, c = 3;
+  const Image img = test::random_image(w, h, c, 4);
+  SolverOptions o;
+  o.schedule = Schedule::Streaming;
+  o.threads = 1;
+  o.coarsest_size = 5;
+  o.incore_bytes = 0;
+  o.scratch_memory = std::size_t{1} << 30;
+  const double plane = static_cast<double>(w) * h * c * sizeof(float);
+  auto& budget = schedule::ScratchBudget::process();
+  const bool files = budget.direct_files();
+  const std::size_t from = budget.direct_from();
+  budget.set_direct(true, static_cast<std::size_t>(plane / 2));
+  test::ExactGradients src(img, Domain::Cylindrical);
+  SolveSummary s;
+  solve(src, o, nullptr, &s);
+  budget.set_direct(files, from);
+  const cli::ScratchSplit bound = cli::split_scratch(static_cast<double>(s.scratch_bytes),
+                                                     static_cast<double>(o.scratch_memory), plane, plane / 2);
+  EXPECT_GT(s.scratch_disk_peak, 0u) << "no store went to a file: the test shows nothing";
+  EXPECT_LE(static_cast<double>(s.scratch_disk_peak), bound.disk);
+  EXPECT_LE(static_cast<double>(s.scratch_memory_peak), bound.memory);
+}
+
 TEST(SizeGuard, ScratchSplitsAtTheBudget) {
   EXPECT_EQ(cli::split_scratch(100, 200, 40).disk, 0.0);  // all fits
   EXPECT_EQ(cli::split_scratch(100, 200, 40).memory, 100.0);
@@ -52,6 +80,9 @@ TEST(SizeGuard, ScratchSplitsAtTheBudget) {
   EXPECT_EQ(cli::split_scratch(100, 70, 40).memory, 70.0);
   EXPECT_EQ(cli::split_scratch(100, 30, 40).disk, 100.0);  // no store need fit
   EXPECT_EQ(cli::split_scratch(100, 0, 40).disk, 100.0);
+  EXPECT_EQ(cli::split_scratch(100, 200, 40, 40).disk, 100.0);  // a store as large as direct_from: a file anyway
+  EXPECT_EQ(cli::split_scratch(100, 200, 40, 41).disk, 0.0);
+  EXPECT_EQ(cli::split_scratch(100, 70, 40, 40).disk, 100.0);
 }
 
 }  // namespace

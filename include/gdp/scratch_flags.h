@@ -1,6 +1,7 @@
 // The scratch an application (the CLI, the Python module) asks for: its precision from the flags, and its stores' halo.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "gdp/solver.h"
@@ -15,5 +16,9 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
 // The most columns of each neighbour's that a band of the band schedule keeps, for `sweeps`
 // (the larger of SolverOptions::sweeps and post_sweeps): under mpirun a rank's row stores span its columns and these either side.
 int band_halo_columns(int sweeps);
+
+// Row stores of at least this many bytes go to O_DIRECT files whatever --memory leaves them
+// (GDP_DIRECT_SCRATCH; SIZE_MAX when it is "off"): the disk the size check must count.
+std::size_t direct_scratch_from();
 
 }  // namespace gdp

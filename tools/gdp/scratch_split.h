@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 
 namespace gdp::cli {
 
@@ -14,10 +15,13 @@ struct ScratchSplit {
 // in memory only if it fits whole in what the budget has left, else it goes to a file whole
 // (schedule::ScratchBudget). So when not everything fits, a store was refused while more than
 // budget - that store was held: at least budget - largest_store stays in memory, and the disk
-// takes the rest, up to a store more than scratch - budget.
-inline ScratchSplit split_scratch(double scratch, double budget, double largest_store) {
-  if (scratch <= budget) return {scratch, 0.0};
-  return {budget, scratch - std::max(0.0, budget - largest_store)};
+// takes the rest, up to a store more than scratch - budget. Stores of `direct_from` bytes or more
+// are files whatever the budget (O_DIRECT, GDP_DIRECT_SCRATCH): with such a store all of it may be.
+inline ScratchSplit split_scratch(double scratch, double budget, double largest_store,
+                                  double direct_from = std::numeric_limits<double>::infinity()) {
+  const double disk = largest_store >= direct_from ? scratch : 0.0;
+  if (scratch <= budget) return {scratch, disk};
+  return {budget, std::max(disk, scratch - std::max(0.0, budget - largest_store))};
 }
 
 }  // namespace gdp::cli

@@ -94,7 +94,8 @@ void check(const Limits& l, long long width, long long height, int channels, dou
   const double ranks = MpiRun::size();
   const double scratch = l.scratch ? samples * l.disk_per_sample / ranks : 0.0;
   const double store = l.scratch ? largest_store(l, width, height, channels) : 0.0;
-  const ScratchSplit split = split_scratch(scratch, l.memory_budget, store);  // stores over the budget go to disk whole
+  const ScratchSplit split =
+      split_scratch(scratch, l.memory_budget, store, static_cast<double>(direct_scratch_from()));
   const double in_memory = split.memory;
   const double memory = l.in_core ? samples * kInCorePerSample * l.scale
                                   : static_cast<double>(width) * channels * kRowsInMemory * 4.0 * l.scale + in_memory;
