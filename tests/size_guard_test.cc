@@ -12,20 +12,27 @@
 namespace gdp {
 namespace {
 
-// Stores go to memory while the budget has room for the whole store, else to a file whole: the
-// budget left unused can be up to one store, so the disk takes up to that much more than
-// scratch - budget. Every budget from none to all of it, on a solve whose largest store is one
-// plane of the finest level (one lane, every level but the coarsest streamed, a carried result).
-TEST(SizeGuard, ScratchBoundsHoldForEveryBudget) {
-  const int w = 160, h = 120, c = 3;
-  const Image img = test::random_image(w, h, c, 4);
+// A 160x120 RGB solve streamed on one thread, every level but the coarsest streamed: its largest
+// store is one plane of the finest level.
+constexpr int w = 160, h = 120, c = 3;
+constexpr double plane = static_cast<double>(w) * h * c * sizeof(float);
+SolverOptions streamed() {
   SolverOptions o;
   o.schedule = Schedule::Streaming;
   o.threads = 1;
   o.coarsest_size = 5;
   o.incore_bytes = 0;
+  return o;
+}
+
+// Stores go to memory while the budget has room for the whole store, else to a file whole: the
+// budget left unused can be up to one store, so the disk takes up to that much more than
+// scratch - budget. Every budget from none to all of it, on a solve whose largest store is one
+// plane of the finest level (one lane, every level but the coarsest streamed, a carried result).
+TEST(SizeGuard, ScratchBoundsHoldForEveryBudget) {
+  const Image img = test::random_image(w, h, c, 4);
+  SolverOptions o = streamed();
   o.vcycles = 2;
-  const double plane = static_cast<double>(w) * h * c * sizeof(float);
   std::size_t total = 0;
   int split_unevenly = 0;
   for (int step = 0; step <= 24; ++step) {
@@ -49,15 +56,9 @@ TEST(SizeGuard, ScratchBoundsHoldForEveryBudget) {
 // Stores as large as the O_DIRECT threshold are files even when the budget holds everything: the
 // bound counts all the scratch on disk then, and the solve keeps within it.
 TEST(SizeGuard, DirectStoresCountOnDisk) {
-  const int w = 160, h = 120, c = 3;
   const Image img = test::random_image(w, h, c, 4);
-  SolverOptions o;
-  o.schedule = Schedule::Streaming;
-  o.threads = 1;
-  o.coarsest_size = 5;
-  o.incore_bytes = 0;
+  SolverOptions o = streamed();
   o.scratch_memory = std::size_t{1} << 30;
-  const double plane = static_cast<double>(w) * h * c * sizeof(float);
   auto& budget = schedule::ScratchBudget::process();
   const bool files = budget.direct_files();
   const std::size_t from = budget.direct_from();

@@ -52,6 +52,7 @@ class ThreadHub {
   virtual ~ThreadHub() = default;
   int first() const { return first_; }  // the first worker of this process
   Transport& endpoint(int worker);       // worker in [first(), first() + local)
+  Transport& own() { return endpoint(first_); }  // this process's first worker's (its collectives)
   void send(int from, int to, int tag, Bytes data);
   Bytes receive(int from, int to, int tag);
   // Stops every worker: their waiting and later calls throw schedule::Stopped(why).

@@ -19,7 +19,7 @@ bool several_ranks() { return MpiRun::size() > 1; }
 void share_labels(LabelPlane& labels) {
   if (!several_ranks()) return;
   bands::MpiHub hub(1);  // the ranks' ordered collectives (bands/transport.h)
-  bands::Transport& net = hub.endpoint(hub.first());
+  bands::Transport& net = hub.own();
   const std::size_t W = static_cast<std::size_t>(labels.width());
   const int H = labels.height();
   const bool root = net.rank() == 0;
@@ -49,7 +49,7 @@ void gather_overlaps(std::vector<signed char>& overlaps) {
   bands::ByteWriter mine;
   mine.io(overlaps);
   std::vector<signed char> part;
-  for (bands::Bytes& bytes : bands::all_gather(hub.endpoint(hub.first()), kOverlaps, std::move(mine.bytes))) {
+  for (bands::Bytes& bytes : bands::all_gather(hub.own(), kOverlaps, std::move(mine.bytes))) {
     bands::ByteReader in(std::move(bytes));
     part.resize(overlaps.size());
     in.io_sized(std::span(part));

@@ -25,7 +25,6 @@ class ScratchBudget {
   static ScratchBudget& process();
 
   void set_limit(std::size_t bytes) { limit_.store(bytes); }
-  std::size_t limit() const { return limit_.load(); }
   // Stores of at least direct_from() bytes are O_DIRECT files where the directory takes them,
   // even when they would fit the budget (SIZE_MAX, the default here: never); with direct_files()
   // false no store is O_DIRECT, not even one past the budget. The process's budget takes both

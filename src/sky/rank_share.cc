@@ -10,7 +10,7 @@ RankShare::RankShare(const std::function<std::vector<int>(int ranks)>& owners) {
   const int ranks = MpiRun::size();
   if (ranks <= 1) return;
   hub_ = std::make_unique<bands::MpiHub>(1);
-  share_.net = &hub_->endpoint(hub_->first());
+  share_.net = &hub_->own();
   if (owners) share_.owners = owners(ranks);
   share_.agree = MpiRun::agree;
 }
