@@ -12,6 +12,7 @@
 #include "blend/scratch.h"
 #include "gdp/errors.h"
 #include "io/codec_util.h"
+#include "util/exact_io.h"
 #include "schedule/row_store.h"
 
 namespace gdp::blending {
@@ -104,7 +105,7 @@ void KeptRows::Writer::flush() {
   write_at(kept_.fd_, chunk_.data(), n, at_, kept_.dir_);
   at_ += n;
   in_chunk_ = 0;
-  if (!drop_.wrote(kept_.fd_, at_)) throw OutputError("scratch file: cannot write: " + std::generic_category().message(errno));
+  if (!drop_.wrote(kept_.fd_, at_)) throw OutputError("scratch file: cannot write: " + util::errno_message());
 }
 
 KeptRows::Reader::Reader(const KeptRows& kept, int k)

@@ -60,8 +60,6 @@ std::vector<std::string> split_tabs(const std::string& line) {
   return parts;
 }
 
-std::string system_message() { return std::generic_category().message(errno); }
-
 // Files a checkpoint consists of (removed by a fresh run and after success).
 bool is_checkpoint_file(const std::string& name) {
   const auto ends = [&](const std::string& tail) {
@@ -85,17 +83,17 @@ std::string manifest_name(int rank) { return rank == 0 ? "manifest" : fmt::forma
 void write_atomically(const std::filesystem::path& path, const std::string& bytes) {
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot create: {}", tmp.string(), system_message()));
+  if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot create: {}", tmp.string(), util::errno_message()));
   try {
     util::write_exactly(fd, bytes.data(), bytes.size(), {tmp.native(), "checkpoint "});
-    if (::fdatasync(fd) != 0) throw OutputError(fmt::format("checkpoint {}: {}", tmp.string(), system_message()));
+    if (::fdatasync(fd) != 0) throw OutputError(fmt::format("checkpoint {}: {}", tmp.string(), util::errno_message()));
   } catch (...) {
     ::close(fd);
     throw;
   }
   ::close(fd);
   if (::rename(tmp.c_str(), path.c_str()) != 0)
-    throw OutputError(fmt::format("checkpoint {}: cannot rename: {}", path.string(), system_message()));
+    throw OutputError(fmt::format("checkpoint {}: cannot rename: {}", path.string(), util::errno_message()));
 }
 
 Manifest read_manifest(const std::filesystem::path& dir, int rank) {

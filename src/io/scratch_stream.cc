@@ -28,8 +28,6 @@ std::size_t direct_chunk(std::size_t expected) {
   return std::clamp(align_up(expected / 64), std::size_t{64} << 10, std::size_t{1} << 20);
 }
 
-std::string system_message() { return std::generic_category().message(errno); }
-
 }  // namespace
 
 bool make_direct(int fd) {
@@ -83,7 +81,7 @@ void ScratchStream::pass_on(bool all) {
     util::write_exactly_at(fd_, cur_, fill_, base_, {where_, {}, hint_});
     base_ += fill_;
     fill_ = 0;
-    if (!drop_behind_.wrote(fd_, base_)) throw OutputError(where_ + ": cannot write: " + system_message());
+    if (!drop_behind_.wrote(fd_, base_)) throw OutputError(where_ + ": cannot write: " + util::errno_message());
     return;
   }
   if (all && fill_ == 0) return writer_->drain();
@@ -161,7 +159,7 @@ void ScratchStream::clear() {
 
 std::size_t ScratchStream::make_durable() {
   if (!reading_) pass_on(true);
-  if (::fdatasync(fd_) != 0) throw OutputError(where_ + ": cannot sync: " + system_message());
+  if (::fdatasync(fd_) != 0) throw OutputError(where_ + ": cannot sync: " + util::errno_message());
   return bytes();
 }
 
@@ -172,11 +170,11 @@ void ScratchStream::restore(std::size_t bytes) {
   if (end < 0 || static_cast<std::size_t>(end) < bytes)
     throw OutputError(where_ + ": shorter than the checkpoint says (" + std::to_string(end) + " of " +
                       std::to_string(bytes) + " bytes)");
-  if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0) throw OutputError(where_ + ": " + system_message());
+  if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0) throw OutputError(where_ + ": " + util::errno_message());
   base_ = kind_ == StreamKind::Direct ? align_down(bytes) : bytes;
   fill_ = bytes - base_;  // Direct: the last partial block, read back to be written again
   if (fill_ > 0 && read_chunk(fd_, cur_, fill_, base_, true).done < fill_)
-    throw OutputError(where_ + ": cannot read back: " + system_message());
+    throw OutputError(where_ + ": cannot read back: " + util::errno_message());
   drop_behind_.restart(bytes);
   reading_ = false;
 }

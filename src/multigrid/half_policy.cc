@@ -90,9 +90,8 @@ GDP_CLONES void cast_round(T* p, std::size_t n) {
   for (; i < n; ++i) p[i] = static_cast<float>(static_cast<_Float16>(p[i]));
 }
 
-template <class T>
-bool f16c_floats() {
-  static const bool yes = std::is_same_v<T, float> && (__builtin_cpu_init(), __builtin_cpu_supports("f16c"));
+bool has_f16c() {
+  static const bool yes = (__builtin_cpu_init(), __builtin_cpu_supports("f16c"));
   return yes;
 }
 
@@ -101,19 +100,19 @@ bool f16c_floats() {
 template <class T>
 void to_half(const T* in, _Float16* out, std::size_t n) {
   if constexpr (std::is_same_v<T, float>)
-    if (f16c_floats<T>()) return f16c_to_half(in, out, n);
+    if (has_f16c()) return f16c_to_half(in, out, n);
   cast_to_half(in, out, n);
 }
 template <class T>
 void from_half(const _Float16* in, T* out, std::size_t n) {
   if constexpr (std::is_same_v<T, float>)
-    if (f16c_floats<T>()) return f16c_from_half(in, out, n);
+    if (has_f16c()) return f16c_from_half(in, out, n);
   cast_from_half(in, out, n);
 }
 template <class T>
 void round_to_half(T* p, std::size_t n) {
   if constexpr (std::is_same_v<T, float>)
-    if (f16c_floats<T>()) return f16c_round(p, n);
+    if (has_f16c()) return f16c_round(p, n);
   cast_round(p, n);
 }
 

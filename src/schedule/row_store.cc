@@ -20,15 +20,13 @@ namespace {
 
 constexpr std::size_t kDirectMin = std::size_t{1} << 20;  // a smaller file's blocks are not worth a thread
 
-std::string system_message() { return std::generic_category().message(errno); }
-
 }  // namespace
 
 int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
   std::string pattern = (dir / fmt::format("gdp-scratch-{}-{}-XXXXXX", static_cast<long>(::getpid()), name)).string();
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0)
-    throw OutputError(fmt::format("scratch directory {}: cannot create a file: {}", dir.string(), system_message()));
+    throw OutputError(fmt::format("scratch directory {}: cannot create a file: {}", dir.string(), util::errno_message()));
   ::unlink(pattern.c_str());
   return fd;
 }
@@ -54,7 +52,7 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
   if (!policy.keep_dir.empty()) {
     const std::filesystem::path path = policy.keep_dir / (name + ".store");
     fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), system_message()));
+    if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), util::errno_message()));
     kind = file_kind(fd, 0);  // (O_DIRECT however small: the resume tests cover it)
   } else if (budget_->direct_files() && total >= budget_->direct_from()) {
     fd = open_unlinked(dir, name);
@@ -67,7 +65,7 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
     fd = ::memfd_create(("gdp-scratch-" + name).c_str(), MFD_CLOEXEC);
     if (fd < 0) {
       budget_->release(total);
-      throw OutputError(fmt::format("scratch memory ({}): cannot create: {}", name, system_message()));
+      throw OutputError(fmt::format("scratch memory ({}): cannot create: {}", name, util::errno_message()));
     }
     memory_ = total;
     kind = io::StreamKind::Memory;

@@ -43,6 +43,8 @@ std::string reason_of(int error) { return std::generic_category().message(error)
 
 }  // namespace
 
+std::string errno_message() { return std::generic_category().message(errno); }
+
 Transfer pread_full(int fd, void* data, std::size_t n, std::size_t at) noexcept {
   return loop(static_cast<unsigned char*>(data), n, at, true, [fd](unsigned char* p, std::size_t left, std::size_t off) {
     return ::pread(fd, p, left, static_cast<off_t>(off));

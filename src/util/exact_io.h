@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <string_view>
 
 namespace gdp::util {
@@ -17,6 +18,9 @@ struct Transfer {
 Transfer pread_full(int fd, void* data, std::size_t n, std::size_t at) noexcept;
 Transfer pwrite_full(int fd, const void* data, std::size_t n, std::size_t at) noexcept;
 Transfer write_full(int fd, const void* data, std::size_t n) noexcept;  // at the file's position
+
+// errno's text now (after a failed system call), for messages.
+std::string errno_message();
 
 // The file an error message names, "<prefix><file>", with `hint` after a failed write's reason.
 // Views only: nothing is formatted unless a transfer fails.
