@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "gdp/errors.h"
-#include "schedule/row_store.h"
+#include "io/scratch_stream.h"
 #include "util/exact_io.h"
 
 namespace gdp {
@@ -36,7 +36,7 @@ std::string message_of(const std::function<void()>& f) {
 }
 
 TEST(ExactIo, WritesAndReadsBackAtOffsets) {
-  const int fd = schedule::open_unlinked(std::filesystem::temp_directory_path(), "exact-io-test");
+  const int fd = io::open_unlinked(std::filesystem::temp_directory_path(), "exact-io-test");
   const util::FileName name{"/x/f"};
   const auto a = pattern(300001, 1), b = pattern(4096, 2);
   util::write_exactly_at(fd, a.data(), a.size(), 0, name);
@@ -51,7 +51,7 @@ TEST(ExactIo, WritesAndReadsBackAtOffsets) {
 }
 
 TEST(ExactIo, AShortReadAtTheEndIsCountedOrNamed) {
-  const int fd = schedule::open_unlinked(std::filesystem::temp_directory_path(), "exact-io-test");
+  const int fd = io::open_unlinked(std::filesystem::temp_directory_path(), "exact-io-test");
   const auto a = pattern(1000, 3);
   util::write_exactly(fd, a.data(), a.size(), {"/x/f"});  // sequential, at the file's position
   std::vector<unsigned char> got(600, 0xee);

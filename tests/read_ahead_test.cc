@@ -10,14 +10,13 @@
 #include "io/aligned_bytes.h"
 #include "io/read_ahead.h"
 #include "io/scratch_stream.h"
-#include "schedule/row_store.h"
 
 namespace gdp {
 namespace {
 
 // An unlinked scratch file holding `bytes` bytes, byte i = i * 7 mod 251.
 int file_of(std::size_t bytes) {
-  const int fd = schedule::open_unlinked(std::filesystem::temp_directory_path(), "read-ahead-test");
+  const int fd = io::open_unlinked(std::filesystem::temp_directory_path(), "read-ahead-test");
   std::vector<unsigned char> b(bytes);
   for (std::size_t i = 0; i < bytes; ++i) b[i] = static_cast<unsigned char>(i * 7 % 251);
   EXPECT_EQ(::pwrite(fd, b.data(), bytes, 0), static_cast<ssize_t>(bytes));

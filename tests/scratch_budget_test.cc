@@ -15,7 +15,6 @@ namespace {
 
 using schedule::RowStore;
 using schedule::ScratchBudget;
-using schedule::StoreEncoding;
 using schedule::StorePolicy;
 
 TEST(ScratchBudget, ReservesOnlyWhatFits) {
@@ -131,13 +130,14 @@ TEST(ScratchBudget, QuantityEncodingsPickTheLongestMatchingName) {
   StorePolicy policy;
   policy.half.named["u"] = true;
   policy.half.named["level0-u"] = false;
-  EXPECT_EQ(policy.encoding_of("level3-u"), StoreEncoding::Half);
-  EXPECT_EQ(policy.encoding_of("level0-u"), StoreEncoding::Native);
-  EXPECT_EQ(policy.encoding_of("u"), StoreEncoding::Half);
-  EXPECT_EQ(policy.encoding_of("level1-mu"), StoreEncoding::Native);  // "-mu" is not "-u"
-  EXPECT_EQ(policy.encoding_of("level1-b"), StoreEncoding::Native);
+  EXPECT_TRUE(policy.half.rounds("level3-u"));
+  EXPECT_FALSE(policy.half.rounds("level0-u"));
+  EXPECT_TRUE(policy.half.rounds("u"));
+  EXPECT_FALSE(policy.half.rounds("level1-mu"));  // "-mu" is not "-u"
+  EXPECT_FALSE(policy.half.rounds("level1-b"));
   RowStore<float> store(policy, 4, 4, "level2-u");
-  EXPECT_EQ(store.encoding(), StoreEncoding::Half);
+  EXPECT_TRUE(store.half());
+  EXPECT_FALSE(RowStore<float>(policy, 4, 4, "level0-u").half());
 }
 
 TEST(ScratchBudget, MemorySizesParse) {

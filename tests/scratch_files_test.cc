@@ -95,7 +95,7 @@ TEST(ScratchFiles, KeepOnlyAWindowOfTheStreamInThePageCache) {
 
 // True where the temp directory takes O_DIRECT files (not tmpfs).
 bool temp_takes_direct() {
-  const int fd = schedule::open_unlinked(fs::temp_directory_path(), "probe");
+  const int fd = io::open_unlinked(fs::temp_directory_path(), "probe");
   const bool direct = io::make_direct(fd);
   ::close(fd);
   return direct;
@@ -134,8 +134,8 @@ TEST(ScratchFiles, LargeStoresAreDirectFilesThatBypassThePageCache) {
           for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(pass, r, i)) << name << " row " << r;
         }
       }
-      EXPECT_EQ(store.bytes(), (rows - pass) * n * (store.encoding() == schedule::StoreEncoding::Half ? 2 : 4));
-      EXPECT_EQ(budget.on_disk(), rows * n * (store.encoding() == schedule::StoreEncoding::Half ? 2 : 4));
+      EXPECT_EQ(store.bytes(), (rows - pass) * n * (store.half() ? 2 : 4));
+      EXPECT_EQ(budget.on_disk(), rows * n * (store.half() ? 2 : 4));
       EXPECT_LE(resident(fd, store.bytes()), store.bytes() / 10) << name;
     }
     ::close(fd);

@@ -246,14 +246,14 @@ TEST(Streaming, TallThinImageInBoundedMemory) {
   EXPECT_GT(s.scratch_bytes, std::size_t{2} * w * h * sizeof(float));  // u and b of level 0 at least
 }
 
-class RowStores : public ::testing::TestWithParam<std::tuple<std::size_t, schedule::StoreEncoding>> {};
+class RowStores : public ::testing::TestWithParam<std::tuple<std::size_t, bool>> {};
 
 TEST_P(RowStores, RowsComeBackInOrderAfterEveryRewind) {
-  const auto [limit, encoding] = GetParam();
+  const auto [limit, half] = GetParam();
   schedule::ScratchBudget budget(limit);
   schedule::StorePolicy policy;
   policy.budget = &budget;
-  policy.half.all = encoding == schedule::StoreEncoding::Half;
+  policy.half.all = half;
   policy.drop_behind = 100000;  // files: many drop-behind windows, none a whole number of pages
   const std::size_t n = 1000, rows = 700;  // 2.8 MB as float: several file buffers
   schedule::RowStore<float> store(policy, n, rows, "test");
@@ -274,14 +274,13 @@ TEST_P(RowStores, RowsComeBackInOrderAfterEveryRewind) {
       }
     }
   }
-  EXPECT_EQ(store.bytes(), n * rows * (encoding == schedule::StoreEncoding::Half ? 2 : 4));
+  EXPECT_EQ(store.bytes(), n * rows * (half ? 2 : 4));
   EXPECT_THROW(store.read(row), std::logic_error);
 }
 
 INSTANTIATE_TEST_SUITE_P(MemoryAndDisk, RowStores,
                          ::testing::Combine(::testing::Values(std::size_t{0}, std::size_t{64} << 20),
-                                            ::testing::Values(schedule::StoreEncoding::Native,
-                                                              schedule::StoreEncoding::Half)));
+                                            ::testing::Bool()));
 
 TEST(Streaming, ScratchFilesLeaveNothingInTheTempDirectory) {
   const fs::path dir = fs::temp_directory_path() / "gdp-streaming-test-scratch";

@@ -4,9 +4,9 @@
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
+#include <chrono>
 #include <deque>
 #include <mutex>
-#include <optional>
 
 #include <fmt/format.h>
 
@@ -24,11 +24,12 @@
 
 namespace gdp::bands {
 
-using schedule::Clock;
 using multigrid::InputTotals;
-using schedule::seconds_since;
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcycle.cc uses < 2000)
 // Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column
@@ -43,26 +44,14 @@ void io(Archive& a, Totals& t) {
   a.io(t.weight_total);
 }
 
-// The workers of this process: bands [first, first + local) of the plan (all of them on threads,
-// or under mpirun this rank's share), each in `groups` channel groups. Channels are independent
-// problems: a group's bands talk among themselves only (a hub each; under mpirun one group).
-struct Team {
-  std::vector<std::unique_ptr<ThreadHub>> hubs;  // per channel group (under mpirun one MpiHub)
-  std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
-  std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
-  int first = 0, local = 1, groups = 1;
-  Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
-  void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
-};
-
 // The input sums of all bands, added in band order (the same bits however the bands are spread
 // over processes) from this process's bands' sums: every rank's go to every rank (one rank:
 // nothing to send).
-InputTotals exchange_totals(const std::vector<InputTotals>& local, Team& team) {
+InputTotals exchange_totals(const std::vector<InputTotals>& local, Transport& net, int step) {
   ByteWriter mine;
   for (const InputTotals& t : local) io(mine, t);
   InputTotals total;
-  for (Bytes& part : all_gather(team.endpoint(0, team.first), kTotals, std::move(mine.bytes), team.local)) {
+  for (Bytes& part : all_gather(net, kTotals, std::move(mine.bytes), step)) {
     ByteReader r(std::move(part));
     while (!r.at_end()) {
       InputTotals t;
@@ -87,71 +76,70 @@ void cut(const T* row, int n, bool periodic, int origin, std::span<T> out) {
   }
 }
 
-// Everything a solve sets up before its workers start: the problem and the column plan (in-core,
-// where there is one level or --in-core asks for it: one band of whole levels; streaming: one band;
-// else opt.bands per process).
+// What a solve sets up before its workers start: the problem, the column plan (in-core, where there
+// is one level or --in-core asks for it: one band of whole levels; streaming: one band; else
+// opt.bands per process) and this process's workers: bands [first, first + local) of the plan (all
+// of them on threads; under mpirun this rank's opt.bands, one without --bands), each in `groups`
+// channel groups (up to one a channel, two threads left to the codecs), then their checkpoint
+// (which may set the group count, resuming), hubs and logs. Channels are independent problems: a
+// group's bands talk among themselves only (a hub each; under mpirun one group). A single band on
+// more than one thread takes one group per channel even where that leaves the codecs no core of
+// their own: else its one worker does every V-cycle sample while the other cores wait
+// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread.
 template <class T>
-struct Setup {
+struct Team {
+  Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary);
   std::unique_ptr<schedule::Problem<T>> problem;
-  std::optional<BandLayout> layout;
+  BandLayout layout;
+  CycleSettings settings;
   bool distributed = false, incore = false;
+  std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
+  std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
+  std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
+  int first = 0, local = 1, groups = 1;
+  Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
+  void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
 template <class T>
-Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary) {
-  Setup<T> s;
+Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary) {
   // Under mpirun every rank sets up the same problem; they compare before anyone starts solving.
-  s.distributed = MpiRun::size() > 1;
-  const int per_process = opt.schedule == Schedule::Bands ? opt.bands : 1;
-  const int total_bands = per_process * MpiRun::size();
+  distributed = MpiRun::size() > 1;
+  const int per_process = opt.schedule == Schedule::Bands ? opt.bands : 1, channels = source.channels();
   std::string setup_error;
   try {
-    s.problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
-    const schedule::Problem<T>& p = *s.problem;
-    const bool periodic = p.hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
-    s.incore = opt.schedule == Schedule::InCore || p.ops.count() == 1;
-    const int whole_from = s.incore ? 0 : schedule::first_whole_level(p.ops, source.channels(), opt.incore_bytes);
-    const int pre = opt.sweeps, post = opt.post_sweeps;
-    s.layout = total_bands == 1 || s.incore ? single_band_layout(p.hierarchy, periodic, pre, post, whole_from)
-                                            : make_band_layout(p.hierarchy, periodic, total_bands, pre, post, whole_from);
+    problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
+    const multigrid::Operators<T>& ops = problem->ops;
+    const bool periodic = problem->hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
+    incore = opt.schedule == Schedule::InCore || ops.count() == 1;
+    const int whole_from = incore ? 0 : schedule::first_whole_level(ops, channels, opt.incore_bytes);
+    const int pre = opt.sweeps, post = opt.post_sweeps, total_bands = per_process * MpiRun::size();
+    layout = total_bands == 1 || incore ? single_band_layout(problem->hierarchy, periodic, pre, post, whole_from)
+                                        : make_band_layout(problem->hierarchy, periodic, total_bands, pre, post, whole_from);
   } catch (const Error& e) {
-    if (!s.distributed) throw;
+    if (!distributed) throw;
     setup_error = e.what();
   }
-  if (s.distributed)
-    mpi::agree_before_solving(setup_error, {source.width(), source.height(), source.channels(), per_process, opt.sweeps,
+  if (distributed)
+    mpi::agree_before_solving(setup_error, {source.width(), source.height(), channels, per_process, opt.sweeps,
                                        opt.post_sweeps, opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
-                                       static_cast<long long>(sizeof(T)),
-                                       s.problem ? s.problem->ops.count() : -1});
-  s.distributed = s.distributed && !s.incore;  // (one level: every rank solves it whole)
-  return s;
-}
-
-// This process's workers: under mpirun opt.bands per rank (one without --bands), else every band
-// of the plan, in channel groups (up to one a channel, two threads left to the codecs). A single
-// band on more than one thread takes one group per channel even where that leaves the codecs no
-// core of their own: else its one worker does every V-cycle sample while the other cores wait
-// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread. Then their
-// checkpoint (which may set the group count, resuming), hubs and logs.
-template <class T>
-Team make_team(const SolverOptions& opt, const Setup<T>& setup, int channels, schedule::StorePolicy& stores) {
-  Team team;
-  const BandLayout& layout = *setup.layout;
-  team.local = setup.distributed ? (opt.schedule == Schedule::Bands ? opt.bands : 1) : layout.bands;
-  if (setup.distributed) {
-    team.hubs.push_back(std::make_unique<MpiHub>(team.local));
-    team.first = team.hubs[0]->first();
+                                       static_cast<long long>(sizeof(T)), problem ? problem->ops.count() : -1});
+  distributed = distributed && !incore;  // (one level: every rank solves it whole)
+  settings = cycle_settings(opt, problem->ops.singular, channels, source.has_weights());
+  local = distributed ? per_process : layout.bands;
+  if (distributed) {
+    hubs.push_back(std::make_unique<MpiHub>(local));
+    first = hubs[0]->first();
   } else {
-    const int spare = setup.incore ? opt.threads : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
-    team.groups = std::clamp(spare, 1, channels);
+    const int spare = incore ? opt.threads : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
+    groups = std::clamp(spare, 1, channels);
   }
-  if (!opt.checkpoint_dir.empty() && !setup.incore)
-    team.checkpoint = std::make_unique<StreamedCheckpoint>(opt, setup.problem->ops, channels, layout.bands, team.local,
-                                                           team.first, team.groups, stores);
-  for (int g = 0; g < team.groups && !setup.distributed; ++g) team.hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
-  for (int i = 0; i < team.local; ++i) team.logs.emplace_back(channels, team.first + i == 0 && static_cast<bool>(opt.log));
-  if (team.checkpoint) team.checkpoint->agree(setup.distributed ? &team.endpoint(0, team.first) : nullptr);
-  return team;
+  if (!opt.checkpoint_dir.empty() && !incore)
+    checkpoint = std::make_unique<StreamedCheckpoint>(opt, problem->ops, channels, layout.bands, local, first, groups,
+                                                      settings.stores);
+  for (int g = 0; g < groups && !distributed; ++g) hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
+  for (int i = 0; i < local; ++i) logs.emplace_back(channels, first + i == 0 && static_cast<bool>(opt.log));
+  if (checkpoint) checkpoint->agree(distributed ? &hubs[0]->own() : nullptr);
 }
 
 // The columns bands [first, last] read: their rows' (own columns and halos) and the guidance
@@ -172,7 +160,9 @@ InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
 
 // Under mpirun, this process's bands are a contiguous share of the plan: it writes their own
 // columns and reads their rows' (plus margins).
-void share_columns(const BandLayout& layout, const Team& team, GuidanceSource& source, RowWriter& out) {
+template <class T>
+void share_columns(const Team<T>& team, GuidanceSource& source, RowWriter& out) {
+  const BandLayout& layout = team.layout;
   const int last_local = team.first + team.local - 1;
   const InputWindow window = input_window(layout, team.first, last_local, source.width());
   if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
@@ -182,8 +172,8 @@ void share_columns(const BandLayout& layout, const Team& team, GuidanceSource& s
 // The input units (one per local band where the source splits, else one for all) and their readers:
 // each band's workers.
 template <class T>
-std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSource& source, const BandLayout& layout,
-                                                               const Team& team) {
+std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSource& source, const Team<T>& team) {
+  const BandLayout& layout = team.layout;
   const int count = source.splits() && !layout.folded ? team.local : 1;
   std::vector<typename schedule::InputRing<T>::Unit> units;
   for (int l = 0; l < count; ++l) {
@@ -252,23 +242,21 @@ class Results {
 
 template <class T>
 void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
-  Setup<T> setup = set_up<T>(source, opt, summary);
-  const multigrid::Operators<T>& ops = setup.problem->ops;
+  Team<T> team(source, opt, summary);
+  const multigrid::Operators<T>& ops = team.problem->ops;
   const int channels = source.channels(), w = source.width(), h = source.height();
-  const BandLayout& layout = *setup.layout;
+  const BandLayout& layout = team.layout;
   const auto t_start = Clock::now();
-  summary.schedule = setup.incore ? "in-core" : layout.single ? "streaming" : "bands";
+  summary.schedule = team.incore ? "in-core" : layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
-  auto settings = cycle_settings(opt, ops.singular, channels, source.has_weights());
-
-  Team team = make_team(opt, setup, channels, settings.stores);
-  if (setup.distributed) share_columns(layout, team, source, out);
+  CycleSettings& settings = team.settings;
+  if (team.distributed) share_columns(team, source, out);
 
   // Rows between the threads: the input ring, made by the workers that read it; the input's sums
   // (mark `summed`: known); the result rows.
   schedule::Marks marks;
-  const auto units = input_units<T>(source, layout, team);
-  schedule::InputRing<T> input(source, setup.problem->hierarchy, units, marks, opt.progress);
+  const auto units = input_units(source, team);
+  schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress);
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
   Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
@@ -307,7 +295,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   for (int i = 0; i < team.local; ++i)
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
-      if (setup.incore) {
+      if (team.incore) {
         wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k)), i, k);
         continue;
       }
@@ -323,15 +311,15 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   schedule::run_workers(
       1 + count,
       [&](int k) {
-        if (k > 0) return setup.incore ? incore[k - 1]->run() : workers[k - 1]->run();
+        if (k > 0) return team.incore ? incore[k - 1]->run() : workers[k - 1]->run();
         const auto t = Clock::now();
-        totals = exchange_totals(input.totals(), team);
+        totals = exchange_totals(input.totals(), team.hubs[0]->own(), team.local);
         marks.set(summed, 1);
         seconds_input = seconds_since(t);
-        if (setup.incore) shared.report(opt.progress);
+        if (team.incore) shared.report(opt.progress);
         for (int j = 0; j < h; ++j) {
           results.write(j, h, out);
-          if (opt.progress && !setup.incore && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
+          if (opt.progress && !team.incore && (j % 64 == 63 || j + 1 == h)) opt.progress(0.5 + 0.5 * (j + 1) / h);
         }
       },
       [&](int k, const std::string& what) {

@@ -12,8 +12,8 @@
 #include "blend/scratch.h"
 #include "gdp/errors.h"
 #include "io/codec_util.h"
+#include "io/scratch_stream.h"
 #include "util/exact_io.h"
-#include "schedule/row_store.h"
 
 namespace gdp::blending {
 namespace {
@@ -68,7 +68,7 @@ KeptRows::Writer::Writer(KeptRows& kept, int k, int channels, int width, int row
   const std::size_t row_bytes = static_cast<std::size_t>(samples_) * bytes_;
   {
     const std::lock_guard<std::mutex> lock(kept.mutex_);
-    if (kept.fd_ < 0) kept.fd_ = schedule::open_unlinked(kept.dir_, "decoded layers");
+    if (kept.fd_ < 0) kept.fd_ = io::open_unlinked(kept.dir_, "decoded layers");
     at_ = kept.end_;
     kept.end_ += row_bytes * static_cast<std::size_t>(rows);
   }

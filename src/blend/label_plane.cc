@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "schedule/row_store.h"
+#include "io/scratch_stream.h"
 
 namespace gdp::blending {
 namespace {
@@ -58,7 +58,7 @@ void LabelPlane::write_row(int y, std::span<const Label> row) {
     k.at = end_;
     end_ += units.size();
     if (fd_ < 0 && end_ > kMemoryUnits) {  // too many for memory: to a file from here on
-      fd_ = schedule::open_unlinked(dir_, "labels");
+      fd_ = io::open_unlinked(dir_, "labels");
       write_at(fd_, memory_.data(), memory_.size() * sizeof(Label), 0, dir_);
       std::vector<Label>().swap(memory_);
     }

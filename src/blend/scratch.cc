@@ -6,7 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "schedule/row_store.h"
+#include "io/scratch_stream.h"
 #include "util/exact_io.h"
 
 namespace gdp::blending {
@@ -16,7 +16,7 @@ Scratch::Scratch(const std::filesystem::path& dir, std::size_t bytes, const std:
   if (bytes <= memory_limit) {
     memory_.assign(bytes, 0);
   } else {
-    fd_ = schedule::open_unlinked(dir_, name);
+    fd_ = io::open_unlinked(dir_, name);
   }
 }
 

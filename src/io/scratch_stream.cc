@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <system_error>
 
+#include <fmt/format.h>
+
 #include "gdp/errors.h"
 #include "util/exact_io.h"
 
@@ -29,6 +31,15 @@ std::size_t direct_chunk(std::size_t expected) {
 }
 
 }  // namespace
+
+int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
+  std::string pattern = (dir / fmt::format("gdp-scratch-{}-{}-XXXXXX", static_cast<long>(::getpid()), name)).string();
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0)
+    throw OutputError(fmt::format("scratch directory {}: cannot create a file: {}", dir.string(), util::errno_message()));
+  ::unlink(pattern.c_str());
+  return fd;
+}
 
 bool make_direct(int fd) {
   struct statfs info{};

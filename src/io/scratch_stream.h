@@ -1,7 +1,8 @@
-// A scratch byte stream on a memfd, a file through the page cache, or an O_DIRECT file.
+// A scratch byte stream on a memfd, a file through the page cache, or an O_DIRECT file; unlinked scratch files.
 #pragma once
 
 #include <cstddef>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@ namespace gdp::io {
 // ReadAhead thread. Direct: an O_DIRECT file (no page cache: docs/how-streaming-works.md, "Scratch
 // in O_DIRECT files"), written in aligned blocks by a DirectWriter thread and read back by a ReadAhead.
 enum class StreamKind { Memory, File, Direct };
+
+// An exclusive file in `dir`, unlinked at once: only the returned descriptor keeps it alive
+// (OutputError naming the directory when it cannot be created).
+int open_unlinked(const std::filesystem::path& dir, const std::string& name);
 
 // Makes `fd` O_DIRECT where its file system takes that (not tmpfs, whose pages are the file);
 // false, and `fd` unchanged, where it does not.

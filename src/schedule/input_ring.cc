@@ -34,9 +34,7 @@ InputRing<T>::Made::Made(InputRing& in, const Unit& unit, int l, const multigrid
       u(static_cast<std::size_t>(in.slots_) * in.source_.channels() * in.source_.width()), b(u.size()),
       w(static_cast<std::size_t>(in.slots_) * in.source_.width()), d(in.source_.has_weights() ? w.size() : 0),
       ring(in.marks_, unit.readers, in.slots_, in.source_.height(), [this, &in, l, progress](int j) {
-        const std::size_t n = u.size() / in.slots_, m = w.size() / in.slots_, s = j % in.slots_;
-        input.next({u.data() + s * n, n}, {b.data() + s * n, n}, {w.data() + s * m, m},
-                   d.empty() ? std::span<T>{} : std::span<T>{d.data() + s * m, m});
+        input.next(in.slot(u, j), in.slot(b, j), in.slot(w, j), in.slot(d, j));
         const int h = in.source_.height();
         if (progress && (j % 64 == 63)) progress(0.5 * (j + 1) / h);
         if (j + 1 == h) in.marks_.set(in.finished_ + l, 1);
@@ -46,9 +44,7 @@ template <class T>
 typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j) {
   Made& m = *units_[l];
   m.ring.need(r, j, j);
-  const std::size_t n = m.u.size() / slots_, k = m.w.size() / slots_, s = j % slots_;
-  return {{m.u.data() + s * n, n}, {m.b.data() + s * n, n}, {m.w.data() + s * k, k},
-          m.d.empty() ? std::span<const T>{} : std::span<const T>{m.d.data() + s * k, k}};
+  return {slot(m.u, j), slot(m.b, j), slot(m.w, j), slot(m.d, j)};
 }
 
 template <class T>

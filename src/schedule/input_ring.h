@@ -49,6 +49,11 @@ class InputRing {
   // From RowRing's slack and look-ahead; a unit's row j reads decoded rows up to j + 2.
   static constexpr int kUnitSlots = RowRing::kSlack + 1, kDecodedSlots = RowRing::kAhead + RowRing::kSlack + 3;
   const int slots_;  // per unit (16; GDP_INPUT_ROWS, never below kUnitSlots)
+  // Row j's slot in a ring of slots_ rows (empty where the ring is).
+  std::span<T> slot(std::vector<T>& ring, int j) const {
+    const std::size_t n = ring.size() / slots_;
+    return {ring.data() + j % slots_ * n, n};
+  }
   struct Made {
     Made(InputRing& in, const Unit& unit, int l, const multigrid::Hierarchy& hierarchy, std::function<void(double)> progress);
     multigrid::InputRows<T> input;

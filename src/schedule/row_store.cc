@@ -5,10 +5,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cerrno>
 #include <cstring>
-#include <system_error>
 
 #include <fmt/format.h>
 
@@ -22,43 +19,29 @@ constexpr std::size_t kDirectMin = std::size_t{1} << 20;  // a smaller file's bl
 
 }  // namespace
 
-int open_unlinked(const std::filesystem::path& dir, const std::string& name) {
-  std::string pattern = (dir / fmt::format("gdp-scratch-{}-{}-XXXXXX", static_cast<long>(::getpid()), name)).string();
-  const int fd = ::mkstemp(pattern.data());
-  if (fd < 0)
-    throw OutputError(fmt::format("scratch directory {}: cannot create a file: {}", dir.string(), util::errno_message()));
-  ::unlink(pattern.c_str());
-  return fd;
-}
-
-// Where a store of `total` bytes goes (docs/how-streaming-works.md, "Scratch in O_DIRECT files"):
-// an O_DIRECT file from the budget's direct_from() on, where the directory takes one; else
-// memory while the budget has room; else a file, O_DIRECT from 1 MiB on where it can be (a
-// checkpoint's, however small).
+// Where a store of `total` bytes goes (docs/how-streaming-works.md, "Scratch in O_DIRECT files"): a
+// checkpoint's named file, O_DIRECT however small (the resume tests cover it); else an O_DIRECT file
+// from the budget's direct_from() on, where the directory takes one; else memory while the budget
+// has room; else a file, O_DIRECT from 1 MiB on where it can be.
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
-    : row_length_(row_length),
-      encoding_(policy.encoding_of(name)),
+    : row_length_(row_length), half_(policy.half.rounds(name)),
       budget_(policy.budget ? policy.budget : &ScratchBudget::process()) {
   name = policy.name_prefix + name;
   const std::size_t total = encoded_bytes() * rows;
-  const std::filesystem::path dir = policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
-  const auto file_kind = [&](int fd, std::size_t from) {
-    const bool direct = budget_->direct_files() && total >= from && io::make_direct(fd);
-    return direct ? io::StreamKind::Direct : io::StreamKind::File;
-  };
+  const bool kept = !policy.keep_dir.empty(), direct = budget_->direct_files();
+  const std::filesystem::path dir = kept ? policy.keep_dir : policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
   int fd = -1;
-  io::StreamKind kind = io::StreamKind::File;
-  if (!policy.keep_dir.empty()) {
-    const std::filesystem::path path = policy.keep_dir / (name + ".store");
+  if (kept) {
+    const std::filesystem::path path = dir / (name + ".store");
     fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), util::errno_message()));
-    kind = file_kind(fd, 0);  // (O_DIRECT however small: the resume tests cover it)
-  } else if (budget_->direct_files() && total >= budget_->direct_from()) {
-    fd = open_unlinked(dir, name);
-    if (io::make_direct(fd)) kind = io::StreamKind::Direct;
-    else fd = (::close(fd), -1);  // the directory takes no O_DIRECT: memory if the budget has room
+  } else if (direct && total >= budget_->direct_from()) {
+    fd = io::open_unlinked(dir, name);
   }
+  io::StreamKind kind = io::StreamKind::File;
+  if (fd >= 0 && direct && io::make_direct(fd)) kind = io::StreamKind::Direct;
+  else if (fd >= 0 && !kept) fd = (::close(fd), -1);  // the directory takes no O_DIRECT: memory if the budget has room
   if (fd < 0 && budget_->reserve(total)) {
     // In memory: the same writes and reads as a file, into pages the kernel need not zero (a
     // fresh anonymous page must be; docs/how-streaming-works.md, "Scratch in a memfd").
@@ -71,12 +54,12 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
     kind = io::StreamKind::Memory;
   } else if (fd < 0) {
     budget_->count_spill();
-    kind = file_kind(fd = open_unlinked(dir, name), kDirectMin);
+    fd = io::open_unlinked(dir, name);
+    if (direct && total >= kDirectMin && io::make_direct(fd)) kind = io::StreamKind::Direct;
   }
   const bool memory = kind == io::StreamKind::Memory;
   // "scratch file in DIR (NAME)": messages name the directory (the disk that filled up).
-  std::string where = memory ? fmt::format("scratch memory ({})", name)
-                             : fmt::format("scratch file in {} ({})", (policy.keep_dir.empty() ? dir : policy.keep_dir).string(), name);
+  std::string where = memory ? fmt::format("scratch memory ({})", name) : fmt::format("scratch file in {} ({})", dir.string(), name);
   const char* hint = memory ? " (--memory SIZE keeps less in memory; a file size limit, ulimit -f, bounds it too)"
                             : " (--temp DIR puts scratch files elsewhere)";
   stream_ = std::make_unique<io::ScratchStream>(fd, kind, encoded_bytes(), total, policy.drop_behind, std::move(where), hint);
@@ -99,17 +82,14 @@ RowStore<T>::~RowStore() {
 
 template <class T>
 std::size_t RowStore<T>::encoded_bytes() const {
-  return row_length_ * (encoding_ == StoreEncoding::Half ? sizeof(_Float16) : sizeof(T));
+  return row_length_ * (half_ ? sizeof(_Float16) : sizeof(T));
 }
 
 template <class T>
 void RowStore<T>::append(std::span<const T> row) {
   unsigned char* out = stream_->append();
-  if (encoding_ == StoreEncoding::Half) {
-    multigrid::to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
-  } else {
-    std::memcpy(out, row.data(), encoded_bytes());
-  }
+  if (half_) multigrid::to_half(row.data(), reinterpret_cast<_Float16*>(out), row_length_);
+  else std::memcpy(out, row.data(), encoded_bytes());
 }
 
 template <class T>
@@ -121,16 +101,12 @@ void RowStore<T>::rewind() {
 template <class T>
 void RowStore<T>::read(std::span<T> row) {
   const unsigned char* in = stream_->read();
-  if (encoding_ == StoreEncoding::Half) {
-    multigrid::from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
-  } else {
-    std::memcpy(row.data(), in, encoded_bytes());
-  }
+  if (half_) multigrid::from_half(reinterpret_cast<const _Float16*>(in), row.data(), row_length_);
+  else std::memcpy(row.data(), in, encoded_bytes());
 }
 
 template <class T>
 std::size_t RowStore<T>::make_durable() {
-  if (!on_disk()) throw std::logic_error("RowStore::make_durable in memory");
   const std::size_t n = stream_->make_durable();
   count_disk();
   return n;
@@ -138,7 +114,6 @@ std::size_t RowStore<T>::make_durable() {
 
 template <class T>
 void RowStore<T>::restore(std::size_t bytes) {
-  if (!on_disk()) throw std::logic_error("RowStore::restore in memory");
   stream_->restore(bytes);
   count_disk();
 }

@@ -16,13 +16,6 @@
 
 namespace gdp::schedule {
 
-// An exclusive file in `dir`, unlinked at once: only the returned descriptor keeps it alive
-// (OutputError naming the directory when it cannot be created).
-int open_unlinked(const std::filesystem::path& dir, const std::string& name);
-
-// How rows are kept: exactly (the kernel's own precision) or as 16-bit half floats.
-enum class StoreEncoding { Native, Half };
-
 // Where rows are kept: in memory while `budget` has room for the whole stream (an anonymous
 // memfd: page-cache pages that no disk backs, written and read like a file, never mapped), else
 // in an unlinked file in `dir` (the space returns to the system when the store is destroyed or
@@ -30,12 +23,9 @@ enum class StoreEncoding { Native, Half };
 struct StorePolicy {
   std::filesystem::path dir;
   ScratchBudget* budget = nullptr;  // shared by many stores (null: ScratchBudget::process())
-  // Which stores keep half floats, by name (multigrid::HalfPolicy: "u" every level's u,
+  // Which stores keep 16-bit half floats, by name (multigrid::HalfPolicy: "u" every level's u,
   // "level0-u" the finest only); the rest keep the kernel's precision.
   multigrid::HalfPolicy half;
-  StoreEncoding encoding_of(const std::string& name) const {
-    return half.rounds(name) ? StoreEncoding::Half : StoreEncoding::Native;
-  }
   // Non-empty (a checkpoint's directory): every store is a named file `keep_dir/NAME.store`,
   // kept after the process ends, whatever its size (docs/resume.md).
   std::filesystem::path keep_dir;
@@ -69,7 +59,7 @@ class RowStore {
   std::size_t bytes() const { return stream_->bytes(); }
   bool on_disk() const { return stream_->kind() != io::StreamKind::Memory; }
   bool direct() const { return stream_->kind() == io::StreamKind::Direct; }
-  StoreEncoding encoding() const { return encoding_; }
+  bool half() const { return half_; }  // rows kept as half floats
 
   // Checkpoints (kept files only): writes what is buffered, syncs the file and returns the
   // stream's length; restore() makes the stream that long again (truncating what came after),
@@ -82,7 +72,7 @@ class RowStore {
   std::size_t encoded_bytes() const;
 
   std::size_t row_length_;
-  StoreEncoding encoding_;
+  bool half_;
   ScratchBudget* budget_ = nullptr;  // holds memory_, counts a disk file's bytes
   std::size_t memory_ = 0;           // bytes taken from the budget (a store in memory)
   std::size_t disk_bytes_ = 0;       // counted so far

@@ -1,7 +1,6 @@
 // What both solve schedules share: the problem set-up, the mean rule, residual bookkeeping.
 #pragma once
 
-#include <chrono>
 #include <memory>
 #include <span>
 #include <string>
@@ -73,10 +72,5 @@ class ResidualLog {
   std::vector<std::vector<double>> rel_;
   std::vector<std::vector<std::string>> lines_;
 };
-
-using Clock = std::chrono::steady_clock;
-inline double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 }  // namespace gdp::schedule
