@@ -76,6 +76,22 @@ void cut(const T* row, int n, bool periodic, int origin, std::span<T> out) {
   }
 }
 
+// The columns bands [first, last] read: their rows' (own columns and halos) and the guidance
+// kInputMargin beyond them; whole rows where that would wrap around a periodic image's edge, and
+// on the sphere, where the right-hand side of the first and last rows reads the guidance across
+// the fold, at the mirror image's columns. A planar image's edges clip them.
+struct InputWindow {
+  std::pair<int, int> rows, guidance;
+  bool whole = false;
+};
+
+InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
+  const int from = layout.origin(0, first), to = layout.origin(0, last) + layout.row_length(0, last);
+  if (layout.folded || (layout.periodic && (from - kInputMargin < 0 || to + kInputMargin > w)))
+    return {{0, w}, {0, w}, true};
+  return {{std::max(0, from), std::min(w, to)}, {std::max(0, from - kInputMargin), std::min(w, to + kInputMargin)}};
+}
+
 // What a solve sets up before its workers start: the problem, the column plan (in-core, where there
 // is one level or --in-core asks for it: one band of whole levels; streaming: one band; else
 // opt.bands per process) and this process's workers: bands [first, first + local) of the plan (all
@@ -88,11 +104,11 @@ void cut(const T* row, int n, bool periodic, int origin, std::span<T> out) {
 // (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread.
 template <class T>
 struct Team {
-  Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary);
+  Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary, RowWriter& out);
   std::unique_ptr<schedule::Problem<T>> problem;
   BandLayout layout;
   CycleSettings settings;
-  bool distributed = false, incore = false;
+  bool incore = false;
   std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
@@ -102,9 +118,9 @@ struct Team {
 };
 
 template <class T>
-Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary) {
+Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary, RowWriter& out) {
   // Under mpirun every rank sets up the same problem; they compare before anyone starts solving.
-  distributed = MpiRun::size() > 1;
+  bool distributed = MpiRun::size() > 1;
   const int per_process = opt.schedule == Schedule::Bands ? opt.bands : 1, channels = source.channels();
   std::string setup_error;
   try {
@@ -127,9 +143,12 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   distributed = distributed && !incore;  // (one level: every rank solves it whole)
   settings = cycle_settings(opt, problem->ops.singular, channels, source.has_weights());
   local = distributed ? per_process : layout.bands;
-  if (distributed) {
+  if (distributed) {  // this rank's bands, a contiguous share: it writes their own columns, reads their rows'
     hubs.push_back(std::make_unique<MpiHub>(local));
     first = hubs[0]->first();
+    const InputWindow window = input_window(layout, first, first + local - 1, source.width());
+    if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
+    out.set_columns(layout.begin(0, first), layout.end(0, first + local - 1));
   } else {
     const int spare = incore ? opt.threads : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
     groups = std::clamp(spare, 1, channels);
@@ -140,33 +159,6 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   for (int g = 0; g < groups && !distributed; ++g) hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
   for (int i = 0; i < local; ++i) logs.emplace_back(channels, first + i == 0 && static_cast<bool>(opt.log));
   if (checkpoint) checkpoint->agree(distributed ? &hubs[0]->own() : nullptr);
-}
-
-// The columns bands [first, last] read: their rows' (own columns and halos) and the guidance
-// kInputMargin beyond them; whole rows where that would wrap around a periodic image's edge, and
-// on the sphere, where the right-hand side of the first and last rows reads the guidance across
-// the fold, at the mirror image's columns. A planar image's edges clip them.
-struct InputWindow {
-  std::pair<int, int> rows, guidance;
-  bool whole = false;
-};
-
-InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
-  const int from = layout.origin(0, first), to = layout.origin(0, last) + layout.row_length(0, last);
-  if (layout.folded || (layout.periodic && (from - kInputMargin < 0 || to + kInputMargin > w)))
-    return {{0, w}, {0, w}, true};
-  return {{std::max(0, from), std::min(w, to)}, {std::max(0, from - kInputMargin), std::min(w, to + kInputMargin)}};
-}
-
-// Under mpirun, this process's bands are a contiguous share of the plan: it writes their own
-// columns and reads their rows' (plus margins).
-template <class T>
-void share_columns(const Team<T>& team, GuidanceSource& source, RowWriter& out) {
-  const BandLayout& layout = team.layout;
-  const int last_local = team.first + team.local - 1;
-  const InputWindow window = input_window(layout, team.first, last_local, source.width());
-  if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
-  out.set_columns(layout.begin(0, team.first), layout.end(0, last_local));
 }
 
 // The input units (one per local band where the source splits, else one for all) and their readers:
@@ -242,7 +234,7 @@ class Results {
 
 template <class T>
 void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter& out, SolveSummary& summary) {
-  Team<T> team(source, opt, summary);
+  Team<T> team(source, opt, summary, out);
   const multigrid::Operators<T>& ops = team.problem->ops;
   const int channels = source.channels(), w = source.width(), h = source.height();
   const BandLayout& layout = team.layout;
@@ -250,7 +242,6 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   summary.schedule = team.incore ? "in-core" : layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
   CycleSettings& settings = team.settings;
-  if (team.distributed) share_columns(team, source, out);
 
   // Rows between the threads: the input ring, made by the workers that read it; the input's sums
   // (mark `summed`: known); the result rows.

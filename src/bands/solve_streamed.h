@@ -3,8 +3,6 @@
 
 #include "gdp/guidance.h"
 #include "gdp/solver.h"
-#include "multigrid/incore_vcycle.h"
-#include "schedule/solve_parts.h"
 
 namespace gdp::bands {
 

@@ -43,14 +43,9 @@ struct CycleSettings {
 // The settings a solve with `opt` gives its cycles: weights tracked for singular problems, scratch
 // in the process's budget, then in opt.temp_dir, half floats as the in-core V-cycle rounds them.
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
-  CycleSettings s;
-  s.channels = channels;
-  s.coarse_tolerance = opt.coarse_tolerance;
-  s.weights = singular;
-  s.diagonal = diagonal;
-  s.more_cycles = opt.cycle_cap() > 1;
+  CycleSettings s{.channels = channels, .coarse_tolerance = opt.coarse_tolerance, .weights = singular,
+                  .more_cycles = opt.cycle_cap() > 1, .diagonal = diagonal, .stores = {}};
   s.stores.dir = opt.temp_dir;
-  s.stores.budget = &schedule::ScratchBudget::process();
   s.stores.half = multigrid::half_policy(opt, diagonal);
   return s;
 }

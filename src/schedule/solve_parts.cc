@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "schedule/bytes.h"
+
 namespace gdp::schedule {
 
 template <class T>

@@ -1,4 +1,4 @@
-// What both solve schedules share: the problem set-up, the mean rule, residual bookkeeping.
+// What a streamed solve's workers share: the problem set-up, the mean rule, residual bookkeeping.
 #pragma once
 
 #include <memory>
@@ -9,8 +9,6 @@
 #include "gdp/guidance.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/bytes.h"
-#include "schedule/parallel.h"
 #include "topology/topology.h"
 
 namespace gdp::schedule {
