@@ -173,7 +173,7 @@ TEST(RowRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
     held[y % kSlots] = y;
     made_by[y] = me;
   });
-  schedule::run_workers(3, [&](int k) {
+  util::run_workers(3, [&](int k) {
     me = k;
     for (int j = 0; j < kRows; ++j) {
       ring.need(k, j, std::min(j + 1, kRows - 1));
@@ -190,7 +190,7 @@ TEST(RowRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
 TEST(RowRingSlots, StopEndsEveryWait) {
   schedule::Marks marks;
   const int m = marks.add(2);
-  schedule::run_workers(3, [&](int k) {
+  util::run_workers(3, [&](int k) {
     if (k == 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       return marks.stop();

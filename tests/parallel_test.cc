@@ -9,9 +9,13 @@
 #include <vector>
 
 #include "schedule/parallel.h"
+#include "util/workers.h"
 
 namespace gdp::schedule {
 namespace {
+
+using util::run_steps;
+using util::run_workers;
 
 TEST(RunWorkers, EveryWorkerRunsOnce) {
   std::atomic<int> mask{0};

@@ -299,7 +299,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
 
   // This thread: the input's sums once every row is made, then the result rows, in order, to `out`.
   double seconds_input = 0.0;
-  schedule::run_workers(
+  util::run_workers(
       1 + count,
       [&](int k) {
         if (k > 0) return team.incore ? incore[k - 1]->run() : workers[k - 1]->run();

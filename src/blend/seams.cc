@@ -13,7 +13,7 @@
 #include "blend/layer_rows.h"
 #include "blend/scratch.h"
 #include "gdp/errors.h"
-#include "schedule/parallel.h"
+#include "util/workers.h"
 
 namespace gdp::blending {
 namespace {
@@ -96,7 +96,7 @@ void chamfer_row(const Edges& e, int dir, const float* base, const PaddedRow& ne
 void parallel_for(int threads, int n, std::atomic<bool>& stop, const std::function<void(int, int)>& body) {
   if (n <= 0) return;
   std::atomic<int> next{0};
-  schedule::run_workers(
+  util::run_workers(
       std::clamp(threads, 1, n),
       [&](int t) {
         for (int i = 0; !stop.load(std::memory_order_relaxed) && (i = next.fetch_add(1)) < n;) body(t, i);
@@ -422,7 +422,7 @@ void SeamPasses::backward(LabelPlane& labels, std::vector<signed char>& overlaps
     layers = true;
     return static_cast<int>(active.size());
   };
-  schedule::run_steps(threads_, next_step, [&](int t, int i) {
+  util::run_steps(threads_, next_step, [&](int t, int i) {
     if (layers)
       backward_block(*active[i], lo, hi);
     else

@@ -6,10 +6,10 @@
 #include <limits>
 #include <stdexcept>
 
-#include "schedule/parallel.h"
 #include "sky/interpolate.h"
 #include "sky/plate.h"
 #include "sphere/source.h"
+#include "util/workers.h"
 
 namespace gdp::sky {
 
@@ -57,7 +57,7 @@ void PqSampler::sample(std::span<const sphere::Vec3> dirs, std::span<float> out,
   hold(lo, hi);
   const std::size_t n = dirs.size();
   threads = static_cast<int>(std::clamp<std::size_t>(threads, 1, std::max<std::size_t>(1, n / 4096)));
-  schedule::run_workers(threads, [&](int t) {
+  util::run_workers(threads, [&](int t) {
     for (std::size_t k = n * t / threads; k < n * (t + 1) / threads; ++k) out[k] = value(coords_[k]);
   });
 }

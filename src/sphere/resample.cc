@@ -5,10 +5,10 @@
 
 #include "gdp/errors.h"
 #include "gdp/size_check.h"
-#include "schedule/parallel.h"
 #include "sphere/source.h"
 #include "sphere/target.h"
 #include "sphere/vec3.h"
+#include "util/workers.h"
 
 namespace gdp::sphere {
 
@@ -128,7 +128,7 @@ Image resample(const Image& source, const Projection& from, const Projection& to
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::clamp(threads, 1, std::max(1, out_height));
   // Contiguous blocks of rows (a PQ cursor reuses neighbouring rows).
-  schedule::run_workers(threads, [&](int t) {
+  util::run_workers(threads, [&](int t) {
     const int j0 = static_cast<int>(static_cast<long long>(out_height) * t / threads);
     const int j1 = static_cast<int>(static_cast<long long>(out_height) * (t + 1) / threads);
     resample_rows(source, *grid, to, options, out, j0, j1);
