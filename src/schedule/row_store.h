@@ -30,10 +30,8 @@ struct StorePolicy {
   // kept after the process ends, whatever its size (docs/resume.md).
   std::filesystem::path keep_dir;
   std::string name_prefix;  // put before every store's name (a lane's, "lane0-")
-  // A file's bytes are pushed to the disk and dropped from the page cache this far behind the
-  // write position (and the read position): a stream larger than memory neither churns the cache
-  // nor takes fresh pages for it (io/drop_behind.h). 0: the page cache keeps what it likes.
-  // (Memory stores keep every page: they have no disk to push to.)
+  // How far behind the write (and read) position a file store's bytes are pushed to the disk and
+  // dropped from the page cache (io/drop_behind.h; 0: never). A memory store keeps every page.
   std::size_t drop_behind = io::kDropBehindWindow;
 };
 
