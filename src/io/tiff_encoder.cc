@@ -107,6 +107,7 @@ class TiffEncoder final : public Encoder {
     TIFFSetField(tif_, TIFFTAG_PLANARCONFIG, PLANARCONFIG_CONTIG);
     TIFFSetField(tif_, TIFFTAG_ORIENTATION, ORIENTATION_TOPLEFT);
     TIFFSetField(tif_, TIFFTAG_COMPRESSION, compression);
+    raw_ = compression == COMPRESSION_NONE;
     if (compression == COMPRESSION_ADOBE_DEFLATE || compression == COMPRESSION_LZW ||
         compression == COMPRESSION_ZSTD || compression == COMPRESSION_LZMA)
       TIFFSetField(tif_, TIFFTAG_PREDICTOR, floating ? PREDICTOR_FLOATINGPOINT : PREDICTOR_HORIZONTAL);
@@ -207,7 +208,11 @@ class TiffEncoder final : public Encoder {
           compressor_->submit(static_cast<int>(strip), std::move(rows), sink());
           continue;
         }
-        if (TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
+        // Uncompressed strips are their bytes as they are: written raw, libtiff copies none.
+        const auto size = static_cast<tmsize_t>(chunk_.size());
+        if ((raw_ ? TIFFWriteRawStrip(tif_, strip, chunk_.data(), size)
+                  : TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), size)) < 0)
+          throw failure();
         chunk_.clear();
       }
     }
@@ -234,7 +239,10 @@ class TiffEncoder final : public Encoder {
           compressor_->submit(static_cast<int>(index), std::move(tile), sink());
           continue;
         }
-        if (TIFFWriteEncodedTile(tif_, index, chunk_.data(), static_cast<tmsize_t>(chunk_.size())) < 0) throw failure();
+        const auto size = static_cast<tmsize_t>(chunk_.size());
+        if ((raw_ ? TIFFWriteRawTile(tif_, index, chunk_.data(), size)
+                  : TIFFWriteEncodedTile(tif_, index, chunk_.data(), size)) < 0)
+          throw failure();
       }
     }
   }
@@ -259,6 +267,7 @@ class TiffEncoder final : public Encoder {
   SampleType kind_ = SampleType::Float;
   SampleType stored_ = SampleType::Float;
   int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
+  bool raw_ = false;  // uncompressed
   std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled
   std::unique_ptr<StripCompressor> compressor_;  // deflated strips and tiles only
 };
