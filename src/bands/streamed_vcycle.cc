@@ -266,7 +266,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     if (k < set_.channels) {
       multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(), L.scratch,
                           ring_row(l, D, j));
-      L.rr[k] += multigrid::row_squares(r_.data() + own, L.B - L.A);
+      if (set_.level_norms) L.rr[k] += multigrid::row_squares(r_.data() + own, L.B - L.A);
       fine = r_.data();
     }
     T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);

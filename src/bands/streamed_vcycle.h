@@ -37,6 +37,7 @@ struct CycleSettings {
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
   bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  bool level_norms = true;       // sum every level's |r|^2 (the probe's level_norms: only log lines read them)
   schedule::StorePolicy stores;
 };
 
@@ -48,6 +49,7 @@ inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int
   s.coarse_tolerance = opt.coarse_tolerance;
   s.weights = singular;
   s.diagonal = diagonal;
+  s.level_norms = static_cast<bool>(opt.log);
   s.more_cycles = opt.cycle_cap() > 1;
   s.stores.dir = opt.temp_dir;
   s.stores.budget = &schedule::ScratchBudget::process();
