@@ -140,5 +140,28 @@ TEST(RowKernels, RowDotSumsInEightLanesInColumnOrder) {
   }
 }
 
+// row_squares is row_dot(r, r) bit for bit (every length's tail included), and the sum of squares in long
+// double to rounding; infinities and NaN come through as row_dot gives them.
+template <class T>
+void check_row_squares() {
+  for (const int n : kLengths) {
+    const std::vector<double> d = doubles(n, 12);
+    const std::vector<T> r(d.begin(), d.end());
+    const double got = row_squares(r.data(), n), want = row_dot(r.data(), r.data(), n);
+    EXPECT_EQ(std::memcmp(&got, &want, sizeof got), 0) << "n " << n << ": " << got << " against " << want;
+    long double exact = 0;
+    for (T v : r) exact += static_cast<long double>(v) * v;
+    EXPECT_NEAR(got, static_cast<double>(exact), 1e-14 * static_cast<double>(exact) + 1e-300) << "n " << n;
+  }
+  const T special[] = {T(1), std::numeric_limits<T>::infinity(), T(2), std::numeric_limits<T>::quiet_NaN()};
+  EXPECT_EQ(row_squares(special, 3), std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isnan(row_squares(special, 4)));
+}
+
+TEST(RowKernels, RowSquaresIsRowDotOfARowWithItself) {
+  check_row_squares<float>();
+  check_row_squares<double>();
+}
+
 }  // namespace
 }  // namespace gdp::multigrid

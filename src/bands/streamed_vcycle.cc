@@ -236,7 +236,7 @@ void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
   for (int c = 0; c < set_.channels; ++c) {
     multigrid::residual(*L.op, j, window(0, c, j, initial), columns(L.width, L.A, L.B), ring_row(0, B, j, c), r_.data(), L.scratch,
                         ring_row(0, D, j));
-    rr[c] += multigrid::row_dot(r_.data() + (L.A - L.origin), r_.data() + (L.A - L.origin), L.B - L.A);
+    rr[c] += multigrid::row_squares(r_.data() + (L.A - L.origin), L.B - L.A);
   }
 }
 
@@ -266,7 +266,7 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     if (k < set_.channels) {
       multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(), L.scratch,
                           ring_row(l, D, j));
-      L.rr[k] += multigrid::row_dot(r_.data() + own, r_.data() + own, L.B - L.A);
+      if (set_.level_norms) L.rr[k] += multigrid::row_squares(r_.data() + own, L.B - L.A);
       fine = r_.data();
     }
     T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);

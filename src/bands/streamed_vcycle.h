@@ -37,6 +37,7 @@ struct CycleSettings {
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
   bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
+  bool level_norms = true;       // sum every level's |r|^2 (the probe's level_norms: only log lines read them)
   schedule::StorePolicy stores;
 };
 
@@ -44,7 +45,8 @@ struct CycleSettings {
 // in the process's budget, then in opt.temp_dir, half floats as the in-core V-cycle rounds them.
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s{.channels = channels, .coarse_tolerance = opt.coarse_tolerance, .weights = singular,
-                  .more_cycles = opt.cycle_cap() > 1, .diagonal = diagonal, .stores = {}};
+                  .more_cycles = opt.cycle_cap() > 1, .diagonal = diagonal,
+                  .level_norms = static_cast<bool>(opt.log), .stores = {}};
   s.stores.dir = opt.temp_dir;
   s.stores.half = multigrid::half_policy(opt, diagonal);
   return s;

@@ -120,7 +120,7 @@ void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::spa
       double& norm2 = totals_[r].rhs_norms2[c];
       // Pinned pixels' entries (kPinnedDiagonal * value) would swamp the norm that relative
       // residuals are measured against: they are left out of it.
-      if (!weights) norm2 += row_dot(bc + a, bc + a, e - a);
+      if (!weights) norm2 += row_squares(bc + a, e - a);
       else
         for (int i = a; i < e; ++i)
           if (d_[k][i] != LevelOperator<T>::kPinnedDiagonal) norm2 += static_cast<double>(bc[i]) * bc[i];

@@ -67,6 +67,26 @@ GDP_CLONES double row_dot(const T* w, const T* u, int n) {
   return ((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7]));
 }
 
+// row_dot(r, r, n) with each sample converted once: the conversions, not the additions, bound row_dot (about
+// 1.5x the time on this machine's Zen 4, docs/multigrid.md "Residual norms").
+template <class T>
+GDP_CLONES double row_squares(const T* r, int n) {
+  double s[8] = {};
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+    for (int k = 0; k < 8; ++k) {
+      const double v = r[i + k];
+      s[k] += v * v;
+    }
+  for (; i < n; ++i) {
+    const double v = r[i];
+    s[i % 8] += v * v;
+  }
+  return ((s[0] + s[4]) + (s[1] + s[5])) + ((s[2] + s[6]) + (s[3] + s[7]));
+}
+
+template double row_squares(const float*, int);
+template double row_squares(const double*, int);
 template double row_dot(const float*, const float*, int);
 template double row_dot(const double*, const double*, int);
 template void scaled_rhs<float>(const double*, const double*, double, float*, int);

@@ -24,5 +24,8 @@ void guess_and_weights(const float* in, std::size_t stride, int channels, const 
 // uses this: the same bits everywhere).
 template <class T>
 double row_dot(const T* w, const T* u, int n);
+// |r|^2 over one row: row_dot(r, r, n)'s bits, in about 2/3 of its time.
+template <class T>
+double row_squares(const T* r, int n);
 
 }  // namespace gdp::multigrid
