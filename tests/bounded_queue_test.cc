@@ -15,8 +15,8 @@ namespace {
 
 // `producers` threads push `each` distinct numbers, `consumers` threads pop until finish(): every
 // number arrives exactly once, and each producer's in the order pushed.
-void every_item_once(int producers, int consumers, std::size_t capacity, int each) {
-  BoundedQueue<int> queue(capacity);
+void every_item_once(int producers, int consumers, std::size_t capacity, int each, std::size_t refill = 1) {
+  BoundedQueue<int> queue(capacity, refill);
   std::vector<std::vector<int>> got(consumers);
   std::vector<std::thread> threads;
   for (int c = 0; c < consumers; ++c)
@@ -49,6 +49,11 @@ TEST(BoundedQueue, OneProducerOneConsumerGetsEveryItemInOrder) {
 
 TEST(BoundedQueue, ManyProducersAndConsumersGetEveryItemOnce) {
   for (int round = 0; round < 20; ++round) every_item_once(4, 3, 1 + round % 3, 1000);
+}
+
+TEST(BoundedQueue, ProducersThatRefillGetEveryItemThroughOnce) {
+  for (std::size_t capacity : {1, 2, 4}) every_item_once(1, 1, capacity, 20000, capacity);
+  for (int round = 0; round < 20; ++round) every_item_once(3, 2, 2 + round % 3, 1000, 2);
 }
 
 TEST(BoundedQueue, FinishLetsConsumersDrainWhatIsQueued) {
