@@ -66,7 +66,8 @@ TEST(ThreadTransport, ATokenGoesRoundEveryWorkerWithoutALostWakeUp) {
           last[w] = got[0] + 256 * got[1];
         }
         const int token = r * n + w;
-        me.send((w + 1) % n, 3, Bytes{static_cast<unsigned char>(token % 256), static_cast<unsigned char>(token / 256)});
+        me.send((w + 1) % n, 3,
+                Bytes{static_cast<unsigned char>(token % 256), static_cast<unsigned char>(token / 256)});
         me.send((w + 2) % n, 4, Bytes{1});  // noise on another tag, received at the end
       }
     });

@@ -1,4 +1,4 @@
-// util::BoundedQueue and util::Bells: every item once, closes and finishes that wake every waiter, destruction by the thread just woken.
+// util::BoundedQueue and util::Bells: every item once, every waiter woken by a close, destruction by the thread just woken.
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -212,7 +212,8 @@ class Results {
   float* row(int k, int j) {
     int ahead = slots_;  // then slots_ - slack_, once it waits
     marks_.wait([&](std::vector<int>& m) {
-      const bool lags = puts(m, k % groups_).first <= m[written_];  // a worker of k's group has not put the next row to write
+      // A worker of k's group has not put the next row to write:
+      const bool lags = puts(m, k % groups_).first <= m[written_];
       const bool go = lags || j < m[written_] + ahead;
       ahead = slots_ - slack_;
       return go;

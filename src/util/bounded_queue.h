@@ -21,7 +21,8 @@ namespace gdp::util {
 template <class Item>
 class BoundedQueue {
  public:
-  explicit BoundedQueue(std::size_t capacity, std::size_t refill = 1) : capacity_(capacity), refill_(std::clamp<std::size_t>(refill, 1, capacity)) {}
+  explicit BoundedQueue(std::size_t capacity, std::size_t refill = 1)
+      : capacity_(capacity), refill_(std::clamp<std::size_t>(refill, 1, capacity)) {}
   // Blocks while full; false when the queue was closed (the item is dropped).
   bool push(Item item) {
     Bell* wake = nullptr;
