@@ -49,6 +49,37 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
   EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), schedule::Stopped);
 }
 
+// A token passed round four workers, 2000 times, each send waking only the worker it is for:
+// every message arrives (a lost wake-up hangs), and a worker's receive from one sender is not
+// taken by a message from another.
+TEST(ThreadTransport, ATokenGoesRoundEveryWorkerWithoutALostWakeUp) {
+  const int n = 4, rounds = 2000;
+  ThreadHub hub(n);
+  std::vector<int> last(n, -1);
+  std::vector<std::thread> workers;
+  for (int w = 0; w < n; ++w)
+    workers.emplace_back([&, w] {
+      Transport& me = hub.endpoint(w);
+      for (int r = 0; r < rounds; ++r) {
+        if (w != 0 || r > 0) {
+          const Bytes got = me.receive((w + n - 1) % n, 3);
+          last[w] = got[0] + 256 * got[1];
+        }
+        const int token = r * n + w;
+        me.send((w + 1) % n, 3,
+                Bytes{static_cast<unsigned char>(token % 256), static_cast<unsigned char>(token / 256)});
+        me.send((w + 2) % n, 4, Bytes{1});  // noise on another tag, received at the end
+      }
+    });
+  for (auto& t : workers) t.join();
+  EXPECT_EQ(hub.endpoint(0).receive(n - 1, 3), (Bytes{static_cast<unsigned char>((rounds * n - 1) % 256),
+                                                      static_cast<unsigned char>((rounds * n - 1) / 256)}));
+  for (int w = 0; w < n; ++w) {
+    EXPECT_EQ(last[w], (rounds - 1) * n + w - 1) << "worker " << w;
+    for (int r = 0; r < rounds; ++r) ASSERT_EQ(hub.endpoint(w).receive((w + n - 2) % n, 4), Bytes{1});
+  }
+}
+
 // Guidance that fails part-way through, like a truncated input file.
 class FailingSource : public test::ExactGradients {
  public:

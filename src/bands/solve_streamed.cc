@@ -181,18 +181,24 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
 // workers put: a worker waits for the writing only while `slots` rows are ahead of it and every
 // worker of its channel group (every worker it exchanges with here) has put the next row to write,
 // so that the writing then waits for no worker that waits for it (docs/how-bands-work.md, "Why a
-// streamed solve cannot hang"). Tests set `slots` to 1 (GDP_RESULT_ROWS).
+// streamed solve cannot hang"). Tests set `slots` to 1 (GDP_RESULT_ROWS). Wake-ups are batched
+// (docs/multigrid.md): a worker that had to wait goes on once `slack` rows more are written; the
+// writing, once it had to wait, once `slack` rows more are put, but row by row for a group with a
+// worker `slots - slack` rows ahead (one that may wait for the writing holds no row back).
 class Results {
  public:
   Results(schedule::Marks& marks, int workers, int groups, std::size_t row)
       : marks_(marks), written_(marks.add(1)), put_(marks.add(workers)), workers_(workers), groups_(groups),
-        row_(row), slots_(std::max(1, util::env_int("GDP_RESULT_ROWS", 64))) {}
-  // Worker k's row j (whole rows: it fills its columns), then put(k, j).
+        row_(row), slots_(std::max(1, util::env_int("GDP_RESULT_ROWS", 64))), slack_(slots_ / 4) {}
+  // Worker k's row j (whole rows: it fills its columns; rows in order), then put(k, j).
   float* row(int k, int j) {
+    int ahead = slots_;  // then slots_ - slack_, once it waits
     marks_.wait([&](std::vector<int>& m) {
-      bool lags = false;  // a worker of k's group has not put the next row to write
-      for (int i = k % groups_; i < workers_; i += groups_) lags = lags || m[put_ + i] <= m[written_];
-      return lags || j < m[written_] + slots_;
+      // A worker of k's group has not put the next row to write:
+      const bool lags = puts(m, k % groups_).first <= m[written_];
+      const bool go = lags || j < m[written_] + ahead;
+      ahead = slots_ - slack_;
+      return go;
     });
     const std::lock_guard lock(mutex_);
     while (first_ + static_cast<int>(rows_.size()) <= j) {
@@ -204,7 +210,19 @@ class Results {
   void put(int k, int j) { marks_.set(put_ + k, j + 1); }
   // The calling thread: row j (of h) to `out` once every worker put it.
   void write(int j, int h, RowWriter& out) {
-    marks_.wait(put_, put_ + workers_, j, std::min({j + 4, j + slots_ - 1, h - 1}));
+    const int until = std::min(j + slack_, h - 1);
+    bool waited = false;
+    marks_.wait([&](std::vector<int>& m) {
+      bool row_put = true, batch_put = true;  // row j by every worker; `until` by every group but those ahead
+      for (int g = 0; g < groups_; ++g) {
+        const auto [lo, hi] = puts(m, g);
+        row_put = row_put && lo > j;
+        batch_put = batch_put && (lo > until || hi >= j + slots_ - slack_);
+      }
+      const bool go = row_put && (!waited || batch_put);
+      waited = true;
+      return go;
+    });
     const std::vector<float>* row = nullptr;
     {
       const std::lock_guard lock(mutex_);
@@ -221,10 +239,18 @@ class Results {
   }
 
  private:
+  // The fewest and the most rows a worker of group g has put.
+  std::pair<int, int> puts(const std::vector<int>& m, int g) const {
+    std::pair<int, int> range{m[put_ + g], m[put_ + g]};
+    for (int i = g + groups_; i < workers_; i += groups_)
+      range = {std::min(range.first, m[put_ + i]), std::max(range.second, m[put_ + i])};
+    return range;
+  }
+
   schedule::Marks& marks_;
   const int written_, put_, workers_, groups_;  // marks: rows written, rows each worker put
   const std::size_t row_;
-  int slots_, first_ = 0;  // rows_[i] is row first_ + i
+  int slots_, slack_, first_ = 0;  // rows_[i] is row first_ + i
   std::mutex mutex_;
   std::deque<std::vector<float>> rows_;
   util::RecyclePool<std::vector<float>> spare_;  // rows written, for reuse

@@ -24,31 +24,32 @@ Bytes ThreadHub::receive_away(int from, int, int) { throw std::logic_error(fmt::
 
 void ThreadHub::send(int from, int to, int tag, Bytes data) {
   if (!here(to)) return send_away(from, to, tag, std::move(data));
+  util::Bell* wake = nullptr;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (stopped_) throw schedule::Stopped(*stopped_);
-    boxes_[{from, to, tag}].push_back(std::move(data));
+    Box& box = boxes_[{from, to, tag}];
+    box.messages.push_back(std::move(data));
+    wake = bells_.call(box.waiting);
   }
-  arrived_.notify_all();
+  bells_.ring(wake);
 }
 
 Bytes ThreadHub::receive(int from, int to, int tag) {
   if (!here(from)) return receive_away(from, to, tag);
   std::unique_lock<std::mutex> lock(mutex_);
-  auto& box = boxes_[{from, to, tag}];
-  arrived_.wait(lock, [&] { return stopped_ || !box.empty(); });
+  Box& box = boxes_[{from, to, tag}];
+  bells_.wait(lock, box.waiting, [&] { return stopped_ || !box.messages.empty(); });
   if (stopped_) throw schedule::Stopped(*stopped_);
-  Bytes data = std::move(box.front());
-  box.pop_front();
+  Bytes data = std::move(box.messages.front());
+  box.messages.pop_front();
   return data;
 }
 
 void ThreadHub::stop(const std::string& why) {
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (!stopped_) stopped_ = why;
-  }
-  arrived_.notify_all();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!stopped_) stopped_ = why;
+  for (auto& [key, box] : boxes_) bells_.ring_all(box.waiting);
 }
 
 }  // namespace gdp::bands

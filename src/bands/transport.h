@@ -1,7 +1,6 @@
 // How the workers of a band solve talk: point-to-point messages, one interface for threads and MPI.
 #pragma once
 
-#include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <map>
@@ -14,6 +13,7 @@
 
 #include "schedule/bytes.h"
 #include "schedule/parallel.h"
+#include "util/bells.h"
 
 namespace gdp::bands {
 
@@ -69,9 +69,15 @@ class ThreadHub {
  private:
   bool here(int worker) const { return worker >= first_ && worker < first_ + local_; }
 
+  // A receiver waits on its own box: a send wakes only the worker waiting for that message, after
+  // unlocking (util/bells.h).
+  struct Box {
+    std::deque<Bytes> messages;
+    util::Bells::Line waiting;
+  };
   mutable std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::map<std::tuple<int, int, int>, std::deque<Bytes>> boxes_;  // (from, to, tag)
+  util::Bells bells_;
+  std::map<std::tuple<int, int, int>, Box> boxes_;  // (from, to, tag)
   std::optional<std::string> stopped_;
   std::vector<Transport> endpoints_;
 };

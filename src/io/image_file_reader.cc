@@ -149,8 +149,9 @@ struct ImageFileReader::Impl {
   }
 
   void start_decoding() {
-    // One band queued, one being decoded, one being read: three at most.
-    queue = std::make_unique<util::BoundedQueue<Band>>(1);
+    // Two bands queued, one being decoded, one being read: four at most. A decoder ahead of its
+    // reader sleeps until both queued bands are taken (a futex wake-up every other band).
+    queue = std::make_unique<util::BoundedQueue<Band>>(2, 2);
     decoder_thread = std::thread([this] {
       for (int y0 = 0; y0 < layout.height; y0 += band_rows) {
         Band b = decode(y0);

@@ -69,7 +69,9 @@ struct ImageFileWriter::Impl {
   std::size_t row_bytes = 0;
   bool integer_file = false, tiled = false, committed = false, opened = false, write_behind = true;
   Band band;
-  util::BoundedQueue<Band> queue{1};  // with the band encoded and the band filled: three
+  // With the band encoded and the band filled: four. A writer ahead of the encoder sleeps until both
+  // queued bands are taken (a futex wake-up every other band).
+  util::BoundedQueue<Band> queue{2, 2};
   util::RecyclePool<std::vector<float>> spent;  // encoded bands' rows, allocated once
   std::vector<unsigned char> packed;  // the band being encoded, interleaved samples of band_type
   std::thread encoder;

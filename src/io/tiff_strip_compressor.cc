@@ -18,8 +18,8 @@ StripCompressor::~StripCompressor() {
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
+    bells_.ring_all(idle_);
   }
-  changed_.notify_all();
   for (std::thread& t : workers_) t.join();
 }
 
@@ -31,7 +31,7 @@ void StripCompressor::work() {
   std::vector<unsigned char> predicted;
   std::unique_lock lock(mutex_);
   for (;;) {
-    changed_.wait(lock, [&] { return stopping_ || !jobs_.empty(); });
+    bells_.wait(lock, idle_, [&] { return stopping_ || !jobs_.empty(); });
     if (stopping_) return;
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
@@ -64,7 +64,10 @@ void StripCompressor::work() {
     lock.lock();
     if (!failure.empty() && error_.empty()) error_ = failure;
     done_[job.strip] = std::move(out);
-    changed_.notify_all();
+    util::Bell* wake = job.strip == next_ || !error_.empty() ? bells_.call(submitter_) : nullptr;
+    lock.unlock();
+    bells_.ring(wake);
+    lock.lock();
   }
 }
 
@@ -89,11 +92,17 @@ void StripCompressor::submit(int strip, std::vector<unsigned char> rows, const S
   for (;;) {
     sink_ready(lock, sink);
     if (outstanding_ < limit_) break;
-    changed_.wait(lock);
+    wait_for_next(lock);
   }
   jobs_.push_back(Job{strip, std::move(rows)});
   ++outstanding_;
-  changed_.notify_all();
+  util::Bell* wake = bells_.call(idle_);
+  lock.unlock();
+  bells_.ring(wake);
+}
+
+void StripCompressor::wait_for_next(std::unique_lock<std::mutex>& lock) {
+  bells_.wait(lock, submitter_, [&] { return done_.contains(next_) || !error_.empty(); });
 }
 
 void StripCompressor::finish(const Sink& sink) {
@@ -101,7 +110,7 @@ void StripCompressor::finish(const Sink& sink) {
   for (;;) {
     sink_ready(lock, sink);
     if (outstanding_ == 0) return;
-    changed_.wait(lock);
+    wait_for_next(lock);
   }
 }
 

@@ -1,7 +1,6 @@
 // Deflate-compressed TIFF strips or tiles made on worker threads (predictor + libdeflate), handed back in order.
 #pragma once
 
-#include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <functional>
@@ -11,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "util/bells.h"
 #include "util/recycle_pool.h"
 
 namespace gdp::io {
@@ -48,10 +48,15 @@ class StripCompressor {
   };
   void work();
   void sink_ready(std::unique_lock<std::mutex>& lock, const Sink& sink);  // in-order finished strips
+  void wait_for_next(std::unique_lock<std::mutex>& lock);  // until strip next_ is done, or one failed
 
   StripFormat format_;
+  // Workers wait in `idle_` for a job, each woken by the submit that brings one; the submitting
+  // thread in `submitter_` for the next strip to sink, woken only by the worker that finishes it
+  // (or fails). Rung after unlocking (util/bells.h).
   std::mutex mutex_;
-  std::condition_variable changed_;
+  util::Bells bells_;
+  util::Bells::Line idle_, submitter_;
   std::deque<Job> jobs_;
   std::map<int, std::vector<unsigned char>> done_;
   util::RecyclePool<std::vector<unsigned char>> spent_;  // strips' buffers, allocated once
