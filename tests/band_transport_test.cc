@@ -38,7 +38,7 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
     waiters.emplace_back([&, w] {
       try {
         hub.endpoint(w).receive(2, 0);
-      } catch (const schedule::Stopped& e) {
+      } catch (const util::Stopped& e) {
         seen[w] = e.what();
       }
     });
@@ -46,7 +46,7 @@ TEST(ThreadTransport, AbortWakesEveryWaiterWithTheReason) {
   for (auto& t : waiters) t.join();
   EXPECT_EQ(seen[0], "band 2 stopped: disk full");
   EXPECT_EQ(seen[1], "band 2 stopped: disk full");
-  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), schedule::Stopped);
+  EXPECT_THROW(hub.endpoint(0).send(1, 0, {}), util::Stopped);
 }
 
 // A token passed round four workers, 2000 times, each send waking only the worker it is for:

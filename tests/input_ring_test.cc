@@ -195,9 +195,9 @@ TEST(RowRingSlots, StopEndsEveryWait) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       return marks.stop();
     }
-    EXPECT_THROW(marks.wait(m + k - 1, 5), schedule::Stopped);
+    EXPECT_THROW(marks.wait(m + k - 1, 5), util::Stopped);
   });
-  EXPECT_THROW(marks.wait(m, m + 2, -1, -1), schedule::Stopped);
+  EXPECT_THROW(marks.wait(m, m + 2, -1, -1), util::Stopped);
 }
 
 // A row that cannot be decoded, or a band's columns that cannot be made, stops the whole run with

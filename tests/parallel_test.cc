@@ -16,6 +16,7 @@ namespace {
 
 using util::run_steps;
 using util::run_workers;
+using util::Stopped;
 
 TEST(RunWorkers, EveryWorkerRunsOnce) {
   std::atomic<int> mask{0};

@@ -93,7 +93,7 @@ class CycleWorker {
     log_.state(a, c0, n);
   }
 
-  // Throws schedule::Stopped once the solve is stopped.
+  // Throws util::Stopped once the solve is stopped.
   void run() {
     std::vector<T> u(static_cast<std::size_t>(n) * length_);  // a result row (every channel)
     std::vector<double> shift(n);

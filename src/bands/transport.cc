@@ -27,7 +27,7 @@ void ThreadHub::send(int from, int to, int tag, Bytes data) {
   util::Bell* wake = nullptr;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (stopped_) throw schedule::Stopped(*stopped_);
+    if (stopped_) throw util::Stopped(*stopped_);
     Box& box = boxes_[{from, to, tag}];
     box.messages.push_back(std::move(data));
     wake = bells_.call(box.waiting);
@@ -40,7 +40,7 @@ Bytes ThreadHub::receive(int from, int to, int tag) {
   std::unique_lock<std::mutex> lock(mutex_);
   Box& box = boxes_[{from, to, tag}];
   bells_.wait(lock, box.waiting, [&] { return stopped_ || !box.messages.empty(); });
-  if (stopped_) throw schedule::Stopped(*stopped_);
+  if (stopped_) throw util::Stopped(*stopped_);
   Bytes data = std::move(box.messages.front());
   box.messages.pop_front();
   return data;

@@ -55,7 +55,7 @@ class ThreadHub {
   Transport& own() { return endpoint(first_); }  // this process's first worker's (its collectives)
   void send(int from, int to, int tag, Bytes data);
   Bytes receive(int from, int to, int tag);
-  // Stops every worker: their waiting and later calls throw schedule::Stopped(why).
+  // Stops every worker: their waiting and later calls throw util::Stopped(why).
   virtual void stop(const std::string& why);
 
  protected:

@@ -1,16 +1,11 @@
-// Marks that threads wait on (each waiter on a futex word of its own) and rings of rows made by their readers.
+// Marks that threads wait on (each waiter on a util::Bell of its own) and rings of rows made by their readers.
 #include "schedule/parallel.h"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <ctime>
 #include <mutex>
 #include <vector>
-
-#include <linux/futex.h>
-#include <sys/syscall.h>
-#include <unistd.h>
 
 namespace gdp::schedule {
 namespace {
@@ -22,16 +17,6 @@ double thread_cpu_seconds() {
   return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
 }
 
-// A waiter's futex word: sleep_on() returns once it is rung (or spuriously), ring() wakes the
-// sleeper, if it sleeps yet.
-void sleep_on(std::atomic<int>& bell) {
-  int armed = 0;
-  if (bell.compare_exchange_strong(armed, 2)) syscall(SYS_futex, &bell, FUTEX_WAIT_PRIVATE, 2, nullptr, nullptr, 0);
-}
-void ring(std::atomic<int>& bell) {
-  if (bell.exchange(1) == 2) syscall(SYS_futex, &bell, FUTEX_WAKE_PRIVATE, 1, nullptr, nullptr, 0);
-}
-
 }  // namespace
 
 int Marks::add(int count) {
@@ -41,7 +26,7 @@ int Marks::add(int count) {
 }
 
 void Marks::set(int m, int value) {
-  std::array<std::atomic<int>*, 8> rung;  // rung after unlocking (more at once: under the lock)
+  std::array<util::Bell*, 8> rung;  // rung after unlocking (more at once: under the lock)
   std::size_t n = 0;
   {
     const std::lock_guard lock(mutex_);
@@ -49,29 +34,29 @@ void Marks::set(int m, int value) {
     for (Waiter* w : waiters_)
       if (!w->done && (w->done = w->ready(marks_))) {
         if (n < rung.size()) rung[n++] = w->bell;
-        else ring(*w->bell);
+        else w->bell->ring();
       }
   }
-  for (std::size_t i = 0; i < n; ++i) ring(*rung[i]);
+  for (std::size_t i = 0; i < n; ++i) rung[i]->ring();
 }
 
 void Marks::wait(const Ready& ready) {
   std::unique_lock lock(mutex_);
   Waiter me{ready, !stopped_ && ready(marks_)};
   if (!me.done && !stopped_) {
-    me.bell = spare_.empty() ? &bells_.emplace_back(0) : spare_.back();
+    me.bell = spare_.empty() ? &bells_.emplace_back() : spare_.back();
     if (!spare_.empty()) spare_.pop_back();
     waiters_.push_back(&me);
     while (!stopped_ && !me.done) {
-      me.bell->store(0);  // (under the lock: set() rings it only after marking it done)
+      me.bell->arm();  // (under the lock: set() rings it only after marking it done)
       lock.unlock();
-      sleep_on(*me.bell);
+      me.bell->sleep();
       lock.lock();
     }
     std::erase(waiters_, &me);
     spare_.push_back(me.bell);
   }
-  if (stopped_) throw Stopped("stopped");
+  if (stopped_) throw util::Stopped("stopped");
 }
 
 void Marks::wait(int a, int b, int after, int until) {
@@ -86,7 +71,7 @@ void Marks::wait(int a, int b, int after, int until) {
 void Marks::stop() {
   const std::lock_guard lock(mutex_);
   stopped_ = true;
-  for (Waiter* w : waiters_) ring(*w->bell);
+  for (Waiter* w : waiters_) w->bell->ring();
 }
 
 RowRing::RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make)

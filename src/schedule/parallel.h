@@ -1,7 +1,6 @@
 // Rows handed between a solve's threads: marks they raise and wait on, rings of rows made by their readers; one stop ends every wait.
 #pragma once
 
-#include <atomic>
 #include <climits>
 #include <deque>
 #include <functional>
@@ -9,14 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "util/bells.h"
 #include "util/workers.h"
 
 namespace gdp::schedule {
 
-using util::Stopped;  // (Marks::stop and bands::ThreadHub::stop end waits with it)
-
 // Counts (rows done) that threads raise and wait on. stop() ends every wait, now and later, with
-// Stopped: a solve's one stop for every hand-off between its threads.
+// util::Stopped: a solve's one stop for every hand-off between its threads.
 class Marks {
  public:
   using Ready = std::function<bool(std::vector<int>& marks)>;
@@ -33,21 +31,20 @@ class Marks {
   void stop();
 
  private:
-  // A waiter sleeps on a futex word of the marks' own (`bells_`, taken from `spare_` while it
-  // waits): set() rings it after unlocking, one futex call on each side. A condition variable
-  // notified under the lock costs three and a second switch (the woken thread sleeps again at once
-  // on the lock), dear on a guest where each wake-up is. A late ring of a word since handed to
-  // another waiter is a spurious wake-up: the waiter looks again under the lock.
+  // A waiter sleeps on a bell of the marks' own (`bells_`, taken from `spare_` while it waits):
+  // set() rings it after unlocking, one futex call on each side (util/bells.h says why). A late
+  // ring of a bell since handed to another waiter is a spurious wake-up: the waiter looks again
+  // under the lock. (Not util::Bells' lines: a waiter here is woken by its own condition.)
   struct Waiter {
     const Ready& ready;
     bool done = false;
-    std::atomic<int>* bell = nullptr;  // 0 armed, 1 rung, 2 asleep
+    util::Bell* bell = nullptr;
   };
   std::mutex mutex_;
   std::vector<int> marks_;
   std::vector<Waiter*> waiters_;
-  std::deque<std::atomic<int>> bells_;
-  std::vector<std::atomic<int>*> spare_;
+  std::deque<util::Bell> bells_;
+  std::vector<util::Bell*> spare_;
   bool stopped_ = false;
 };
 
