@@ -131,7 +131,8 @@ Setup<T> set_up(GuidanceSource& source, const SolverOptions& opt, SolveSummary& 
 // of the plan, in channel groups (up to one a channel, two threads left to the codecs). A single
 // band on more than one thread takes one group per channel even where that leaves the codecs no
 // core of their own: else its one worker does every V-cycle sample while the other cores wait
-// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread. Then their
+// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per two threads (the two
+// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two). Then their
 // checkpoint (which may set the group count, resuming), hubs and logs.
 template <class T>
 Team make_team(const SolverOptions& opt, const Setup<T>& setup, int channels, schedule::StorePolicy& stores) {
@@ -142,7 +143,7 @@ Team make_team(const SolverOptions& opt, const Setup<T>& setup, int channels, sc
     team.hubs.push_back(std::make_unique<MpiHub>(team.local));
     team.first = team.hubs[0]->first();
   } else {
-    const int spare = setup.incore ? opt.threads : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
+    const int spare = setup.incore ? opt.threads / 2 : team.local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / team.local;
     team.groups = std::clamp(spare, 1, channels);
   }
   if (!opt.checkpoint_dir.empty() && !setup.incore)

@@ -1,6 +1,7 @@
 // The in-core schedule: a V-cycle over whole planes held in memory (the reference schedule).
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -66,6 +67,22 @@ class WeightRows {
 // from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).
 enum class SweepDirection { Forward, AlternateSweeps, AlternateRows };
 
+// Two threads on one pass over a level's rows (InCoreVCycle::set_pair; the scheduler's, bands/incore_worker.h).
+// A pass is `steps` steps; at each the lead does the first sweeps of its rows and the follower the rest
+// (and the residual, restriction and sums) of the rows two a sweep above. The follower reads nothing the
+// lead writes later and the lead nothing the follower writes, so the follower's step t only waits for the
+// lead's: every relaxation sees what it sees on one thread, in the same order (same bits).
+class PassPair {
+ public:
+  virtual ~PassPair() = default;
+  // Runs lead() and follow() at once; returns when both have.
+  virtual void run(int steps, const std::function<void()>& lead, const std::function<void()>& follow) = 0;
+  // The lead has done steps [0, steps).
+  virtual void ahead(int steps) = 0;
+  // The follower waits until the lead has done step `step`.
+  virtual void behind(int step) = 0;
+};
+
 // Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
 // create one per thread and reuse it for many channels.
 template <class T>
@@ -90,12 +107,22 @@ class InCoreVCycle {
   // Smoother studies (bench/smoother_bench): the counts and the rows' direction. Every schedule
   // has the default direction (left to right); others exist only in core.
   void set_smoother(int pre, int post, SweepDirection direction);
+  // Levels of at least kPairRows rows are smoothed by two threads (PassPair); null: one. Not owned.
+  void set_pair(PassPair* pair) { pair_ = pair; }
+  static constexpr int kPairRows = 256;
 
  private:
+  // A thread's temporaries: a residual row and the kernels' scratch.
+  struct Lane {
+    std::vector<T> r;
+    Scratch<T> scratch;
+  };
+  template <class Lead, class Follow>
+  void pass(int steps, int rows, const Lead& lead, const Follow& follow);
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
                  double& dots, bool norms, double* before);
   void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
-  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j);
+  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j, Lane& lane);
   Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;
@@ -109,8 +136,8 @@ class InCoreVCycle {
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   Plane<double> coarse_b_, coarse_u_;  // the coarsest level's b and u in double, reused
-  std::vector<T> r_row_;
-  Scratch<T> scratch_;
+  Lane lane_, lead_;  // the follower's (and a single thread's) and the lead's
+  PassPair* pair_ = nullptr;
 };
 
 }  // namespace gdp::multigrid
