@@ -131,7 +131,7 @@ class InCoreWorker {
     if (weights) {
       Plane finest = wt.take();
       if (half_.rounds(0, "w") && opt_.cycle_cap() > 1) multigrid::round_to_half(finest.data.data(), finest.data.size());
-      shared_.weights = multigrid::restrict_weights(ops_, 0, std::move(finest));
+      shared_.weights = multigrid::restrict_weights(ops_, 0, std::move(finest), true);
     }
     if (diagonal) shared_.diagonal = multigrid::restrict_weights(ops_, 0, std::move(d));
     shared_.marks.set(shared_.ready, 1);

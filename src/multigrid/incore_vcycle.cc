@@ -16,22 +16,63 @@ Operators<T>::Operators(const Hierarchy& h)
   for (const LevelGeometry& g : h.levels) levels.emplace_back(g, h.alpha);
 }
 
+namespace {
+
+// Level l + 1's weights restricted from level l's (`fine`), rows in order: each coarse row in a row of
+// its own from its first to its last fine row, then kept, where `held_once` says after the row kept
+// before it when the two are the same bits. The same restrict_rows calls in the same order as into a
+// whole zeroed plane: the same bits.
 template <class T>
-std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w) {
+Plane<T> restrict_level(const Operators<T>& ops, int l, const Plane<T>& fine, bool held_once, Scratch<T>& s) {
+  const LevelGeometry& g = ops.hierarchy->levels[l + 1];
+  const int width = g.width(), height = g.height();
+  const std::size_t n = static_cast<std::size_t>(width);
+  std::vector<int> last(height, -1);  // the last fine row restricted into each coarse row
+  for (int j = 0; j < ops.levels[l].height; ++j)
+    for (const int k : g.py.rows[j].index) last[k] = j;
+  Plane<T> out;
+  out.width = width;
+  out.data.reserve(n * height);  // (pages mapped as rows are kept)
+  out.rows_of.assign(height, 0);
+  std::vector<std::vector<T>> open(height), spare;  // (rows handed back for reuse: no page faults a row)
+  const auto row = [&](int k) {
+    if (open[k].empty()) {
+      if (!spare.empty()) open[k] = std::move(spare.back()), spare.pop_back();
+      open[k].assign(n, T(0));
+    }
+    return open[k].data();
+  };
+  const auto keep = [&](int k) {
+    const T* r = row(k);
+    const T* held = out.data.data() + (out.data.size() - n * (out.height > 0));
+    if (!held_once || out.height == 0 || std::memcmp(held, r, n * sizeof(T)) != 0) {
+      out.data.insert(out.data.end(), r, r + n);
+      ++out.height;
+    }
+    out.rows_of[k] = out.height - 1;
+    spare.push_back(std::move(open[k]));
+  };
+  int kept = 0;  // coarse rows [0, kept) kept
+  for (int j = 0; j < ops.levels[l].height; ++j) {
+    const fem::ProlongationRow& py = g.py.rows[j];
+    T* c0 = row(py.index[0]);
+    restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(width, ops.levels[l + 1].periodic_x), c0,
+                  row(py.index[1]), {0, 0}, s);
+    for (; kept < height && last[kept] <= j; ++kept) keep(kept);
+  }
+  for (; kept < height; ++kept) keep(kept);
+  if (!held_once) out.rows_of.clear();
+  return out;
+}
+
+}  // namespace
+
+template <class T>
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w, bool held_once) {
   std::vector<Plane<T>> out;
   out.push_back(std::move(w));
   Scratch<T> s;
-  for (int l = first; l + 1 < ops.count(); ++l) {
-    const LevelGeometry& g = ops.hierarchy->levels[l + 1];
-    Plane<T> coarse(g.width(), g.height());
-    const Plane<T>& fine = out.back();
-    for (int j = 0; j < ops.levels[l].height; ++j) {
-      const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
-                    coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
-    }
-    out.push_back(std::move(coarse));
-  }
+  for (int l = first; l + 1 < ops.count(); ++l) out.push_back(restrict_level(ops, l, out.back(), held_once, s));
   return out;
 }
 
@@ -286,7 +327,7 @@ template class WeightRows<float>;
 template class WeightRows<double>;
 template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
-template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);
-template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>);
+template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>, bool);
+template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>, bool);
 
 }  // namespace gdp::multigrid

@@ -40,11 +40,16 @@ struct CycleProbe {
 };
 
 // Weights restricted to every level from `first` down (result[0] is level `first`). A weight plane of
-// one row stands for a level whose rows are all that row (an image every pixel of which counts).
+// one row stands for a level whose rows are all that row (an image every pixel of which counts). With
+// `held_once` the coarser levels hold each run of equal rows once (Plane::rows_of; the interior rows of a
+// level restricted from equal rows are equal): only the rows made so far and those kept are mapped
+// (docs/multigrid.md, "In-core memory on a PVM guest"). Read their rows with weight_row().
 template <class T>
-std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w, bool held_once = false);
 template <class T>
-const T* weight_row(const Plane<T>& w, int j) { return w.row(w.height == 1 ? 0 : j); }
+const T* weight_row(const Plane<T>& w, int j) {
+  return w.row(!w.rows_of.empty() ? w.rows_of[j] : w.height == 1 ? 0 : j);
+}
 
 // Gathers the finest level's mean weights row by row (for restrict_weights): one row while every
 // row is the same, the whole plane from the first row that differs (its pages are touched only
