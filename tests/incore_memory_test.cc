@@ -132,37 +132,39 @@ TEST(InCoreMemory, NormsMeasuredInTheCyclesPassesAreResidualNorms) {
 // Two threads on a level's passes (PassPair: levels of kPairRows rows and more) give one thread's
 // bits: u, the norms before and after and the weighted sums, with weights and uneven sweep counts.
 TEST(InCoreMemory, TwoThreadsOnALevelChangeNoBit) {
-  const int w = 37, h = multigrid::InCoreVCycle<float>::kPairRows + 45;
-  const auto topo = topology::make_topology(Domain::Planar);
-  const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, 8);
-  const multigrid::Operators<float> ops(hier);
-  const Image noise = test::random_image(w, h, 3, 7);
-  Plane<float> u0(w, h), b(w, h), weights(w, h);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i)
-      u0.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f),
-      weights.at(i, j) = noise.at(2, i, j) < 0.1f ? 0.0f : 1.0f;
-  const auto wl = multigrid::restrict_weights(ops, 0, weights, true);
-  for (const auto& [pre, post] : {std::pair{3, 3}, std::pair{2, 3}, std::pair{1, 2}}) {
-    SCOPED_TRACE(std::to_string(pre) + "/" + std::to_string(post) + " sweeps");
-    schedule::Marks marks;
-    bands::PassThreads pair(marks);
-    std::vector<Plane<float>> u(2, u0);
-    std::vector<multigrid::CycleProbe> probe(2);
-    for (int k = 0; k < 2; ++k) {
-      multigrid::InCoreVCycle<float> vc(ops, pre, 1e-6);
-      vc.set_sweeps(pre, post);
-      if (k == 1) vc.set_pair(&pair);
-      probe[k].norm_before = probe[k].norm_after = true;
-      Plane<float> bk = b;
-      vc.run(u[k], bk, &wl, &probe[k]);
+  for (const Domain domain : {Domain::Planar, Domain::Cylindrical, Domain::Spherical}) {
+    const int h = multigrid::InCoreVCycle<float>::kPairRows + 8, w = domain == Domain::Spherical ? 4 * h : 37;
+    const auto topo = topology::make_topology(domain);
+    const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, 8);
+    const multigrid::Operators<float> ops(hier);
+    const Image noise = test::random_image(w, h, 3, 7);
+    Plane<float> u0(w, h), b(w, h), weights(w, h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        u0.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f),
+        weights.at(i, j) = noise.at(2, i, j) < 0.1f ? 0.0f : 1.0f;
+    const auto wl = multigrid::restrict_weights(ops, 0, weights, true);
+    for (const auto& [pre, post] : {std::pair{3, 3}, std::pair{2, 3}, std::pair{1, 2}}) {
+      SCOPED_TRACE(std::string(test::domain_name(domain)) + ", " + std::to_string(pre) + "/" + std::to_string(post));
+      schedule::Marks marks;
+      bands::PassThreads pair(marks);
+      std::vector<Plane<float>> u(2, u0);
+      std::vector<multigrid::CycleProbe> probe(2);
+      for (int k = 0; k < 2; ++k) {
+        multigrid::InCoreVCycle<float> vc(ops, pre, 1e-6);
+        vc.set_sweeps(pre, post);
+        if (k == 1) vc.set_pair(&pair);
+        probe[k].norm_before = probe[k].norm_after = true;
+        Plane<float> bk = b;
+        vc.run(u[k], bk, &wl, &probe[k]);
+      }
+      EXPECT_TRUE(same_plane_bits(u[0], u[1]));
+      EXPECT_EQ(probe[0].before, probe[1].before);
+      EXPECT_EQ(probe[0].after, probe[1].after);
+      EXPECT_EQ(probe[0].dots, probe[1].dots);
+      EXPECT_EQ(probe[0].level_norms, probe[1].level_norms);
+      EXPECT_LT(probe[1].after, probe[1].before);
     }
-    EXPECT_TRUE(same_plane_bits(u[0], u[1]));
-    EXPECT_EQ(probe[0].before, probe[1].before);
-    EXPECT_EQ(probe[0].after, probe[1].after);
-    EXPECT_EQ(probe[0].dots, probe[1].dots);
-    EXPECT_EQ(probe[0].level_norms, probe[1].level_norms);
-    EXPECT_LT(probe[1].after, probe[1].before);
   }
 }
 

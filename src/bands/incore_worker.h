@@ -45,7 +45,10 @@ class PassThreads final : public multigrid::PassPair {
   void run(int steps, const std::function<void()>& lead, const std::function<void()>& follow) override {
     steps_ = steps;
     marks_.set(mark_, 0);
-    schedule::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); });
+    // (A lead that throws lets the follower run out: the worker rethrows the lead's exception.)
+    schedule::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); }, [&](int k, const std::string&) {
+      if (k == 0) marks_.set(mark_, steps);
+    });
   }
   void ahead(int steps) override { marks_.set(mark_, steps); }
   // Once it must wait, until a few steps more are done (woken once every few steps, not once a step).
