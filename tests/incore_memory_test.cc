@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "bands/incore_worker.h"
 #include "gdp/solver.h"
 #include "multigrid/incore_vcycle.h"
 #include "image_compare.h"
@@ -69,7 +70,7 @@ TEST(InCoreMemory, OneRowWeightsRestrictLikeTheWholePlane) {
   }
 }
 
-// 3 channels on 1, 2 and 3 threads (2, 1 and no channels parked), scratch in memory or in files,
+// 3 channels on 1, 2, 4 and 6 threads (a group per two: 2, 2, 1 and no channels parked), scratch in memory or in files,
 // mean weights of one row or (a non-finite starting pixel weighs 0) the whole plane: the same bits,
 // and the streamed schedule's.
 TEST(InCoreMemory, ParkedChannelsAndOneRowWeightsChangeNoBit) {
@@ -88,8 +89,8 @@ TEST(InCoreMemory, ParkedChannelsAndOneRowWeightsChangeNoBit) {
       return solve(src, o, &start, nullptr);
     };
     SCOPED_TRACE(hole ? "a hole in the start" : "every pixel counted");
-    const Image reference = solve_as(Schedule::InCore, 3, 1 << 30);
-    for (const int threads : {1, 2})
+    const Image reference = solve_as(Schedule::InCore, 6, 1 << 30);  // (3 groups: none parked)
+    for (const int threads : {1, 2, 4})  // (1 group, 2 channels parked; 2 groups, 1 parked)
       for (const std::size_t memory : {std::size_t{1} << 30, std::size_t{0}})
         EXPECT_TRUE(test::same_bits(reference, solve_as(Schedule::InCore, threads, memory)))
             << threads << " threads, memory " << memory;
@@ -124,6 +125,68 @@ TEST(InCoreMemory, NormsMeasuredInTheCyclesPassesAreResidualNorms) {
           EXPECT_LT(probe.after, before);
         }
       }
+    }
+  }
+}
+
+// Two threads on a level's passes (PassPair: levels of kPairRows rows and more) give one thread's
+// bits: u, the norms before and after and the weighted sums, with weights and uneven sweep counts.
+TEST(InCoreMemory, TwoThreadsOnALevelChangeNoBit) {
+  for (const Domain domain : {Domain::Planar, Domain::Cylindrical, Domain::Spherical}) {
+    const int h = multigrid::InCoreVCycle<float>::kPairRows + 8, w = domain == Domain::Spherical ? 4 * h : 37;
+    const auto topo = topology::make_topology(domain);
+    const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, 8);
+    const multigrid::Operators<float> ops(hier);
+    const Image noise = test::random_image(w, h, 3, 7);
+    Plane<float> u0(w, h), b(w, h), weights(w, h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        u0.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f),
+        weights.at(i, j) = noise.at(2, i, j) < 0.1f ? 0.0f : 1.0f;
+    const auto wl = multigrid::restrict_weights(ops, 0, weights, true);
+    for (const auto& [pre, post] : {std::pair{3, 3}, std::pair{2, 3}, std::pair{1, 2}}) {
+      SCOPED_TRACE(std::string(test::domain_name(domain)) + ", " + std::to_string(pre) + "/" + std::to_string(post));
+      schedule::Marks marks;
+      bands::PassThreads pair(marks);
+      std::vector<Plane<float>> u(2, u0);
+      std::vector<multigrid::CycleProbe> probe(2);
+      for (int k = 0; k < 2; ++k) {
+        multigrid::InCoreVCycle<float> vc(ops, pre, 1e-6);
+        vc.set_sweeps(pre, post);
+        if (k == 1) vc.set_pair(&pair);
+        probe[k].norm_before = probe[k].norm_after = true;
+        Plane<float> bk = b;
+        vc.run(u[k], bk, &wl, &probe[k]);
+      }
+      EXPECT_TRUE(same_plane_bits(u[0], u[1]));
+      EXPECT_EQ(probe[0].before, probe[1].before);
+      EXPECT_EQ(probe[0].after, probe[1].after);
+      EXPECT_EQ(probe[0].dots, probe[1].dots);
+      EXPECT_EQ(probe[0].level_norms, probe[1].level_norms);
+      EXPECT_LT(probe[1].after, probe[1].before);
+    }
+  }
+}
+
+// Coarser weights held once per run of equal rows read as the whole planes' rows, and hold fewer.
+TEST(InCoreMemory, WeightsHeldOnceReadAsTheWholePlanes) {
+  const auto topo = topology::make_topology(Domain::Planar);
+  const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, 45, 70, 0.0, 4);
+  const multigrid::Operators<float> ops(hier);
+  for (const bool hole : {false, true}) {
+    Plane<float> whole(45, 70);
+    std::fill(whole.data.begin(), whole.data.end(), 1.0f);
+    if (hole) whole.at(7, 33) = 0.0f;
+    const auto a = multigrid::restrict_weights(ops, 0, whole), b = multigrid::restrict_weights(ops, 0, whole, true);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t l = 1; l < a.size(); ++l) {
+      SCOPED_TRACE("level " + std::to_string(l) + (hole ? ", a hole" : ""));
+      ASSERT_EQ(b[l].rows_of.size(), static_cast<std::size_t>(a[l].height));
+      if (l == 1) {
+        EXPECT_LT(b[l].height, a[l].height / 2);
+      }
+      for (int j = 0; j < a[l].height; ++j)
+        EXPECT_EQ(std::memcmp(multigrid::weight_row(a[l], j), multigrid::weight_row(b[l], j), a[l].width * sizeof(float)), 0);
     }
   }
 }

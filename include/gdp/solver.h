@@ -56,7 +56,7 @@ struct SolverOptions {
   int coarsest_size = 64;     // coarsen until no side exceeds this, then conjugate gradients
   double coarse_tolerance = 1e-10;  // relative residual of the coarsest-level CG solve
   Precision precision = Precision::Float32;
-  int threads = 1;            // in-core: channels are solved concurrently on up to this many threads
+  int threads = 1;            // in-core: a channel group per two threads, the two smoothing one channel
   Schedule schedule = Schedule::Streaming;
   int bands = 1;              // Schedule::Bands: bands (worker threads) in this process
   std::filesystem::path temp_dir;  // streaming scratch files (empty: the system's temporary directory)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <functional>
+#include <optional>
 #include <numeric>
 #include <span>
 #include <vector>
@@ -36,6 +37,30 @@ struct InCoreShared {
   }
 };
 
+// The second thread of an in-core worker (multigrid::PassPair): each pass of a large level on a thread
+// of its own (run_workers), following the worker's thread step by step through a mark.
+class PassThreads final : public multigrid::PassPair {
+ public:
+  explicit PassThreads(schedule::Marks& marks) : marks_(marks), mark_(marks.add(1)) {}
+  void run(int steps, const std::function<void()>& lead, const std::function<void()>& follow) override {
+    steps_ = steps;
+    marks_.set(mark_, 0);
+    // (A lead that throws lets the follower run out: the worker rethrows the lead's exception.)
+    schedule::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); }, [&](int k, const std::string&) {
+      if (k == 0) marks_.set(mark_, steps);
+    });
+  }
+  void ahead(int steps) override { marks_.set(mark_, steps); }
+  // Once it must wait, until a few steps more are done (woken once every few steps, not once a step).
+  void behind(int step) override { marks_.wait(mark_, mark_ + 1, step, std::min(step + kAhead, steps_ - 1)); }
+
+ private:
+  static constexpr int kAhead = 4;
+  schedule::Marks& marks_;
+  const int mark_;
+  int steps_ = 0;
+};
+
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One pair of planes (u, b), made once, in
@@ -51,6 +76,7 @@ class InCoreWorker {
         log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
         u_(multigrid::Plane<T>::mapped(w_, h_)), b_(multigrid::Plane<T>::mapped(w_, h_)), parked_u_(n), parked_b_(n) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
+    if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
     for (int i = 1; i < n; ++i) park(parked_u_, "u", i), park(parked_b_, "b", i);
   }
   std::size_t window_bytes() const { return 2 * u_.data.size() * sizeof(T); }
@@ -63,6 +89,7 @@ class InCoreWorker {
     vc.set_sweeps(opt_.sweeps, opt_.post_sweeps);
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
     vc.set_half(&half_);
+    if (pair_) vc.set_pair(&*pair_);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
       solve(c0 + i, vc, totals);
@@ -107,7 +134,7 @@ class InCoreWorker {
     if (weights) {
       Plane finest = wt.take();
       if (half_.rounds(0, "w") && opt_.cycle_cap() > 1) multigrid::round_to_half(finest.data.data(), finest.data.size());
-      shared_.weights = multigrid::restrict_weights(ops_, 0, std::move(finest));
+      shared_.weights = multigrid::restrict_weights(ops_, 0, std::move(finest), true);
     }
     if (diagonal) shared_.diagonal = multigrid::restrict_weights(ops_, 0, std::move(d));
     shared_.marks.set(shared_.ready, 1);
@@ -168,6 +195,7 @@ class InCoreWorker {
   schedule::StorePolicy stores_;
   Plane u_, b_;
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
+  std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
   std::vector<T> buffer_ = std::vector<T>(w_);
 };
 

@@ -101,7 +101,8 @@ InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
 // group's bands talk among themselves only (a hub each; under mpirun one group). A single band on
 // more than one thread takes one group per channel even where that leaves the codecs no core of
 // their own: else its one worker does every V-cycle sample while the other cores wait
-// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per thread.
+// (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per two threads (the two
+// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two).
 template <class T>
 struct Team {
   Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary, RowWriter& out);
@@ -150,7 +151,7 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
     if (!window.whole) source.set_columns(window.guidance.first, window.guidance.second);
     out.set_columns(layout.begin(0, first), layout.end(0, first + local - 1));
   } else {
-    const int spare = incore ? opt.threads : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
+    const int spare = incore ? opt.threads / 2 : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
     groups = std::clamp(spare, 1, channels);
   }
   if (!opt.checkpoint_dir.empty() && !incore)

@@ -16,22 +16,63 @@ Operators<T>::Operators(const Hierarchy& h)
   for (const LevelGeometry& g : h.levels) levels.emplace_back(g, h.alpha);
 }
 
+namespace {
+
+// Level l + 1's weights restricted from level l's (`fine`), rows in order: each coarse row in a row of
+// its own from its first to its last fine row, then kept, where `held_once` says after the row kept
+// before it when the two are the same bits. The same restrict_rows calls in the same order as into a
+// whole zeroed plane: the same bits.
 template <class T>
-std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w) {
+Plane<T> restrict_level(const Operators<T>& ops, int l, const Plane<T>& fine, bool held_once, Scratch<T>& s) {
+  const LevelGeometry& g = ops.hierarchy->levels[l + 1];
+  const int width = g.width(), height = g.height();
+  const std::size_t n = static_cast<std::size_t>(width);
+  std::vector<int> last(height, -1);  // the last fine row restricted into each coarse row
+  for (int j = 0; j < ops.levels[l].height; ++j)
+    for (const int k : g.py.rows[j].index) last[k] = j;
+  Plane<T> out;
+  out.width = width;
+  out.data.reserve(n * height);  // (pages mapped as rows are kept)
+  out.rows_of.assign(height, 0);
+  std::vector<std::vector<T>> open(height), spare;  // (rows handed back for reuse: no page faults a row)
+  const auto row = [&](int k) {
+    if (open[k].empty()) {
+      if (!spare.empty()) open[k] = std::move(spare.back()), spare.pop_back();
+      open[k].assign(n, T(0));
+    }
+    return open[k].data();
+  };
+  const auto keep = [&](int k) {
+    const T* r = row(k);
+    const T* held = out.data.data() + (out.data.size() - n * (out.height > 0));
+    if (!held_once || out.height == 0 || std::memcmp(held, r, n * sizeof(T)) != 0) {
+      out.data.insert(out.data.end(), r, r + n);
+      ++out.height;
+    }
+    out.rows_of[k] = out.height - 1;
+    spare.push_back(std::move(open[k]));
+  };
+  int kept = 0;  // coarse rows [0, kept) kept
+  for (int j = 0; j < ops.levels[l].height; ++j) {
+    const fem::ProlongationRow& py = g.py.rows[j];
+    T* c0 = row(py.index[0]);
+    restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(width, ops.levels[l + 1].periodic_x), c0,
+                  row(py.index[1]), {0, 0}, s);
+    for (; kept < height && last[kept] <= j; ++kept) keep(kept);
+  }
+  for (; kept < height; ++kept) keep(kept);
+  if (!held_once) out.rows_of.clear();
+  return out;
+}
+
+}  // namespace
+
+template <class T>
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w, bool held_once) {
   std::vector<Plane<T>> out;
   out.push_back(std::move(w));
   Scratch<T> s;
-  for (int l = first; l + 1 < ops.count(); ++l) {
-    const LevelGeometry& g = ops.hierarchy->levels[l + 1];
-    Plane<T> coarse(g.width(), g.height());
-    const Plane<T>& fine = out.back();
-    for (int j = 0; j < ops.levels[l].height; ++j) {
-      const fem::ProlongationRow& py = g.py.rows[j];
-      restrict_rows(g.px, py, weight_row(fine, j), 0, Columns::whole(g.width(), ops.levels[l + 1].periodic_x),
-                    coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, s);
-    }
-    out.push_back(std::move(coarse));
-  }
+  for (int l = first; l + 1 < ops.count(); ++l) out.push_back(restrict_level(ops, l, out.back(), held_once, s));
   return out;
 }
 
@@ -54,7 +95,8 @@ InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse
     u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
     b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
   }
-  r_row_.resize(ops.levels[first].width);
+  lane_.r.resize(ops.levels[first].width);
+  lead_.r = lane_.r;
   coarse_b_ = Plane<double>(ops.coarsest.width, ops.coarsest.height);
   coarse_u_ = coarse_b_;
 }
@@ -115,12 +157,35 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
   if (after) *after = passes ? std::sqrt(*after) : residual_norm(u0, b0);
 }
 
-// Row j's |b - A u|^2 on level l (as residual_norm() sums it).
+// Row j's |b - A u|^2 on level l (as residual_norm() sums it), in the lane's temporaries.
 template <class T>
-double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j) {
+double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j,
+                                      Lane& lane) {
   const LevelOperator<T>& op = ops_.levels[l];
-  residual(op, j, window(op, u, j), whole_row(op), b.row(j), r_row_.data(), scratch_, diag_row(d, j));
-  return row_dot(r_row_.data(), r_row_.data(), op.width);
+  residual(op, j, window(op, u, j), whole_row(op), b.row(j), lane.r.data(), lane.scratch, diag_row(d, j));
+  return row_dot(lane.r.data(), lane.r.data(), op.width);
+}
+
+// The sweeps of the lead: the first half (rounded up) of `sweeps`.
+inline int lead_sweeps(int sweeps) { return (sweeps + 1) / 2; }
+
+// One pass of `steps` steps over a level of `rows` rows: lead(t) then follow(t) for each t on this
+// thread, or the two on the pair's threads, the follower's step t after the lead's.
+template <class T>
+template <class Lead, class Follow>
+void InCoreVCycle<T>::pass(int steps, int rows, const Lead& lead, const Follow& follow) {
+  if (!pair_ || rows < kPairRows) {
+    for (int t = 0; t < steps; ++t) lead(t), follow(t);
+    return;
+  }
+  pair_->run(
+      steps,
+      [&] {
+        for (int t = 0; t < steps; ++t) lead(t), pair_->ahead(t + 1);
+      },
+      [&] {
+        for (int t = 0; t < steps; ++t) pair_->behind(t), follow(t);
+      });
 }
 
 // Pre-smoothing, then residual and restriction, in one pass down the rows: at step t sweep s + 1
@@ -129,6 +194,7 @@ double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& 
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
 // bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
 // the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
+// The lead zeroes, sums `before` and does the first sweeps; the follower the other sweeps and the rest.
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
@@ -136,57 +202,72 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
+  const int led = lead_sweeps(sweeps_);
   double rr = 0.0;
   const auto zero_rows = [](Plane<T>& p, int& done, int to) {
     to = std::min(to, p.height);
     if (to > done) std::fill(p.row(done), p.row(done) + static_cast<std::size_t>(to - done) * p.width, T(0));
     done = std::max(done, to);
   };
+  const auto relax_row = [&](int s, int j, Scratch<T>& scratch) {
+    if (j >= 0 && j < op.height)
+      relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch, diag_row(d, j));
+  };
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   // `before`: row j's residual reads rows j - 2 .. j + 2, all as they came while j - 2 is unrelaxed.
-  for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b, d, j);
-  for (int t = 0; t < op.height + 2 * sweeps_; ++t) {
+  for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b, d, j, lead_);
+  const auto lead = [&](int t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
-    if (before && t + 2 < op.height) *before += row_residual2(l, u, b, d, t + 2);
-    for (int s = 0, j = t; s < sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height)
-        relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch_, diag_row(d, j));
+    if (before && t + 2 < op.height) *before += row_residual2(l, u, b, d, t + 2, lead_);
+    for (int s = 0; s < led; ++s) relax_row(s, t - 2 * s, lead_.scratch);
+  };
+  const auto follow = [&](int t) {
+    for (int s = led; s < sweeps_; ++s) relax_row(s, t - 2 * s, lane_.scratch);
     const int j = t - 2 * sweeps_;
-    if (j < 0) continue;
+    if (j < 0) return;
     if (w) dots += row_dot(weight_row(*w, j), u.row(j), op.width);
-    residual(op, j, window(op, u, j), row, b.row(j), r_row_.data(), scratch_, diag_row(d, j));
-    if (norms) rr += row_dot(r_row_.data(), r_row_.data(), op.width);
+    residual(op, j, window(op, u, j), row, b.row(j), lane_.r.data(), lane_.scratch, diag_row(d, j));
+    if (norms) rr += row_dot(lane_.r.data(), lane_.r.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
     zero_rows(coarse_b, b_zeroed, std::max(py.index[0], py.index[1]) + 1);
-    restrict_rows(g.px, py, r_row_.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
-                  {0, 0}, scratch_);
-  }
+    restrict_rows(g.px, py, lane_.r.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),
+                  {0, 0}, lane_.scratch);
+  };
+  pass(op.height + 2 * sweeps_, op.height, lead, follow);
   zero_rows(coarse_b, b_zeroed, coarse_b.height);
   return rr;
 }
 
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
 // at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
+// The lead prolongs and does the first sweeps; the follower the other sweeps and sums `after`.
 template <class T>
 void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse,
                              double* after) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
+  const int led = lead_sweeps(post_sweeps_);
+  const auto relax_row = [&](int s, int j, Scratch<T>& scratch) {
+    if (j >= 0 && j < op.height)
+      relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch,
+            diag_row(d, j));
+  };
   // `after`: row j is final at step j + 2 * post_sweeps, so row j's residual two steps later.
   const int last = 2 + 2 * post_sweeps_;
-  for (int t = 0; t < op.height + (after ? last : 2 * post_sweeps_); ++t) {
+  const auto lead = [&](int t) {
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
-                   scratch_);
+                   lead_.scratch);
     }
-    for (int s = 0, j = t - 2; s < post_sweeps_; ++s, j -= 2)
-      if (j >= 0 && j < op.height)
-        relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch_,
-              diag_row(d, j));
-    if (after && t >= last && t - last < op.height) *after += row_residual2(l, u, b, d, t - last);
-  }
+    for (int s = 0; s < led; ++s) relax_row(s, t - 2 - 2 * s, lead_.scratch);
+  };
+  const auto follow = [&](int t) {
+    for (int s = led; s < post_sweeps_; ++s) relax_row(s, t - 2 - 2 * s, lane_.scratch);
+    if (after && t >= last && t - last < op.height) *after += row_residual2(l, u, b, d, t - last, lane_);
+  };
+  pass(op.height + (after ? last : 2 * post_sweeps_), op.height, lead, follow);
 }
 
 // The columns of sweep `sweep` (counted from the first pre-smoothing sweep) of row j.
@@ -236,7 +317,7 @@ void InCoreVCycle<T>::set_half(const HalfPolicy* half) {
 template <class T>
 double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
   double rr = 0.0;
-  for (int j = 0; j < u.height; ++j) rr += row_residual2(first_, u, b, diag_ ? &(*diag_)[0] : nullptr, j);
+  for (int j = 0; j < u.height; ++j) rr += row_residual2(first_, u, b, diag_ ? &(*diag_)[0] : nullptr, j, lane_);
   return std::sqrt(rr);
 }
 
@@ -246,7 +327,7 @@ template class WeightRows<float>;
 template class WeightRows<double>;
 template class InCoreVCycle<float>;
 template class InCoreVCycle<double>;
-template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>);
-template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>);
+template std::vector<Plane<float>> restrict_weights(const Operators<float>&, int, Plane<float>, bool);
+template std::vector<Plane<double>> restrict_weights(const Operators<double>&, int, Plane<double>, bool);
 
 }  // namespace gdp::multigrid

@@ -1,6 +1,7 @@
 // The in-core schedule: a V-cycle over whole planes held in memory (the reference schedule).
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -39,11 +40,16 @@ struct CycleProbe {
 };
 
 // Weights restricted to every level from `first` down (result[0] is level `first`). A weight plane of
-// one row stands for a level whose rows are all that row (an image every pixel of which counts).
+// one row stands for a level whose rows are all that row (an image every pixel of which counts). With
+// `held_once` the coarser levels hold each run of equal rows once (Plane::rows_of; the interior rows of a
+// level restricted from equal rows are equal): only the rows made so far and those kept are mapped
+// (docs/multigrid.md, "In-core memory on a PVM guest"). Read their rows with weight_row().
 template <class T>
-std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w);
+std::vector<Plane<T>> restrict_weights(const Operators<T>& ops, int first, Plane<T> w, bool held_once = false);
 template <class T>
-const T* weight_row(const Plane<T>& w, int j) { return w.row(w.height == 1 ? 0 : j); }
+const T* weight_row(const Plane<T>& w, int j) {
+  return w.row(!w.rows_of.empty() ? w.rows_of[j] : w.height == 1 ? 0 : j);
+}
 
 // Gathers the finest level's mean weights row by row (for restrict_weights): one row while every
 // row is the same, the whole plane from the first row that differs (its pages are touched only
@@ -65,6 +71,22 @@ class WeightRows {
 // The direction of a row's Gauss-Seidel sweep: always left to right (every schedule's), alternating
 // from sweep to sweep, or alternating with row and sweep (a study's choices: bench/smoother_bench).
 enum class SweepDirection { Forward, AlternateSweeps, AlternateRows };
+
+// Two threads on one pass over a level's rows (InCoreVCycle::set_pair; the scheduler's, bands/incore_worker.h).
+// A pass is `steps` steps; at each the lead does the first sweeps of its rows and the follower the rest
+// (and the residual, restriction and sums) of the rows two a sweep above. The follower reads nothing the
+// lead writes later and the lead nothing the follower writes, so the follower's step t only waits for the
+// lead's: every relaxation sees what it sees on one thread, in the same order (same bits).
+class PassPair {
+ public:
+  virtual ~PassPair() = default;
+  // Runs lead() and follow() at once; returns when both have.
+  virtual void run(int steps, const std::function<void()>& lead, const std::function<void()>& follow) = 0;
+  // The lead has done steps [0, steps).
+  virtual void ahead(int steps) = 0;
+  // The follower waits until the lead has done step `step`.
+  virtual void behind(int step) = 0;
+};
 
 // Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
 // create one per thread and reuse it for many channels.
@@ -90,12 +112,22 @@ class InCoreVCycle {
   // Smoother studies (bench/smoother_bench): the counts and the rows' direction. Every schedule
   // has the default direction (left to right); others exist only in core.
   void set_smoother(int pre, int post, SweepDirection direction);
+  // Levels of at least kPairRows rows are smoothed by two threads (PassPair); null: one. Not owned.
+  void set_pair(PassPair* pair) { pair_ = pair; }
+  static constexpr int kPairRows = 256;
 
  private:
+  // A thread's temporaries: a residual row and the kernels' scratch.
+  struct Lane {
+    std::vector<T> r;
+    Scratch<T> scratch;
+  };
+  template <class Lead, class Follow>
+  void pass(int steps, int rows, const Lead& lead, const Follow& follow);
   double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
                  double& dots, bool norms, double* before);
   void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
-  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j);
+  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j, Lane& lane);
   Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;
@@ -109,8 +141,8 @@ class InCoreVCycle {
   std::vector<double> coarse_inverse_;  // ... and its CG preconditioner, computed once
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   Plane<double> coarse_b_, coarse_u_;  // the coarsest level's b and u in double, reused
-  std::vector<T> r_row_;
-  Scratch<T> scratch_;
+  Lane lane_, lead_;  // the follower's (and a single thread's) and the lead's
+  PassPair* pair_ = nullptr;
 };
 
 }  // namespace gdp::multigrid

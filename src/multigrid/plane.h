@@ -13,6 +13,9 @@ struct Plane {
   int width = 0;
   int height = 0;
   util::BigVector<T> data;  // a large plane in huge pages (util/big_pages.h)
+  // Where not empty: row j's samples are row rows_of[j] of `data` (equal rows held once; `height` counts
+  // the rows held; multigrid::restrict_weights, read through weight_row()).
+  std::vector<int> rows_of;
 
   Plane() = default;
   Plane(int w, int h) : width(w), height(h), data(static_cast<std::size_t>(w) * h, T(0)) {}

@@ -50,7 +50,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
                    "cycles do not lower it by 10% (the arithmetic's floor: a float solve of smooth data stalls near 1e-5; "
                    "--double goes further; --stats lists the residuals)");
     o.solver.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    cmd.add_option("--threads", o.solver.threads, "threads: in-core, channels in parallel; streaming, one lane per channel beyond the two codec threads (one band on 2 or more threads: a lane per channel); default: all cores")
+    cmd.add_option("--threads", o.solver.threads, "threads: in-core, two smooth one channel, a channel group per two; streaming, one lane per channel beyond the two codec threads (one band on 2 or more threads: a lane per channel); default: all cores")
         ->capture_default_str();
     cmd.add_option("--coarsest", o.solver.coarsest_size, "coarsest level size solved by conjugate gradients")
         ->capture_default_str();
