@@ -46,7 +46,7 @@ class PassThreads final : public multigrid::PassPair {
     steps_ = steps;
     marks_.set(mark_, 0);
     // (A lead that throws lets the follower run out: the worker rethrows the lead's exception.)
-    schedule::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); }, [&](int k, const std::string&) {
+    util::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); }, [&](int k, const std::string&) {
       if (k == 0) marks_.set(mark_, steps);
     });
   }
