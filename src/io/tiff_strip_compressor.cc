@@ -64,10 +64,11 @@ void StripCompressor::work() {
     lock.lock();
     if (!failure.empty() && error_.empty()) error_ = failure;
     done_[job.strip] = std::move(out);
-    util::Bell* wake = job.strip == next_ || !error_.empty() ? bells_.call(submitter_) : nullptr;
-    lock.unlock();
-    bells_.ring(wake);
-    lock.lock();
+    if (util::Bell* wake = job.strip == next_ || !error_.empty() ? bells_.call(submitter_) : nullptr) {
+      lock.unlock();
+      bells_.ring(wake);
+      lock.lock();
+    }
   }
 }
 

@@ -163,7 +163,7 @@ double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& 
                                       Lane& lane) {
   const LevelOperator<T>& op = ops_.levels[l];
   residual(op, j, window(op, u, j), whole_row(op), b.row(j), lane.r.data(), lane.scratch, diag_row(d, j));
-  return row_dot(lane.r.data(), lane.r.data(), op.width);
+  return row_squares(lane.r.data(), op.width);
 }
 
 // The sweeps of the lead: the first half (rounded up) of `sweeps`.
@@ -227,7 +227,7 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
     if (j < 0) return;
     if (w) dots += row_dot(weight_row(*w, j), u.row(j), op.width);
     residual(op, j, window(op, u, j), row, b.row(j), lane_.r.data(), lane_.scratch, diag_row(d, j));
-    if (norms) rr += row_dot(lane_.r.data(), lane_.r.data(), op.width);
+    if (norms) rr += row_squares(lane_.r.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
     zero_rows(coarse_b, b_zeroed, std::max(py.index[0], py.index[1]) + 1);
     restrict_rows(g.px, py, lane_.r.data(), 0, coarse_row, coarse_b.row(py.index[0]), coarse_b.row(py.index[1]),

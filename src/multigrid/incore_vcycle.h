@@ -8,7 +8,7 @@
 #include "multigrid/half_policy.h"
 #include "multigrid/hierarchy.h"
 #include "multigrid/plane.h"
-#include "multigrid/row_kernels.h"  // row_dot
+#include "multigrid/row_kernels.h"  // row_dot, row_squares
 #include "multigrid/window_ops.h"
 
 namespace gdp::multigrid {

@@ -43,7 +43,7 @@ std::string reason_of(int error) { return std::generic_category().message(error)
 
 }  // namespace
 
-std::string errno_message() { return std::generic_category().message(errno); }
+std::string errno_message() { return reason_of(errno); }
 
 Transfer pread_full(int fd, void* data, std::size_t n, std::size_t at) noexcept {
   return loop(static_cast<unsigned char*>(data), n, at, true, [fd](unsigned char* p, std::size_t left, std::size_t off) {
