@@ -75,22 +75,29 @@ class ColumnGather final : public RowWriter {
     std::vector<unsigned char> bytes;  // the message: the samples, then the header
   };
 
-  // The message is built in place, the header last: no copy but the row's columns.
+  // The message is built in place, the header last: no copy but the row's columns, and no byte
+  // written twice (a sent batch's buffer keeps its size: nothing is cleared or zero-filled).
   void send(int y, std::span<const float> row) {
-    if (batch_.bytes.empty()) {  // a sent batch's buffer: no fresh pages
+    const std::size_t n = static_cast<std::size_t>(end_ - begin_);
+    if (batch_rows_ == 0) {
       first_ = y;
-      batch_.bytes = hub_->spare();
-      batch_.bytes.clear();
-      const std::size_t samples = std::max<std::size_t>(1, static_cast<std::size_t>(channels_) * (end_ - begin_));
-      const std::size_t rows = std::min<std::size_t>(kBatchRows, (kBatchSamples + samples - 1) / samples);
-      batch_.bytes.reserve(rows * samples * sizeof(float) + sizeof(Header));
+      batch_ = hub_->spare();
+      const std::size_t samples = std::max<std::size_t>(1, channels_ * n);
+      batch_capacity_ = static_cast<int>(std::min<std::size_t>(kBatchRows, (kBatchSamples + samples - 1) / samples));
+      const std::size_t bytes = batch_capacity_ * samples * sizeof(float) + sizeof(Header);
+      if (batch_.size() < bytes) batch_.resize(bytes);
     }
-    for (int c = 0; c < channels_; ++c) batch_.put(row.data() + static_cast<std::size_t>(c) * width_ + begin_, end_ - begin_);
-    const std::size_t samples = batch_.bytes.size() / sizeof(float);
-    if (samples < kBatchSamples && y + 1 - first_ < kBatchRows && y + 1 < height_) return;
-    batch_.io(Header{first_, y + 1 - first_, begin_, end_});
-    hub_->endpoint(rank_).send(0, kTag, std::move(batch_.bytes));
-    batch_.bytes = {};
+    unsigned char* at = batch_.data() + static_cast<std::size_t>(batch_rows_) * channels_ * n * sizeof(float);
+    for (int c = 0; c < channels_; ++c, at += n * sizeof(float))
+      std::memcpy(at, row.data() + static_cast<std::size_t>(c) * width_ + begin_, n * sizeof(float));
+    if (++batch_rows_ < batch_capacity_ && y + 1 < height_) return;
+    const Header h{first_, batch_rows_, begin_, end_};
+    const std::size_t size = static_cast<std::size_t>(batch_rows_) * channels_ * n * sizeof(float);
+    std::memcpy(batch_.data() + size, &h, sizeof(Header));
+    batch_.resize(size + sizeof(Header));  // shrinking keeps the buffer (and writes nothing)
+    hub_->endpoint(rank_).send(0, kTag, std::move(batch_));
+    batch_ = {};
+    batch_rows_ = 0;
   }
 
   // Rank 0's output, opened at the first need.
@@ -141,7 +148,8 @@ class ColumnGather final : public RowWriter {
   int width_, height_, channels_, rank_;
   int begin_ = 0, end_ = 0, first_ = 0;
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
-  schedule::ByteWriter batch_;          // the message being filled
+  schedule::Bytes batch_;                // the message being filled: batch_rows_ of batch_capacity_ rows
+  int batch_rows_ = 0, batch_capacity_ = 0;
   std::deque<std::vector<float>> rows_;  // rank 0: its rows from `written_` on, not yet written
   util::RecyclePool<std::vector<float>> spare_rows_;  // rank 0: written rows' buffers, reused
   int written_ = 0;

@@ -66,6 +66,26 @@ void agree_before_solving(const std::string& error, const std::vector<long long>
 
 }  // namespace mpi
 
+namespace {
+
+// Open MPI settings made before MPI_Init when every rank runs on this node (mpirun's
+// OMPI_COMM_WORLD_LOCAL_SIZE equals OMPI_COMM_WORLD_SIZE): shared memory (the vader BTL, and the
+// rank's own loopback) is then the only transport used, so the components for networks and their
+// libraries are not opened (each rank's MPI_Init dlopens them and MPI_Finalize unmaps them; the
+// PSM libraries' constructors sleep), nor hwloc's plugins for PCI, OpenCL and GL devices, which
+// only place network cards. What the user sets (the environment, mpirun --mca) stays; a value in
+// an MCA parameter file is overridden (docs/how-bands-work.md, "mpirun's start-up").
+void settle_one_node() {
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const char* world = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (!local || !world || std::string(local) != world) return;
+  setenv("OMPI_MCA_pml", "ob1", 0);
+  setenv("OMPI_MCA_btl", "self,vader", 0);
+  setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci,hwloc_opencl,hwloc_gl,hwloc_xml_libxml", 0);
+}
+
+}  // namespace
+
 bool MpiRun::launched() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
 }
@@ -77,6 +97,7 @@ MpiRun::MpiRun(int& argc, char**& argv) {
   // on the rank's core a time slice per poll: band solves beside busy loops took twice as long. A
   // value the user set stays (docs/how-bands-work.md).
   setenv("OMPI_MCA_mpi_yield_when_idle", "0", 0);
+  settle_one_node();
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &provided);
   started = true;
