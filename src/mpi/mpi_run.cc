@@ -72,9 +72,10 @@ namespace {
 // OMPI_COMM_WORLD_LOCAL_SIZE equals OMPI_COMM_WORLD_SIZE): shared memory (the vader BTL, and the
 // rank's own loopback) is then the only transport used, so the components for networks and their
 // libraries are not opened (each rank's MPI_Init dlopens them and MPI_Finalize unmaps them; the
-// PSM libraries' constructors sleep), nor hwloc's plugins for PCI, OpenCL and GL devices, which
-// only place network cards. What the user sets (the environment, mpirun --mca) stays; a value in
-// an MCA parameter file is overridden (docs/how-bands-work.md, "mpirun's start-up").
+// PSM libraries' constructors sleep), nor hwloc's plugins for PCI, OpenCL and GL devices and its
+// Linux I/O discovery, which only place network cards (on a virtual machine each read of a PCI
+// device's config space takes milliseconds). What the user sets (the environment, mpirun --mca)
+// stays; a value in an MCA parameter file is overridden (docs/how-bands-work.md, "mpirun's start-up").
 void settle_one_node() {
   const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
   const char* world = std::getenv("OMPI_COMM_WORLD_SIZE");
@@ -82,6 +83,7 @@ void settle_one_node() {
   setenv("OMPI_MCA_pml", "ob1", 0);
   setenv("OMPI_MCA_btl", "self,vader", 0);
   setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci,hwloc_opencl,hwloc_gl,hwloc_xml_libxml", 0);
+  setenv("HWLOC_COMPONENTS", "-linuxio", 0);
 }
 
 }  // namespace
