@@ -435,6 +435,19 @@ TEST_F(MpiBands, FullOutputDiskOnRankZeroLeavesNoTemporary) {
   EXPECT_EQ(files(), std::set<std::string>{"in.tif"}) << "no output, not even a temporary file";
 }
 
+// On one node gdp picks Open MPI's shared-memory transport before MPI_Init (gdp::MpiRun), but a
+// transport the user names stays: with only the loopback BTL (`self`) two ranks cannot reach each
+// other, so MPI_Init fails on every rank and the job ends without an output. Had gdp replaced the
+// setting with its own (self,vader), the solve would have run.
+TEST_F(MpiBands, AUsersTransportChoiceStays) {
+  const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
+                          " --depth float -q";
+  const test::CliRun r = mpi("-x OMPI_MCA_btl=self -np 2 " + run);
+  EXPECT_FALSE(test::timed_out(r)) << "a rank hung: " << r.err;
+  EXPECT_NE(r.code, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("out.tif")));
+}
+
 TEST_F(MpiBands, RanksThatDisagreeStopTogether) {
   const std::string run = std::string(GDP_CLI_PATH) + " sharpen " + path("in.tif") + " -o " + path("out.tif") +
                           " --depth float -q --bands 1";
