@@ -1,6 +1,7 @@
 // The in-core schedule's memory savings change no bit: one-row mean weights, channels parked in row stores.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -34,6 +35,25 @@ Plane<float> gathered(int width, int rows, F value) {
     w.add();
   }
   return w.take();
+}
+
+// A plane made a few rows at a time (InCoreWorker: while another thread fills the rows made) is
+// the zeroed plane that mapped() makes, and a row made stays where it was.
+TEST(InCoreMemory, PlaneRowsMadeInStepsStayWhereTheyAre) {
+  const int w = 1100, h = 1000;  // (over util::kBigBuffer: huge-page memory, mapped in steps)
+  Plane<float> p = Plane<float>::reserved(w, h);
+  EXPECT_TRUE(p.data.empty());
+  const float* first = p.row(0);
+  for (int rows = 3; rows < h + 3; rows += 61) {
+    p.make_rows(std::min(rows, h));
+    ASSERT_EQ(p.data.size(), static_cast<std::size_t>(std::min(rows, h)) * w);
+    ASSERT_EQ(p.row(0), first);
+    p.at(rows % w, rows - 3) = static_cast<float>(rows);
+  }
+  p.make_rows(h);
+  Plane<float> expected = Plane<float>::mapped(w, h);
+  for (int rows = 3; rows < h + 3; rows += 61) expected.at(rows % w, rows - 3) = static_cast<float>(rows);
+  EXPECT_TRUE(same_plane_bits(p, expected));
 }
 
 TEST(InCoreMemory, WeightRowsKeepOneRowUntilARowDiffers) {
