@@ -64,7 +64,8 @@ class PassThreads final : public multigrid::PassPair {
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One pair of planes (u, b), made once, in
-// place, their pages mapped in one call; the other channels wait for it in row stores (memfds, or
+// place, their pages mapped a few rows a call (on the second thread while the input comes in, where
+// the worker has two); the other channels wait for it in row stores (memfds, or
 // O_DIRECT files from ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md,
 // "In-core memory on a PVM guest"), and so does an earlier channel's result for the output.
 template <class T>
