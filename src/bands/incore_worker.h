@@ -64,7 +64,8 @@ class PassThreads final : public multigrid::PassPair {
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One pair of planes (u, b), made once, in
-// place, their pages mapped in one call; the other channels wait for it in row stores (memfds, or
+// place, their pages mapped a few rows a call (on the second thread while the input comes in, where
+// the worker has two); the other channels wait for it in row stores (memfds, or
 // O_DIRECT files from ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md,
 // "In-core memory on a PVM guest"), and so does an earlier channel's result for the output.
 template <class T>
@@ -74,22 +75,22 @@ class InCoreWorker {
                schedule::ResidualLog& log, InCoreShared<T>& shared, int k)
       : c0(c0), n(n), ops_(ops), opt_(opt), half_(s.stores.half), diagonal_(s.diagonal),
         log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
-        u_(multigrid::Plane<T>::mapped(w_, h_)), b_(multigrid::Plane<T>::mapped(w_, h_)), parked_u_(n), parked_b_(n) {
+        u_(multigrid::Plane<T>::reserved(w_, h_)), b_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n),
+        made_(shared.marks.add(1)) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
     if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
     for (int i = 1; i < n; ++i) park(parked_u_, "u", i), park(parked_b_, "b", i);
   }
-  std::size_t window_bytes() const { return 2 * u_.data.size() * sizeof(T); }
+  std::size_t window_bytes() const { return 2 * u_.data.capacity() * sizeof(T); }
 
   void run() {
-    read_input();
+    // With two threads the planes and the V-cycle's levels are made (their fresh pages touched) on
+    // the second while the input comes in on this one.
+    both([&](int k) { k == 0 ? read_input() : make_planes(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
-    multigrid::InCoreVCycle<T> vc(ops_, opt_.sweeps, opt_.coarse_tolerance);
-    vc.set_sweeps(opt_.sweeps, opt_.post_sweeps);
+    multigrid::InCoreVCycle<T>& vc = *vc_;
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
-    vc.set_half(&half_);
-    if (pair_) vc.set_pair(&*pair_);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
       solve(c0 + i, vc, totals);
@@ -118,7 +119,8 @@ class InCoreWorker {
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     std::vector<T> u(n > 1 ? static_cast<std::size_t>(n) * w_ : 0), b(u.size());
     const auto row = [&](std::vector<T>& v, Plane& p, int j) { return v.empty() ? std::span<T>(p.row(j), w_) : std::span<T>(v); };
-    for (int j = 0; j < h_; ++j) {
+    for (int j = 0, made = 0; j < h_; ++j) {
+      if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
       rows.input(j, {row(u, u_, j), row(b, b_, j), weights ? wt.next() : std::span<T>{},
                      {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
       if (weights) wt.add();
@@ -161,15 +163,40 @@ class InCoreWorker {
     }
   }
 
-  // Local channel i moves into the planes: the previous one's result out to a store, i's input in.
-  void turn_to(int i) {
-    schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
-    for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)});
-    for (auto [from, to] : {std::pair{&parked_u_[i], &u_}, std::pair{&parked_b_[i], &b_}}) {
-      (*from)->rewind();
-      for (int j = 0; j < h_; ++j) (*from)->read({to->row(j), static_cast<std::size_t>(w_)});
-      from->reset();
+  // The planes' rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
+  void make_planes() {
+    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
+    for (int j = 0; j < h_;) {
+      j = std::min(j + step, h_);
+      u_.make_rows(j), b_.make_rows(j);
+      shared_.marks.set(made_, j);
     }
+    vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
+    vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
+    vc_->set_half(&half_);
+    if (pair_) vc_->set_pair(&*pair_);
+  }
+
+  // Local channel i moves into the planes: the previous one's result out to a store and i's u in
+  // (two threads: i's b in beside them).
+  void turn_to(int i) {
+    const auto load = [&](Store& from, Plane& to) {
+      from->rewind();
+      for (int j = 0; j < h_; ++j) from->read({to.row(j), static_cast<std::size_t>(w_)});
+      from.reset();
+    };
+    both([&](int k) {
+      if (k == 1) return load(parked_b_[i], b_);
+      schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
+      for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)});
+      load(parked_u_[i], u_);
+    });
+  }
+  // work(1) and work(0): on two threads where the worker has two (one that throws stops the solve's
+  // marks: work(0) may wait for work(1)), else one after the other.
+  void both(const std::function<void(int)>& work) {
+    if (!pair_) return work(1), work(0);
+    util::run_workers(2, work, [&](int, const std::string&) { shared_.marks.stop(); });
   }
   // Local channel i's result row j, rows in order.
   const T* result_row(int i, int j) {
@@ -196,6 +223,8 @@ class InCoreWorker {
   Plane u_, b_;
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
+  const int made_;  // its mark of the planes' rows made
+  std::optional<multigrid::InCoreVCycle<T>> vc_;
   std::vector<T> buffer_ = std::vector<T>(w_);
 };
 

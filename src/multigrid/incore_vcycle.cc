@@ -166,8 +166,18 @@ double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& 
   return row_squares(lane.r.data(), op.width);
 }
 
-// The sweeps of the lead: the first half (rounded up) of `sweeps`.
-inline int lead_sweeps(int sweeps) { return (sweeps + 1) / 2; }
+// The sweeps of a pass the lead takes: the split whose larger share of a row's work is the least
+// (more to the lead where two are as good), counting a row's relaxation 1 and the lead's and the
+// follower's other work on it, `lead` and `follow`, in relaxations: a residual (with its square
+// sum) or a prolongation about 0.6, a restriction (with the weights' dot) 0.4 (perf of the 8192²
+// in-core stitch). Any split gives the same bits (PassPair).
+inline int lead_sweeps(int sweeps, double lead, double follow) {
+  int best = 0;
+  for (int s = 1; s <= sweeps; ++s)
+    if (std::max(s + lead, sweeps - s + follow) <= std::max(best + lead, sweeps - best + follow)) best = s;
+  return best;
+}
+constexpr double kResidualCost = 0.6, kProlongCost = 0.6, kRestrictCost = 0.4;
 
 // One pass of `steps` steps over a level of `rows` rows: lead(t) then follow(t) for each t on this
 // thread, or the two on the pair's threads, the follower's step t after the lead's.
@@ -194,7 +204,7 @@ void InCoreVCycle<T>::pass(int steps, int rows, const Lead& lead, const Follow& 
 // (rows above at this sweep, rows below at the one before; they couple within two rows), so the
 // bits are the same; the rows being worked on stay in cache. A coarser level's u (the zero guess) and
 // the coarser b are zeroed row by row just before they are first touched, not in passes of their own.
-// The lead zeroes, sums `before` and does the first sweeps; the follower the other sweeps and the rest.
+// The lead zeroes, sums `before` and does the first sweeps (lead_sweeps); the follower the other sweeps and the rest.
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
 double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
@@ -202,7 +212,7 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op), coarse_row = whole_row(ops_.levels[l + 1]);
-  const int led = lead_sweeps(sweeps_);
+  const int led = lead_sweeps(sweeps_, before ? kResidualCost : 0.0, kResidualCost + kRestrictCost);
   double rr = 0.0;
   const auto zero_rows = [](Plane<T>& p, int& done, int to) {
     to = std::min(to, p.height);
@@ -240,14 +250,14 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
 
 // Prolongation of the coarser level's correction, then post-smoothing, in one pass down the rows:
 // at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
-// The lead prolongs and does the first sweeps; the follower the other sweeps and sums `after`.
+// The lead prolongs and does the first sweeps (lead_sweeps); the follower the other sweeps and sums `after`.
 template <class T>
 void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse,
                              double* after) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
   const Columns row = whole_row(op);
-  const int led = lead_sweeps(post_sweeps_);
+  const int led = lead_sweeps(post_sweeps_, kProlongCost, after ? kResidualCost : 0.0);
   const auto relax_row = [&](int s, int j, Scratch<T>& scratch) {
     if (j >= 0 && j < op.height)
       relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch,

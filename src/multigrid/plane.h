@@ -22,13 +22,24 @@ struct Plane {
   // The same, a large plane's pages all mapped in one call before the zero fill touches them
   // (util::populate; docs/multigrid.md, "In-core allocation").
   static Plane mapped(int w, int h) {
+    Plane p = reserved(w, h);
+    p.make_rows(h);
+    return p;
+  }
+  // Room for a w x h plane, nothing touched yet: make_rows() makes its rows, in order, so that
+  // another thread may fill the rows made meanwhile (row() of a row made stays where it is).
+  static Plane reserved(int w, int h) {
     Plane p;
     p.width = w, p.height = h;
-    const std::size_t n = static_cast<std::size_t>(w) * h;
-    p.data.reserve(n);
-    if (n * sizeof(T) >= util::kBigBuffer) util::populate(p.data.data(), n * sizeof(T));
-    p.data.resize(n, T(0));
+    p.data.reserve(static_cast<std::size_t>(w) * h);
     return p;
+  }
+  // Rows [0, rows) made: those not made yet mapped in one call (a large plane's) and zeroed.
+  void make_rows(int rows) {
+    const std::size_t n = static_cast<std::size_t>(rows) * width, made = data.size();
+    if (n <= made) return;
+    if (data.capacity() * sizeof(T) >= util::kBigBuffer) util::populate(data.data() + made, (n - made) * sizeof(T));
+    data.resize(n, T(0));  // (within the capacity reserved: no reallocation)
   }
   T* row(int j) { return data.data() + static_cast<std::size_t>(j) * width; }
   const T* row(int j) const { return data.data() + static_cast<std::size_t>(j) * width; }
