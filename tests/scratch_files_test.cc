@@ -7,6 +7,7 @@
 #include <sys/vfs.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -165,10 +166,11 @@ TEST(ScratchFiles, DirectRowsLongerThanAChunkComeBackWhole) {
   }
 }
 
-// A checkpoint's O_DIRECT store: made durable at a length inside a block, written on, restored
-// by a new store to that length (the padded file truncated), written on again: every row as
-// written, and the kept file as long as the stream once it is made durable... and restored.
-TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) {
+// A checkpoint's O_DIRECT store made for `capacity` rows (its chunk follows): made durable at a
+// length inside a block, written on, restored by a new store to that length (the padded file
+// truncated), written on again: every row as written, and the kept file as long as the stream
+// once it is made durable... and restored.
+void restore_to_an_unaligned_length(std::size_t capacity) {
   const fs::path dir = fs::temp_directory_path() / ("gdp-direct-test-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -183,7 +185,7 @@ TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) {
   };
   std::size_t length = 0;
   {
-    schedule::RowStore<float> store(policy, n, rows, "kept");
+    schedule::RowStore<float> store(policy, n, capacity, "kept");
     EXPECT_EQ(store.direct(), temp_takes_direct());
     for (std::size_t r = 0; r < rows; ++r) {
       fill(0, r);
@@ -194,7 +196,7 @@ TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) {
   }
   ASSERT_EQ(length, kept * n * sizeof(float));
   ASSERT_NE(length % 4096, 0u);
-  schedule::RowStore<float> store(policy, n, rows, "kept");
+  schedule::RowStore<float> store(policy, n, capacity, "kept");
   store.restore(length);
   EXPECT_EQ(fs::file_size(dir / "kept.store"), length);
   for (std::size_t r = kept; r < rows; ++r) {
@@ -207,9 +209,69 @@ TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) {
     store.read(row);
     for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(row[i], sample(r < kept ? 0 : 1, r, i)) << "row " << r;
   }
-  schedule::RowStore<float> shorter(policy, n, rows, "kept");
+  schedule::RowStore<float> shorter(policy, n, capacity, "kept");
   EXPECT_THROW(shorter.restore(fs::file_size(dir / "kept.store") + 1), OutputError);
   fs::remove_all(dir);
+}
+
+TEST(ScratchFiles, DirectCheckpointStoresRestoreToAnUnalignedLength) { restore_to_an_unaligned_length(900); }
+
+// The same in a store made for 100 MB: its chunks at the cap, both buffers in one huge page.
+TEST(ScratchFiles, BigDirectCheckpointStoresRestoreToAnUnalignedLength) { restore_to_an_unaligned_length(25000); }
+
+// An O_DIRECT stream made for `expected` bytes of `record`-byte records: its chunk, and `rows`
+// records written, then read back twice.
+std::size_t direct_round_trip(std::size_t record, std::size_t expected, std::size_t rows) {
+  const int fd = io::open_unlinked(fs::temp_directory_path(), "layout");
+  EXPECT_TRUE(io::make_direct(fd));
+  io::ScratchStream stream(fd, io::StreamKind::Direct, record, expected, 0, "layout", "");
+  for (std::size_t r = 0; r < rows; ++r) {
+    unsigned char* out = stream.append();
+    for (std::size_t i = 0; i < record; ++i) out[i] = static_cast<unsigned char>((r * 31 + i) % 251);
+  }
+  for (int again = 0; again < 2; ++again) {
+    stream.rewind();
+    for (std::size_t r = 0; r < rows; ++r) {
+      const unsigned char* in = stream.read();
+      for (std::size_t i = 0; i < record; ++i)
+        if (in[i] != static_cast<unsigned char>((r * 31 + i) % 251)) {
+          ADD_FAILURE() << "record " << record << ": row " << r << " byte " << i;
+          return stream.chunk();
+        }
+    }
+  }
+  EXPECT_EQ(stream.bytes(), rows * record);
+  return stream.chunk();
+}
+
+// Chunks: whole records where records are whole blocks (or a few are), so none straddles two;
+// at the cap (streams of 64 MiB and more) both buffers, each a chunk, a record and a block, fit
+// one huge page. Records of other lengths straddle chunks and come back whole.
+TEST(ScratchFiles, DirectChunksAreWholeRecordsAndBigStreamsFitAHugePage) {
+  if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";
+  const std::size_t big = std::size_t{512} << 20, mib = std::size_t{1} << 20;
+  for (const std::size_t record : {std::size_t{32768}, std::size_t{12288}, std::size_t{98304}}) {
+    const std::size_t chunk = direct_round_trip(record, big, 200);
+    EXPECT_EQ(chunk % record, 0u) << record;
+    EXPECT_LE(2 * io::align_up(chunk + record + io::kDirectAlign), io::kHugePage) << record;
+    EXPECT_GE(chunk, mib / 2) << record;
+  }
+  const std::size_t odd = direct_round_trip(12004, big, 300);  // no whole number of blocks in a few
+  EXPECT_EQ(odd % io::kDirectAlign, 0u);
+  EXPECT_LE(2 * io::align_up(odd + 12004 + io::kDirectAlign), io::kHugePage);
+  EXPECT_EQ(direct_round_trip(40960, 8 * mib, 100) % 40960, 0u);  // below the cap
+  EXPECT_EQ(direct_round_trip(1 << 20, big, 12), std::size_t{1} << 20);  // records too long to share a page
+}
+
+// Huge buffers: whole huge pages at a huge page's alignment, all of them writable.
+TEST(AlignedBytes, HugeBuffersAreWholeHugePagesOnTheirAlignment) {
+  const io::AlignedBytes huge(3 * io::kHugePage / 2, true), small(5000);
+  EXPECT_EQ(huge.size(), 2 * io::kHugePage);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(huge.data()) % io::kHugePage, 0u);
+  std::memset(huge.data(), 7, huge.size());
+  EXPECT_EQ(huge.data()[huge.size() - 1], 7);
+  EXPECT_EQ(small.size(), 8192u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % io::kDirectAlign, 0u);
 }
 
 }  // namespace

@@ -31,7 +31,8 @@ bool make_direct(int fd);
 // A sequential stream of records of `record` bytes on `fd` (owned: closed by the destructor):
 // append them, rewind(), read them back in the same order (as often as needed); clear() starts
 // writing anew. Its buffers are made once (one for Memory, three for File, of 256 KB or the
-// `expected` length if shorter; two for Direct, of 64 KB to 1 MiB) and reused for every pass. A
+// `expected` length if shorter; two for Direct, of 64 KB to 1 MiB, whole records where records
+// are whole blocks, in one huge page at the cap) and reused for every pass. A
 // Direct stream writes whole blocks, its last padded; bytes() is the length written, and
 // make_durable()/restore() keep it (a checkpoint's file may be longer; restore truncates it).
 // Errors are OutputError naming `where`, with `hint` after a failed write's reason.
@@ -57,6 +58,7 @@ class ScratchStream {
 
   std::size_t bytes() const { return base_ + fill_; }
   StreamKind kind() const { return kind_; }
+  std::size_t chunk() const { return chunk_; }  // bytes passed on (and read back) at once
 
  private:
   void pass_on(bool all);
