@@ -54,6 +54,7 @@ Image solve_with(const Case& k, const Image& img, Schedule schedule, int bands, 
   o.vcycles = vcycles;
   o.coarsest_size = 8;
   o.incore_bytes = incore_bytes;  // several banded levels even on small images
+  o.residuals = true;
   o.schedule = schedule;
   o.bands = bands;
   o.precision = precision;

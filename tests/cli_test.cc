@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <csignal>
 #include <cstdio>
@@ -49,6 +50,33 @@ TEST_F(Cli, VerbosePrintsResidualPerLevel) {
   const CliRun r = gdp("reconstruct " + path("comp.png") + " -v --coarsest 8");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("per level"), std::string::npos) << r.err;
+}
+
+// Residual norms are measured when asked for (--residuals, --verbose): else the note has none and
+// --stats says null; the image is the same bytes either way.
+TEST_F(Cli, ResidualsOnlyWhenAskedFor) {
+  const auto slurp = [&](const std::string& name) {
+    std::ifstream f(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string stitch = "stitch -c " + path("comp.png") + " -l " + path("labels.png") + " --coarsest 8 --vcycles 2";
+  const CliRun plain = gdp(stitch + " -o " + path("a.tif") + " --stats " + path("a.json"));
+  const CliRun asked = gdp(stitch + " -o " + path("b.tif") + " --stats " + path("b.json") + " --residuals");
+  const CliRun verbose = gdp(stitch + " -o " + path("c.tif") + " --stats " + path("c.json") + " -v");
+  for (const CliRun* r : {&plain, &asked, &verbose}) ASSERT_EQ(r->code, 0) << r->err;
+  EXPECT_EQ(plain.err.find("relative residual"), std::string::npos) << plain.err;
+  EXPECT_NE(slurp("a.json").find("\"relative_residuals\": null"), std::string::npos) << slurp("a.json");
+  for (const char* name : {"b", "c"}) {
+    const std::string json = slurp(std::string(name) + ".json");
+    const std::size_t at = json.find("\"relative_residuals\": [");
+    ASSERT_NE(at, std::string::npos) << json;
+    const std::string list = json.substr(at, json.find(']', at) - at);
+    EXPECT_EQ(std::count(list.begin(), list.end(), ','), 2) << list;  // before, and after each of 2 V-cycles
+  }
+  EXPECT_NE(asked.err.find("relative residual"), std::string::npos) << asked.err;
+  EXPECT_EQ(slurp("a.tif"), slurp("b.tif"));
+  EXPECT_EQ(slurp("a.tif"), slurp("c.tif"));
+  EXPECT_FALSE(slurp("a.tif").empty());
 }
 
 TEST_F(Cli, MissingInputFile) {

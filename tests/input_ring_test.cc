@@ -109,6 +109,7 @@ Solved solve_with(GuidanceSource& source, Domain domain, int bands, Precision pr
   o.domain = domain;
   o.precision = precision;
   o.vcycles = 2;
+  o.residuals = true;
   o.incore_bytes = 1;  // stream every level the plan allows
   if (bands > 0) {
     o.schedule = Schedule::Bands;

@@ -55,6 +55,7 @@ TEST_P(Schedules, StreamingIsBitIdenticalToInCore) {
   o.incore_bytes = k.incore_bytes;
   o.scratch = k.scratch;
   o.half_quantities = k.half_quantities;
+  o.residuals = true;
   o.schedule = Schedule::InCore;
   test::ExactGradients src1(img, k.domain, k.alpha, 1.3);
   SolveSummary s1, s2;

@@ -79,6 +79,13 @@ struct SolverOptions {
   std::filesystem::path checkpoint_dir;
   bool resume = false;
   CheckpointIdentity checkpoint_identity;
+  // Measure the relative residual of the finest level before the first V-cycle and after each
+  // (SolveSummary::relative_residuals; the CLI's --residuals): two residual sweeps of the finest
+  // level more per V-cycle, only read, never changing the result. Measured regardless when
+  // iterating to a tolerance, with a log, or with a checkpoint (a resumed run then has them whole
+  // whatever its flags); else relative_residuals is left empty (docs/multigrid.md, "Residual norms
+  // only when asked for").
+  bool residuals = false;
   // Receives one line per level and V-cycle with residual norms (the CLI's --verbose).
   std::function<void(const std::string&)> log;
   // Receives the fraction of work done, from 0 to 1.
@@ -88,6 +95,10 @@ struct SolverOptions {
   void validate() const;
   // The most V-cycles a solve runs: max_vcycles when iterating to a tolerance, else vcycles.
   int cycle_cap() const { return tolerance > 0.0 ? max_vcycles : vcycles; }
+  // Whether the solve measures the finest level's residual norms (see `residuals`).
+  bool measures_residuals() const {
+    return residuals || tolerance > 0.0 || static_cast<bool>(log) || !checkpoint_dir.empty();
+  }
 };
 
 // --iters: "K" (K sweeps before restriction and K after prolongation) or "PRE/POST"; sets
@@ -109,7 +120,8 @@ struct ScheduleFlags {
 struct SolveSummary {
   int width = 0, height = 0, channels = 0, levels = 0, vcycles = 0;
   std::vector<int> level_widths, level_heights;
-  // Relative residual |b - A u| / |b| (worst channel) before the first V-cycle and after each.
+  // Relative residual |b - A u| / |b| (worst channel) before the first V-cycle and after each;
+  // empty when not measured (SolverOptions::measures_residuals).
   std::vector<double> relative_residuals;
   double seconds_rhs = 0.0, seconds_solve = 0.0;  // reading guidance (the input pass), the rest
   // Streamed: CPU seconds of the input pass, its decoding thread's and its lanes' (all together).

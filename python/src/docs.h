@@ -10,7 +10,9 @@ namespace gdp::python::docs {
   "solved there and resampled back; a 4:1 PQ input is solved in place), pq_height=0, double=False, "              \
   "in_core=False, incore_bytes=8 MiB, bands=0, temp=None (scratch directory), scratch='float' ('narrow': the CLI's default), half_scratch=False, "  \
   "memory=bytes (scratch kept in memory by the process, default a quarter of physical memory; 0: files), "              \
-  "verbose=False (residuals per level and V-cycle on sys.stderr), log=callable(line), "                          \
+  "verbose=False (residuals per level and V-cycle on sys.stderr), residuals=False (measure the relative "          \
+  "residual before and after every V-cycle: stats' relative_residuals, else None; verbose, log and tolerance "      \
+  "measure them too), log=callable(line), "                                                                        \
   "progress=callable(fraction) (called with increasing fractions up to 1.0; raising in it stops the solve), "      \
   "stats=dict (filled with sizes, residuals and times).\n\nThe GIL is released while gdp solves; Ctrl-C stops it. " \
   "Errors raise gdp.InputError, gdp.UsageError or gdp.OutputError with the CLI's messages."

@@ -64,6 +64,7 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("in_core", a.flags.in_core);
   kw.take("bands", a.flags.bands);
   kw.take("verbose", a.verbose);
+  kw.take("residuals", s.residuals);
   a.log = kw.take_object("log");
   a.progress = kw.take_object("progress");
   a.stats = kw.take_object("stats");
@@ -82,7 +83,8 @@ py::dict report(const SolverArgs& args, const SolveSummary& s, const py::dict& e
   d["vcycles"] = s.vcycles;
   d["schedule"] = s.schedule;
   d["streamed_levels"] = s.streamed_levels;
-  d["relative_residuals"] = s.relative_residuals;
+  // None: not measured (residuals=True, verbose, log or tolerance measure them).
+  d["relative_residuals"] = s.relative_residuals.empty() ? py::object(py::none()) : py::cast(s.relative_residuals);
   d["seconds_rhs"] = s.seconds_rhs;
   d["seconds_solve"] = s.seconds_solve;
   d["scratch_bytes"] = s.scratch_bytes;

@@ -39,7 +39,7 @@ class Keywords {
 
 // Solver keywords of every solving function (docs/python.md): iters, vcycles, tolerance, threads,
 // coarsest, domain, sphere, pq_height, double, in_core, incore_bytes, bands, temp, half_scratch, memory,
-// verbose, log, progress, stats.
+// verbose, residuals, log, progress, stats.
 struct SolverArgs {
   SolverOptions solver;
   ScheduleFlags flags;

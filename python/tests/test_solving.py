@@ -70,6 +70,15 @@ def test_log_and_stats():
     assert stats["relative_residuals"][-1] < stats["relative_residuals"][0]
 
 
+def test_residuals_only_when_asked_for():
+    image, plain, asked = scene(96, 64, 3), {}, {}
+    a = gdp.sharpen(image, vcycles=2, stats=plain)
+    b = gdp.sharpen(image, vcycles=2, stats=asked, residuals=True)
+    assert plain["vcycles"] == 2 and plain["relative_residuals"] is None
+    assert len(asked["relative_residuals"]) == 3 and asked["relative_residuals"][-1] < asked["relative_residuals"][0]
+    assert np.array_equal(a, b)  # measuring reads, never changes the result
+
+
 def test_ctrl_c_stops_a_solve():
     image = scene(256, 256, 1).astype(np.float32)
     stats = {}

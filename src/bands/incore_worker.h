@@ -147,7 +147,8 @@ class InCoreWorker {
     log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
-      probe.norm_before = k == 0, probe.norm_after = true;  // measured in the cycle's own passes
+      probe.norm_before = k == 0 && opt_.measures_residuals(), probe.norm_after = opt_.measures_residuals();  // in the cycle's own passes
+      probe.sum_level_norms = static_cast<bool>(opt_.log);
       vc.run(u_, b_, shared_.weights.empty() ? nullptr : &shared_.weights, &probe);
       if (k == 0) log_.initial(c, probe.before);
       log_.cycle(c, probe.after, probe);

@@ -18,6 +18,7 @@
 #include "gdp/mpi_run.h"
 #include "mpi/ranks.h"
 #include "schedule/input_ring.h"
+#include "util/seconds.h"
 #include "multigrid/input_rows.h"
 #include "util/env_int.h"
 #include "util/recycle_pool.h"
@@ -28,8 +29,8 @@ using multigrid::InputTotals;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using Clock = util::SteadyClock;
+using util::seconds_since;
 
 constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcycle.cc uses < 2000)
 // Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column

@@ -149,6 +149,7 @@ void StreamedVCycle<T>::run_tail() {
   }
   for (int c = 0; c < channels && band_ == 0; ++c) {
     multigrid::CycleProbe below = whole ? multigrid::CycleProbe{} : merged_->probe(c);
+    below.sum_level_norms = set_.level_norms;
     if (whole) {
       std::fill(tail_u_.data.begin(), tail_u_.data.end(), T(0));
       tail_->run(tail_u_, plane(B, c), set_.weights ? &weights : nullptr, &below);

@@ -48,8 +48,8 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
   }
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(set_.channels);
-  if (layout.top()) initial_.assign(8 * static_cast<std::size_t>(set_.channels) * levels_[0]->len, T(0));
-  if (layout.top() && layout.folded)
+  if (layout.top() && set_.residuals) initial_.assign(8 * static_cast<std::size_t>(set_.channels) * levels_[0]->len, T(0));
+  if (layout.top() && layout.folded && set_.residuals)
     for (auto& rows : initial_fold_) rows.assign(2 * static_cast<std::size_t>(set_.channels) * levels_[0]->width, T(0));
 }
 
@@ -166,7 +166,7 @@ void StreamedVCycle<T>::push() {
   const int r = L.arrived;
   for (int q : {B, W, D})  // b, w and d of later cycles from the stores
     if (L.inputs_stored && L.store[q]) L.store[q]->read(slot_of(0, q, r));
-  if (layout_.top() && cycle_ == 1) {
+  if (layout_.top() && cycle_ == 1 && set_.residuals) {  // the initial residual
     std::ranges::copy(slot_of(0, U, r), initial_.begin() + static_cast<std::ptrdiff_t>(r % 8) * set_.channels * L.len);
     // The rows across the fold as they start, before the residuals that read them.
     if (layout_.folded && r == 1) exchange_fold_rows(0, 0, initial_fold_[0]);
@@ -183,7 +183,8 @@ void StreamedVCycle<T>::push() {
 // sweeps of rows 0, 1, h-2 and h-1 read them as all earlier phases left them, as a whole-row
 // Gauss-Seidel sweep reads its mirror image; the last exchange on each side shows the final rows
 // to the restriction (or the last residual). Rows final after the phase are restricted
-// (restriction pass) or measured (prolongation pass, level 0 of the top stage).
+// (restriction pass) or measured (prolongation pass, level 0 of the top stage, where the settings
+// ask for residuals).
 template <class T>
 void StreamedVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
@@ -202,7 +203,7 @@ void StreamedVCycle<T>::advance(int l) {
     while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
       const int j = L.finished++;
       if (!prolongation_) restrict_row(l, j);
-      else if (l == 0 && layout_.top()) measure(j, false, final_rr_);
+      else if (l == 0 && layout_.top() && set_.residuals) measure(j, false, final_rr_);
     }
   }
 }
@@ -312,7 +313,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
   L.needed_from = j;
   ensure_final(0, j);
   std::ranges::copy(slot_of(0, U, j), u.begin());
-  if (++pulled_ == L.height && layout_.top()) sum_in_order(net_, kFinal, final_rr_);
+  if (++pulled_ == L.height && layout_.top() && set_.residuals) sum_in_order(net_, kFinal, final_rr_);
 }
 
 template <class T>

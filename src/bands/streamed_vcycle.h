@@ -38,6 +38,7 @@ struct CycleSettings {
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
   bool diagonal = false;         // a per-pixel diagonal term (row_ops.h), pushed with b
   bool level_norms = true;       // sum every level's |r|^2 (the probe's level_norms: only log lines read them)
+  bool residuals = true;         // level 0's |b - A u| before and after the cycle (initial_norm, final_norm)
   schedule::StorePolicy stores;
 };
 
@@ -46,7 +47,7 @@ struct CycleSettings {
 inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
   CycleSettings s{.channels = channels, .coarse_tolerance = opt.coarse_tolerance, .weights = singular,
                   .more_cycles = opt.cycle_cap() > 1, .diagonal = diagonal,
-                  .level_norms = static_cast<bool>(opt.log), .stores = {}};
+                  .level_norms = static_cast<bool>(opt.log), .residuals = opt.measures_residuals(), .stores = {}};
   s.stores.dir = opt.temp_dir;
   s.stores.half = multigrid::half_policy(opt, diagonal);
   return s;
@@ -76,7 +77,8 @@ class StreamedVCycle {
   // Prolongation pass: the next finished row, halo columns included.
   void pull(std::span<T> u);
 
-  // After the cycle, the same on every worker: sums over all bands.
+  // After the cycle, the same on every worker: sums over all bands (the norms 0 unless the
+  // settings' residuals).
   const multigrid::CycleProbe& probe(int c) const { return probes_[c]; }
   double initial_norm(int c) const { return std::sqrt(initial_rr_[c]); }
   double final_norm(int c) const { return std::sqrt(final_rr_[c]); }

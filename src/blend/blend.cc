@@ -18,12 +18,13 @@
 #include "gdp/errors.h"
 #include "gdp/mpi_run.h"
 #include "gdp/sphere_rows.h"
+#include "util/seconds.h"
 
 namespace gdp {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using Clock = util::SteadyClock;
+using util::seconds_since;
 
 // Sets the colour of pixels no layer covers to 0 and, with `alpha`, adds the alpha channel from
 // the label plane (0 there, 1 elsewhere) on the way to `out`. With a `correction` sweep, also
@@ -148,7 +149,7 @@ void find_seams(const BlendPlan& plan, const BlendOptions& options, const Solver
     r.seam_layers_read = done.layers_read;
     r.seam_columns = {begin, end};
     r.scratch_bytes = done.distance_bytes + labels.bytes() + (keep ? keep->bytes() : 0);
-    r.seconds_seams += since(start);
+    r.seconds_seams += seconds_since(start);
   });
 }
 
@@ -195,7 +196,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   if (plan.images.empty()) kept.emplace(plan, solver.temp_dir);
   blending::SeamResult seams;
   find_seams(plan, options, solver, r, seams, kept ? &*kept : nullptr);
-  r.seconds_seams = since(start);
+  r.seconds_seams = seconds_since(start);
 
   // Across-seam values are not resampled onto the sphere (its blending mixes them with the NaN
   // around them): resampled spheres take zero guidance across seams.
@@ -230,7 +231,7 @@ void blend(const BlendPlan& plan, const BlendOptions& options, const SolverOptio
   }
   stitch(c, l, stitching, solver, w, &r.solve, fidelity);
   w.commit();
-  r.seconds_solve = since(start) - (r.seconds_seams - seconds_before);  // less deferred seams' time
+  r.seconds_solve = seconds_since(start) - (r.seconds_seams - seconds_before);  // less deferred seams' time
   report_seams(plan, seams, r);
 }
 

@@ -2,7 +2,6 @@
 #include "blend/photometric.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -10,6 +9,7 @@
 
 #include "blend/layer_rows.h"
 #include "gdp/errors.h"
+#include "util/seconds.h"
 
 namespace gdp::blending {
 
@@ -81,7 +81,7 @@ OverlapSamples sample_overlaps(const BlendPlan& plan, const std::vector<Vignetti
 }
 
 Photometry calibrate(const BlendPlan& plan, const PhotometricOptions& options, BlendReport* report) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = util::SteadyClock::now();
   if (options.vignetting_terms < 0 || options.vignetting_terms > 3)
     throw UsageError(fmt::format("vignetting terms: {}; 0 to 3 (r^2, r^4, r^6)", options.vignetting_terms));
   // The fit solves one dense system over every layer's unknowns (about 4 per layer): hundreds of
@@ -109,7 +109,7 @@ Photometry calibrate(const BlendPlan& plan, const PhotometricOptions& options, B
     report->photometric_points = samples.points();
     report->photometric_rms_before = fit.rms_before;
     report->photometric_rms_after = fit.rms_after;
-    report->seconds_photometry = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report->seconds_photometry = util::seconds_since(start);
   }
   return out;
 }

@@ -113,7 +113,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
   // (a single level has none: then residual_norm()).
   double* before = probe && probe->norm_before ? &probe->before : nullptr;
   double* after = probe && probe->norm_after ? &probe->after : nullptr;
-  const bool passes = first_ + 1 < levels;
+  const bool passes = first_ + 1 < levels, level_norms = probe && probe->sum_level_norms;
   if (probe) probe->before = probe->after = 0.0;
   if (before && !passes) *before = residual_norm(u0, b0);
   for (int l = first_; l + 1 < levels; ++l) {
@@ -121,10 +121,10 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
     if (l + 2 == levels) std::fill(U(l + 1).data.begin(), U(l + 1).data.end(), T(0));  // the coarsest's guess
     double dots = 0.0;
     const double rr =
-        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, probe != nullptr,
+        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, level_norms,
                 l == first_ ? before : nullptr);
     if (weights && probe) probe->dots.push_back(dots);
-    if (probe) probe->level_norms.push_back(std::sqrt(rr));
+    if (level_norms) probe->level_norms.push_back(std::sqrt(rr));
     if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
     if (!half_b_.empty() && half_b_[l - first_]) round_to_half(B(l).data.data(), B(l).data.size());
   }
@@ -137,7 +137,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
     const Plane<double>* dp = diag_ ? &coarse_diag_ : nullptr;
     solve_cg(op, ops_.singular && !diag_, b, u, coarse_tolerance_, 20 * (op.width + op.height) + 100, dp,
              coarse_inverse_);
-    if (probe) {
+    if (level_norms) {
       Plane<double> r(op.width, op.height);
       Scratch<double> s;
       residual(op, u, b, r, s, dp);

@@ -33,6 +33,7 @@ struct Operators {
 struct CycleProbe {
   std::vector<double> dots;          // <w_l, u_l> per level (when weights are given)
   std::vector<double> level_norms;   // |r_l| after pre-smoothing, per level (coarsest: after the solve)
+  bool sum_level_norms = true;       // fill level_norms (only log lines read them)
   // In-core only, asked for by the caller: |b - A u| on level `first` before and after the cycle,
   // summed in the cycle's own passes over the rows (the bits of InCoreVCycle::residual_norm).
   bool norm_before = false, norm_after = false;

@@ -65,6 +65,7 @@ void ResidualLog::finish(SolveSummary& summary, const SolverOptions& options) co
   for (const auto& r : rel_)
     for (std::size_t k = 0; k < r.size(); ++k)
       summary.relative_residuals[k] = std::max(summary.relative_residuals[k], r[k]);
+  if (!options.measures_residuals()) summary.relative_residuals.clear();  // (zeros: not measured)
   if (options.log)
     for (const auto& lines : lines_)
       for (const auto& l : lines) options.log(l);

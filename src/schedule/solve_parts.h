@@ -57,7 +57,8 @@ class ResidualLog {
   // float solve of smooth data stalls near 1e-5, docs/sky.md; more cycles would only repeat it).
   bool settled(int c, double tolerance) const;
   static constexpr int kStallCycles = 3;
-  // Worst channel per cycle into the summary; log lines (channel by channel) to options.log.
+  // Worst channel per cycle into the summary (none where options do not measure residuals); log
+  // lines (channel by channel) to options.log.
   void finish(SolveSummary& summary, const SolverOptions& options) const;
   // Checkpoints: channels c0 .. c0 + n - 1 (one lane's) to a ByteWriter or from a ByteReader.
   template <class Archive>

@@ -1,5 +1,4 @@
 // gdp sky --projected: images on one template -> smooth backgrounds and levels from overlaps -> gdp blend's seams and planar solve -> FITS with the template's WCS.
-#include <chrono>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -15,6 +14,7 @@
 #include "sky/projected_place.h"
 #include "sky/rank_share.h"
 #include "sky/wcs.h"
+#include "util/seconds.h"
 
 namespace gdp {
 namespace {
@@ -91,13 +91,13 @@ void sky_projected(const std::vector<ProjectedInput>& inputs, const ProjectedOpt
   // error there ends every rank with its message (sky/plate_exchange.h).
   const sky::RankShare ranks;
   const sky::PlateShare& share = ranks.share();
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = util::SteadyClock::now();
   sky::CanvasLevels levels;
   share.run([&] {
     if (share.rank() == 0) levels = sky::canvas_levels(plan, options.fit_backgrounds ? options.background_damping : -1.0);
   });
   sky::share_canvas_levels(share, levels);
-  s.seconds_offsets = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.seconds_offsets = util::seconds_since(start);
   for (std::size_t k = 0; k < inputs.size() && inputs.size() > 1; ++k)
     if (!levels.overlapped[k])
       throw InputError(fmt::format("{}: overlaps no other image, so its level cannot be matched to the mosaic's "

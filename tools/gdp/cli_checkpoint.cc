@@ -20,7 +20,7 @@ std::filesystem::path& finished_dir() {
 // Options that change neither the result nor the checkpoint's shape (a resumed run keeps the
 // checkpoint's lanes whatever --threads says; its scratch lives in the checkpoint).
 bool ignored(const std::string& name) {
-  static const std::set<std::string> names = {"--threads", "--quiet", "--verbose", "--stats", "--temp",
+  static const std::set<std::string> names = {"--threads", "--quiet", "--verbose", "--residuals", "--stats", "--temp",
                                               "--checkpoint", "--resume", "--max-pixels", "--help"};
   return names.count(name) > 0;
 }

@@ -119,6 +119,9 @@ class Stats {
 
 // A line on stderr unless --quiet.
 void note(const CommonOptions& o, const std::string& message);
+// ", relative residual 1.23e-04" (the last V-cycle's) for a note, or "" when the solve did not
+// measure residuals (SolverOptions::measures_residuals: --residuals, --verbose, --tolerance).
+std::string residual_note(const SolveSummary& s);
 // Under mpirun: a note (rank 0) when this rank may use no more cores than it runs bands (Open MPI
 // binds ranks to one core by default), which leaves its reading and writing threads none of their own.
 void warn_if_bound(const CommonOptions& o, int bands);

@@ -257,11 +257,9 @@ class Blend final : public Command {
     stats.set("seam_layers_read", std::to_string(report.seam_layers_read));
     stats.set("isolated_layers", std::to_string(report.isolated.size()));
     stats.set("seam_columns", fmt::format("[{}, {}]", report.seam_columns.first, report.seam_columns.second));
-    note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s, relative "
-                              "residual {:.2e} -> {}",
+    note(common_, fmt::format("blend: {} layer(s), {}x{} canvas at ({}, {}); seams {:.1f}s, solve {:.1f}s{} -> {}",
                               plan.layers.size(), W, H, plan.canvas.x, plan.canvas.y, report.seconds_seams, report.seconds_solve,
-                              report.solve.relative_residuals.empty() ? 0.0 : report.solve.relative_residuals.back(),
-                              output_));
+                              residual_note(report.solve), output_));
     stats.write(common_.stats_path);
     return 0;
   }

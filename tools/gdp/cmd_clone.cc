@@ -49,9 +49,8 @@ class Clone final : public Command {
       out->commit();
     });
     stats.summary(summary);
-    note(common_, fmt::format("clone: {}x{}x{}, {} V-cycle(s), relative residual {:.2e} -> {}", summary.width,
-                              summary.height, summary.channels, summary.vcycles, summary.relative_residuals.back(),
-                              output_));
+    note(common_, fmt::format("clone: {}x{}x{}, {} V-cycle(s){} -> {}", summary.width, summary.height,
+                              summary.channels, summary.vcycles, residual_note(summary), output_));
     stats.write(common_.stats_path);
     return 0;
   }

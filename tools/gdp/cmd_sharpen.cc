@@ -72,9 +72,8 @@ class Sharpen final : public Command {
     stats.set("alpha", fmt::format("{}", alpha_));
     stats.set("scale_pixels", fmt::format("{}", 1.0 / std::sqrt(alpha_)));
     stats.set("beta", fmt::format("{}", beta_));
-    note(common_, fmt::format("{}: {}x{}x{}, alpha {:.4g}, beta {:.4g}, relative residual {:.2e} -> {}", name_,
-                              summary.width, summary.height, summary.channels, alpha_, beta_,
-                              summary.relative_residuals.back(), output_));
+    note(common_, fmt::format("{}: {}x{}x{}, alpha {:.4g}, beta {:.4g}{} -> {}", name_, summary.width,
+                              summary.height, summary.channels, alpha_, beta_, residual_note(summary), output_));
     stats.write(common_.stats_path);
     return 0;
   }

@@ -61,9 +61,8 @@ class Stitch final : public Command {
       w.commit();
     });
     stats.summary(summary);
-    note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s), relative residual {:.2e} -> {}",
-                              summary.width, summary.height, summary.channels, summary.levels, summary.vcycles,
-                              summary.relative_residuals.back(), output_));
+    note(common_, fmt::format("stitch: {}x{}x{}, {} levels, {} V-cycle(s){} -> {}", summary.width, summary.height,
+                              summary.channels, summary.levels, summary.vcycles, residual_note(summary), output_));
     stats.write(common_.stats_path);
     return 0;
   }

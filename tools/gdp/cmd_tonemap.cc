@@ -58,9 +58,8 @@ class Tonemap final : public Command {
     stats.set("beta", fmt::format("{}", options_.beta));
     stats.set("saturation", fmt::format("{}", options_.saturation));
     stats.set("gamma", fmt::format("{}", options_.gamma));
-    note(common_, fmt::format("tonemap: {}x{}x{}, alpha {:.3g}, beta {:.3g}, relative residual {:.2e} -> {}",
-                              summary.width, summary.height, in.channels(), options_.alpha, options_.beta,
-                              summary.relative_residuals.back(), output_));
+    note(common_, fmt::format("tonemap: {}x{}x{}, alpha {:.3g}, beta {:.3g}{} -> {}", summary.width, summary.height,
+                              in.channels(), options_.alpha, options_.beta, residual_note(summary), output_));
     stats.write(common_.stats_path);
     return 0;
   }
