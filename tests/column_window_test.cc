@@ -98,6 +98,33 @@ TEST_F(ColumnWindow, SetColumnsFillsTheWindowInPlace) {
   EXPECT_THROW(reader.set_columns(0, 10), std::logic_error) << "rows were read already";
 }
 
+// read_ahead() starts decoding before the first row: the rows are the same, and a set_columns()
+// after it (the bands decoded by then, if any, dropped) still gives the window. Without prefetch
+// it does nothing.
+TEST_F(ColumnWindow, ReadAheadThenRowsOrAWindowAreTheSame) {
+  const fs::path p = dir_ / "a.png";  // PNG decodes forwards only: a window after decoding reopens it
+  oiio_write(p, pattern(300, 900, 3), OIIO::TypeDesc::UINT16);
+  const Image whole = read_image(p).image;
+  for (bool prefetch : {true, false}) {
+    SCOPED_TRACE(prefetch ? "prefetch" : "no prefetch");
+    ImageFileReader all(p, prefetch), window(p, prefetch);
+    all.read_ahead();
+    window.read_ahead();
+    window.set_columns(70, 130);
+    std::vector<float> row(3 * 300, -1.0f), cut(3 * 300, -1.0f);
+    for (int y = 0; y < 900; ++y) {
+      all.read_row(y, row);
+      window.read_row(y, cut);
+      for (int c = 0; c < 3; ++c)
+        for (int x = 0; x < 300; ++x) {
+          ASSERT_EQ(row[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
+          if (x >= 70 && x < 130) ASSERT_EQ(cut[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
+        }
+    }
+    EXPECT_EQ(cut[0], -1.0f) << "columns outside the window are left as they are";
+  }
+}
+
 TEST_F(ColumnWindow, WindowsOutsideTheImageAreInputErrors) {
   const fs::path p = dir_ / "a.png";
   oiio_write(p, pattern(30, 20, 1), OIIO::TypeDesc::UINT8);

@@ -44,6 +44,10 @@ class ImageFileReader final : public RowReader {
   int channels() const override;
   void read_row(int y, std::span<float> out) override;
   void rewind() override;
+  // With prefetch: starts decoding now rather than at the first read_row(), so that the first
+  // bands are ready when the caller, still setting up, reads (a set_columns() after this decodes
+  // afresh from the top: the bands decoded until then are wasted).
+  void read_ahead();
   // RowReader's hint, before the first row: decodes only columns [begin, end) from then on (as
   // a window does) but read_row() fills them in at their place in a full-width row and leaves
   // the other samples of `out` as they are.

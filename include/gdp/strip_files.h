@@ -33,6 +33,7 @@ class StripFilesReader final : public RowReader {
   int channels() const override { return channels_; }
   void read_row(int y, std::span<float> out) override;
   void rewind() override;
+  void read_ahead();  // ImageFileReader::read_ahead() of every strip decoded
   void set_columns(int begin, int end) override;
 
  private:

@@ -60,6 +60,10 @@ class Encoder {
   virtual SampleType stored() const = 0;                // after open(): UInt8, UInt16 or Float samples to write()
   virtual bool integer_file() const = 0;                // after open(): the file stores integers (clamp floats)
   virtual void write(int y0, int y1, const void* rows) = 0;  // interleaved samples of stored()
+  // Where row y (the next to write) may be put, as write() takes it, so that write(y, y + 1, it)
+  // copies nothing: the encoder's own buffer (a TIFF strip being assembled). Null: none, write()
+  // takes the caller's rows.
+  virtual unsigned char* row_space(int /*y*/) { return nullptr; }
   virtual void close() = 0;                             // finishes the file; throws on failure
   // Empty when `compression` (--compression, e.g. "zip:6") suits this format, else the names it
   // accepts, for the message that refuses it.

@@ -16,6 +16,7 @@
 #include "io/codec_util.h"
 #include "io/codecs.h"
 #include "util/bounded_queue.h"
+#include "util/thread_name.h"
 #include "util/recycle_pool.h"
 #include "util/clones.h"
 
@@ -141,7 +142,7 @@ struct ImageFileReader::Impl {
   }
 
   // A new pass from row 0; with prefetch, decoding starts at the first read_row() (so that a
-  // set_columns() hint before it wastes nothing).
+  // set_columns() hint before it wastes nothing), or at read_ahead().
   void start() {
     next_row = 0;
     band = Band{};
@@ -153,6 +154,7 @@ struct ImageFileReader::Impl {
     // reader sleeps until both queued bands are taken (a futex wake-up every other band).
     queue = std::make_unique<util::BoundedQueue<Band>>(2, 2);
     decoder_thread = std::thread([this] {
+      util::name_thread("gdp-decode");
       for (int y0 = 0; y0 < layout.height; y0 += band_rows) {
         Band b = decode(y0);
         const bool failed = !b.error.empty();
@@ -228,6 +230,11 @@ void ImageFileReader::read_row(int y, std::span<float> out) {
     deinterleave<float>(src, w, ch, stride, dst);
   }
   ++m.next_row;
+}
+
+void ImageFileReader::read_ahead() {
+  Impl& m = *impl_;
+  if (m.prefetch && !m.queue && m.next_row == 0) m.start_decoding();
 }
 
 void ImageFileReader::set_columns(int begin, int end) {

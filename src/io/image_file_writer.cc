@@ -17,6 +17,7 @@
 #include "util/bounded_queue.h"
 #include "util/clones.h"
 #include "util/recycle_pool.h"
+#include "util/thread_name.h"
 
 namespace gdp {
 namespace {
@@ -81,25 +82,35 @@ struct ImageFileWriter::Impl {
   OutputError fail(std::string_view problem) const { return OutputError(fmt::format("{}: {}", name, problem)); }
   void open();
 
+  // A channel-major row into interleaved samples of the band type.
+  void convert(const float* row, unsigned char* dst) const {
+    if (band_type == SampleType::UInt8) {
+      interleave<std::uint8_t>(row, width, channels, dst, [](float v) { return io::to_u8(v); });
+    } else if (band_type == SampleType::UInt16) {
+      interleave<std::uint16_t>(row, width, channels, dst, [](float v) { return io::to_u16(v); });
+    } else if (integer_file) {
+      interleave<float>(row, width, channels, dst, [](float v) { return io::clamp01(v); });
+    } else {
+      interleave<float>(row, width, channels, dst, [](float v) { return v; });
+    }
+  }
+
   // A band's rows into interleaved samples of the band type, then to the codec (on the encoder's
-  // thread with write-behind: the conversion is off the writing thread too).
+  // thread with write-behind: the conversion is off the writing thread too): row by row straight
+  // into the codec's own buffer where it has one (io::Encoder::row_space), else through `packed`.
   void encode(const Band& b) {
     const std::size_t samples = static_cast<std::size_t>(width) * channels;
-    packed.resize(static_cast<std::size_t>(b.y1 - b.y0) * row_bytes);
-    for (int r = 0; r < b.y1 - b.y0; ++r) {
-      const float* row = b.rows.data() + r * samples;
-      unsigned char* dst = packed.data() + r * row_bytes;
-      if (band_type == SampleType::UInt8) {
-        interleave<std::uint8_t>(row, width, channels, dst, [](float v) { return io::to_u8(v); });
-      } else if (band_type == SampleType::UInt16) {
-        interleave<std::uint16_t>(row, width, channels, dst, [](float v) { return io::to_u16(v); });
-      } else if (integer_file) {
-        interleave<float>(row, width, channels, dst, [](float v) { return io::clamp01(v); });
-      } else {
-        interleave<float>(row, width, channels, dst, [](float v) { return v; });
-      }
-    }
     try {
+      if (output->row_space(b.y0)) {
+        for (int y = b.y0; y < b.y1; ++y) {
+          unsigned char* place = output->row_space(y);
+          convert(b.rows.data() + (y - b.y0) * samples, place);
+          output->write(y, y + 1, place);
+        }
+        return;
+      }
+      packed.resize(static_cast<std::size_t>(b.y1 - b.y0) * row_bytes);
+      for (int r = 0; r < b.y1 - b.y0; ++r) convert(b.rows.data() + r * samples, packed.data() + r * row_bytes);
       output->write(b.y0, b.y1, packed.data());
     } catch (const std::exception& e) {
       throw fail(e.what());
@@ -230,7 +241,10 @@ void ImageFileWriter::Impl::open() {
   integer_file = output->integer_file();
   band_type = output->stored();
   row_bytes = static_cast<std::size_t>(width) * channels * io::sample_bytes(band_type);
-  if (write_behind) encoder = std::thread([this] { run_encoder(); });
+  if (write_behind) encoder = std::thread([this] {
+    util::name_thread("gdp-encode");
+    run_encoder();
+  });
   opened = true;
 }
 

@@ -72,6 +72,11 @@ void StripFilesReader::read_row(int y, std::span<float> out) {
   }
 }
 
+void StripFilesReader::read_ahead() {
+  for (Strip& s : strips_)
+    if (s.begin < s.end) s.reader->read_ahead();
+}
+
 void StripFilesReader::rewind() {
   for (Strip& s : strips_)
     if (s.begin < s.end) s.reader->rewind();

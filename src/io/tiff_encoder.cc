@@ -144,7 +144,7 @@ class TiffEncoder final : public Encoder {
                             ? 64
                             : static_cast<int>(std::clamp<std::size_t>(kStripBytes / file_row, 1, 32));
       TIFFSetField(tif_, TIFFTAG_ROWSPERSTRIP, static_cast<std::uint32_t>(rows_per_strip_));
-      chunk_.reserve(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * sample_bytes(kind_));
+      chunk_.resize(static_cast<std::size_t>(rows_per_strip_) * width_ * channels_ * sample_bytes(kind_));
       // Deflated strips are compressed by gdp on two threads and written raw (same bytes a
       // reader expects: predictor, then a zlib stream); libtiff would deflate them one at a time.
       if (compression == COMPRESSION_ADOBE_DEFLATE)
@@ -155,6 +155,12 @@ class TiffEncoder final : public Encoder {
   }
 
   SampleType stored() const override { return stored_; }
+  // Strips are assembled in chunk_: a row put at its place there is not copied again. (Doubles
+  // are widened from the floats written, so they take the copy.)
+  unsigned char* row_space(int) override {
+    if (tile_ > 0 || kind_ == SampleType::Double) return nullptr;
+    return chunk_.data() + static_cast<std::size_t>(filled_) * width_ * channels_ * sample_bytes(kind_);
+  }
   bool integer_file() const override { return kind_ == SampleType::UInt8 || kind_ == SampleType::UInt16; }
 
   void write(int y0, int y1, const void* rows) override {
@@ -188,32 +194,34 @@ class TiffEncoder final : public Encoder {
     }
   }
 
-  // Rows collect in chunk_ until a strip is whole (or the image ends), which is then encoded in
-  // one call: libtiff deflates whole strips with libdeflate, rows one by one with zlib (~2x slower).
+  // Rows collect in chunk_ (a whole strip's room; filled_ rows so far, put there by the caller
+  // through row_space() or copied) until a strip is whole (or the image ends), which is then
+  // encoded in one call: libtiff deflates whole strips with libdeflate, rows one by one with zlib
+  // (~2x slower).
   void write_strips(int y0, int y1, const unsigned char* src, std::size_t row_bytes) {
     const std::size_t count = static_cast<std::size_t>(width_) * channels_;
     const std::size_t file_row = count * sample_bytes(kind_);
     for (int y = y0; y < y1; ++y) {
       const unsigned char* row = src + (y - y0) * row_bytes;
-      const std::size_t at = chunk_.size();
-      chunk_.resize(at + file_row);
-      if (kind_ == SampleType::Double) to_double(row, chunk_.data() + at, count);
-      else std::memcpy(chunk_.data() + at, row, file_row);
-      if ((y + 1) % rows_per_strip_ == 0 || y + 1 == height_) {
+      unsigned char* at = chunk_.data() + static_cast<std::size_t>(filled_) * file_row;
+      if (kind_ == SampleType::Double) to_double(row, at, count);
+      else if (row != at) std::memcpy(at, row, file_row);
+      ++filled_;
+      if (filled_ == rows_per_strip_ || y + 1 == height_) {
         const tstrile_t strip = static_cast<tstrile_t>(y / rows_per_strip_);
+        const std::size_t size = static_cast<std::size_t>(filled_) * file_row;
+        filled_ = 0;
         if (compressor_) {
           std::vector<unsigned char> rows = compressor_->buffer();
-          rows.reserve(chunk_.capacity());
           rows.swap(chunk_);
-          compressor_->submit(static_cast<int>(strip), std::move(rows), sink());
+          chunk_.resize(rows.size());  // (a recycled strip's buffer: already this size)
+          compressor_->submit(static_cast<int>(strip), std::move(rows), size, sink());
           continue;
         }
         // Uncompressed strips are their bytes as they are: written raw, libtiff copies none.
-        const auto size = static_cast<tmsize_t>(chunk_.size());
-        if ((raw_ ? TIFFWriteRawStrip(tif_, strip, chunk_.data(), size)
-                  : TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), size)) < 0)
+        if ((raw_ ? TIFFWriteRawStrip(tif_, strip, chunk_.data(), static_cast<tmsize_t>(size))
+                  : TIFFWriteEncodedStrip(tif_, strip, chunk_.data(), static_cast<tmsize_t>(size))) < 0)
           throw failure();
-        chunk_.clear();
       }
     }
   }
@@ -236,7 +244,7 @@ class TiffEncoder final : public Encoder {
         if (compressor_) {  // tiles come in index order: row of tiles by row of tiles, left to right
           std::vector<unsigned char> tile = compressor_->buffer();
           tile.assign(chunk_.begin(), chunk_.end());
-          compressor_->submit(static_cast<int>(index), std::move(tile), sink());
+          compressor_->submit(static_cast<int>(index), std::move(tile), chunk_.size(), sink());
           continue;
         }
         const auto size = static_cast<tmsize_t>(chunk_.size());
@@ -248,7 +256,7 @@ class TiffEncoder final : public Encoder {
   }
 
   StripCompressor::Sink sink() {
-    return [this](int index, const std::vector<unsigned char>& data) {
+    return [this](int index, std::span<const unsigned char> data) {
       auto* bytes = const_cast<unsigned char*>(data.data());
       const auto size = static_cast<tmsize_t>(data.size());
       const tmsize_t written = tile_ > 0 ? TIFFWriteRawTile(tif_, static_cast<ttile_t>(index), bytes, size)
@@ -267,8 +275,9 @@ class TiffEncoder final : public Encoder {
   SampleType kind_ = SampleType::Float;
   SampleType stored_ = SampleType::Float;
   int width_ = 0, height_ = 0, channels_ = 0, tile_ = 0, rows_per_strip_ = 32;
+  int filled_ = 0;  // rows of the strip being assembled in chunk_
   bool raw_ = false;  // uncompressed
-  std::vector<unsigned char> chunk_;  // a tile, or the rows of the strip being filled
+  std::vector<unsigned char> chunk_;  // a tile, or room for the strip being filled
   std::unique_ptr<StripCompressor> compressor_;  // deflated strips and tiles only
 };
 

@@ -7,6 +7,7 @@
 
 #include "io/codec.h"
 #include "io/tiff_predictor.h"
+#include "util/thread_name.h"
 
 namespace gdp::io {
 
@@ -27,6 +28,7 @@ void StripCompressor::work() {
   struct Free {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
   };
+  util::name_thread("gdp-deflate");
   const std::unique_ptr<libdeflate_compressor, Free> compressor(libdeflate_alloc_compressor(format_.level));
   std::vector<unsigned char> predicted;
   std::unique_lock lock(mutex_);
@@ -36,30 +38,29 @@ void StripCompressor::work() {
     Job job = std::move(jobs_.front());
     jobs_.pop_front();
     lock.unlock();
-    std::vector<unsigned char> out = spent_.take();
+    Zipped out{zipped_.take()};
     std::string failure;
     try {
       if (!compressor) throw CodecError("out of memory for a deflate compressor");
       const std::size_t row = static_cast<std::size_t>(format_.width) * format_.channels * format_.sample_bytes;
       unsigned char* data = job.rows.data();
       if (format_.floating) {
-        predicted.resize(job.rows.size());
-        for (std::size_t at = 0; at < job.rows.size(); at += row)
+        if (predicted.size() < job.size) predicted.resize(job.size);
+        for (std::size_t at = 0; at < job.size; at += row)
           float_difference(job.rows.data() + at, predicted.data() + at, format_.width, format_.channels,
                            format_.sample_bytes);
         data = predicted.data();
       } else {
-        for (std::size_t at = 0; at < job.rows.size(); at += row)
+        for (std::size_t at = 0; at < job.size; at += row)
           horizontal_difference(job.rows.data() + at, format_.width, format_.channels, format_.sample_bytes);
       }
-      out.resize(libdeflate_zlib_compress_bound(compressor.get(), job.rows.size()));
-      const std::size_t n = libdeflate_zlib_compress(compressor.get(), data, job.rows.size(), out.data(), out.size());
-      if (n == 0) throw CodecError("deflate failed");
-      out.resize(n);
+      const std::size_t bound = libdeflate_zlib_compress_bound(compressor.get(), job.size);
+      if (out.bytes.size() < bound) out.bytes.resize(bound);
+      out.size = libdeflate_zlib_compress(compressor.get(), data, job.size, out.bytes.data(), bound);
+      if (out.size == 0) throw CodecError("deflate failed");
     } catch (const std::exception& e) {
       failure = e.what();
     }
-    job.rows.clear();
     spent_.give(std::move(job.rows));
     lock.lock();
     if (!failure.empty() && error_.empty()) error_ = failure;
@@ -74,28 +75,27 @@ void StripCompressor::work() {
 
 void StripCompressor::sink_ready(std::unique_lock<std::mutex>& lock, const Sink& sink) {
   for (auto it = done_.find(next_); it != done_.end(); it = done_.find(next_)) {
-    std::vector<unsigned char> data = std::move(it->second);
+    Zipped data = std::move(it->second);
     done_.erase(it);
     if (!error_.empty()) throw CodecError("cannot write: " + error_);
     const int strip = next_++;
     lock.unlock();
-    sink(strip, data);  // libtiff, on the submitting thread, without the lock
-    data.clear();
-    spent_.give(std::move(data));
+    sink(strip, {data.bytes.data(), data.size});  // libtiff, on the submitting thread, without the lock
+    zipped_.give(std::move(data.bytes));
     lock.lock();
     --outstanding_;
   }
   if (!error_.empty()) throw CodecError("cannot write: " + error_);
 }
 
-void StripCompressor::submit(int strip, std::vector<unsigned char> rows, const Sink& sink) {
+void StripCompressor::submit(int strip, std::vector<unsigned char> rows, std::size_t size, const Sink& sink) {
   std::unique_lock lock(mutex_);
   for (;;) {
     sink_ready(lock, sink);
     if (outstanding_ < limit_) break;
     wait_for_next(lock);
   }
-  jobs_.push_back(Job{strip, std::move(rows)});
+  jobs_.push_back(Job{strip, std::move(rows), size});
   ++outstanding_;
   util::Bell* wake = bells_.call(idle_);
   lock.unlock();

@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -27,17 +28,20 @@ struct StripFormat {
 // strips (uncompressed rows, as they go into TIFFWriteEncodedStrip; or tiles, as into
 // TIFFWriteEncodedTile) are submitted in order (0, 1, 2, ...) from one thread; `sink` receives
 // each compressed one, in that order, on that same thread (it calls TIFFWriteRawStrip or
-// TIFFWriteRawTile). At most threads + 2 are held at a time.
+// TIFFWriteRawTile). At most threads + 2 are held at a time. Buffers keep their size between
+// uses (no clearing, so no zero-filling when they are sized again): a strip is `size` bytes of its
+// buffer, a compressed one the span the sink is given.
 class StripCompressor {
  public:
-  using Sink = std::function<void(int strip, const std::vector<unsigned char>& zlib_stream)>;
+  using Sink = std::function<void(int strip, std::span<const unsigned char> zlib_stream)>;
   StripCompressor(const StripFormat& format, int threads);
   ~StripCompressor();
   StripCompressor(const StripCompressor&) = delete;
   StripCompressor& operator=(const StripCompressor&) = delete;
 
-  void submit(int strip, std::vector<unsigned char> rows, const Sink& sink);  // strips 0, 1, 2, ...
-  // An empty buffer of an earlier strip (its capacity kept) to fill and submit.
+  // Strips 0, 1, 2, ...: bytes [0, size) of `rows`.
+  void submit(int strip, std::vector<unsigned char> rows, std::size_t size, const Sink& sink);
+  // The buffer of an earlier strip (as large as it was; empty at first) to fill and submit.
   std::vector<unsigned char> buffer() { return spent_.take(); }
   void finish(const Sink& sink);  // waits for every strip and sinks it; throws CodecError on a failure
 
@@ -45,6 +49,11 @@ class StripCompressor {
   struct Job {
     int strip;
     std::vector<unsigned char> rows;
+    std::size_t size;  // bytes of rows
+  };
+  struct Zipped {
+    std::vector<unsigned char> bytes;  // room for the bound; the stream is its first `size`
+    std::size_t size = 0;
   };
   void work();
   void sink_ready(std::unique_lock<std::mutex>& lock, const Sink& sink);  // in-order finished strips
@@ -58,8 +67,9 @@ class StripCompressor {
   util::Bells bells_;
   util::Bells::Line idle_, submitter_;
   std::deque<Job> jobs_;
-  std::map<int, std::vector<unsigned char>> done_;
-  util::RecyclePool<std::vector<unsigned char>> spent_;  // strips' buffers, allocated once
+  std::map<int, Zipped> done_;
+  util::RecyclePool<std::vector<unsigned char>> spent_;   // strips' buffers, allocated once
+  util::RecyclePool<std::vector<unsigned char>> zipped_;  // compressed strips' buffers, the same
   int next_ = 0;         // next strip to sink
   int outstanding_ = 0;  // submitted, not yet sunk
   int limit_ = 4;

@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "gdp/apps.h"
 #include "gdp/errors.h"
+#include "gdp/mpi_run.h"
 #include "gdp/strip_files.h"
 
 namespace gdp::cli {
@@ -41,6 +42,13 @@ class Stitch final : public Command {
     options_.composite_name = composite_;
     StripFilesReader composite(composite_), labels(labels_);
     check_stitch_inputs(composite, labels, options_);
+    // Both files decode (on their own threads) while the output is opened and the solver sets up,
+    // so that their first rows wait for no one. A rank of a distributed solve decodes only its
+    // columns (set_columns, later): it starts at its first read.
+    if (MpiRun::size() == 1) {
+      composite.read_ahead();
+      labels.read_ahead();
+    }
     options_.space.kind = parse_blend_space(space_);
     const SampleType stored = composite.info().sample_type;
     options_.space.srgb_encoded = stored == SampleType::UInt8 || stored == SampleType::UInt16;
