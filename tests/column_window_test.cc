@@ -118,7 +118,9 @@ TEST_F(ColumnWindow, ReadAheadThenRowsOrAWindowAreTheSame) {
       for (int c = 0; c < 3; ++c)
         for (int x = 0; x < 300; ++x) {
           ASSERT_EQ(row[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
-          if (x >= 70 && x < 130) ASSERT_EQ(cut[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
+          if (x >= 70 && x < 130) {
+            ASSERT_EQ(cut[c * 300 + x], whole.at(c, x, y)) << x << " " << y;
+          }
         }
     }
     EXPECT_EQ(cut[0], -1.0f) << "columns outside the window are left as they are";
