@@ -4,7 +4,6 @@
 #include "bands/solve_streamed.h"
 
 #include <algorithm>
-#include <chrono>
 #include <deque>
 #include <mutex>
 

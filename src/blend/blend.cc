@@ -1,6 +1,5 @@
 // gdp::blend: depth seams over the layers, then stitching of the composite they make, with alpha on the way out.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>

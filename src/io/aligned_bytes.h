@@ -1,21 +1,19 @@
 // Page-aligned byte buffers (posix_memalign, or a fresh huge-page mapping) for O_DIRECT transfers, and the alignment they need.
 #pragma once
 
-#include <sys/mman.h>
-
 #include <cstddef>
-#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <new>
+
+#include "util/big_pages.h"
 
 namespace gdp::io {
 
 // Offsets, lengths and addresses of O_DIRECT transfers are multiples of this: a page, itself a
 // multiple of every logical block size in use (512, 4096).
 inline constexpr std::size_t kDirectAlign = 4096;
-// A transparent huge page (x86-64, arm64 with 4 KB pages).
-inline constexpr std::size_t kHugePage = std::size_t{2} << 20;
+using util::kHugePage;
 
 inline std::size_t align_up(std::size_t n) { return (n + kDirectAlign - 1) / kDirectAlign * kDirectAlign; }
 inline std::size_t align_down(std::size_t n) { return n / kDirectAlign * kDirectAlign; }
@@ -30,7 +28,8 @@ class AlignedBytes {
   explicit AlignedBytes(std::size_t size, bool huge = false)
       : size_(huge ? (size + kHugePage - 1) / kHugePage * kHugePage : align_up(size)) {
     if (huge) {
-      map_huge();
+      const std::size_t n = size_ ? size_ : kHugePage;
+      data_ = {static_cast<unsigned char*>(util::map_huge(n)), Free{n}};
       return;
     }
     void* p = nullptr;
@@ -42,21 +41,9 @@ class AlignedBytes {
 
  private:
   struct Free {
-    std::size_t mapped;  // bytes of an mmap'ed block (0: posix_memalign'ed)
-    void operator()(unsigned char* p) const { mapped ? (void)::munmap(p, mapped) : std::free(p); }
+    std::size_t mapped;  // bytes of a util::map_huge block (0: posix_memalign'ed)
+    void operator()(unsigned char* p) const { mapped ? util::unmap_huge(p, mapped) : std::free(p); }
   };
-  // A fresh mapping with room to align inside, its ends trimmed off.
-  void map_huge() {
-    const std::size_t n = size_ ? size_ : kHugePage, room = n + kHugePage;
-    void* m = ::mmap(nullptr, room, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (m == MAP_FAILED) throw std::bad_alloc();
-    auto* base = static_cast<unsigned char*>(m);
-    const std::size_t lead = (kHugePage - reinterpret_cast<std::uintptr_t>(base) % kHugePage) % kHugePage;
-    if (lead) ::munmap(base, lead);
-    if (room - lead > n) ::munmap(base + lead + n, room - lead - n);
-    ::madvise(base + lead, n, MADV_HUGEPAGE);  // advice: refused, the pages are ordinary ones
-    data_ = {base + lead, Free{n}};
-  }
   std::size_t size_;
   std::unique_ptr<unsigned char, Free> data_{nullptr, Free{0}};
 };

@@ -20,6 +20,11 @@ inline constexpr std::size_t kBigBuffer = std::size_t{4} << 20;
 void* map_big(std::size_t bytes);
 // Gives back what map_big(bytes) returned (the same `bytes`).
 void unmap_big(void* p, std::size_t bytes) noexcept;
+// `bytes` (> 0) rounded up to whole huge pages of zeroed anonymous memory on a 2 MiB boundary,
+// advised as huge pages whatever the size (map_big's large buffers; O_DIRECT buffers, io/aligned_bytes.h).
+// std::bad_alloc when the system refuses. unmap_huge(p, bytes) gives it back.
+void* map_huge(std::size_t bytes);
+void unmap_huge(void* p, std::size_t bytes) noexcept;
 // Maps the pages of [p, p + bytes) in now, in one call (MADV_POPULATE_WRITE, Linux 5.14; where the
 // kernel declines they fault in as they are written). p need not be page-aligned.
 void populate(void* p, std::size_t bytes) noexcept;
