@@ -10,23 +10,18 @@ Linux only; the command's output passes through and its exit status is returned.
 """
 import json
 import os
-import subprocess
 import sys
 import time
 
+from proc_tasks import run_sampled, task_ids, task_stat
+
 
 def sample(pid, seen, tick):
-    try:
-        tids = os.listdir(f"/proc/{pid}/task")
-    except OSError:
-        return
-    for tid in tids:
+    for tid in task_ids(pid):
         try:
-            with open(f"/proc/{pid}/task/{tid}/stat") as f:
-                fields = f.read().rsplit(")", 1)[1].split()
+            seen[int(tid)] = task_stat(pid, tid)[2] / tick  # utime + stime
         except OSError:
             continue
-        seen[int(tid)] = (int(fields[11]) + int(fields[12])) / tick  # utime + stime
 
 
 def main(argv):
@@ -34,14 +29,8 @@ def main(argv):
         sys.stderr.write("usage: thread_cpu.py OUT.json -- COMMAND [ARGS...]\n")
         return 2
     tick = os.sysconf("SC_CLK_TCK")
-    start = time.time()
-    proc = subprocess.Popen(argv[3:])
     seen = {}
-    while True:
-        sample(proc.pid, seen, tick)
-        if os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT) is not None:
-            break
-        time.sleep(0.02)
+    proc, start = run_sampled(argv[3:], 0.02, lambda pid, t, n: sample(pid, seen, tick))
     sample(proc.pid, seen, tick)
     _, status, usage = os.wait4(proc.pid, 0)
     main_cpu = seen.pop(proc.pid, 0.0)

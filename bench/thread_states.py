@@ -15,22 +15,20 @@ so read the strips for who paces whom. Linux only; the command's exit status is 
 import argparse
 import collections
 import os
-import subprocess
 import sys
 import time
 
+from proc_tasks import run_sampled, task_ids, task_stat
+
 
 def read_task(pid, tid, with_status):
-    with open(f"/proc/{pid}/task/{tid}/stat") as f:
-        text = f.read()
-    name = text[text.index("(") + 1:text.rindex(")")]
-    fields = text.rsplit(")", 1)[1].split()
+    state, name, cpu = task_stat(pid, tid)
     switches = None
     if with_status:
         with open(f"/proc/{pid}/task/{tid}/status") as f:
             d = dict(line.split(":", 1) for line in f if ":" in line)
         switches = (int(d["voluntary_ctxt_switches"]), int(d["nonvoluntary_ctxt_switches"]))
-    return fields[0], name, int(fields[11]) + int(fields[12]), switches
+    return state, name, cpu, switches
 
 
 def main():
@@ -41,28 +39,21 @@ def main():
     a = ap.parse_args()
     cmd = a.cmd[1:] if a.cmd and a.cmd[0] == "--" else a.cmd
     tick = os.sysconf("SC_CLK_TCK")
-    start = time.time()
-    proc = subprocess.Popen(cmd)
-    samples, last, n = [], {}, 0
-    while True:
-        now, states = time.time() - start, {}
-        try:
-            tids = os.listdir(f"/proc/{proc.pid}/task")
-        except OSError:
-            tids = []
-        for tid in tids:
+    samples, last = [], {}
+
+    def visit(pid, now, n):
+        states = {}
+        for tid in task_ids(pid):
             try:
-                state, name, cpu, sw = read_task(proc.pid, tid, n % 10 == 0)
+                state, name, cpu, sw = read_task(pid, tid, n % 10 == 0)
             except (OSError, ValueError, KeyError):
                 continue
             states[int(tid)] = state
             old = last.get(int(tid), (name, 0, (0, 0), now))
             last[int(tid)] = (name, cpu, sw or old[2], old[3])
         samples.append((now, states))
-        n += 1
-        if os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT) is not None:
-            break
-        time.sleep(a.every / 1000)
+
+    proc, start = run_sampled(cmd, a.every / 1000, visit)
     rc = proc.wait()
     wall = time.time() - start
     dt = wall / a.bins
