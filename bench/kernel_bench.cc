@@ -1,7 +1,5 @@
 // The window kernels per sample on a whole row, a 72-column edge tile, a 4096-column interior lane and a
 // 72-column interior tile, as ratios; then the half-float conversions of the row stores.
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdint>
@@ -14,6 +12,7 @@
 #include "multigrid/plane_ops.h"
 #include "multigrid/window_ops.h"
 #include "topology/topology.h"
+#include "util/seconds.h"
 
 namespace gdp::multigrid {
 namespace {
@@ -65,20 +64,14 @@ void run(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
   }
 }
 
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 // CPU ns per fine sample of one kernel on one range, over about 2M samples.
 double measure(Fixture& f, Kernel kernel, int range, Scratch<float>& s) {
   const auto [i0, i1] = kRangeColumns[range];
   const long samples = long(kLast - kFirst) * (i1 - i0);
   const int reps = int(std::max(1L, 2000000 / samples));
-  const double t0 = cpu_seconds();
+  const double t0 = gdp::util::thread_cpu_seconds();
   for (int k = 0; k < reps; ++k) run(f, kernel, range, s);
-  return (cpu_seconds() - t0) * 1e9 / (double(reps) * double(samples));
+  return (gdp::util::thread_cpu_seconds() - t0) * 1e9 / (double(reps) * double(samples));
 }
 
 // FNV-1a over the bytes of a plane: the kernels' results bit for bit.
@@ -132,12 +125,12 @@ void print_half_conversions(Fixture& f, int trials) {
   std::vector<float> back(f.u.data.size());
   double best[2] = {1e30, 1e30};
   for (int t = 0; t < trials; ++t) {
-    double t0 = cpu_seconds();
+    double t0 = gdp::util::thread_cpu_seconds();
     for (int k = 0; k < 4; ++k) to_half(f.u.data.data(), half.data(), half.size());
-    best[0] = std::min(best[0], (cpu_seconds() - t0) * 1e9 / (4.0 * double(half.size())));
-    t0 = cpu_seconds();
+    best[0] = std::min(best[0], (gdp::util::thread_cpu_seconds() - t0) * 1e9 / (4.0 * double(half.size())));
+    t0 = gdp::util::thread_cpu_seconds();
     for (int k = 0; k < 4; ++k) from_half(half.data(), back.data(), back.size());
-    best[1] = std::min(best[1], (cpu_seconds() - t0) * 1e9 / (4.0 * double(back.size())));
+    best[1] = std::min(best[1], (gdp::util::thread_cpu_seconds() - t0) * 1e9 / (4.0 * double(back.size())));
   }
   std::printf("half floats: to_half %.3f, from_half %.3f CPU ns per sample\n", best[0], best[1]);
 }
@@ -175,12 +168,12 @@ int main(int argc, char** argv) {
     const auto kernel = static_cast<Kernel>(k);
     if (kernel_only && std::strcmp(kernel_only, kKernels[k]) != 0) continue;
     double best[kRanges] = {1e30, 1e30, 1e30, 1e30};
-    const double t0 = cpu_seconds();
+    const double t0 = gdp::util::thread_cpu_seconds();
     for (int r = 0; r < kRanges; ++r) run(f, kernel, r, s);  // warm the scratch and the coefficient cache
     for (int t = 0; t < trials; ++t)
       for (int r = 0; r < kRanges; ++r)
         if (only < 0 || r == only) best[r] = std::min(best[r], measure(f, kernel, r, s));
-    total += cpu_seconds() - t0;
+    total += gdp::util::thread_cpu_seconds() - t0;
     std::printf("%-9s %9.3f %9.3f %9.3f %9.3f %10.2fx %10.2fx %10.2fx %10.2fx\n", kKernels[k], best[0], best[1], best[2],
                 best[3], best[1] / best[0], best[2] / best[0], best[3] / best[0], best[1] / best[3]);
   }

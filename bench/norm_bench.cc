@@ -1,6 +1,4 @@
 // The residual norm's parts per sample on 8192-wide float rows: residual, row_dot(r, r), row_squares(r), row_dot(w, u).
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -9,17 +7,12 @@
 #include "multigrid/plane_ops.h"
 #include "multigrid/row_kernels.h"
 #include "topology/topology.h"
+#include "util/seconds.h"
 
 namespace gdp::multigrid {
 namespace {
 
 constexpr int kWidth = 8192, kRows = 64;
-
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
 
 }  // namespace
 }  // namespace gdp::multigrid
@@ -41,7 +34,7 @@ int main(int argc, char** argv) {
   double best[4] = {1e30, 1e30, 1e30, 1e30}, sink = 0.0;
   for (int t = 0; t < trials; ++t)
     for (int k = 0; k < 4; ++k) {
-      const double t0 = cpu_seconds();
+      const double t0 = gdp::util::thread_cpu_seconds();
       for (int rep = 0; rep < 4; ++rep)
         for (int j = 2; j < kRows - 2; ++j) {
           if (k == 0) residual(op, j, window(op, u, j), whole_row(op), b.row(j), r.row(j), s);
@@ -49,7 +42,7 @@ int main(int argc, char** argv) {
           if (k == 2) sink += row_squares(r.row(j), kWidth);
           if (k == 3) sink += row_dot(w.row(j), u.row(j), kWidth);
         }
-      best[k] = std::min(best[k], (cpu_seconds() - t0) * 1e9 / (4.0 * (kRows - 4) * kWidth));
+      best[k] = std::min(best[k], (gdp::util::thread_cpu_seconds() - t0) * 1e9 / (4.0 * (kRows - 4) * kWidth));
     }
   std::printf("CPU ns per sample, minimum of %d trials (checksum %g)\n", trials, sink);
   for (int k = 0; k < 4; ++k) std::printf("%-15s %7.3f\n", names[k], best[k]);

@@ -1,6 +1,4 @@
 // The relax recurrence's block loops (window_ops.cc) on one 8192 row against restructurings of them.
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +8,8 @@
 #endif
 #include <random>
 #include <vector>
+
+#include "util/seconds.h"
 
 // The loops are compiled for x86-64-v3 (AVX2 + FMA), like the kernels' clone that runs on this machine.
 #if defined(__x86_64__)
@@ -132,19 +132,13 @@ void responses(float* B, float* C, int n) {
   for (int r = 2; r < n; ++r) B[r] = -kK1 * B[r - 1] - kK2 * B[r - 2], C[r] = -kK1 * C[r - 1] - kK2 * C[r - 2];
 }
 
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 template <class F>
 double ns_per_sample(F f, int channels) {  // minimum of 30 trials of 100 rows
   double best = 1e30;
   for (int k = 0; k < 30; ++k) {
-    const double t0 = cpu_seconds();
+    const double t0 = gdp::util::thread_cpu_seconds();
     for (int r = 0; r < 100; ++r) f();
-    best = std::min(best, cpu_seconds() - t0);
+    best = std::min(best, gdp::util::thread_cpu_seconds() - t0);
   }
   return best * 1e9 / (100.0 * kN * channels);
 }

@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <exception>
 #include <random>
 #include <sstream>
@@ -26,6 +25,7 @@
 #include "multigrid/incore_vcycle.h"
 #include "multigrid/plane_ops.h"
 #include "topology/topology.h"
+#include "util/seconds.h"
 
 using namespace gdp;
 using namespace gdp::multigrid;
@@ -52,12 +52,6 @@ std::vector<Smoother> parse_configs(const std::string& text) {
     out.push_back(s);
   }
   return out;
-}
-
-double thread_cpu() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
 template <class T>
@@ -110,9 +104,9 @@ double cpu_per_cycle(const Operators<float>& ops, const Smoother& sm, const Plan
   double best = 1e300;
   for (int c = 0; c < cycles; ++c) {
     Plane<float> u(b.width, b.height), bf = convert<float>(b);
-    const double t0 = thread_cpu();
+    const double t0 = gdp::util::thread_cpu_seconds();
     vc.run(u, bf);
-    best = std::min(best, thread_cpu() - t0);
+    best = std::min(best, gdp::util::thread_cpu_seconds() - t0);
   }
   return best;
 }

@@ -51,7 +51,7 @@ void check_stages(const multigrid::Hierarchy& h, const BandLayout& top) {
 TEST(BandLayout, NarrowBandsMergeInPairsStageByStage) {
   const auto h = hierarchy(Domain::Planar, 1024, 256);
   // 8 bands of 128 columns (G = 1, 28 columns at least): levels 0-2 on 8 bands, then 4, 2, 1.
-  const BandLayout L = make_band_layout(h, false, 8, 3, 3, 6);
+  const BandLayout L = make_band_layout(h, 8, 3, 3, 6);
   check_stages(h, L);
   EXPECT_EQ(L.bands, 8);
   EXPECT_EQ(L.levels, 3);
@@ -61,14 +61,14 @@ TEST(BandLayout, NarrowBandsMergeInPairsStageByStage) {
   EXPECT_EQ(L.merged->merged->bands, 2);
   EXPECT_EQ(L.banded_levels(), 6);
   // Where the first level small enough to hold comes first, nothing merges.
-  const BandLayout few = make_band_layout(h, false, 8, 3, 3, 3);
+  const BandLayout few = make_band_layout(h, 8, 3, 3, 3);
   EXPECT_FALSE(few.merged);
   EXPECT_EQ(few.levels, 3);
 }
 
 TEST(BandLayout, OddCountsMergeTheLastThreeBandsTogether) {
   const auto h = hierarchy(Domain::Cylindrical, 1400, 256);
-  const BandLayout L = make_band_layout(h, true, 7, 3, 3, 6);
+  const BandLayout L = make_band_layout(h, 7, 3, 3, 6);
   check_stages(h, L);
   ASSERT_TRUE(L.merged);
   EXPECT_EQ(L.merged->bands, 3);
@@ -78,7 +78,7 @@ TEST(BandLayout, OddCountsMergeTheLastThreeBandsTogether) {
 
 TEST(BandLayout, SphericalBandsDoNotMerge) {
   const auto h = hierarchy(Domain::Spherical, 1024, 256);
-  const BandLayout L = make_band_layout(h, true, 8, 3, 3, 6);
+  const BandLayout L = make_band_layout(h, 8, 3, 3, 6);
   check_stages(h, L);
   EXPECT_FALSE(L.merged);
   EXPECT_EQ(L.levels, 3);  // then gathered
@@ -86,7 +86,7 @@ TEST(BandLayout, SphericalBandsDoNotMerge) {
 
 TEST(BandLayout, TooNarrowAtTheFinestLevelIsAUsageError) {
   const auto h = hierarchy(Domain::Planar, 200, 64);
-  EXPECT_THROW(make_band_layout(h, false, 8, 3, 3, 6), UsageError);
+  EXPECT_THROW(make_band_layout(h, 8, 3, 3, 6), UsageError);
 }
 
 }  // namespace

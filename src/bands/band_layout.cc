@@ -9,11 +9,10 @@
 
 namespace gdp::bands {
 
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post,
-                            int max_levels) {
+BandLayout make_band_layout(const multigrid::Hierarchy& h, int bands, int pre, int post, int max_levels) {
   // The geometry fits both passes (the larger sweep count); each stage gets pre and post below.
-  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .periodic = periodic, .bounds = {},
-               .merged = {}};
+  BandLayout L{.bands = bands, .sweeps = std::max(pre, post), .bounds = {}, .merged = {}};
+  L.periodic = h.levels[0].x.boundary == fem::AxisBoundary::Periodic;
   // Spherical rows next to the poles read rows mirrored left to right, columns far from their
   // own: a lead region running G groups ahead would change what they read. One group a phase.
   L.folded = h.levels[0].y.boundary == fem::AxisBoundary::Mirrored;
@@ -76,9 +75,9 @@ BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int ba
                                bands, bands * L.min_band_width(), L.min_band_width(), L.sweeps, n));
 }
 
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels) {
-  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .periodic = periodic,
-               .single = true, .bounds = {}, .merged = {}};
+BandLayout single_band_layout(const multigrid::Hierarchy& h, int pre, int post, int levels) {
+  BandLayout L{.sweeps = pre, .post_sweeps = post, .halo = 0, .levels = levels, .single = true, .bounds = {}, .merged = {}};
+  L.periodic = h.levels[0].x.boundary == fem::AxisBoundary::Periodic;
   for (int l = 0; l <= levels; ++l) L.bounds.push_back({0, h.levels[l].width()});
   return L;
 }

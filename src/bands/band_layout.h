@@ -18,7 +18,7 @@ struct BandLayout {
   int green_lane = 0;    // the interior is split into lanes of about this width (cache locality)
   int levels = 0;        // levels 0 .. levels - 1 are banded; level `levels` is merged or gathered
   int first_level = 0;   // the hierarchy level of this layout's level 0 (a merged stage's is deeper)
-  bool periodic = false;
+  bool periodic = false;  // the hierarchy's rows wrap around (cylindrical and spherical images)
   // Spherical (PQ) levels: rows 0, 1, h-2 and h-1 read rows mirrored across the fold, at columns
   // other bands own (band_fold.h); G = 1 and every level's lead region reaches into the neighbour's.
   bool folded = false;
@@ -44,13 +44,18 @@ struct BandLayout {
     P.sweeps = post_sweeps;
     return P;
   }
-  // 2(k - s): how far sweep s's interior lanes are shifted (section 6.2); s = 1 .. k.
-  int shift(int s) const { return 2 * (sweeps - s); }
   // G + k - 1: the (group, sweep) steps u = t - t0 + s - 1 of a phase; tiles move 2 columns a step.
   int steps() const { return phase_groups + sweeps - 1; }
   // How far a band's lead region reaches into the neighbour's band at a phase's first step:
   // 2(G + k - 2) where the halo's b is there (level 0 of the top stage; folded layouts), else 0.
   int lead_offset(int l) const { return (l == 0 && top()) || folded ? 2 * (steps() - 1) : 0; }
+  // Rows of a banded level's ring (the streamed V-cycle's check_slot says if too few): live rows
+  // span at most about 3 phases; the one-band plan's only the 2k + 5 rows of its pipeline, as
+  // streaming's (k: the larger of the two passes').
+  int ring_rows() const {
+    const int k = std::max(sweeps, post_sweeps);
+    return single ? 2 * (k + 2) + 8 : 4 * phase_groups + 2 * k + 16;
+  }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   int min_band_width() const { return 2 * edge() + 4; }
@@ -78,8 +83,8 @@ constexpr int kDefaultPhaseGroups = 16;
 // 0), merging where they would grow narrower than min_band_width() (not on spherical images: there
 // the level is gathered); `pre` and `post` sweeps. G is lowered while the finest bands are narrower
 // than 16 min_band_width(). Throws UsageError when even the finest level is too narrow for G = 1.
-BandLayout make_band_layout(const multigrid::Hierarchy& h, bool periodic, int bands, int pre, int post, int max_levels);
+BandLayout make_band_layout(const multigrid::Hierarchy& h, int bands, int pre, int post, int max_levels);
 // The one-band plan (`single`) over levels 0 .. levels - 1, level `levels` held whole.
-BandLayout single_band_layout(const multigrid::Hierarchy& h, bool periodic, int pre, int post, int levels);
+BandLayout single_band_layout(const multigrid::Hierarchy& h, int pre, int post, int levels);
 
 }  // namespace gdp::bands

@@ -65,7 +65,7 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
         if (t - 2 * s < 0 || t - 2 * s >= height) continue;
         // Inner lane boundaries move with the traversal, 2(k - s) columns (section 6.2).
         const auto [lo, hi] = phase_regions(L, l, band, p, t - t0 + s - 1)[kMid];
-        const int d = forward ? L.shift(s) : -L.shift(s);
+        const int d = forward ? 2 * (k - s) : -2 * (k - s);
         tile(t, s, {q == 0 ? lo : bound(q) + d, q == lanes - 1 ? hi : bound(q + 1) + d});
       }
     }
@@ -76,21 +76,17 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
 
 StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {
   const int G = L.phase_groups, k = L.sweeps, t0 = p * G, H = L.halo, ext = 2 * (L.steps() - 1);
-  const int A = L.begin(l, band), B = L.end(l, band);
+  // The edge E between the two bands, and the way (d = 1: right, -1: left) from it into the sender's band.
+  const int E = left ? L.begin(l, band) : L.end(l, band), d = left == outgoing ? 1 : -1;
   StripShape s;
-  // u: every row this band relaxed since its last strip that way (phases p - 1 and p) and the
+  // u: every row the sender relaxed since its last strip that way (phases p - 1 and p) and the
   // rows the follower reads around them; the columns it may have written last: its own H
   // columns by the edge and `ext` of the neighbour's (written as follower in phase p - 1).
   s.u_rows[0] = std::max(0, t0 - G - 2 * k - 2), s.u_rows[1] = std::min(t0 + G - 1, height - 1);
+  s.u_cols[0] = std::min(E - d * ext, E + d * H), s.u_cols[1] = std::max(E - d * ext, E + d * H);
   // b (w, d): the rows that arrived since the last strip that way, H columns of the sender's.
   s.b_rows[0] = std::max(0, t0 - G), s.b_rows[1] = std::min(t0 + G - 1, height - 1);
-  if (left) {
-    s.u_cols[0] = outgoing ? A - ext : A - H, s.u_cols[1] = outgoing ? A + H : A + ext;
-    s.b_cols[0] = outgoing ? A : A - H, s.b_cols[1] = outgoing ? A + H : A;
-  } else {
-    s.u_cols[0] = outgoing ? B - H : B - ext, s.u_cols[1] = outgoing ? B + ext : B + H;
-    s.b_cols[0] = outgoing ? B - H : B, s.b_cols[1] = outgoing ? B : B + H;
-  }
+  s.b_cols[0] = std::min(E, E + d * H), s.b_cols[1] = std::max(E, E + d * H);
   return s;
 }
 

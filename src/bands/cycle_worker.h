@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -197,26 +196,20 @@ class StreamedCheckpoint {
     stores.keep_dir = opt.checkpoint_dir;
   }
   // Resuming: the bands of a plan go back to the newest save they all made (a kill may have come
-  // between two bands' saves; none is two saves ahead, StreamedVCycle::saved). Under mpirun
-  // (`net`: this rank's first band) the ranks' newest common save is agreed on through band 0.
-  void agree(Transport* net) {
+  // between two bands' saves; none is two saves ahead, StreamedVCycle::saved), agreed on through
+  // `net`, this process's first band (under mpirun, ranks are every local_-th worker of it).
+  void agree(Transport& net) {
     if (!cp_->resuming()) return;
-    const auto intersect = [](const std::vector<long long>& a, const std::vector<long long>& b) {
-      std::vector<long long> out;  // both hold 0
-      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-      return out;
-    };
-    constexpr int kGenerations = 2001;  // below the V-cycle's tags, beside solve's 2000
     for (int g = 0; g < groups_; ++g) {
-      std::vector<long long> common = cp_->generations(lane(0, g)), theirs;
-      for (int i = 1; i < local_; ++i) common = intersect(common, cp_->generations(lane(i, g)));
-      ByteWriter mine;  // every rank's (ranks are every local_-th worker of `net`)
-      mine.io(common);
-      for (Bytes& part : net ? all_gather(*net, kGenerations, std::move(mine.bytes), local_) : std::vector<Bytes>{}) {
-        ByteReader(std::move(part)).io(theirs);
-        common = intersect(common, theirs);
-      }
-      for (int i = 0; i < local_; ++i) cp_->choose(lane(i, g), common.back());
+      ByteWriter mine;  // the saves of each of this process's lanes, then every lane's
+      for (int i = 0; i < local_; ++i) mine.io(cp_->generations(lane(i, g)));
+      std::vector<std::vector<long long>> all;
+      for (Bytes& part : all_gather(net, kGenerations, std::move(mine.bytes), local_))
+        for (ByteReader in(std::move(part)); !in.at_end();) in.io(all.emplace_back());
+      long long common = 0;  // every lane has 0 (a fresh start)
+      for (long long at : all[0])
+        if (std::ranges::all_of(all, [at](const auto& saves) { return std::ranges::binary_search(saves, at); })) common = at;
+      for (int i = 0; i < local_; ++i) cp_->choose(lane(i, g), common);
     }
   }
   // Row stores of local band i's group g are named with this prefix.
@@ -229,8 +222,8 @@ class StreamedCheckpoint {
     // times the rows its levels' rings hold (twice level 0's), not of the band.
     const BandLayout& plan = worker.vcycle.layout();
     const double row_bytes = 2.0 * worker.n * width * sizeof(T);
-    const double rows_held = plan.single ? static_cast<double>(worker.vcycle.window_bytes()) / row_bytes
-                                         : 2.0 * (4 * plan.phase_groups + 2 * std::max(plan.sweeps, plan.post_sweeps) + 16);
+    const double rows_held = plan.single ? static_cast<double>(worker.vcycle.bytes().window) / row_bytes
+                                         : 2.0 * plan.ring_rows();
     const int rows = static_cast<int>(std::min(1e9, 4.0 * rows_held)), lane = this->lane(i, g);
     worker.unit_rows = std::max(1, cp_->unit_rows(std::max(16, rows)));
     worker.unit_done = [this, &worker, lane] {

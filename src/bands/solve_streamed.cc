@@ -28,10 +28,6 @@ using multigrid::InputTotals;
 
 namespace {
 
-using Clock = util::SteadyClock;
-using util::seconds_since;
-
-constexpr int kTotals = 2000;  // tag of the input sums' exchange (streamed_vcycle.cc uses < 2000)
 // Columns of the input a rank reads beyond its bands' rows: the right-hand side of a column
 // reads the guidance of the columns within two of it.
 constexpr int kInputMargin = 4;
@@ -114,7 +110,6 @@ struct Team {
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
   int first = 0, local = 1, groups = 1;
-  Transport& endpoint(int group, int band) { return hubs[group]->endpoint(band); }
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
@@ -127,12 +122,11 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   try {
     problem = std::make_unique<schedule::Problem<T>>(source, opt, summary);
     const multigrid::Operators<T>& ops = problem->ops;
-    const bool periodic = problem->hierarchy.levels[0].x.boundary == fem::AxisBoundary::Periodic;
     incore = opt.schedule == Schedule::InCore || ops.count() == 1;
     const int whole_from = incore ? 0 : schedule::first_whole_level(ops, channels, opt.incore_bytes);
     const int pre = opt.sweeps, post = opt.post_sweeps, total_bands = per_process * MpiRun::size();
-    layout = total_bands == 1 || incore ? single_band_layout(problem->hierarchy, periodic, pre, post, whole_from)
-                                        : make_band_layout(problem->hierarchy, periodic, total_bands, pre, post, whole_from);
+    layout = total_bands == 1 || incore ? single_band_layout(problem->hierarchy, pre, post, whole_from)
+                                        : make_band_layout(problem->hierarchy, total_bands, pre, post, whole_from);
   } catch (const Error& e) {
     if (!distributed) throw;
     setup_error = e.what();
@@ -142,7 +136,7 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
                                        opt.post_sweeps, opt.vcycles, opt.max_vcycles, static_cast<long long>(opt.tolerance * 1e12),
                                        static_cast<long long>(sizeof(T)), problem ? problem->ops.count() : -1});
   distributed = distributed && !incore;  // (one level: every rank solves it whole)
-  settings = cycle_settings(opt, problem->ops.singular, channels, source.has_weights());
+  settings = cycle_settings(opt, problem->ops.singular, source.has_weights());
   local = distributed ? per_process : layout.bands;
   if (distributed) {  // this rank's bands, a contiguous share: it writes their own columns, reads their rows'
     hubs.push_back(std::make_unique<MpiHub>(local));
@@ -159,7 +153,7 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
                                                       settings.stores);
   for (int g = 0; g < groups && !distributed; ++g) hubs.push_back(std::make_unique<ThreadHub>(layout.bands));
   for (int i = 0; i < local; ++i) logs.emplace_back(channels, first + i == 0 && static_cast<bool>(opt.log));
-  if (checkpoint) checkpoint->agree(distributed ? &hubs[0]->own() : nullptr);
+  if (checkpoint) checkpoint->agree(hubs[0]->own());
 }
 
 // The input units (one per local band where the source splits, else one for all) and their readers:
@@ -224,18 +218,15 @@ class Results {
       waited = true;
       return go;
     });
-    const std::vector<float>* row = nullptr;
+    std::vector<float> row;  // every worker has put it: none comes back to it
     {
       const std::lock_guard lock(mutex_);
-      row = &rows_.front();  // stays where it is while rows are added
-    }
-    out.write_row(j, *row);
-    {
-      const std::lock_guard lock(mutex_);
-      spare_.give(std::move(rows_.front()));
+      row = std::move(rows_.front());
       rows_.pop_front();
       ++first_;
     }
+    out.write_row(j, row);
+    spare_.give(std::move(row));
     marks_.set(written_, j + 1);
   }
 
@@ -265,7 +256,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   const multigrid::Operators<T>& ops = team.problem->ops;
   const int channels = source.channels(), w = source.width(), h = source.height();
   const BandLayout& layout = team.layout;
-  const auto t_start = Clock::now();
+  const auto t_start = util::SteadyClock::now();
   summary.schedule = team.incore ? "in-core" : layout.single ? "streaming" : "bands";
   summary.streamed_levels = layout.banded_levels();
   CycleSettings& settings = team.settings;
@@ -284,8 +275,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   // Worker k (local band i): its input cut from its unit's reader straight into the V-cycle's ring
   // (in-core: its planes), the input's sums once known, its own columns of the result rows.
   const auto wire = [&](auto& wk, int i, int k) {
-    const int l = i * static_cast<int>(units.size()) / team.local;  // its unit, and its reader there
-    const int r = k - l * team.local / static_cast<int>(units.size()) * team.groups;
+    const int l = units.size() == 1 ? 0 : i, r = units.size() == 1 ? k : k - i * team.groups;  // its unit, its reader there
     const int c0 = wk.c0, n = wk.n, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
     wk.rows.input = [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
       const auto in = input.row(l, r, j);
@@ -319,7 +309,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);
       auto& wk = *workers.emplace_back(
-          std::make_unique<CycleWorker<T>>(ops, layout, team.endpoint(g, team.first + i), opt, settings, c0, n, team.logs[i]));
+          std::make_unique<CycleWorker<T>>(ops, layout, team.hubs[g]->endpoint(team.first + i), opt, settings, c0, n, team.logs[i]));
       if (team.checkpoint) team.checkpoint->attach(wk, i, g, w);
       wire(wk, i, k);
     }
@@ -330,10 +320,10 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       1 + count,
       [&](int k) {
         if (k > 0) return team.incore ? incore[k - 1]->run() : workers[k - 1]->run();
-        const auto t = Clock::now();
+        const auto t = util::SteadyClock::now();
         totals = exchange_totals(input.totals(), team.hubs[0]->own(), team.local);
         marks.set(summed, 1);
-        seconds_input = seconds_since(t);
+        seconds_input = util::seconds_since(t);
         if (team.incore) shared.report(opt.progress);
         for (int j = 0; j < h; ++j) {
           results.write(j, h, out);
@@ -348,12 +338,13 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   summary.cpu_rhs_decode = input.decode_cpu();
   summary.cpu_rhs_columns = input.column_cpu();
   for (const auto& wk : workers) {
-    summary.scratch_bytes += wk->vcycle.store_bytes() + wk->carry_bytes();
-    summary.window_bytes += wk->vcycle.window_bytes();
+    const auto held = wk->vcycle.bytes();
+    summary.scratch_bytes += held.scratch + wk->carry_bytes();
+    summary.window_bytes += held.window;
   }
   for (const auto& wk : incore) summary.window_bytes += wk->window_bytes();
   summary.seconds_rhs = seconds_input;
-  summary.seconds_solve = seconds_since(t_start) - seconds_input;
+  summary.seconds_solve = util::seconds_since(t_start) - seconds_input;
   team.logs[0].finish(summary, opt);
 }
 

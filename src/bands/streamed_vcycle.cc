@@ -2,7 +2,6 @@
 #include "bands/streamed_vcycle.h"
 
 #include <algorithm>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -14,8 +13,6 @@ namespace gdp::bands {
 
 using multigrid::Columns;
 using multigrid::Window;
-using multigrid::LevelOperator;
-using multigrid::Plane;
 
 namespace {
 template <class... F>
@@ -44,7 +41,7 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
     tail_ = std::make_unique<multigrid::InCoreVCycle<T>>(ops, layout.sweeps, set_.coarse_tolerance, base_ + layout.levels);
     tail_->set_sweeps(layout.sweeps, layout.post_sweeps);
     tail_->set_half(&set_.stores.half);  // its levels rounded as if they streamed
-    tail_u_ = tail_b_ = Plane<T>(levels_.back()->width, levels_.back()->height);
+    tail_u_ = tail_b_ = multigrid::Plane<T>(levels_.back()->width, levels_.back()->height);
   }
   r_.resize(layout.row_length(0, band_) + 8);
   probes_.resize(set_.channels);
@@ -59,13 +56,10 @@ StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const Band
 template <class T>
 std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level(int l) {
   const multigrid::LevelGeometry* geo = ops_.hierarchy->levels.data() + base_;
-  const LevelOperator<T>& op = ops_.levels[base_ + l];
-  // A ring of u and b (every channel), w and d (as the settings have them). Live rows span at most
-  // about 3 phases (check_slot says if not); the one-band plan's only the 2k + 5 rows of its
-  // pipeline, as streaming's (k: the larger of the two passes').
-  const int k = std::max(layout_.sweeps, layout_.post_sweeps);
+  const multigrid::LevelOperator<T>& op = ops_.levels[base_ + l];
+  // A ring of u and b (every channel), w and d (as the settings have them).
   const bool whole = l == layout_.levels && !layout_.merged;
-  const int ring = whole ? op.height : l == layout_.levels ? 8 : layout_.single ? 2 * (k + 2) + 8 : 4 * layout_.phase_groups + 2 * k + 16;
+  const int ring = whole ? op.height : l == layout_.levels ? 8 : layout_.ring_rows();
   auto L = std::make_unique<Level>();
   L->op = &op, L->width = op.width, L->height = op.height, L->ring = ring;
   L->A = layout_.begin(l, band_), L->B = layout_.end(l, band_);
@@ -80,9 +74,10 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
         throw std::logic_error("bands need every row's neighbours within two rows");
   if (layout_.folded) {
     if (op.height < 4) throw std::logic_error("a folded band level needs at least 4 rows");
-    for (int side = 0; side < 2; ++side) {
-      L->fold[side].reads = fold_reads(layout_, l, op.width, kSides[side], band_);
-      L->fold[side].sums = fold_sums(layout_, l + 1, geo[l + 1].width(), kSides[side], band_);
+    for (int side = 0; side < 2; ++side) {  // the top fold (rows 0, 1), then the bottom one (rows h - 2, h - 1)
+      const fem::Mirror m = side == 0 ? fem::Mirror::Top : fem::Mirror::Bottom;
+      L->fold[side].reads = fold_reads(layout_, l, op.width, m, band_);
+      L->fold[side].sums = fold_sums(layout_, l + 1, geo[l + 1].width(), m, band_);
       L->fold[side].rows.assign(2 * static_cast<std::size_t>(set_.channels) * op.width, T(0));
     }
   }
@@ -244,7 +239,6 @@ void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
 template <class T>
 void StreamedVCycle<T>::restrict_row(int l, int j) {
   Level& L = *levels_[l];
-  const LevelOperator<T>& op = *L.op;
   const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
   const fem::ProlongationRow& py = g.py.rows[j];
   Level& C = *levels_[l + 1];
@@ -252,7 +246,6 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
     check_slot(l + 1, C.zeroed);
     for (int k = 0; k < parts(); ++k) std::fill_n(part_row(l + 1, k, C.zeroed), C.len, T(0));
   }
-  const int ca = C.A, cb = C.B, corigin = C.origin;
   const int own = L.A - L.origin;
   // Across the fold (the first and last rows of a spherical level) the second coarse row is read
   // mirrored: its contributions land in other bands' columns, so they collect in whole rows
@@ -265,18 +258,18 @@ void StreamedVCycle<T>::restrict_row(int l, int j) {
   for (int k = 0; k < parts(); ++k) {
     const T* fine = part_row(l, k, j);
     if (k < set_.channels) {
-      multigrid::residual(op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(), L.scratch,
-                          ring_row(l, D, j));
+      multigrid::residual(*L.op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(),
+                          L.scratch, ring_row(l, D, j));
       if (set_.level_norms) L.rr[k] += multigrid::row_squares(r_.data() + own, L.B - L.A);
       fine = r_.data();
     }
     T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);
-    multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, ca, cb), part_row(l + 1, k, py.index[0]), coarse1,
-                             {corigin, across ? 0 : corigin}, L.scratch);
+    multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, C.A, C.B), part_row(l + 1, k, py.index[0]), coarse1,
+                             {C.origin, across ? 0 : C.origin}, L.scratch);
     if (k < set_.channels && set_.weights)
       L.dots[k] += multigrid::row_dot(ring_row(l, W, j) + own, ring_row(l, U, j, k) + own, L.B - L.A);
   }
-  if (across) add_fold_sums(l, side_of(py.mirror), fold, py.index[1]);
+  if (across) add_fold_sums(l, py.mirror == fem::Mirror::Top ? 0 : 1, fold, py.index[1]);
   for (int q : {U, B, W, D})
     if (L.store[q] && (q == U || !L.inputs_stored)) L.store[q]->append(slot_of(l, q, j));
   // The coarse rows this row completes enter the coarser level (u zero: a correction), or the
@@ -359,30 +352,21 @@ void StreamedVCycle<T>::held(F&& f) {
       f(std::span<T>(*ring));
     for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from}) f(*v);
     f(L->inputs_stored);
-    f(L->rr);
-    f(L->dots);
+    for (std::vector<double>* sums : {&L->rr, &L->dots}) f(*sums);
     for (auto& store : L->store) f(store.get());
   }
   for (std::vector<T>* v : {&initial_, &initial_fold_[0], &initial_fold_[1]}) f(std::span<T>(*v));
-  for (multigrid::CycleProbe& p : probes_) {
-    f(p.dots);
-    f(p.level_norms);
-  }
-  f(initial_rr_);
-  f(final_rr_);
+  for (multigrid::CycleProbe& p : probes_)
+    for (std::vector<double>* sums : {&p.dots, &p.level_norms}) f(*sums);
+  for (std::vector<double>* sums : {&initial_rr_, &final_rr_}) f(*sums);
 }
 
 template <class T>
-std::size_t StreamedVCycle<T>::store_bytes() {
-  std::size_t n = merged_ ? merged_->store_bytes() : 0;
-  held(Overloaded{[&](schedule::RowStore<T>* store) { n += store ? store->bytes() : 0; }, [](auto&&) {}});
-  return n;
-}
-
-template <class T>
-std::size_t StreamedVCycle<T>::window_bytes() {
-  std::size_t n = r_.size() * sizeof(T) + (merged_ ? merged_->window_bytes() : 0);
-  held(Overloaded{[&](std::span<T> v) { n += v.size_bytes(); }, [](auto&&) {}});
+typename StreamedVCycle<T>::Held StreamedVCycle<T>::bytes() {
+  Held n = merged_ ? merged_->bytes() : Held{};
+  n.window += r_.size() * sizeof(T);
+  held(Overloaded{[&](std::span<T> v) { n.window += v.size_bytes(); },
+                  [&](schedule::RowStore<T>* store) { n.scratch += store ? store->bytes() : 0; }, [](auto&&) {}});
   return n;
 }
 

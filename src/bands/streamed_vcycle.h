@@ -20,19 +20,16 @@
 namespace gdp::bands {
 
 // Message tags: level l's strips use tag l, its rows across the fold kFoldRows + l and its
-// restriction's sums across the fold kFoldSums + l; the collectives use the others.
+// restriction's sums across the fold kFoldSums + l; the collectives use the others (the solve's
+// own: the input's sums and the checkpoint's agreement).
 constexpr int kGather = 1000, kSums = 1001, kFinal = 1002, kFoldRows = 1100, kFoldSums = 1200, kHandOff = 1300,
-              kHandBack = 1301, kSaved = 1400;
-// Every stage's tags (and solve_streamed' 2000) are below this; a merged stage's are moved past it.
+              kHandBack = 1301, kSaved = 1400, kTotals = 2000, kGenerations = 2001;
+// Every stage's tags are below this; a merged stage's are moved past it.
 constexpr int kStageTags = 4000;
-
-// Side 0: the top fold (rows 0, 1), side 1: the bottom one (rows h - 2, h - 1).
-constexpr fem::Mirror kSides[2] = {fem::Mirror::Top, fem::Mirror::Bottom};
-inline int side_of(fem::Mirror m) { return m == fem::Mirror::Top ? 0 : 1; }
 
 // What a streamed V-cycle is told about its problem and its scratch (sweeps: the column plan's).
 struct CycleSettings {
-  int channels = 1;
+  int channels = 1;              // the worker's (CycleWorker sets them)
   double coarse_tolerance = 1e-10;
   bool weights = false;          // track <w_l, u_l> (multigrid::CycleProbe), for alpha == 0
   bool more_cycles = false;      // keep the finest weights for later cycles (b is always kept)
@@ -44,10 +41,10 @@ struct CycleSettings {
 
 // The settings a solve with `opt` gives its cycles: weights tracked for singular problems, scratch
 // in the process's budget, then in opt.temp_dir, half floats as the in-core V-cycle rounds them.
-inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, int channels, bool diagonal) {
-  CycleSettings s{.channels = channels, .coarse_tolerance = opt.coarse_tolerance, .weights = singular,
-                  .more_cycles = opt.cycle_cap() > 1, .diagonal = diagonal,
-                  .level_norms = static_cast<bool>(opt.log), .residuals = opt.measures_residuals(), .stores = {}};
+inline CycleSettings cycle_settings(const SolverOptions& opt, bool singular, bool diagonal) {
+  CycleSettings s{.coarse_tolerance = opt.coarse_tolerance, .weights = singular, .more_cycles = opt.cycle_cap() > 1,
+                  .diagonal = diagonal, .level_norms = static_cast<bool>(opt.log), .residuals = opt.measures_residuals(),
+                  .stores = {}};
   s.stores.dir = opt.temp_dir;
   s.stores.half = multigrid::half_policy(opt, diagonal);
   return s;
@@ -82,8 +79,9 @@ class StreamedVCycle {
   const multigrid::CycleProbe& probe(int c) const { return probes_[c]; }
   double initial_norm(int c) const { return std::sqrt(initial_rr_[c]); }
   double final_norm(int c) const { return std::sqrt(final_rr_[c]); }
-  std::size_t store_bytes();
-  std::size_t window_bytes();
+  // Bytes held (a merged stage's included): in its rings and buffers, and in its row stores so far.
+  struct Held { std::size_t window = 0, scratch = 0; };
+  Held bytes();
   const BandLayout& layout() const { return layout_; }
 
   // Checkpoints (stores kept in files: StorePolicy::keep_dir), between two pushes or between

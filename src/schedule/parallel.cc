@@ -3,21 +3,12 @@
 
 #include <algorithm>
 #include <array>
-#include <ctime>
 #include <mutex>
 #include <vector>
 
+#include "util/seconds.h"
+
 namespace gdp::schedule {
-namespace {
-
-// CPU seconds (user + system) of the calling thread so far.
-double thread_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
-}
-
-}  // namespace
 
 int Marks::add(int count) {
   const std::lock_guard lock(mutex_);
@@ -96,7 +87,7 @@ void RowRing::need(int r, int from, int to) {
     if (next < 0) return;
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
-    const double t = thread_cpu_seconds();
+    const double t = util::thread_cpu_seconds();
     for (int y = next; y < rows_ && y <= to + kAhead; ++y) {
       bool free = y <= to;
       if (!free)
@@ -108,7 +99,7 @@ void RowRing::need(int r, int from, int to) {
       make_(y);
       marks_.set(made_, y + 1);
     }
-    cpu += thread_cpu_seconds() - t;
+    cpu += util::thread_cpu_seconds() - t;
     marks_.set(busy_, 0);
   }
 }

@@ -13,11 +13,6 @@
 #include "util/exact_io.h"
 
 namespace gdp::schedule {
-namespace {
-
-constexpr std::size_t kDirectMin = std::size_t{1} << 20;  // a smaller file's blocks are not worth a thread
-
-}  // namespace
 
 // Where a store of `total` bytes goes (docs/how-streaming-works.md, "Scratch in O_DIRECT files"): a
 // checkpoint's named file, O_DIRECT however small (the resume tests cover it); else an O_DIRECT file
@@ -54,6 +49,7 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
     kind = io::StreamKind::Memory;
   } else if (fd < 0) {
     budget_->count_spill();
+    constexpr std::size_t kDirectMin = std::size_t{1} << 20;  // a smaller file's blocks are not worth a thread
     fd = io::open_unlinked(dir, name);
     if (direct && total >= kDirectMin && io::make_direct(fd)) kind = io::StreamKind::Direct;
   }
