@@ -201,7 +201,7 @@ class StreamedCheckpoint {
   void agree(Transport& net) {
     if (!cp_->resuming()) return;
     for (int g = 0; g < groups_; ++g) {
-      ByteWriter mine;  // the saves of each of this process's lanes, then every lane's
+      ByteWriter mine;  // the saves on disk of this process's lanes (`all`: every rank's lanes')
       for (int i = 0; i < local_; ++i) mine.io(cp_->generations(lane(i, g)));
       std::vector<std::vector<long long>> all;
       for (Bytes& part : all_gather(net, kGenerations, std::move(mine.bytes), local_))
