@@ -10,7 +10,9 @@
 # BUILD: a build folder (tools/gdp/gdp), or a folder holding copies of gdp and libgdp.so* (run
 # with that folder as LD_LIBRARY_PATH; bench/make_composite then comes from ./build).
 # E2E_INPUTS=DIR keeps the inputs in DIR (made there once, reused by later runs);
-# E2E_STITCHES="2" runs only the `--threads 2` stitch (default "1 2 bands2").
+# E2E_STITCHES="2" runs only the `--threads 2` stitch (default "1 2 bands2"); E2E_PAUSE=S sleeps S
+# seconds before each timed run (this VM takes freed pages back after ~3 s, which favours a run
+# that follows another closely: docs/how-streaming-works.md).
 set -euo pipefail
 size=${1:-2048}
 build=${2:-build}
@@ -29,7 +31,10 @@ mkdir -p "$inputs"
 if [[ ! -f $inputs/composite.$ext || ! -f $inputs/labels.$ext ]]; then
   "$make_composite" "$photo" "$size" "$size" "$inputs/composite.$ext" "$inputs/labels.$ext"
 fi
+pause=${E2E_PAUSE:-0}
+sleep "$pause"
 "$gdp" convert "$inputs/composite.$ext" -o "$work/copy.tif" --stats "$work/convert.json" -q
+sleep "$pause"
 "$gdp" convert "$inputs/labels.$ext" -o "$work/copy_labels.tif" --stats "$work/convert_labels.json" -q
 stitches=${E2E_STITCHES:-1 2 bands2}
 for t in $stitches; do
@@ -37,6 +42,7 @@ for t in $stitches; do
     bands2) flags=(--bands 2) ;;
     *) flags=(--threads "$t") ;;
   esac
+  sleep "$pause"
   "$gdp" stitch -c "$inputs/composite.$ext" -l "$inputs/labels.$ext" -o "$work/out.tif" "${flags[@]}" \
     --stats "$work/stitch$t.json" -q
 done

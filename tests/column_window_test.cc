@@ -2,8 +2,11 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "gdp/errors.h"
@@ -124,6 +127,36 @@ TEST_F(ColumnWindow, ReadAheadThenRowsOrAWindowAreTheSame) {
         }
     }
     EXPECT_EQ(cut[0], -1.0f) << "columns outside the window are left as they are";
+  }
+}
+
+// After read_ahead(bytes) the decoding thread runs that far ahead of a caller who reads nothing
+// (as many bands as fit, at least two queued, one more decoded and waiting for room), then stops;
+// the rows are the same whatever the depth. A 64-wide 8-bit file has bands of 4,096 rows (256 KiB).
+TEST_F(ColumnWindow, ReadAheadDecodesAsFarAheadAsItsBytes) {
+  const fs::path p = dir_ / "tall.png";
+  const int bands = 10, band = 4096, h = bands * band;
+  oiio_write(p, pattern(64, h, 1), OIIO::TypeDesc::UINT8);
+  const Image whole = read_image(p).image;
+  const std::pair<std::size_t, int> cases[] = {
+      {0, 3 * band},                           // two bands queued (as without read_ahead), one waiting
+      {std::size_t{1} << 20, 5 * band},        // four queued, one waiting
+      {ImageFileReader::kAheadBytes, h}};      // 32 bands: the whole image
+  for (const auto& [bytes, rows] : cases) {
+    SCOPED_TRACE(::testing::Message() << bytes << " bytes ahead");
+    ImageFileReader reader(p);
+    EXPECT_EQ(reader.decoded_rows(), 0);
+    reader.read_ahead(bytes);
+    for (int i = 0; i < 6000 && reader.decoded_rows() < rows; ++i)  // waits up to a minute, then fails
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // had it gone further, it would be now
+    EXPECT_EQ(reader.decoded_rows(), rows);
+    std::vector<float> row(64);
+    for (int y = 0; y < h; ++y) {
+      reader.read_row(y, row);
+      for (int x = 0; x < 64; ++x) ASSERT_EQ(row[x], whole.at(0, x, y)) << x << " " << y;
+    }
+    EXPECT_EQ(reader.decoded_rows(), h);
   }
 }
 

@@ -1,6 +1,7 @@
 // Image files read and written row by row, with decoding and encoding on background threads.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <memory>
 #include <span>
@@ -14,7 +15,7 @@ namespace gdp {
 // image: memory is O(width * band rows) whatever the height (except where the codec itself
 // holds the whole image: interlaced PNG, progressive JPEG). 8- and 16-bit samples stay so in
 // the bands and become floats in read_row(). With prefetch, a background thread decodes the
-// next bands while the caller uses the current one (at most three bands exist). Errors (also
+// next bands while the caller uses the current one (at most four bands exist; more after read_ahead()). Errors (also
 // the decoder thread's, rethrown by read_row()) are InputError naming the file; rows out of
 // order throw std::logic_error. rewind() reopens the file unless one band holds the image.
 //
@@ -46,8 +47,15 @@ class ImageFileReader final : public RowReader {
   void rewind() override;
   // With prefetch: starts decoding now rather than at the first read_row(), so that the first
   // bands are ready when the caller, still setting up, reads (a set_columns() after this decodes
-  // afresh from the top: the bands decoded until then are wasted).
-  void read_ahead();
+  // afresh from the top: the bands decoded until then are wasted), and from then on decodes up to
+  // `bytes` of bands ahead of the caller (at least two bands, at most 64; else two): the decoding
+  // thread keeps going while its caller is busy elsewhere, as a streamed solve is between bursts
+  // of rows, and fills a core that the caller's setup leaves idle. For callers with few inputs:
+  // 8 MiB is 340 rows of an 8192-wide 8-bit RGB image.
+  static constexpr std::size_t kAheadBytes = std::size_t{8} << 20;
+  void read_ahead(std::size_t bytes = kAheadBytes);
+  // Rows decoded so far in this pass (by the decoding thread, ahead of read_row(), or by it).
+  int decoded_rows() const;
   // RowReader's hint, before the first row: decodes only columns [begin, end) from then on (as
   // a window does) but read_row() fills them in at their place in a full-width row and leaves
   // the other samples of `out` as they are.

@@ -3,8 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
+
+#include "util/clones.h"
 
 namespace gdp::apps {
 namespace {
@@ -29,9 +33,46 @@ void OutputFixups::set_columns(int begin, int end) {
   out_.set_columns(begin, end);
 }
 
+namespace {
+
+// Whether any of the n samples is not finite: its exponent bits all set, which exactly then carry
+// into the sign bit when one more is added (an OR-reduction over integers, which vectorises).
+GDP_CLONES bool any_not_finite(const float* v, int n) {
+  constexpr std::uint32_t kExponent = 0x7f800000u, kOne = 0x00800000u;
+  std::uint32_t carried = 0;
+  for (int i = 0; i < n; ++i) {
+    std::uint32_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    carried |= (bits & kExponent) + kOne;
+  }
+  return (carried & 0x80000000u) != 0;
+}
+
+GDP_CLONES bool any_set(const unsigned char* f, int n) {
+  unsigned char any = 0;
+  for (int i = 0; i < n; ++i) any |= f[i];
+  return any != 0;
+}
+
+}  // namespace
+
 void OutputFixups::record(int, std::span<const float> input, std::span<const unsigned char> zero) {
   const int n = end_ - begin_;
   unsigned char* flags = flag_row_.data();
+  // Most rows have no flag at all (8- and 16-bit inputs never hold a non-finite sample): tested
+  // first, a row at a time, without building the row's flags.
+  bool some = !zero.empty() && any_set(zero.data() + begin_, n);
+  for (int c = 0; c < channels_ && c < 7 && !some; ++c)
+    some = any_not_finite(input.data() + static_cast<std::size_t>(c) * width_ + begin_, n);
+  if (!some) {
+    if (!any_) {
+      ++unflagged_;
+      return;
+    }
+    std::fill(flag_row_.begin(), flag_row_.end(), 0);
+    flags_->append(flag_row_);
+    return;
+  }
   if (zero.empty())
     std::fill(flag_row_.begin(), flag_row_.end(), 0);
   else
@@ -42,14 +83,7 @@ void OutputFixups::record(int, std::span<const float> input, std::span<const uns
     // v - v != 0 exactly when v is not finite: a test the compiler vectorises (std::isfinite is not).
     for (int i = 0; i < n; ++i) flags[i] |= in[i] - in[i] != 0.0f ? bit : 0;
   }
-  unsigned char any = 0;
-  for (int i = 0; i < n; ++i) any |= flags[i];
-  any_ = any_ || any != 0;
-  // Rows before the first flagged one are not stored (most images have none at all).
-  if (!any_) {
-    ++unflagged_;
-    return;
-  }
+  any_ = true;  // rows before the first flagged one are not stored (most images have none at all)
   if (!flags_)
     flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy_, end_ - begin_, height_ - unflagged_, "flags");
   flags_->append(flag_row_);

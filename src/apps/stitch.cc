@@ -109,10 +109,10 @@ class StitchGuidance final : public apps::ImageGuidance {
     labels_.read_row(y, label_row_);
     ids_.assign(label_row_, row_ids_[slot(y)], a, b);
     if (across_) across_->read_row(y, across_rows_[slot(y)]);
+    if (!black_) return fixups_.record(y, row);  // no pixel is blacked out
     const int* id = row_ids_[slot(y)].data();
-    unsigned char* zero = zero_.data();  // locals: the flags' stores could alias the members
-    const bool black = black_;
-    for (int i = a; i < b; ++i) zero[i] = black & (id[i] == kUnknown);  // vectorised
+    unsigned char* zero = zero_.data();  // a local: the flags' stores could alias the member
+    for (int i = a; i < b; ++i) zero[i] = id[i] == kUnknown;  // vectorised
     fixups_.record(y, row, zero_);
   }
   void keep_edges(int j, int begin, int end, std::span<unsigned char> right, std::span<unsigned char> down,

@@ -2,6 +2,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <exception>
 #include <system_error>
@@ -83,6 +85,8 @@ struct ImageFileReader::Impl {
   Band band;                  // the band read_row serves from
   util::RecyclePool<std::vector<unsigned char>> spent;  // bands' bytes, allocated once
   int next_row = 0;
+  std::size_t ahead_bytes = 0;  // read_ahead(): how far to decode ahead (else two bands)
+  std::atomic<int> decoded{0};  // rows decoded in this pass
   std::string failed;  // non-empty: a band failed to decode; read_row() throws this
   std::unique_ptr<util::BoundedQueue<Band>> queue;
   std::thread decoder_thread;
@@ -133,6 +137,7 @@ struct ImageFileReader::Impl {
       b.bytes.resize(static_cast<std::size_t>(b.y1 - y0) * row_bytes);
       decoder_used = true;
       decoder->read(y0, b.y1, x0, x1, b.bytes.data());
+      decoded.store(b.y1, std::memory_order_relaxed);
     } catch (const std::bad_alloc&) {
       b.error = "out of memory for a band of rows";
     } catch (const std::exception& e) {
@@ -145,14 +150,18 @@ struct ImageFileReader::Impl {
   // set_columns() hint before it wastes nothing), or at read_ahead().
   void start() {
     next_row = 0;
+    decoded.store(0, std::memory_order_relaxed);
     band = Band{};
     failed.clear();
   }
 
   void start_decoding() {
-    // Two bands queued, one being decoded, one being read: four at most. A decoder ahead of its
-    // reader sleeps until both queued bands are taken (a futex wake-up every other band).
-    queue = std::make_unique<util::BoundedQueue<Band>>(2, 2);
+    // Bands queued: two, or after read_ahead() as many as fit its bytes (2 to 64); one more being
+    // decoded, one being read. A decoder ahead of its reader sleeps until half the queue is taken
+    // (a futex wake-up per half).
+    const std::size_t band_bytes = std::max<std::size_t>(row_bytes * static_cast<std::size_t>(band_rows), 1);
+    const std::size_t ahead = std::clamp<std::size_t>(ahead_bytes / band_bytes, 2, 64);
+    queue = std::make_unique<util::BoundedQueue<Band>>(ahead, std::max<std::size_t>(2, ahead / 2));
     decoder_thread = std::thread([this] {
       util::name_thread("gdp-decode");
       for (int y0 = 0; y0 < layout.height; y0 += band_rows) {
@@ -232,10 +241,13 @@ void ImageFileReader::read_row(int y, std::span<float> out) {
   ++m.next_row;
 }
 
-void ImageFileReader::read_ahead() {
+void ImageFileReader::read_ahead(std::size_t bytes) {
   Impl& m = *impl_;
+  m.ahead_bytes = bytes;
   if (m.prefetch && !m.queue && m.next_row == 0) m.start_decoding();
 }
+
+int ImageFileReader::decoded_rows() const { return impl_->decoded.load(std::memory_order_relaxed); }
 
 void ImageFileReader::set_columns(int begin, int end) {
   Impl& m = *impl_;

@@ -73,8 +73,10 @@ void StripFilesReader::read_row(int y, std::span<float> out) {
 }
 
 void StripFilesReader::read_ahead() {
-  for (Strip& s : strips_)
-    if (s.begin < s.end) s.reader->read_ahead();
+  const auto decoded = [](const Strip& s) { return s.begin < s.end; };
+  const auto n = static_cast<std::size_t>(std::count_if(strips_.begin(), strips_.end(), decoded));
+  for (Strip& s : strips_)  // the strips share one file's bytes ahead
+    if (decoded(s)) s.reader->read_ahead(ImageFileReader::kAheadBytes / std::max<std::size_t>(n, 1));
 }
 
 void StripFilesReader::rewind() {
