@@ -10,13 +10,15 @@
 #                                   a rebuild cannot change them mid-run: mkdir -p DIR && cp
 #                                   build/tools/gdp/gdp build/lib/libgdp.so* DIR/)
 # MAKE_COMPOSITE, BLEND_LAYERS: the generators to use where build/ has none. Inputs and outputs stay in
-# ${GDP_BENCH_DIR:-/tmp/gdp-same-bits} (about 200 MB; remove it after).
+# $GDP_BENCH_DIR when set (about 200 MB; kept, so a rerun reuses the inputs), else in a folder of this
+# run's own, removed at exit (two runs at once must not share one).
 set -u
 A=$1 B=$2
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
 photo=$(shared_data equirect/three-globe-npm/earth-blue-marble.jpg)
-W=${GDP_BENCH_DIR:-/tmp/gdp-same-bits}
+if [[ -n ${GDP_BENCH_DIR:-} ]]; then W=$GDP_BENCH_DIR
+else W=$(mktemp -d /tmp/gdp-same-bits.XXXXXX); trap 'rm -rf "$W"' EXIT; fi
 mkdir -p "$W/tmp"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 make_composite=${MAKE_COMPOSITE:-$here/build/bench/make_composite}
