@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -12,6 +14,7 @@
 #include "cli_fixture.h"
 #include "image_compare.h"
 #include "gdp/image_io.h"
+#include "mpi/stored_samples.h"
 #include "test_util.h"
 
 namespace gdp {
@@ -499,6 +502,48 @@ TEST_F(MpiBands, RanksCheckpointAndResume) {
     EXPECT_FALSE(fs::exists(path("cp"))) << "a successful run removes its checkpoint";
     fs::remove(path("mpi.tif"));
   }
+}
+
+// Under mpirun the other ranks send 8- or 16-bit samples when the file stores them: the files of
+// two ranks and of two bands on threads are the same bytes, sharpening overshoots clamped alike.
+TEST_F(MpiBands, IntegerOutputsGatheredNarrowAreTheSameBytes) {
+  const auto bytes = [&](const std::string& name) {
+    std::ifstream f(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  for (const auto& [depth, name] : {std::pair{"8", "out.tif"}, std::pair{"16", "out.png"}}) {
+    const std::string args = " sharpen " + path("in.tif") + " --beta 4 -q --depth " + std::string(depth) + " -o ";
+    ASSERT_EQ(gdp_raw(std::string(GDP_CLI_PATH) + args + path("threads_" + std::string(name)) + " --bands 2").code, 0);
+    const test::CliRun r = mpi("-np 2 " + std::string(GDP_CLI_PATH) + args + path(name));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image out = result(name);
+    const auto [lo, hi] = std::minmax_element(out.data.begin(), out.data.end());
+    EXPECT_TRUE(*lo == 0.0f && *hi == 1.0f) << "no sample clamped: " << *lo << ".." << *hi;
+    EXPECT_TRUE(bytes(name) == bytes("threads_" + std::string(name))) << depth << "-bit " << name;
+  }
+}
+
+// The floats rank 0 makes of 8- and 16-bit samples store as those integers again; floats pass as they are.
+TEST(StoredSamples, IntegersComeBackThroughTheirFloats) {
+  for (int levels : {255, 65535}) {
+    ASSERT_EQ(mpi::sent_bytes(levels), levels == 255 ? 1u : 2u);
+    for (int q = 0; q <= levels; ++q) {
+      unsigned char sent[2];
+      if (levels == 255) sent[0] = static_cast<unsigned char>(q);
+      else *reinterpret_cast<std::uint16_t*>(sent) = static_cast<std::uint16_t>(q);
+      float f = -1.0f;
+      mpi::unpack(sent, 1, levels, &f);
+      unsigned char again[2] = {0, 0};
+      mpi::pack(&f, 1, levels, again);
+      ASSERT_EQ(std::memcmp(sent, again, mpi::sent_bytes(levels)), 0) << q << " of " << levels;
+    }
+  }
+  const float odd[] = {-0.5f, 1.5f, std::numeric_limits<float>::quiet_NaN(), 0.123456f};
+  float back[4];
+  unsigned char sent[sizeof(odd)];
+  mpi::pack(odd, 4, 0, sent);
+  mpi::unpack(sent, 4, 0, back);
+  EXPECT_EQ(std::memcmp(odd, back, sizeof(odd)), 0);
 }
 
 }  // namespace

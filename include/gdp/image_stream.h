@@ -82,6 +82,7 @@ class ImageFileWriter final : public RowWriter {
   ~ImageFileWriter() override;
   void write_row(int y, std::span<const float> row) override;
   void commit() override;
+  int stored_levels() override;  // 255 or 65535 for 8- or 16-bit files, else 0; opens the codec
 
  private:
   struct Impl;

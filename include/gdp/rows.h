@@ -37,6 +37,10 @@ class RowWriter {
   // results (a rank of a distributed solve writes its own columns); writers that transform
   // rows pass it on, writers that gather columns from several processes need it.
   virtual void set_columns(int /*begin*/, int /*end*/) {}
+  // L (255 or 65535) when the writer stores every sample v as the integer round(clamp01(v) * L),
+  // so any value that rounds to the same integer may stand for v (the column gather sends 8- or
+  // 16-bit samples); 0 when it keeps floats. May get the output ready (a file opens its codec).
+  virtual int stored_levels() { return 0; }
 };
 
 // Rows of an in-memory image.

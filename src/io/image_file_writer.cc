@@ -267,6 +267,12 @@ void ImageFileWriter::write_row(int y, std::span<const float> row) {
   if (m.band.y1 - m.band.y0 == m.band_rows || m.next_row == m.height) m.send();
 }
 
+int ImageFileWriter::stored_levels() {
+  Impl& m = *impl_;
+  if (!m.opened) m.open();
+  return m.band_type == SampleType::UInt8 ? 255 : m.band_type == SampleType::UInt16 ? 65535 : 0;
+}
+
 void ImageFileWriter::commit() {
   Impl& m = *impl_;
   if (m.committed) throw std::logic_error(fmt::format("{}: commit() called twice", m.name));

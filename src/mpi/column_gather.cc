@@ -11,13 +11,16 @@
 #include "schedule/bytes.h"
 #include "gdp/image_stream.h"
 #include "gdp/mpi_run.h"
+#include "mpi/stored_samples.h"
 #include "util/recycle_pool.h"
 
 namespace gdp {
 namespace {
 
-// The messages' tag on the gather's own hub (bands::MpiHub, a communicator of its own).
-constexpr int kTag = 1;
+// The messages' tags on the gather's own hub (bands::MpiHub, a communicator of its own): rows, and
+// rank 0's file's stored_levels() (RowWriter) to the others, which then send 8- or 16-bit samples
+// (a quarter or half of a float's bytes) that rank 0 turns into floats the file stores alike.
+constexpr int kTag = 1, kLevelsTag = 2;
 // Rows per message: about 1 MiB of floats, and at most 16 rows. No rank's writing ever waits for
 // another rank (docs/how-bands-work.md, "Why a streamed solve cannot hang"): the other ranks send
 // without waiting for rank 0 to receive, and rank 0 takes the messages that have arrived, keeps
@@ -44,6 +47,11 @@ class ColumnGather final : public RowWriter {
     begin_ = begin;
     end_ = end;
     hub_ = std::make_unique<bands::MpiHub>(1);
+    schedule::ByteWriter mine;
+    if (rank_ == 0) levels_ = file().stored_levels();
+    mine.io(levels_);
+    schedule::ByteReader(bands::broadcast(hub_->own(), kLevelsTag, std::move(mine.bytes))).io(levels_);
+    sample_ = mpi::sent_bytes(levels_);
   }
 
   void write_row(int y, std::span<const float> row) override {
@@ -84,15 +92,15 @@ class ColumnGather final : public RowWriter {
       batch_ = hub_->spare();
       const std::size_t samples = std::max<std::size_t>(1, channels_ * n);
       batch_capacity_ = static_cast<int>(std::min<std::size_t>(kBatchRows, (kBatchSamples + samples - 1) / samples));
-      const std::size_t bytes = batch_capacity_ * samples * sizeof(float) + sizeof(Header);
+      const std::size_t bytes = batch_capacity_ * samples * sample_ + sizeof(Header);
       if (batch_.size() < bytes) batch_.resize(bytes);
     }
-    unsigned char* at = batch_.data() + static_cast<std::size_t>(batch_rows_) * channels_ * n * sizeof(float);
-    for (int c = 0; c < channels_; ++c, at += n * sizeof(float))
-      std::memcpy(at, row.data() + static_cast<std::size_t>(c) * width_ + begin_, n * sizeof(float));
+    unsigned char* at = batch_.data() + static_cast<std::size_t>(batch_rows_) * channels_ * n * sample_;
+    for (int c = 0; c < channels_; ++c, at += n * sample_)
+      mpi::pack(row.data() + static_cast<std::size_t>(c) * width_ + begin_, n, levels_, at);
     if (++batch_rows_ < batch_capacity_ && y + 1 < height_) return;
     const Header h{first_, batch_rows_, begin_, end_};
-    const std::size_t size = static_cast<std::size_t>(batch_rows_) * channels_ * n * sizeof(float);
+    const std::size_t size = static_cast<std::size_t>(batch_rows_) * channels_ * n * sample_;
     std::memcpy(batch_.data() + size, &h, sizeof(Header));
     batch_.resize(size + sizeof(Header));  // shrinking keeps the buffer (and writes nothing)
     hub_->endpoint(rank_).send(0, kTag, std::move(batch_));
@@ -113,7 +121,7 @@ class ColumnGather final : public RowWriter {
     Received& m = q.emplace_back(Received{{}, std::move(bytes)});
     if (m.bytes.size() < sizeof(Header)) throw std::logic_error("ColumnGather: short message");
     std::memcpy(&m.h, m.bytes.data() + m.bytes.size() - sizeof(Header), sizeof(Header));
-    const std::size_t count = (m.bytes.size() - sizeof(Header)) / sizeof(float);
+    const std::size_t count = (m.bytes.size() - sizeof(Header)) / sample_;
     if (m.h.first != next || m.h.rows < 1 || m.h.begin < 0 || m.h.end > width_ || m.h.begin > m.h.end ||
         count != static_cast<std::size_t>(m.h.rows) * channels_ * (m.h.end - m.h.begin))
       throw std::logic_error(fmt::format("ColumnGather: rank {} sent rows {}.. columns {}..{}, row {} expected", r,
@@ -133,10 +141,10 @@ class ColumnGather final : public RowWriter {
         if (q.empty() && !wait) return;
         if (q.empty()) take(r, hub_->endpoint(0).receive(r, kTag));
         const Received& m = q.front();
-        const std::size_t n = static_cast<std::size_t>(m.h.end - m.h.begin) * sizeof(float);
-        const unsigned char* src = m.bytes.data() + static_cast<std::size_t>(written_ - m.h.first) * channels_ * n;
+        const std::size_t n = static_cast<std::size_t>(m.h.end - m.h.begin);
+        const unsigned char* src = m.bytes.data() + static_cast<std::size_t>(written_ - m.h.first) * channels_ * n * sample_;
         for (int c = 0; c < channels_; ++c)
-          std::memcpy(rows_.front().data() + static_cast<std::size_t>(c) * width_ + m.h.begin, src + c * n, n);
+          mpi::unpack(src + c * n * sample_, n, levels_, rows_.front().data() + static_cast<std::size_t>(c) * width_ + m.h.begin);
       }
       file().write_row(written_, rows_.front());
       spare_rows_.give(std::move(rows_.front()));
@@ -147,6 +155,8 @@ class ColumnGather final : public RowWriter {
   std::unique_ptr<RowWriter> file_;
   int width_, height_, channels_, rank_;
   int begin_ = 0, end_ = 0, first_ = 0;
+  int levels_ = 0;                    // rank 0's file's RowWriter::stored_levels()
+  std::size_t sample_ = sizeof(float);  // bytes a sample takes in a message
   std::unique_ptr<bands::MpiHub> hub_;  // once the columns are set: the messages to rank 0
   schedule::Bytes batch_;                // the message being filled: batch_rows_ of batch_capacity_ rows
   int batch_rows_ = 0, batch_capacity_ = 0;
