@@ -77,7 +77,8 @@ enum class SweepDirection { Forward, AlternateSweeps, AlternateRows };
 // A pass is `steps` steps; at each the lead does the first sweeps of its rows and the follower the rest
 // (and the residual, restriction and sums) of the rows two a sweep above. The follower reads nothing the
 // lead writes later and the lead nothing the follower writes, so the follower's step t only waits for the
-// lead's: every relaxation sees what it sees on one thread, in the same order (same bits).
+// lead's: every relaxation sees what it sees on one thread, in the same order (same bits). (A fed b's
+// ring is the exception: the lead reads rows into it, and waits for the follower before reusing a row.)
 class PassPair {
  public:
   virtual ~PassPair() = default;
