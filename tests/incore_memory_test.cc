@@ -193,6 +193,50 @@ TEST(InCoreMemory, TwoThreadsOnALevelChangeNoBit) {
   }
 }
 
+// b fed row by row (RowFeed: the in-core worker's b, read from its store) gives b held whole's bits,
+// on one thread and two (the lead reads rows into a ring the follower reads behind it), with b rounded
+// to half floats after its first restriction (rows rounded as read from then on), over two V-cycles;
+// a single level (no passes) reads its b whole.
+TEST(InCoreMemory, FedRightHandSideChangesNoBit) {
+  for (const Domain domain : {Domain::Planar, Domain::Spherical})
+    for (const bool one_level : {false, true}) {
+      const int h = one_level ? 10 : multigrid::InCoreVCycle<float>::kPairRows + 40, w = domain == Domain::Spherical ? 4 * h : 37;
+      const auto topo = topology::make_topology(domain);
+      const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, one_level ? 64 : 8);
+      const multigrid::Operators<float> ops(hier);
+      const Image noise = test::random_image(w, h, 2, 11);
+      Plane<float> u0(w, h), b(w, h);
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) u0.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f);
+      multigrid::HalfPolicy half;
+      half.all = true;
+      for (const bool two : {false, true}) {
+        SCOPED_TRACE(std::string(test::domain_name(domain)) + (one_level ? ", one level" : "") + (two ? ", two threads" : ""));
+        schedule::Marks marks;
+        bands::PassThreads pair(marks);
+        Plane<float> whole = b, u = u0, fed_u = u0;
+        multigrid::InCoreVCycle<float> a(ops, 2, 1e-6), f(ops, 2, 1e-6);
+        a.set_half(&half), f.set_half(&half);
+        if (two) f.set_pair(&pair);
+        int next = 0, rewinds = 0;
+        multigrid::RowFeed<float> feed{[&] { next = 0, ++rewinds; },
+                                       [&](std::span<float> row) { std::copy_n(b.row(next++), w, row.data()); }};
+        for (int k = 0; k < 2; ++k) {
+          multigrid::CycleProbe pa, pf;
+          pa.norm_before = pa.norm_after = pf.norm_before = pf.norm_after = true;
+          a.run(u, whole, nullptr, &pa);
+          f.run(fed_u, feed, nullptr, &pf);
+          EXPECT_TRUE(same_plane_bits(u, fed_u)) << "cycle " << k;
+          EXPECT_EQ(pa.before, pf.before);
+          EXPECT_EQ(pa.after, pf.after);
+        }
+        ASSERT_EQ(ops.count() == 1, one_level);
+        EXPECT_EQ(rewinds, one_level ? 2 : 4);  // (a descent and an ascent a cycle)
+        EXPECT_EQ(feed.rounded, !one_level);
+      }
+    }
+}
+
 // Coarser weights held once per run of equal rows read as the whole planes' rows, and hold fewer.
 TEST(InCoreMemory, WeightsHeldOnceReadAsTheWholePlanes) {
   const auto topo = topology::make_topology(Domain::Planar);

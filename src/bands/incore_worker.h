@@ -38,19 +38,23 @@ struct InCoreShared {
 };
 
 // The second thread of an in-core worker (multigrid::PassPair): each pass of a large level on a thread
-// of its own (run_workers), following the worker's thread step by step through a mark.
+// of its own (run_workers), the two following each other step by step through two marks.
 class PassThreads final : public multigrid::PassPair {
  public:
-  explicit PassThreads(schedule::Marks& marks) : marks_(marks), mark_(marks.add(1)) {}
+  explicit PassThreads(schedule::Marks& marks) : marks_(marks), mark_(marks.add(2)) {}
   void run(int steps, const std::function<void()>& lead, const std::function<void()>& follow) override {
     steps_ = steps;
-    marks_.set(mark_, 0);
-    // (A lead that throws lets the follower run out: the worker rethrows the lead's exception.)
-    util::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); }, [&](int k, const std::string&) {
-      if (k == 0) marks_.set(mark_, steps);
-    });
+    marks_.set(mark_, 0), marks_.set(mark_ + 1, 0);
+    // (One that throws lets the other run out: the worker rethrows the exception.)
+    util::run_workers(2, [&](int k) { k == 0 ? lead() : follow(); },
+                      [&](int k, const std::string&) { marks_.set(mark_ + k, steps); });
   }
   void ahead(int steps) override { marks_.set(mark_, steps); }
+  void done(int steps) override { marks_.set(mark_ + 1, steps); }
+  void wait_done(int steps) override {
+    const int until = std::min(steps - 1 + 2 * kDoneEvery, steps_ - kDoneEvery);  // (said by the pass's end)
+    marks_.wait(mark_ + 1, mark_ + 2, steps - 1, std::max(steps - 1, until));
+  }
   // Once it must wait, until a few steps more are done (woken once every few steps, not once a step).
   void behind(int step) override { marks_.wait(mark_, mark_ + 1, step, std::min(step + kAhead, steps_ - 1)); }
 
@@ -63,11 +67,11 @@ class PassThreads final : public multigrid::PassPair {
 
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
-// (alpha == 0), then the result rows out (rows.result). One pair of planes (u, b), made once, in
-// place, their pages mapped a few rows a call (on the second thread while the input comes in, where
-// the worker has two); the other channels wait for it in row stores (memfds, or
-// O_DIRECT files from ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md,
-// "In-core memory on a PVM guest"), and so does an earlier channel's result for the output.
+// (alpha == 0), then the result rows out (rows.result). One plane u, made once, in place, its pages
+// mapped a few rows a call (on the second thread while the input comes in, where the worker has two);
+// the other channels' u and every b in row stores (memfds, or O_DIRECT files from
+// ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md, "In-core
+// memory on a PVM guest"; the V-cycle reads b row by row), and so does an earlier channel's result.
 template <class T>
 class InCoreWorker {
  public:
@@ -75,25 +79,27 @@ class InCoreWorker {
                schedule::ResidualLog& log, InCoreShared<T>& shared, int k)
       : c0(c0), n(n), ops_(ops), opt_(opt), half_(s.stores.half), diagonal_(s.diagonal),
         log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
-        u_(multigrid::Plane<T>::reserved(w_, h_)), b_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n),
-        made_(shared.marks.add(1)) {
+        u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), made_(shared.marks.add(1)) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
     if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
-    for (int i = 1; i < n; ++i) park(parked_u_, "u", i), park(parked_b_, "b", i);
+    for (int i = 0; i < n; ++i)
+      if (park(parked_b_, "b", i); i > 0) park(parked_u_, "u", i);
   }
-  std::size_t window_bytes() const { return 2 * u_.data.capacity() * sizeof(T); }
+  std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads the planes and the V-cycle's levels are made (their fresh pages touched) on
-    // the second while the input comes in on this one.
-    both([&](int k) { k == 0 ? read_input() : make_planes(); });
+    // With two threads the plane and the V-cycle's levels are made (their fresh pages touched) on the
+    // second while the input comes in on this one (one that throws stops the marks the input waits on).
+    if (!pair_) make_planes(), read_input();
+    else util::run_workers(2, [&](int k) { k == 0 ? read_input() : make_planes(); },
+                           [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
     multigrid::InCoreVCycle<T>& vc = *vc_;
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
-      solve(c0 + i, vc, totals);
+      solve(i, vc, totals);
     }
     std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
     for (int j = 0; j < h_; ++j) {
@@ -109,25 +115,25 @@ class InCoreWorker {
   using Plane = multigrid::Plane<T>;
   using Store = std::unique_ptr<schedule::RowStore<T>>;
 
-  // Every row in: one channel straight into the planes, more through a row (the first into the
-  // planes, the others into their stores). Channel 0's worker also takes the mean weights (where the
+  // Every row in: the first channel's u into its plane, every other u and every b into its store
+  // (the V-cycle reads b from there, row by row). Channel 0's worker also takes the mean weights (where the
   // mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
   // diagonal, and makes the pyramids every worker reads.
   void read_input() {
     const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
-    std::vector<T> u(n > 1 ? static_cast<std::size_t>(n) * w_ : 0), b(u.size());
-    const auto row = [&](std::vector<T>& v, Plane& p, int j) { return v.empty() ? std::span<T>(p.row(j), w_) : std::span<T>(v); };
+    std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
     for (int j = 0, made = 0; j < h_; ++j) {
       if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
-      rows.input(j, {row(u, u_, j), row(b, b_, j), weights ? wt.next() : std::span<T>{},
+      rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
                      {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
       if (weights) wt.add();
-      for (int i = 0; i < n && n > 1; ++i) {
+      for (int i = 0; i < n; ++i) {
         const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
-        if (i > 0) parked_u_[i]->append(ui), parked_b_[i]->append(bi);
-        else std::ranges::copy(ui, u_.row(j)), std::ranges::copy(bi, b_.row(j));
+        parked_b_[i]->append(bi);
+        if (i > 0) parked_u_[i]->append(ui);
+        else std::ranges::copy(ui, u_.row(j));
       }
     }
     if (c0 != 0) return;
@@ -142,14 +148,17 @@ class InCoreWorker {
     shared_.marks.set(shared_.ready, 1);
   }
 
-  void solve(int c, multigrid::InCoreVCycle<T>& vc, const multigrid::InputTotals& totals) {
-    const int cycles = opt_.cycle_cap();
+  // Local channel i's V-cycles, its b read from its store.
+  void solve(int i, multigrid::InCoreVCycle<T>& vc, const multigrid::InputTotals& totals) {
+    const int cycles = opt_.cycle_cap(), c = c0 + i;
+    schedule::RowStore<T>& store = *parked_b_[i];
+    multigrid::RowFeed<T> b{[&] { store.rewind(); }, [&](std::span<T> row) { store.read(row); }};
     log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
       probe.norm_before = k == 0 && opt_.measures_residuals(), probe.norm_after = opt_.measures_residuals();  // in the cycle's own passes
       probe.sum_level_norms = static_cast<bool>(opt_.log);
-      vc.run(u_, b_, shared_.weights.empty() ? nullptr : &shared_.weights, &probe);
+      vc.run(u_, b, shared_.weights.empty() ? nullptr : &shared_.weights, &probe);
       if (k == 0) log_.initial(c, probe.before);
       log_.cycle(c, probe.after, probe);
       schedule::shift_mean(std::span<T>(u_.data), schedule::mean_shift(ops_.singular, totals.weighted_sums[c],
@@ -162,14 +171,15 @@ class InCoreWorker {
       shared_.marks.wait(cycled_, done_ - 1);
       if (settled) break;
     }
+    parked_b_[i].reset();
   }
 
-  // The planes' rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
+  // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
   void make_planes() {
     const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
     for (int j = 0; j < h_;) {
       j = std::min(j + step, h_);
-      u_.make_rows(j), b_.make_rows(j);
+      u_.make_rows(j);
       shared_.marks.set(made_, j);
     }
     vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
@@ -178,26 +188,12 @@ class InCoreWorker {
     if (pair_) vc_->set_pair(&*pair_);
   }
 
-  // Local channel i moves into the planes: the previous one's result out to a store and i's u in
-  // (two threads: i's b in beside them).
+  // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
   void turn_to(int i) {
-    const auto load = [&](Store& from, Plane& to) {
-      from->rewind();
-      for (int j = 0; j < h_; ++j) from->read({to.row(j), static_cast<std::size_t>(w_)});
-      from.reset();
-    };
-    both([&](int k) {
-      if (k == 1) return load(parked_b_[i], b_);
-      schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
-      for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)});
-      load(parked_u_[i], u_);
-    });
-  }
-  // work(1) and work(0): on two threads where the worker has two (one that throws stops the solve's
-  // marks: work(0) may wait for work(1)), else one after the other.
-  void both(const std::function<void(int)>& work) {
-    if (!pair_) return work(1), work(0);
-    util::run_workers(2, work, [&](int, const std::string&) { shared_.marks.stop(); });
+    schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
+    parked_u_[i]->rewind();
+    for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)}), parked_u_[i]->read({u_.row(j), static_cast<std::size_t>(w_)});
+    parked_u_[i].reset();
   }
   // Local channel i's result row j, rows in order.
   const T* result_row(int i, int j) {
@@ -221,7 +217,7 @@ class InCoreWorker {
   int done_ = 0;
   const int w_, h_;
   schedule::StorePolicy stores_;
-  Plane u_, b_;
+  Plane u_;
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
   const int made_;  // its mark of the planes' rows made

@@ -92,8 +92,9 @@ template <class T>
 InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
     : ops_(ops), sweeps_(sweeps), post_sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
   for (int l = first + 1; l < ops.count(); ++l) {
-    u_.emplace_back(ops.levels[l].width, ops.levels[l].height);
-    b_.emplace_back(ops.levels[l].width, ops.levels[l].height);
+    // (Mapped in one call: cheaper than faulting fresh pages in one at a time, docs/multigrid.md.)
+    u_.push_back(Plane<T>::mapped(ops.levels[l].width, ops.levels[l].height));
+    b_.push_back(Plane<T>::mapped(ops.levels[l].width, ops.levels[l].height));
   }
   lane_.r.resize(ops.levels[first].width);
   lead_.r = lane_.r;
@@ -103,11 +104,47 @@ InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse
 
 template <class T>
 void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
+  run(u0, Rhs{&b0}, weights, probe);
+}
+
+template <class T>
+void InCoreVCycle<T>::run(Plane<T>& u0, RowFeed<T>& b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
+  if (first_ + 1 >= ops_.count()) {  // a single level has no passes: b whole
+    Plane<T> whole(ops_.levels[first_].width, ops_.levels[first_].height);
+    b0.rewind();
+    for (int j = 0; j < whole.height; ++j) b0.read(std::span<T>(whole.row(j), whole.width));
+    return run(u0, whole, weights, probe);
+  }
+  // Rows a pass may still read: those of its last 2 max(sweeps) + 2 steps, and room for the lead to
+  // run ahead of the follower's word (PassPair::kDoneEvery) and wait (wait_done) beyond them.
+  const int rows = 2 * std::max(sweeps_, post_sweeps_) + 2 + 8 * PassPair::kDoneEvery;
+  if (ring_.height != rows) ring_ = Plane<T>(ops_.levels[first_].width, rows);
+  run(u0, Rhs{nullptr, &b0}, weights, probe);
+}
+
+// Rows of a fed b up to j read into the ring (the lead's, or a single thread's). The row it replaces
+// was read at step j - ring rows or before: with two threads the lead waits for the follower past it.
+template <class T>
+void InCoreVCycle<T>::feed_to(Rhs& b, int j) {
+  if (!b.feed) return;
+  const bool paired = pair_ && ops_.levels[first_].height >= kPairRows;
+  for (j = std::min(j, ops_.levels[first_].height - 1); b.fed <= j; ++b.fed) {
+    const int past = b.fed - ring_.height + 2 * std::max(sweeps_, post_sweeps_) + 3;
+    if (paired && past > 0) pair_->wait_done(past);
+    T* row = ring_.row(b.fed % ring_.height);
+    b.feed->read(std::span<T>(row, ring_.width));
+    if (b.feed->rounded) round_to_half(row, ring_.width);
+  }
+}
+
+template <class T>
+void InCoreVCycle<T>::run(Plane<T>& u0, Rhs b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
   const int levels = ops_.count();
   auto U = [&](int l) -> Plane<T>& { return l == first_ ? u0 : u_[l - first_ - 1]; };
-  auto B = [&](int l) -> Plane<T>& { return l == first_ ? b0 : b_[l - first_ - 1]; };
+  auto B = [&](int l) -> Plane<T>& { return l == first_ ? *b0.plane : b_[l - first_ - 1]; };
   auto W = [&](int l) -> const Plane<T>& { return (*weights)[l - first_]; };
   auto D = [&](int l) -> const Plane<T>* { return diag_ ? &(*diag_)[l - first_] : nullptr; };
+  auto R = [&](int l) { return l == first_ ? b0 : Rhs{&b_[l - first_ - 1]}; };
 
   // |b - A u| on level `first` before and after, where asked, in the passes of descend and ascend
   // (a single level has none: then residual_norm()).
@@ -115,18 +152,21 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
   double* after = probe && probe->norm_after ? &probe->after : nullptr;
   const bool passes = first_ + 1 < levels, level_norms = probe && probe->sum_level_norms;
   if (probe) probe->before = probe->after = 0.0;
-  if (before && !passes) *before = residual_norm(u0, b0);
+  if (before && !passes) *before = residual_norm(u0, B(first_));
   for (int l = first_; l + 1 < levels; ++l) {
     Plane<T>& coarse_b = b_[l - first_];  // zeroed by descend as its rows are reached, like U(l) for l > first
     if (l + 2 == levels) std::fill(U(l + 1).data.begin(), U(l + 1).data.end(), T(0));  // the coarsest's guess
     double dots = 0.0;
+    Rhs b = R(l);
     const double rr =
-        descend(l, U(l), B(l), D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, level_norms,
+        descend(l, U(l), b, D(l), coarse_b, weights && probe ? &W(l) : nullptr, dots, level_norms,
                 l == first_ ? before : nullptr);
     if (weights && probe) probe->dots.push_back(dots);
     if (level_norms) probe->level_norms.push_back(std::sqrt(rr));
     if (!half_u_.empty() && half_u_[l - first_]) round_to_half(U(l).data.data(), U(l).data.size());
-    if (!half_b_.empty() && half_b_[l - first_]) round_to_half(B(l).data.data(), B(l).data.size());
+    if (half_b_.empty() || !half_b_[l - first_]) continue;
+    if (b.feed) b.feed->rounded = true;
+    else round_to_half(B(l).data.data(), B(l).data.size());
   }
 
   {  // Coarsest level: conjugate gradients in double precision.
@@ -152,17 +192,19 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
     }
   }
 
-  for (int l = levels - 2; l >= first_; --l) ascend(l, U(l), B(l), D(l), U(l + 1), l == first_ ? after : nullptr);
+  for (int l = levels - 2; l >= first_; --l) {
+    Rhs b = R(l);
+    ascend(l, U(l), b, D(l), U(l + 1), l == first_ ? after : nullptr);
+  }
   if (before && passes) *before = std::sqrt(*before);
-  if (after) *after = passes ? std::sqrt(*after) : residual_norm(u0, b0);
+  if (after) *after = passes ? std::sqrt(*after) : residual_norm(u0, B(first_));
 }
 
 // Row j's |b - A u|^2 on level l (as residual_norm() sums it), in the lane's temporaries.
 template <class T>
-double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j,
-                                      Lane& lane) {
+double InCoreVCycle<T>::row_residual2(int l, const Plane<T>& u, const T* b, const Plane<T>* d, int j, Lane& lane) {
   const LevelOperator<T>& op = ops_.levels[l];
-  residual(op, j, window(op, u, j), whole_row(op), b.row(j), lane.r.data(), lane.scratch, diag_row(d, j));
+  residual(op, j, window(op, u, j), whole_row(op), b, lane.r.data(), lane.scratch, diag_row(d, j));
   return row_squares(lane.r.data(), op.width);
 }
 
@@ -194,7 +236,10 @@ void InCoreVCycle<T>::pass(int steps, int rows, const Lead& lead, const Follow& 
         for (int t = 0; t < steps; ++t) lead(t), pair_->ahead(t + 1);
       },
       [&] {
-        for (int t = 0; t < steps; ++t) pair_->behind(t), follow(t);
+        for (int t = 0; t < steps; ++t) {
+          pair_->behind(t), follow(t);
+          if ((t + 1) % PassPair::kDoneEvery == 0) pair_->done(t + 1);
+        }
       });
 }
 
@@ -207,7 +252,7 @@ void InCoreVCycle<T>::pass(int steps, int rows, const Lead& lead, const Follow& 
 // The lead zeroes, sums `before` and does the first sweeps (lead_sweeps); the follower the other sweeps and the rest.
 // Returns |r|^2 with `norms` (else 0: the sum costs about 2 % of a V-cycle); adds <w, u> to dots.
 template <class T>
-double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b,
+double InCoreVCycle<T>::descend(int l, Plane<T>& u, Rhs& b, const Plane<T>* d, Plane<T>& coarse_b,
                                 const Plane<T>* w, double& dots, bool norms, double* before) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
@@ -221,14 +266,17 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
   };
   const auto relax_row = [&](int s, int j, Scratch<T>& scratch) {
     if (j >= 0 && j < op.height)
-      relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b.row(j), scratch, diag_row(d, j));
+      relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b_row(b, j), scratch, diag_row(d, j));
   };
   int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   // `before`: row j's residual reads rows j - 2 .. j + 2, all as they came while j - 2 is unrelaxed.
-  for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b, d, j, lead_);
+  rewind(b);
+  feed_to(b, 1);
+  for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b_row(b, j), d, j, lead_);
   const auto lead = [&](int t) {
     zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
-    if (before && t + 2 < op.height) *before += row_residual2(l, u, b, d, t + 2, lead_);
+    feed_to(b, before ? t + 2 : t);
+    if (before && t + 2 < op.height) *before += row_residual2(l, u, b_row(b, t + 2), d, t + 2, lead_);
     for (int s = 0; s < led; ++s) relax_row(s, t - 2 * s, lead_.scratch);
   };
   const auto follow = [&](int t) {
@@ -236,7 +284,7 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
     const int j = t - 2 * sweeps_;
     if (j < 0) return;
     if (w) dots += row_dot(weight_row(*w, j), u.row(j), op.width);
-    residual(op, j, window(op, u, j), row, b.row(j), lane_.r.data(), lane_.scratch, diag_row(d, j));
+    residual(op, j, window(op, u, j), row, b_row(b, j), lane_.r.data(), lane_.scratch, diag_row(d, j));
     if (norms) rr += row_squares(lane_.r.data(), op.width);
     const fem::ProlongationRow& py = g.py.rows[j];
     zero_rows(coarse_b, b_zeroed, std::max(py.index[0], py.index[1]) + 1);
@@ -252,7 +300,7 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, const Plane<T>& b, const Pla
 // at step t row t takes the correction and sweep s + 1 relaxes row t - 2 - 2s (same bits as above).
 // The lead prolongs and does the first sweeps (lead_sweeps); the follower the other sweeps and sums `after`.
 template <class T>
-void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse,
+void InCoreVCycle<T>::ascend(int l, Plane<T>& u, Rhs& b, const Plane<T>* d, const Plane<T>& coarse,
                              double* after) {
   const LevelOperator<T>& op = ops_.levels[l];
   const LevelGeometry& g = ops_.hierarchy->levels[l + 1];
@@ -260,12 +308,14 @@ void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<
   const int led = lead_sweeps(post_sweeps_, kProlongCost, after ? kResidualCost : 0.0);
   const auto relax_row = [&](int s, int j, Scratch<T>& scratch) {
     if (j >= 0 && j < op.height)
-      relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b.row(j), scratch,
+      relax(op, j, window(op, u, j), sweep_columns(row, sweeps_ + s, j), u.row(j), b_row(b, j), scratch,
             diag_row(d, j));
   };
   // `after`: row j is final at step j + 2 * post_sweeps, so row j's residual two steps later.
   const int last = 2 + 2 * post_sweeps_;
+  rewind(b);
   const auto lead = [&](int t) {
+    feed_to(b, t - 2);  // (every pass reads rows up to t - 2 at step t)
     if (t < op.height) {
       const fem::ProlongationRow& py = g.py.rows[t];
       prolong_rows(g.px, py, coarse.row(py.index[0]), coarse.row(py.index[1]), {0, 0}, true, row, u.row(t), 0,
@@ -275,7 +325,7 @@ void InCoreVCycle<T>::ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<
   };
   const auto follow = [&](int t) {
     for (int s = led; s < post_sweeps_; ++s) relax_row(s, t - 2 - 2 * s, lane_.scratch);
-    if (after && t >= last && t - last < op.height) *after += row_residual2(l, u, b, d, t - last, lane_);
+    if (after && t >= last && t - last < op.height) *after += row_residual2(l, u, b_row(b, t - last), d, t - last, lane_);
   };
   pass(op.height + (after ? last : 2 * post_sweeps_), op.height, lead, follow);
 }
@@ -327,7 +377,7 @@ void InCoreVCycle<T>::set_half(const HalfPolicy* half) {
 template <class T>
 double InCoreVCycle<T>::residual_norm(const Plane<T>& u, const Plane<T>& b) {
   double rr = 0.0;
-  for (int j = 0; j < u.height; ++j) rr += row_residual2(first_, u, b, diag_ ? &(*diag_)[0] : nullptr, j, lane_);
+  for (int j = 0; j < u.height; ++j) rr += row_residual2(first_, u, b.row(j), diag_ ? &(*diag_)[0] : nullptr, j, lane_);
   return std::sqrt(rr);
 }
 

@@ -77,7 +77,8 @@ enum class SweepDirection { Forward, AlternateSweeps, AlternateRows };
 // A pass is `steps` steps; at each the lead does the first sweeps of its rows and the follower the rest
 // (and the residual, restriction and sums) of the rows two a sweep above. The follower reads nothing the
 // lead writes later and the lead nothing the follower writes, so the follower's step t only waits for the
-// lead's: every relaxation sees what it sees on one thread, in the same order (same bits).
+// lead's: every relaxation sees what it sees on one thread, in the same order (same bits). (A fed b's
+// ring is the exception: the lead reads rows into it, and waits for the follower before reusing a row.)
 class PassPair {
  public:
   virtual ~PassPair() = default;
@@ -87,6 +88,23 @@ class PassPair {
   virtual void ahead(int steps) = 0;
   // The follower waits until the lead has done step `step`.
   virtual void behind(int step) = 0;
+  // The follower has done steps [0, steps) (said every kDoneEvery steps); the lead waits until it has
+  // said so for `steps` (wait_done: once it must wait, until 2 kDoneEvery more, or the pass's last
+  // word) before it reuses what the follower may still read.
+  virtual void done(int steps) = 0;
+  virtual void wait_done(int steps) = 0;
+  static constexpr int kDoneEvery = 8;
+};
+
+// Level `first`'s b read in order, row by row, from where its owner keeps it (a row store), in place
+// of a whole plane: InCoreVCycle::run keeps only the rows its passes are reading (a ring).
+template <class T>
+struct RowFeed {
+  std::function<void()> rewind;                 // the next row read is row 0
+  std::function<void(std::span<T> row)> read;   // the next row
+  // Set by the V-cycle once it has rounded b to half floats (the half policy): rows are rounded as
+  // they are read from then on (the bits of b rounded in place). One feed per right-hand side.
+  bool rounded = false;
 };
 
 // Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
@@ -99,6 +117,8 @@ class InCoreVCycle {
   // null) and `probe` (may be null) as described at CycleProbe. b is rounded in place where the
   // half policy says (the streamed V-cycle's stored b is what later cycles read).
   void run(Plane<T>& u, Plane<T>& b, const std::vector<Plane<T>>* weights = nullptr, CycleProbe* probe = nullptr);
+  // The same with b fed row by row (the same bits).
+  void run(Plane<T>& u, RowFeed<T>& b, const std::vector<Plane<T>>* weights = nullptr, CycleProbe* probe = nullptr);
   // |b - A u| on level `first`.
   double residual_norm(const Plane<T>& u, const Plane<T>& b);
   // A per-pixel diagonal term (window_ops.h) on every level: (*diag)[l - first] for level l
@@ -123,12 +143,25 @@ class InCoreVCycle {
     std::vector<T> r;
     Scratch<T> scratch;
   };
+  // A level's b as the passes read it: a plane, or level `first`'s rows fed into `ring_`, rows
+  // [0, fed) read so far, row j in ring row j % ring_.height.
+  struct Rhs {
+    Plane<T>* plane = nullptr;
+    RowFeed<T>* feed = nullptr;
+    int fed = 0;
+  };
+  const T* b_row(const Rhs& b, int j) const { return b.plane ? b.plane->row(j) : ring_.row(j % ring_.height); }
+  void feed_to(Rhs& b, int j);
+  static void rewind(Rhs& b) {
+    if (b.feed) b.feed->rewind(), b.fed = 0;
+  }
+  void run(Plane<T>& u, Rhs b0, const std::vector<Plane<T>>* weights, CycleProbe* probe);
   template <class Lead, class Follow>
   void pass(int steps, int rows, const Lead& lead, const Follow& follow);
-  double descend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
+  double descend(int l, Plane<T>& u, Rhs& b, const Plane<T>* d, Plane<T>& coarse_b, const Plane<T>* w,
                  double& dots, bool norms, double* before);
-  void ascend(int l, Plane<T>& u, const Plane<T>& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
-  double row_residual2(int l, const Plane<T>& u, const Plane<T>& b, const Plane<T>* d, int j, Lane& lane);
+  void ascend(int l, Plane<T>& u, Rhs& b, const Plane<T>* d, const Plane<T>& coarse, double* after);
+  double row_residual2(int l, const Plane<T>& u, const T* b, const Plane<T>* d, int j, Lane& lane);
   Columns sweep_columns(const Columns& row, int sweep, int j) const;
 
   const Operators<T>& ops_;
@@ -143,6 +176,7 @@ class InCoreVCycle {
   std::vector<Plane<T>> u_, b_;  // levels first + 1, ... (level `first` belongs to the caller)
   Plane<double> coarse_b_, coarse_u_;  // the coarsest level's b and u in double, reused
   Lane lane_, lead_;  // the follower's (and a single thread's) and the lead's
+  Plane<T> ring_;    // fed rows of level `first`'s b (made at the first fed run)
   PassPair* pair_ = nullptr;
 };
 
