@@ -12,6 +12,11 @@ first). The I/O counters are read from /proc/PID/io after the command has exited
 it is reaped (waitid WNOWAIT), the rest from wait4()'s rusage (the same numbers /usr/bin/time -v
 prints, which some machines lack). Linux only. The command's stdout and stderr pass through;
 the exit status is the command's (128 + N when signal N ended it).
+
+GDP_BENCH_PAUSE=S sleeps S seconds before the command starts (not timed): this VM takes freed
+pages back after about 3 s, so a run that closely follows another pays less for fresh memory and
+back-to-back pairs favour the later run (docs/how-streaming-works.md). Every bench script that
+measures through this file takes it.
 """
 import json
 import os
@@ -25,6 +30,7 @@ def main(argv):
         sys.stderr.write("usage: measure_run.py OUT.json -- COMMAND [ARGS...]\n")
         return 2
     out_path, command = argv[1], argv[3:]
+    time.sleep(float(os.environ.get("GDP_BENCH_PAUSE", "0") or 0))
     start = time.time()
     proc = subprocess.Popen(command)
     os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOWAIT)

@@ -10,9 +10,8 @@
 # are the same plan, and --in-core the reference (the outputs are compared byte for byte); RUNS picks
 # some of the commands (the default is always run: the ratios are against it). mpirun gets --bind-to none
 # (GDP_MPIRUN_ARGS to change): by default Open MPI binds each of 2 ranks to one core, which
-# confines a rank's worker and its reading and writing threads to it. ONE_PAUSE=S sleeps S seconds
-# before each timed run (this VM takes freed pages back after ~3 s, which favours a run that follows
-# another closely: docs/how-streaming-works.md).
+# confines a rank's worker and its reading and writing threads to it. GDP_BENCH_PAUSE=S sleeps S
+# seconds before each timed run (bench/measure_run.py; this VM takes freed pages back after ~3 s).
 set -euo pipefail
 size=${1:-4096}
 rounds=${2:-2}
@@ -25,7 +24,7 @@ stitch_bench_setup one-schedule "$build"
 stitch=(stitch -c "$work/composite.tif" -l "$work/labels.tif" --compression none -q)
 mpi=(mpirun --oversubscribe --allow-run-as-root ${GDP_MPIRUN_ARGS:---bind-to none})
 measure() {
-  [[ $runs == *" $1 "* ]] && sleep "${ONE_PAUSE:-0}" && python3 "$here/bench/measure_run.py" "$work/$1-$2.json" -- "${@:3}" > /dev/null || true
+  [[ $runs == *" $1 "* ]] && python3 "$here/bench/measure_run.py" "$work/$1-$2.json" -- "${@:3}" > /dev/null || true
 }
 for r in $(seq 1 "$rounds"); do
   measure default "$r" "$gdp" "${stitch[@]}" -o "$work/default.tif"
