@@ -28,7 +28,8 @@
 # towards the disk. Error: RMS in 8-bit levels against the truth, each channel's mean difference
 # removed (the two solvers may differ in the constant). Extra flags: $GDP_ARGS, $DMG_SERVER_ARGS,
 # $DMG_CLIENT_ARGS. VS_DMG_NICE=N runs both under `nice -n N` (negative, as root: a shared machine's
-# other load then disturbs the wall figures less). Work files: ${GDP_BENCH_DIR:-/tmp/gdp-vs-dmg}/SIZE (inputs kept, outputs removed
+# other load then disturbs the wall figures less). GDP_BENCH_PAUSE=S sleeps S seconds before each
+# tool's run (this VM takes freed pages back after ~3 s; docs/reproduce.md). Work files: ${GDP_BENCH_DIR:-/tmp/gdp-vs-dmg}/SIZE (inputs kept, outputs removed
 # once scored; the last pair is also compared with each other).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -102,7 +103,9 @@ trap 'exit 130' INT TERM
 measured() {  # JSON, LOG, COMMAND...: in the background, so that a signal reaches the traps at once
   local json=$1 log=$2
   shift 2
-  "${measure[@]}" "$json" -- "$@" > "$log" 2>&1 &
+  # (GDP_BENCH_PAUSE is slept once before each tool's run, below: DMG's server would count its
+  # client's pause as its own wall.)
+  GDP_BENCH_PAUSE= "${measure[@]}" "$json" -- "$@" > "$log" 2>&1 &
   wrappers+=($!)
 }
 
@@ -114,6 +117,7 @@ finish() {  # LOG, WHAT: waits for the latest measured command
 
 run_gdp() {  # dir, run
   local d=$1 r=$2
+  sleep "${GDP_BENCH_PAUSE:-0}"
   measured "$d/gdp_$r.json" "$d/gdp_$r.log" "$gdp" stitch -c "$d/composite.png" -l "$d/labels.png" \
     -o "$d/out_gdp.tif" --depth 16 --compression none --threads 2 --temp "$d/scratch" \
     --stats "$d/gdp_stats_$r.json" -q ${GDP_ARGS:-}
@@ -122,6 +126,7 @@ run_gdp() {  # dir, run
 
 run_dmg() {  # dir, run
   local d=$1 r=$2 port="" i
+  sleep "${GDP_BENCH_PAUSE:-0}"
   measured "$d/dmg_server_$r.json" "$d/dmg_server_$r.log" "$dmg/Bin/Server" --count 1 --quality 0 --hdr --verbose \
     ${DMG_SERVER_ARGS:-}
   for ((i = 0; i < 300; ++i)); do
