@@ -58,6 +58,12 @@ for h in boost/thread.hpp boost/chrono.hpp png.h tiffio.h jpeglib.h zlib.h; do
     exit 2
   }
 done
+for l in boost_thread boost_system boost_chrono; do  # the headers come with other Boost packages, the libraries not
+  [[ -e /usr/lib/x86_64-linux-gnu/lib$l.so || -e /usr/lib/lib$l.so ]] || {
+    echo "$me: building DMG needs lib$l.so: apt-get install libboost-thread-dev libboost-system-dev libboost-chrono-dev" >&2
+    exit 2
+  }
+done
 gdp="$here/$build/tools/gdp/gdp"
 for exe in "$gdp" "$here/$build/bench/make_composite" "$here/$build/bench/blend_layers"; do
   [[ -x $exe ]] || { echo "$me: missing $exe (scripts/build.sh)" >&2; exit 2; }
