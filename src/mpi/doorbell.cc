@@ -10,9 +10,6 @@
 #include <climits>
 #include <ctime>
 #include <vector>
-#include <cerrno>
-#include <cstdio>
-#include <cstdlib>
 
 namespace gdp::mpi {
 namespace {
@@ -30,8 +27,6 @@ MPI_Win window = MPI_WIN_NULL;
 std::vector<Slot*> slots;  // by world rank; null for ranks on other nodes
 Slot* mine = nullptr;
 bool everyone = false;
-std::atomic<long> d_rings{0}, d_wakes{0}, d_woken{0}, d_timeout{0}, d_again{0};
-struct DReport { ~DReport() { if (std::getenv("GDP_WAIT_STATS")) std::fprintf(stderr, "rings %ld wakes %ld woken %ld timeout %ld again %ld\n", d_rings.load(), d_wakes.load(), d_woken.load(), d_timeout.load(), d_again.load()); } } dreport;
 
 long futex(std::atomic<std::uint32_t>* word, int op, std::uint32_t value, const timespec* timeout) {
   return syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(word), op, value, timeout, nullptr, 0);
@@ -52,9 +47,15 @@ void open_doorbells() {
     return;
   }
   // The segment is a fresh file mapping, zero-filled; a slot left non-zero would only cost a
-  // spurious wake-up (the waiter polls again) or a needless FUTEX_WAKE.
+  // spurious wake-up (the waiter polls again) or a needless FUTEX_WAKE. Where the MPI cannot
+  // share memory this rank goes without (its waits poll; ringing it stays harmless).
   void* base = nullptr;
-  MPI_Win_allocate_shared(sizeof(Slot), sizeof(Slot), MPI_INFO_NULL, node, &base, &window);
+  MPI_Comm_set_errhandler(node, MPI_ERRORS_RETURN);
+  if (MPI_Win_allocate_shared(sizeof(Slot), sizeof(Slot), MPI_INFO_NULL, node, &base, &window) != MPI_SUCCESS) {
+    window = MPI_WIN_NULL;
+    MPI_Comm_free(&node);
+    return;
+  }
   MPI_Group world_group, node_group;
   MPI_Comm_group(MPI_COMM_WORLD, &world_group);
   MPI_Comm_group(node, &node_group);
@@ -91,8 +92,7 @@ void ring(int rank) {
   if (!rings(rank)) return;
   Slot& s = *slots[rank];
   s.count.fetch_add(1);  // sequentially consistent: a sleeper that counted itself is seen below
-  ++d_rings;
-  if (s.sleepers.load() > 0) { ++d_wakes; futex(&s.count, FUTEX_WAKE, INT_MAX, nullptr); }
+  if (s.sleepers.load() > 0) futex(&s.count, FUTEX_WAKE, INT_MAX, nullptr);
 }
 
 void ring_all() {
@@ -106,8 +106,7 @@ void wait_bell(std::uint32_t seen, std::chrono::microseconds timeout) {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
   const timespec t{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
   mine->sleepers.fetch_add(1);
-  long rc = futex(&mine->count, FUTEX_WAIT, seen, &t);  // returns at once if the count moved since `seen`
-  if (rc == 0) ++d_woken; else if (errno == ETIMEDOUT) ++d_timeout; else ++d_again;
+  futex(&mine->count, FUTEX_WAIT, seen, &t);  // returns at once if the count moved since `seen`
   mine->sleepers.fetch_sub(1);
 }
 

@@ -3,10 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <thread>
-#include <atomic>
 
 #include "mpi/doorbell.h"
 
@@ -14,15 +11,6 @@ namespace gdp::mpi {
 namespace {
 
 using std::chrono::microseconds;
-
-std::atomic<long> st_waits{0}, st_polls{0}, st_bell_waits{0}, st_bell_polls{0}, st_timeouts_found{0};
-struct Report {
-  ~Report() {
-    if (std::getenv("GDP_WAIT_STATS"))
-      std::fprintf(stderr, "waits %ld polls %ld bell-waits %ld bell-polls %ld found-after-timeout %ld\n", st_waits.load(),
-                   st_polls.load(), st_bell_waits.load(), st_bell_polls.load(), st_timeouts_found.load());
-  }
-} report;
 
 // Calls `ready()` until it returns true, sleeping between polls. Open MPI's blocking calls spin on
 // the progress engine at 100 % of a core, taken from the rank's own workers and I/O threads where
@@ -35,36 +23,26 @@ struct Report {
 void wait_until(const std::function<bool()>& ready, const std::function<void()>& between, int peer) {
   const bool bell = peer == kAnyRank ? all_ring() : rings(peer);
   if (!bell) {
-    ++st_waits;
     constexpr auto kFirstSleep = microseconds(20), kLongestSleep = microseconds(640);
     auto sleep = kFirstSleep;
     for (int polls = 0; !ready(); ++polls) {
-      ++st_polls;
       if (between && polls % 16 == 15) between();
       std::this_thread::sleep_for(sleep);  // never sched_yield (above)
       sleep = std::min(sleep * 2, kLongestSleep);
     }
     return;
   }
-  ++st_bell_waits;
   // A point-to-point wait is woken by its peer: long timeouts. A collective's later rounds are
   // sent from the other ranks' polls, which do not ring: short ones at first.
   const auto longest = peer == kAnyRank ? microseconds(2000) : microseconds(8000);
   auto timeout = peer == kAnyRank ? microseconds(20) : microseconds(1000);
-  bool timed = false;
   for (int polls = 0;; ++polls) {
     const std::uint32_t seen = bell_count();
     // Twice: MPI_Improbe looks in the matched queue before its progress call pulls what has
     // arrived, so a message that woke this rank is found by the second probe.
-    if (ready() || ready()) {
-      if (timed) ++st_timeouts_found;
-      return;
-    }
-    ++st_bell_polls;
+    if (ready() || ready()) return;
     if (between && polls % 16 == 15) between();
-    const auto t0 = std::chrono::steady_clock::now();
     wait_bell(seen, timeout);
-    timed = std::chrono::steady_clock::now() - t0 >= timeout;
     timeout = std::min(timeout * 2, longest);
   }
 }
