@@ -5,7 +5,8 @@
 #
 #   bench/mpi_ab.sh SIZE ROUNDS BASE_DIR NEW_DIR [RUNS="plain_base mpi2_base mpi2_new plain_new"]
 #
-# RUNS, in the order run within each round: plain_X, mpi2_X, mpi1_X for X in base, new. Every run is
+# RUNS, in the order run within each round: plain_X, mpi2_X, mpi1_X for X in base, new (and mpi2_new2
+# for a third folder, NEW2_DIR in the environment). Every run is
 # measured by bench/measure_run.py (user + sys of mpirun and its ranks; GDP_BENCH_PAUSE, 8 s unless
 # set, before each: this VM takes freed pages back after ~3 s). Prints every run's CPU and wall,
 # the medians, each run's CPU against the round's plain_base, and whether the outputs of the same
@@ -27,6 +28,7 @@ for r in $(seq 1 "$rounds"); do
   for n in $runs; do
     dir=$base
     [[ $n == *_new ]] && dir=$new
+    [[ $n == *_new2 ]] && dir=$(cd "$NEW2_DIR" && pwd)
     case $n in
       plain_*) cmd=(env LD_LIBRARY_PATH="$dir" "$dir/gdp") ;;
       mpi2_*) cmd=("${mpi[@]}" -np 2 -x LD_LIBRARY_PATH="$dir" "$dir/gdp") ;;
@@ -48,8 +50,11 @@ load = lambda n, r: json.load(open(f"{work}/{n}-{r}.json"))
 cpu = {n: [load(n, r)["user"] + load(n, r)["sys"] for r in range(1, rounds + 1)] for n in runs}
 wall = {n: [load(n, r)["wall"] for r in range(1, rounds + 1)] for n in runs}
 for n in runs:
+    vol = statistics.median(load(n, r)["voluntary_switches"] for r in range(1, rounds + 1))
     print(f"{n:11s} CPU " + " ".join(f"{c:.2f}" for c in cpu[n]) + f" (median {statistics.median(cpu[n]):.2f}) s;"
-          " wall " + " ".join(f"{w:.2f}" for w in wall[n]) + " s")
+          " wall " + " ".join(f"{w:.2f}" for w in wall[n]) + f" s; voluntary switches (median) {vol:.0f}; user / sys"
+          " (medians) " + " / ".join(f"{statistics.median(load(n, r)[k] for r in range(1, rounds + 1)):.2f}"
+                                      for k in ("user", "sys")) + " s")
 if "plain_base" in runs:
     for n in runs:
         ratio = [c / p for c, p in zip(cpu[n], cpu["plain_base"])]

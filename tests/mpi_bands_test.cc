@@ -155,24 +155,6 @@ TEST_F(MpiBands, WaitingRanksNeverYieldTheirCore) {
   }
 }
 
-// Ranks on one node sleep on a doorbell in memory they share (mpi/doorbell.h): a rank waiting a
-// second for a message sleeps until the sender rings, with timeouts of at most 8 ms, so at most
-// ~130 times; polls with sleeps of at most 640 us (ranks on other nodes, and every rank before
-// the doorbells) sleep over 1,500 times in that second.
-TEST_F(MpiBands, WaitingRankSleepsUntilTheSenderRings) {
-  const test::CliRun r = gdp_raw("(" + kMpirun + " -np 2 " + GDP_DOORBELL_PROBE + " 1000 > " + path("probe.txt") + ")");
-  ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream f(path("probe.txt"));
-  std::string word, message;
-  long sleeps = -1;
-  f >> word >> sleeps >> message;
-  std::getline(f, message);
-  EXPECT_EQ(word, "sleeps");
-  EXPECT_EQ(message, " 3 bytes 1 2 3");
-  EXPECT_GE(sleeps, 1);
-  EXPECT_LE(sleeps, 300);
-}
-
 // The smallest result ring (GDP_RESULT_ROWS=1: a worker runs ahead of the writing by one row
 // unless a worker of its group has not put the row to write) on a tall problem with bands of 28
 // columns and a wide, low one, with two V-cycles and three channels (channel groups on threads): on

@@ -4,7 +4,6 @@
 #include <exception>
 
 #include "gdp/mpi_run.h"
-#include "mpi/doorbell.h"
 #include "mpi/ranks.h"
 #include "mpi/wait.h"
 
@@ -13,8 +12,7 @@ namespace gdp::bands {
 MpiHub::MpiHub(int local) : ThreadHub(local, MpiRun::rank() * local, MpiRun::size() * local) {
   MPI_Request request;  // a rank that comes early waits without holding a core
   MPI_Comm_idup(MPI_COMM_WORLD, &comm_, &request);
-  mpi::ring_all();  // a rank waiting for this one to join wakes
-  mpi::wait_request(request, mpi::kAnyRank);
+  mpi::wait_request(request);
 }
 
 MpiHub::~MpiHub() {
@@ -23,7 +21,7 @@ MpiHub::~MpiHub() {
     const bool failed = std::uncaught_exceptions() > 0;  // MPI_Abort follows: not waited for
     for (auto& p : sends_)
       if (failed) MPI_Request_free(&p.request);
-      else mpi::wait_request(p.request, p.to);
+      else mpi::wait_request(p.request);
     sends_.clear();
   }
   MPI_Comm_free(&comm_);
@@ -62,10 +60,8 @@ void MpiHub::send_away(int from, int to, int tag, Bytes data) {
   reap();
   Pending& p = sends_.emplace_back();
   p.data = std::move(data);
-  p.to = to / local_;
-  MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, p.to, mpi_tag(tag, from, to), comm_,
+  MPI_Isend(p.data.data(), static_cast<int>(p.data.size()), MPI_BYTE, to / local_, mpi_tag(tag, from, to), comm_,
             &p.request);
-  mpi::ring(p.to);  // its receiver, sleeping on its doorbell, polls now
 }
 
 Bytes MpiHub::receive_away(int from, int to, int tag) {
@@ -89,8 +85,7 @@ std::optional<Bytes> MpiHub::poll(int from, int to, int tag) {
   data.resize(static_cast<std::size_t>(count));
   MPI_Request request;  // a large message arrives in pieces: completed without spinning
   MPI_Imrecv(data.data(), count, MPI_BYTE, &message, &request);
-  mpi::wait_request(request, from / local_);
-  mpi::ring(from / local_);  // its sender's send has completed
+  mpi::wait_request(request);
   return data;
 }
 

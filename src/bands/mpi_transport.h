@@ -48,7 +48,6 @@ class MpiHub final : public ThreadHub {
   struct Pending {
     Bytes data;
     MPI_Request request = MPI_REQUEST_NULL;
-    int to = 0;  // the receiving rank
   };
   std::deque<Pending> sends_;  // in the order started
   std::vector<Bytes> spares_;  // at most kSpares

@@ -15,7 +15,6 @@
 #include "bands/transport.h"
 #include "gdp/cleanup.h"
 #include "gdp/errors.h"
-#include "mpi/doorbell.h"
 #include "mpi/ranks.h"
 #include "mpi/wait.h"
 
@@ -108,7 +107,6 @@ MpiRun::MpiRun(int& argc, char**& argv) {
   MPI_Comm_size(MPI_COMM_WORLD, &the_size);
   if (provided < MPI_THREAD_MULTIPLE && the_size > 1)
     mpi::abort_ranks("this MPI library does not provide MPI_THREAD_MULTIPLE, which the band schedule needs");
-  mpi::open_doorbells();  // the ranks leave MPI_Init together: its collectives hardly wait
 }
 
 MpiRun::~MpiRun() {
@@ -119,9 +117,7 @@ MpiRun::~MpiRun() {
   // MPI_Abort, which ends all).
   MPI_Request request;
   MPI_Ibarrier(MPI_COMM_WORLD, &request);
-  mpi::ring_all();  // ranks waiting for this one wake
-  mpi::wait_request(request, mpi::kAnyRank);
-  mpi::close_doorbells();
+  mpi::wait_request(request);
   MPI_Finalize();
 }
 
