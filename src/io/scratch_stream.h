@@ -32,11 +32,11 @@ bool make_direct(int fd);
 // append them, rewind(), read them back in the same order (as often as needed); clear() starts
 // writing anew; rewind(true) says the coming read is the stream's last: a memfd then gives its
 // pages back behind the read position as it goes (every kReturnBytes), so that nothing is left to
-// free when the stream closes and the pages are free sooner (docs/how-streaming-works.md, "Scratch
-// pages given back on their last read"); rewinding again before a clear() is a logic error. Its buffers are made once (one for Memory, three for File, of 256 KB or the
-// `expected` length if shorter; two for Direct, of 64 KB to 1 MiB, whole records where records
-// are whole blocks, in one huge page at the cap) and reused for every pass. A
-// Direct stream writes whole blocks, its last padded; bytes() is the length written, and
+// free when the stream closes (docs/how-streaming-works.md, "The e2e stitch, third round");
+// rewinding again before a clear() is a logic error. Its buffers are made once (one for Memory,
+// three for File, of 256 KB or the `expected` length if shorter; two for Direct, of 64 KB to
+// 1 MiB, whole records where records are whole blocks, in one huge page at the cap) and reused
+// for every pass. A Direct stream writes whole blocks, its last padded; bytes() is the length written, and
 // make_durable()/restore() keep it (a checkpoint's file may be longer; restore truncates it).
 // Errors are OutputError naming `where`, with `hint` after a failed write's reason.
 class ScratchStream {
