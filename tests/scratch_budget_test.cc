@@ -3,6 +3,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 
 #include "gdp/errors.h"
 #include "gdp/solver.h"
@@ -107,6 +108,52 @@ TEST(ScratchBudget, MemoryStoresKeepRowsAcrossTheirBufferFlushes) {
       ASSERT_EQ(row[n - 1], static_cast<float>(pass * 1000003 + r * n + n - 1));
     }
   }
+}
+
+// A store in memory told that its read is the last gives its pages back as the read passes them
+// (the stream's length stays), so that nothing is left to free at the close; one read again keeps
+// them. Rewinding a spent store is an error until it is cleared and written anew.
+TEST(ScratchBudget, AMemoryStoreGivesItsPagesBackOnItsLastRead) {
+  ScratchBudget budget(std::size_t{64} << 20);
+  StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 3001, rows = 1200;  // 14.4 MB of 12 kB rows
+  RowStore<float> store(policy, n, rows, "last");
+  ASSERT_FALSE(store.on_disk());
+  std::vector<float> row(n);
+  const auto write = [&](float k) {
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::fill(row.begin(), row.end(), k + static_cast<float>(r));
+      store.append(row);
+    }
+  };
+  const auto read = [&](std::size_t from, std::size_t to, float k) {
+    for (std::size_t r = from; r < to; ++r) {
+      store.read(row);
+      ASSERT_EQ(row[0], k + static_cast<float>(r));
+      ASSERT_EQ(row[n - 1], k + static_cast<float>(r));
+    }
+  };
+  const std::size_t total = n * rows * sizeof(float);
+  write(0.0f);
+  store.rewind();  // not the last: every page stays
+  read(0, rows, 0.0f);
+  EXPECT_GE(store.allocated(), total);
+  store.rewind(true);
+  EXPECT_GE(store.allocated(), total);
+  read(0, rows / 2, 0.0f);
+  const std::size_t page = 4096;  // (the last one partly filled)
+  EXPECT_LE(store.allocated(), total + page - io::ScratchStream::kReturnBytes);  // whole runs behind the read
+  EXPECT_GE(store.allocated(), total / 2 - io::ScratchStream::kReturnBytes);  // not those ahead of it
+  read(rows / 2, rows, 0.0f);
+  EXPECT_EQ(store.allocated(), 0u);
+  EXPECT_EQ(store.bytes(), total);
+  EXPECT_THROW(store.rewind(), std::logic_error);
+  store.clear();  // written anew into the holes
+  write(5.0f);
+  store.rewind(true);
+  read(0, rows, 5.0f);
+  EXPECT_EQ(store.allocated(), 0u);
 }
 
 TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {

@@ -297,7 +297,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
     for (auto& L : levels_) {
       L->arrived = L->next_phase = L->finished = L->needed_from = 0;
       for (int q : {U, B, D})  // (the level handed to the merged stage has none: u comes back row by row)
-        if (L->store[q]) L->store[q]->rewind();
+        if (L->store[q]) L->store[q]->rewind(!set_.more_cycles);  // one V-cycle: their last read
     }
   }
   Level& L = *levels_[0];

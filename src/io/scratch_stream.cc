@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <linux/magic.h>
+#include <sys/stat.h>
 #include <sys/vfs.h>
 #include <unistd.h>
 
@@ -129,8 +130,11 @@ void ScratchStream::pass_on(bool all) {
   fill_ -= whole;
 }
 
-void ScratchStream::rewind() {
+void ScratchStream::rewind(bool last) {
+  if (spent_) throw std::logic_error("ScratchStream::rewind after the last read");
   if (!reading_) pass_on(true);
+  last_ = spent_ = last;
+  returned_ = 0;
   ahead_.reset();
   drop_behind_.restart(0);
   // A file is read ahead on a thread of its own (the wait for its disk is that thread's); memory
@@ -160,9 +164,29 @@ void ScratchStream::next_chunk() {
     util::read_exactly_at(fd_, cur_, size_, read_at_, {where_});
     chunk_at_ = cur_;
     read_at_ += size_;
+    if (last_) give_back(read_at_ == bytes());
   }
   cursor_ = 0;
   if (size_ == 0) throw std::logic_error("ScratchStream: read past the end");
+}
+
+// A memfd on its last read: the pages of [returned_, read_at_) were copied out, and go back to the
+// system (PUNCH_HOLE keeps the length) once they make whole runs of kReturnBytes, or all at the end.
+void ScratchStream::give_back(bool end) {
+  // (the end rounded up: a hole frees whole pages only, and past the length there is nothing)
+  const std::size_t to = (end ? read_at_ + kReturnBytes - 1 : read_at_) / kReturnBytes * kReturnBytes;
+  if (to <= returned_) return;
+  // A kernel without it (or a file system that takes no holes) keeps the pages until the close.
+  if (::fallocate(fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(returned_),
+                  static_cast<off_t>(to - returned_)) != 0)
+    last_ = false;
+  returned_ = to;
+}
+
+std::size_t ScratchStream::allocated() const {
+  struct stat st{};
+  if (::fstat(fd_, &st) != 0) throw OutputError(where_ + ": " + util::errno_message());
+  return static_cast<std::size_t>(st.st_blocks) * 512;
 }
 
 const unsigned char* ScratchStream::read() {
@@ -187,7 +211,7 @@ void ScratchStream::clear() {
   if (writer_ && !reading_) writer_->drain();  // its buffers are ours again
   base_ = fill_ = 0;
   drop_behind_.restart(0);
-  reading_ = false;
+  reading_ = last_ = spent_ = false;
 }
 
 std::size_t ScratchStream::make_durable() {
@@ -209,7 +233,7 @@ void ScratchStream::restore(std::size_t bytes) {
   if (fill_ > 0 && read_chunk(fd_, cur_, fill_, base_, true).done < fill_)
     throw OutputError(where_ + ": cannot read back: " + util::errno_message());
   drop_behind_.restart(bytes);
-  reading_ = false;
+  reading_ = last_ = spent_ = false;
 }
 
 }  // namespace gdp::io

@@ -30,10 +30,13 @@ bool make_direct(int fd);
 
 // A sequential stream of records of `record` bytes on `fd` (owned: closed by the destructor):
 // append them, rewind(), read them back in the same order (as often as needed); clear() starts
-// writing anew. Its buffers are made once (one for Memory, three for File, of 256 KB or the
-// `expected` length if shorter; two for Direct, of 64 KB to 1 MiB, whole records where records
-// are whole blocks, in one huge page at the cap) and reused for every pass. A
-// Direct stream writes whole blocks, its last padded; bytes() is the length written, and
+// writing anew; rewind(true) says the coming read is the stream's last: a memfd then gives its
+// pages back behind the read position as it goes (every kReturnBytes), so that nothing is left to
+// free when the stream closes (docs/how-streaming-works.md, "The e2e stitch, third round");
+// rewinding again before a clear() is a logic error. Its buffers are made once (one for Memory,
+// three for File, of 256 KB or the `expected` length if shorter; two for Direct, of 64 KB to
+// 1 MiB, whole records where records are whole blocks, in one huge page at the cap) and reused
+// for every pass. A Direct stream writes whole blocks, its last padded; bytes() is the length written, and
 // make_durable()/restore() keep it (a checkpoint's file may be longer; restore truncates it).
 // Errors are OutputError naming `where`, with `hint` after a failed write's reason.
 class ScratchStream {
@@ -46,7 +49,7 @@ class ScratchStream {
 
   // Room for the next record, to be filled before the next call.
   unsigned char* append();
-  void rewind();
+  void rewind(bool last = false);
   // The next record, valid until the next call.
   const unsigned char* read();
   void clear();
@@ -57,12 +60,18 @@ class ScratchStream {
   void restore(std::size_t bytes);
 
   std::size_t bytes() const { return base_ + fill_; }
+  // Bytes the file holds (its allocated blocks: a memfd's pages), for the tests.
+  std::size_t allocated() const;
+  // A memfd on its last read gives back its pages in runs of this many bytes (aligned: whole
+  // 2 MiB blocks of the page allocator, the unit the VM's free page reporting takes).
+  static constexpr std::size_t kReturnBytes = std::size_t{4} << 20;
   StreamKind kind() const { return kind_; }
   std::size_t chunk() const { return chunk_; }  // bytes passed on (and read back) at once
 
  private:
   void pass_on(bool all);
   void next_chunk();
+  void give_back(bool end);
   std::size_t read_chunk_bytes() const;
 
   int fd_;
@@ -75,6 +84,8 @@ class ScratchStream {
   std::size_t base_ = 0, fill_ = 0;          // its offset in the file, and the bytes in it
   const unsigned char* chunk_at_ = nullptr;  // the chunk being read: size_ bytes, cursor_ read
   std::size_t size_ = 0, cursor_ = 0, read_at_ = 0;
+  bool last_ = false, spent_ = false;        // this read is the last (Memory: pages given back); one was
+  std::size_t returned_ = 0;                 // bytes given back so far
   std::vector<unsigned char> straddle_;      // a record across two chunks (Direct)
   DropBehind drop_behind_;
   std::unique_ptr<DirectWriter> writer_;

@@ -89,8 +89,8 @@ void RowStore<T>::append(std::span<const T> row) {
 }
 
 template <class T>
-void RowStore<T>::rewind() {
-  stream_->rewind();
+void RowStore<T>::rewind(bool last) {
+  stream_->rewind(last);
   count_disk();
 }
 

@@ -50,11 +50,15 @@ class RowStore {
   RowStore& operator=(const RowStore&) = delete;
 
   void append(std::span<const T> row);
-  void rewind();
+  // `last`: the coming read is the store's last (in memory: its pages go back as it is read;
+  // io::ScratchStream::rewind).
+  void rewind(bool last = false);
   void read(std::span<T> row);
   void clear() { stream_->clear(); }
   // Bytes of the stream so far (what it occupies on disk or in memory).
   std::size_t bytes() const { return stream_->bytes(); }
+  // Bytes it holds now (less than bytes() once a last read has given pages back).
+  std::size_t allocated() const { return stream_->allocated(); }
   bool on_disk() const { return stream_->kind() != io::StreamKind::Memory; }
   bool direct() const { return stream_->kind() == io::StreamKind::Direct; }
   bool half() const { return half_; }  // rows kept as half floats

@@ -29,8 +29,9 @@ class ScratchBudget {
   // even when they would fit the budget (SIZE_MAX, the default here: never); with direct_files()
   // false no store is O_DIRECT, not even one past the budget. The process's budget takes both
   // from GDP_DIRECT_SCRATCH ("off", or a size: kDirectFrom without it; docs/how-streaming-works.md,
-  // "Scratch in O_DIRECT files").
-  static constexpr std::size_t kDirectFrom = std::size_t{256} << 20;
+  // "Scratch in O_DIRECT files"). 64 MiB: the finest level's stores of an 8192² solve, one band or
+  // two ("The e2e stitch, third round": a fresh memfd page costs more than the disk here).
+  static constexpr std::size_t kDirectFrom = std::size_t{64} << 20;
   void set_direct(bool files, std::size_t from) { direct_files_ = files, direct_from_ = from; }
   bool direct_files() const { return direct_files_.load(); }
   std::size_t direct_from() const { return direct_from_.load(); }

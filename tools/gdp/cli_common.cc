@@ -90,7 +90,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--memory", o.memory,
                    fmt::format("scratch rows kept in memory, e.g. 512M, 4G; beyond it they go to files in --temp "
                                "(0 or 'files': always files; with --checkpoint always files); default a quarter "
-                               "of physical memory, {:.1f}G here. Stores of 256M or more are O_DIRECT files "
+                               "of physical memory, {:.1f}G here. Stores of 64M or more are O_DIRECT files "
                                "whatever the budget where --temp takes them (GDP_DIRECT_SCRATCH=off or =SIZE "
                                "changes that)", default_scratch_memory() / 1073741824.0))
         ->check(CLI::Validator(
