@@ -57,26 +57,21 @@ void OutputFixups::record(int, std::span<const float> input, std::span<const uns
   bool some = !zero.empty() && any_set(zero.data() + begin_, n);
   for (int c = 0; c < channels_ && c < 7 && !some; ++c)
     some = any_not_finite(input.data() + static_cast<std::size_t>(c) * width_ + begin_, n);
-  if (!some) {
-    if (!any_) {
-      ++unflagged_;
-      return;
-    }
-    std::fill(flag_row_.begin(), flag_row_.end(), 0);
-    flags_->append(flag_row_);
+  if (!some && !any_) {  // rows before the first flagged one are not stored (most images have none at all)
+    ++unflagged_;
     return;
   }
-  if (zero.empty())
+  if (!some || zero.empty())
     std::fill(flag_row_.begin(), flag_row_.end(), 0);
   else
     for (int i = 0; i < n; ++i) flags[i] = zero[begin_ + i] ? kZero : 0;
-  for (int c = 0; c < channels_ && c < 7; ++c) {
+  for (int c = 0; some && c < channels_ && c < 7; ++c) {
     const float* in = input.data() + static_cast<std::size_t>(c) * width_ + begin_;
     const auto bit = static_cast<unsigned char>(1u << c);
     // v - v != 0 exactly when v is not finite: a test the compiler vectorises (std::isfinite is not).
     for (int i = 0; i < n; ++i) flags[i] |= in[i] - in[i] != 0.0f ? bit : 0;
   }
-  any_ = true;  // rows before the first flagged one are not stored (most images have none at all)
+  any_ = true;
   if (!flags_)
     flags_ = std::make_unique<schedule::RowStore<unsigned char>>(policy_, end_ - begin_, height_ - unflagged_, "flags");
   flags_->append(flag_row_);

@@ -82,8 +82,10 @@ class InCoreWorker {
         u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), made_(shared.marks.add(1)) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
     if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
-    for (int i = 0; i < n; ++i)
-      if (park(parked_b_, "b", i); i > 0) park(parked_u_, "u", i);
+    for (int i = 0; i < n; ++i) {
+      park(parked_b_, "b", i);
+      if (i > 0) park(parked_u_, "u", i);
+    }
   }
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
@@ -192,7 +194,11 @@ class InCoreWorker {
   void turn_to(int i) {
     schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
     parked_u_[i]->rewind();
-    for (int j = 0; j < h_; ++j) result->append({u_.row(j), static_cast<std::size_t>(w_)}), parked_u_[i]->read({u_.row(j), static_cast<std::size_t>(w_)});
+    for (int j = 0; j < h_; ++j) {
+      const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
+      result->append(row);
+      parked_u_[i]->read(row);
+    }
     parked_u_[i].reset();
   }
   // Local channel i's result row j, rows in order.
