@@ -8,7 +8,8 @@ sample, .../status (voluntary and involuntary context switches). Prints, per thr
 gdp names its I/O threads gdp-decode, gdp-encode, gdp-deflate), its CPU seconds, its switches
 (voluntary: it slept on a lock, a queue or I/O) and a strip of N bins over the run showing the
 fraction of samples in which it was runnable (R: running or waiting for a core); then the
-fraction of samples with 0, 1, 2 and 3+ runnable threads. On an idle 2-core machine, time with
+fraction of samples with 0, 1, 2 and 3+ runnable threads (and a strip of the samples with fewer
+than 2, by time: where the run leaves a core idle). On an idle 2-core machine, time with
 fewer than 2 runnable threads is a core left idle; on a loaded one a thread also waits for a core,
 so read the strips for who paces whom. Linux only; the command's exit status is returned.
 """
@@ -59,18 +60,22 @@ def main():
     dt = wall / a.bins
     runnable = collections.defaultdict(lambda: [0] * a.bins)
     total = [0] * a.bins
+    short = [0] * a.bins  # samples with fewer than 2 runnable threads (a core idle on 2 idle cores)
     counts = collections.Counter()
     for t, states in samples:
         b = min(int(t / dt), a.bins - 1)
         total[b] += 1
         r = [tid for tid, s in states.items() if s == "R"]
         counts[min(len(r), 3)] += 1
+        short[b] += len(r) < 2
         for tid in r:
             runnable[tid][b] += 1
     print(f"wall {wall:.2f} s, {len(samples)} samples, bins of {dt:.2f} s (runnable fraction: ' ' none ... '@' all)")
     for tid, (name, cpu, (vol, invol), first) in sorted(last.items(), key=lambda kv: kv[1][3]):
         strip = "".join(" .:-=+*#%@"[min(9, int(x / max(total[i], 1) * 9.99))] for i, x in enumerate(runnable[tid]))
         print(f"{tid:8d} {name:15s} from {first:6.2f} s cpu {cpu / tick:6.2f} s vol {vol:6d} invol {invol:6d} |{strip}|")
+    strip = "".join(" .:-=+*#%@"[min(9, int(x / max(total[i], 1) * 9.99))] for i, x in enumerate(short))
+    print(f"{'':8s} {'< 2 runnable':15s} {'':34s} |{strip}|")
     print("runnable threads: " + ", ".join(f"{k}{'+' if k == 3 else ''}: {counts[k] / len(samples) * 100:.0f}%"
                                            for k in range(4)))
     return rc if rc >= 0 else 128 - rc

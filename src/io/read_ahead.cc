@@ -1,6 +1,7 @@
 // A scratch file read ahead on a thread: pread (or O_DIRECT block reads) into lent buffers, handed over through queues.
 #include "io/read_ahead.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,10 +33,12 @@ util::Transfer read_chunk(int fd, unsigned char* p, std::size_t n, std::size_t a
 }
 
 ReadAhead::ReadAhead(int fd, std::size_t begin, std::size_t end, std::size_t chunk,
-                     std::span<unsigned char* const> buffers, DropBehind& drop, std::string where, bool direct)
+                     std::span<unsigned char* const> buffers, DropBehind& drop, std::string where, bool direct,
+                     std::size_t give_back)
     : where_(std::move(where)), free_(buffers.size()), full_(buffers.size()) {
   for (unsigned char* b : buffers) free_.push(Chunk{b});
-  thread_ = std::thread([this, fd, begin, end, chunk, &drop, direct] { run(fd, begin, end, chunk, drop, direct); });
+  thread_ = std::thread(
+      [this, fd, begin, end, chunk, &drop, direct, give_back] { run(fd, begin, end, chunk, drop, direct, give_back); });
 }
 
 ReadAhead::~ReadAhead() {
@@ -44,7 +47,9 @@ ReadAhead::~ReadAhead() {
   thread_.join();
 }
 
-void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop, bool direct) {
+void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chunk, DropBehind& drop, bool direct,
+                    std::size_t give_back) {
+  std::size_t returned = begin;  // blocks before it were punched out
   for (std::size_t at = begin; at < end;) {
     std::optional<Chunk> c = free_.pop();
     if (!c) return;
@@ -55,6 +60,14 @@ void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chun
     if (c->error != 0) at = end;  // the failed chunk is the last
     else drop.read(fd, at);
     if (!full_.push(*c)) return;
+    // Read into the buffers: the file's blocks there are needed no more (runs of give_back
+    // bytes; at the end all, rounded up to a block: past the length there is nothing). A file
+    // system without holes keeps them until the close.
+    const std::size_t to = at == end ? align_up(end) : at / std::max<std::size_t>(give_back, 1) * give_back;
+    if (give_back > 0 && c->error == 0 && to > returned &&
+        ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(returned),
+                    static_cast<off_t>(to - returned)) == 0)
+      returned = to;
   }
   full_.finish();
 }

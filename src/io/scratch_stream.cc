@@ -141,7 +141,7 @@ void ScratchStream::rewind(bool last) {
   // is read by the reader itself, a chunk at a time (next_chunk()).
   if (kind_ != StreamKind::Memory)
     ahead_ = std::make_unique<ReadAhead>(fd_, 0, bytes(), read_chunk_bytes(), lent_, drop_behind_, where_,
-                                         kind_ == StreamKind::Direct);
+                                         kind_ == StreamKind::Direct, last ? kReturnBytes : 0);
   chunk_at_ = nullptr;
   size_ = cursor_ = read_at_ = 0;
   reading_ = true;

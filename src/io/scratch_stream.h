@@ -31,9 +31,10 @@ bool make_direct(int fd);
 // A sequential stream of records of `record` bytes on `fd` (owned: closed by the destructor):
 // append them, rewind(), read them back in the same order (as often as needed); clear() starts
 // writing anew; rewind(true) says the coming read is the stream's last: a memfd then gives its
-// pages back behind the read position as it goes (every kReturnBytes), so that nothing is left to
-// free when the stream closes (docs/how-streaming-works.md, "The e2e stitch, third round");
-// rewinding again before a clear() is a logic error. Its buffers are made once (one for Memory,
+// pages back behind the read position as it goes (every kReturnBytes), a file its blocks behind
+// its ReadAhead thread's reads, so that nothing is left to free when the stream closes
+// (docs/how-streaming-works.md, "The e2e stitch, third round" and "Scratch files given back on
+// their last read"); rewinding again before a clear() is a logic error. Its buffers are made once (one for Memory,
 // three for File, of 256 KB or the `expected` length if shorter; two for Direct, of 64 KB to
 // 1 MiB, whole records where records are whole blocks, in one huge page at the cap) and reused
 // for every pass. A Direct stream writes whole blocks, its last padded; bytes() is the length written, and

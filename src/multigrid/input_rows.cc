@@ -85,10 +85,12 @@ void InputRows<T>::read_guidance() {
     }
   }
   // Scaled, the diagonal's d * value added, and converted as the assembler hands each row out.
+  // The row next() is filling goes straight into its caller's b (no copy from the ring there).
   const auto sink = [this](int r, int c, std::span<const double> v) {
     const std::size_t at = static_cast<std::size_t>(c) * width_ + begin_;
     const double* add = source_.has_weights() ? dv_[r % kRing].data() + at : nullptr;
-    scaled_rhs(v.data() + begin_, add, LevelOperator<T>::kScale, b_[r % kRing].data() + at, end_ - begin_);
+    T* to = r == direct_row_ ? direct_ : b_[r % kRing].data();
+    scaled_rhs(v.data() + begin_, add, LevelOperator<T>::kScale, to + at, end_ - begin_);
     if (c == channels_ - 1) emitted_ = r + 1;
   };
   assembler_.push(j, row_, sink);
@@ -99,10 +101,14 @@ template <class T>
 void InputRows<T>::next(std::span<T> u, std::span<T> b, std::span<T> w, std::span<T> d) {
   const int j = next_++;
   if (j >= height_) throw std::logic_error("InputRows::next past the last row");
+  const bool ringed = emitted_ > j;  // made before this call (the last rows): in the ring
+  direct_row_ = j;
+  direct_ = b.data();
   while (emitted_ <= j) read_guidance();
+  direct_row_ = -1;
   const int k = j % kRing;
   const bool weights = source_.has_weights();
-  for (int c = 0; c < channels_; ++c) {
+  for (int c = 0; c < channels_ && ringed; ++c) {
     const std::size_t at = static_cast<std::size_t>(c) * width_;
     std::copy(b_[k].begin() + at + begin_, b_[k].begin() + at + end_, b.begin() + at + begin_);
   }

@@ -60,6 +60,8 @@ class InputRows {
   std::vector<std::vector<T>> b_;                     // ring of right-hand-side rows, channels * width
   std::vector<std::vector<double>> d_, dv_;           // ring of diagonal rows and d * value
   int read_ = 0, emitted_ = 0, next_ = 0;
+  int direct_row_ = -1;  // the row next() is filling, whose b goes straight to `direct_`
+  T* direct_ = nullptr;
   int begin_ = 0, end_ = 0;  // the columns computed
   std::vector<Range> ranges_;
   std::vector<InputTotals> totals_;

@@ -20,14 +20,14 @@ namespace gdp::schedule {
 // has room; else a file, O_DIRECT from 1 MiB on where it can be.
 template <class T>
 RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::size_t rows, std::string name)
-    : row_length_(row_length), half_(policy.half.rounds(name)),
+    : row_length_(row_length), half_(policy.half.rounds(name)), kept_(!policy.keep_dir.empty()),
       budget_(policy.budget ? policy.budget : &ScratchBudget::process()) {
   name = policy.name_prefix + name;
   const std::size_t total = encoded_bytes() * rows;
-  const bool kept = !policy.keep_dir.empty(), direct = budget_->direct_files();
-  const std::filesystem::path dir = kept ? policy.keep_dir : policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
+  const bool direct = budget_->direct_files();
+  const std::filesystem::path dir = kept_ ? policy.keep_dir : policy.dir.empty() ? std::filesystem::temp_directory_path() : policy.dir;
   int fd = -1;
-  if (kept) {
+  if (kept_) {
     const std::filesystem::path path = dir / (name + ".store");
     fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) throw OutputError(fmt::format("checkpoint {}: cannot open: {}", path.string(), util::errno_message()));
@@ -36,7 +36,7 @@ RowStore<T>::RowStore(const StorePolicy& policy, std::size_t row_length, std::si
   }
   io::StreamKind kind = io::StreamKind::File;
   if (fd >= 0 && direct && io::make_direct(fd)) kind = io::StreamKind::Direct;
-  else if (fd >= 0 && !kept) fd = (::close(fd), -1);  // the directory takes no O_DIRECT: memory if the budget has room
+  else if (fd >= 0 && !kept_) fd = (::close(fd), -1);  // the directory takes no O_DIRECT: memory if the budget has room
   if (fd < 0 && budget_->reserve(total)) {
     // In memory: the same writes and reads as a file, into pages the kernel need not zero (a
     // fresh anonymous page must be; docs/how-streaming-works.md, "Scratch in a memfd").
@@ -90,7 +90,7 @@ void RowStore<T>::append(std::span<const T> row) {
 
 template <class T>
 void RowStore<T>::rewind(bool last) {
-  stream_->rewind(last);
+  stream_->rewind(last && !kept_);  // a checkpoint's file keeps its rows: a resume reads them again
   count_disk();
 }
 

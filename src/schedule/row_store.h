@@ -50,8 +50,8 @@ class RowStore {
   RowStore& operator=(const RowStore&) = delete;
 
   void append(std::span<const T> row);
-  // `last`: the coming read is the store's last (in memory: its pages go back as it is read;
-  // io::ScratchStream::rewind).
+  // `last`: the coming read is the store's last (its pages or blocks go back as it is read;
+  // io::ScratchStream::rewind), but for a checkpoint's file, which keeps them.
   void rewind(bool last = false);
   void read(std::span<T> row);
   void clear() { stream_->clear(); }
@@ -75,6 +75,7 @@ class RowStore {
 
   std::size_t row_length_;
   bool half_;
+  bool kept_;  // a checkpoint's named file (StorePolicy::keep_dir)
   ScratchBudget* budget_ = nullptr;  // holds memory_, counts a disk file's bytes
   std::size_t memory_ = 0;           // bytes taken from the budget (a store in memory)
   std::size_t disk_bytes_ = 0;       // counted so far
