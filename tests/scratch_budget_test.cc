@@ -156,6 +156,68 @@ TEST(ScratchBudget, AMemoryStoreGivesItsPagesBackOnItsLastRead) {
   EXPECT_EQ(store.allocated(), 0u);
 }
 
+// A store in a file (through the page cache or O_DIRECT) gives its blocks back on its last read
+// too, on its read-ahead thread (the close then frees nothing: "Scratch files given back on their
+// last read", docs/how-streaming-works.md); a plain rewind keeps them, and a checkpoint's file
+// keeps them on its last read (a resume reads them again).
+TEST(ScratchBudget, AFileStoreGivesItsBlocksBackOnItsLastRead) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gdp-budget-test-last-file";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::size_t n = 3001, rows = 1200, total = n * rows * sizeof(float);  // 14.4 MB of 12 kB rows
+  std::vector<float> row(n);
+  const auto write = [&](RowStore<float>& store, float k) {
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::fill(row.begin(), row.end(), k + static_cast<float>(r));
+      store.append(row);
+    }
+  };
+  const auto read = [&](RowStore<float>& store, float k) {
+    for (std::size_t r = 0; r < rows; ++r) {
+      store.read(row);
+      ASSERT_EQ(row[0], k + static_cast<float>(r));
+      ASSERT_EQ(row[n - 1], k + static_cast<float>(r));
+    }
+  };
+  for (const bool direct : {false, true}) {
+    SCOPED_TRACE(direct ? "O_DIRECT where the directory takes it" : "page cache");
+    ScratchBudget budget(1);  // no room in memory: a file
+    budget.set_direct(direct, static_cast<std::size_t>(-1));
+    StorePolicy policy;
+    policy.budget = &budget;
+    policy.dir = dir;
+    RowStore<float> store(policy, n, rows, "last-file");
+    ASSERT_TRUE(store.on_disk());
+    write(store, 0.0f);
+    store.rewind();  // not the last: every block stays
+    read(store, 0.0f);
+    EXPECT_GE(store.allocated(), total);
+    store.rewind(true);
+    read(store, 0.0f);
+    store.clear();  // waits for the read-ahead thread, which punched the blocks out as it read
+    EXPECT_EQ(store.allocated(), 0u);
+    EXPECT_EQ(store.bytes(), 0u);
+    write(store, 7.0f);  // written anew into the holes
+    store.rewind(true);
+    read(store, 7.0f);
+    EXPECT_THROW(store.rewind(), std::logic_error);
+  }
+  {
+    ScratchBudget budget(1);
+    StorePolicy policy;
+    policy.budget = &budget;
+    policy.keep_dir = dir;
+    RowStore<float> kept(policy, n, rows, "kept-last");
+    write(kept, 3.0f);
+    kept.rewind(true);
+    read(kept, 3.0f);
+    kept.rewind();  // not spent: its rows are all there
+    read(kept, 3.0f);
+    EXPECT_GE(kept.allocated(), total);
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ScratchBudget, CheckpointStoresAreFilesWhateverTheBudget) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gdp-budget-test-keep";
   std::filesystem::remove_all(dir);
