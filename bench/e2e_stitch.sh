@@ -12,7 +12,8 @@
 # E2E_INPUTS=DIR keeps the inputs in DIR (made there once, reused by later runs);
 # E2E_STITCHES="2" runs only the `--threads 2` stitch (default "1 2 bands2"); E2E_PAUSE=S sleeps S
 # seconds before each timed run (this VM takes freed pages back after ~3 s, which favours a run
-# that follows another closely: docs/how-streaming-works.md).
+# that follows another closely: docs/how-streaming-works.md); E2E_OUT=FILE keeps the last stitch's
+# output there (to compare two builds' bytes).
 set -euo pipefail
 size=${1:-2048}
 build=${2:-build}
@@ -46,6 +47,7 @@ for t in $stitches; do
   "$gdp" stitch -c "$inputs/composite.$ext" -l "$inputs/labels.$ext" -o "$work/out.tif" "${flags[@]}" \
     --stats "$work/stitch$t.json" -q
 done
+if [[ -n ${E2E_OUT:-} ]]; then cp "$work/out.tif" "$E2E_OUT"; fi
 python3 - "$work" $stitches <<'PY'
 import json, sys
 w = sys.argv[1]
