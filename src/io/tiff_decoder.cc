@@ -1,4 +1,4 @@
-// Decoding TIFF with libtiff: strips row by row (uncompressed ones read for the column window only), tiles only where the column window needs them, chunky or planar.
+// Decoding TIFF: strips row by row (uncompressed: the window's bytes only), tiles only where the window needs them; chunky or planar.
 #include <sys/stat.h>
 #include <unistd.h>
 
