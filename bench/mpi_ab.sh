@@ -9,7 +9,8 @@
 # for a third folder, NEW2_DIR in the environment). Every run is
 # measured by bench/measure_run.py (user + sys of mpirun and its ranks; GDP_BENCH_PAUSE, 8 s unless
 # set, before each: this VM takes freed pages back after ~3 s). Prints every run's CPU and wall,
-# the medians, each run's CPU against the round's plain_base, and whether the outputs of the same
+# the medians, each run's CPU against the round's plain_base, each mpirun run against the plain run of
+# its own build in the same round (the ratio), and whether the outputs of the same
 # command agree between the builds (cmp). Needs the build folder's bench/make_composite (BUILD=build).
 set -euo pipefail
 size=$1
@@ -59,5 +60,11 @@ if "plain_base" in runs:
     for n in runs:
         ratio = [c / p for c, p in zip(cpu[n], cpu["plain_base"])]
         print(f"{n:11s} / plain_base CPU per round " + " ".join(f"{x:.3f}" for x in ratio) +
+              f" (median {statistics.median(ratio):.3f})")
+for n in runs:  # each mpirun run against the plain run of its own build in the same round
+    own = "plain_" + n.split("_", 1)[1]
+    if n.startswith("mpi") and own in runs:
+        ratio = [c / p for c, p in zip(cpu[n], cpu[own])]
+        print(f"{n:11s} / {own:10s} CPU per round " + " ".join(f"{x:.3f}" for x in ratio) +
               f" (median {statistics.median(ratio):.3f})")
 PY

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Where mpirun -np 2's extra CPU goes (issue 17): perf record (cpu-clock, DWARF call graphs) of the
-# plain one-band stitch and of each rank under mpirun, each sample charged to its innermost gdp,
+# plain one-band stitch and of each rank under mpirun (every gdp thread: workers, gdp-decode,
+# gdp-encode), each sample charged to its innermost gdp,
 # MPI or loader function (callees included), and the two runs compared by function, in ms of CPU.
 #
 #   bench/mpi_rank_profile.sh [SIZE=8192] [BUILD=build] [TOP=30]
@@ -29,7 +30,7 @@ EOF
 chmod +x "$work/rank.sh"
 mpirun --oversubscribe --bind-to none -np 2 "$work/rank.sh" "$gdp" "${stitch[@]}" -o "$work/mpi.tif"
 charge() {  # samples of command gdp per innermost gdp / MPI / loader frame
-  for f in "$@"; do perf script -i "$f" -F comm,ip,sym 2> /dev/null; done | awk 'BEGIN { RS = "" } $1 == "gdp" {
+  for f in "$@"; do perf script -i "$f" -F comm,ip,sym 2> /dev/null; done | awk 'BEGIN { RS = "" } $1 ~ /^gdp/ {
     n = split($0, L, "\n"); key = "(other)"
     for (i = 2; i <= n; i++) {
       s = L[i]; sub(/^[ \t]*[0-9a-f]+ /, "", s)

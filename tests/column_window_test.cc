@@ -4,8 +4,10 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -21,6 +23,24 @@ namespace {
 namespace fs = std::filesystem;
 using test::oiio_write;
 using test::pattern;
+
+// Bytes this process has read through read() and pread() so far (/proc/self/io's rchar).
+long long bytes_read() {
+  std::ifstream io("/proc/self/io");
+  std::string key;
+  long long value = 0;
+  while (io >> key >> value)
+    if (key == "rchar:") return value;
+  return -1;
+}
+
+// An uncompressed TIFF in strips of `rows` rows.
+void write_raw_strips(const fs::path& p, const Image& image, OIIO::TypeDesc type, int rows) {
+  test::oiio_write_with(p, image, type, [rows](OIIO::ImageSpec& spec) {
+    spec.attribute("compression", "none");
+    spec.attribute("tiff:RowsPerStrip", rows);
+  });
+}
 
 class ColumnWindow : public test::TempDirTest {
  protected:
@@ -59,6 +79,37 @@ TEST_F(ColumnWindow, EveryFormatGivesTheWindowsColumns) {
                           std::pair{299, 300}})
       expect_window(p, x0, x1, x0 % 20 == 0);
   }
+}
+
+// Uncompressed strips are read as the file's bytes (io/tiff_decoder.cc, read_raw): every sample
+// type, strips that end inside the image, windows anywhere.
+TEST_F(ColumnWindow, UncompressedStripsOfEverySampleTypeGiveTheWindowsColumns) {
+  for (auto [type, channels, rows] : {std::tuple{OIIO::TypeDesc::UINT8, 3, 7}, std::tuple{OIIO::TypeDesc::UINT16, 1, 64},
+                                      std::tuple{OIIO::TypeDesc::HALF, 2, 5}, std::tuple{OIIO::TypeDesc::FLOAT, 4, 900},
+                                      std::tuple{OIIO::TypeDesc::DOUBLE, 1, 1}}) {
+    SCOPED_TRACE(OIIO::TypeDesc(type).c_str());
+    const fs::path p = dir_ / "raw.tif";
+    write_raw_strips(p, pattern(300, 900, channels), type, rows);
+    for (auto [x0, x1] : {std::pair{0, -1}, std::pair{0, 1}, std::pair{70, 100}, std::pair{250, 300}, std::pair{299, 300}})
+      expect_window(p, x0, x1, x0 % 20 == 0);
+  }
+}
+
+// A narrow window of uncompressed strips reads about its own bytes, not whole rows (what a rank of
+// a distributed solve reads of an uncompressed TIFF).
+TEST_F(ColumnWindow, UncompressedStripsReadOnlyTheWindowsBytes) {
+  const fs::path p = dir_ / "raw.tif";
+  write_raw_strips(p, pattern(2000, 300, 3), OIIO::TypeDesc::UINT8, 16);  // 1.8 MB of samples
+  ASSERT_GE(bytes_read(), 0) << "no /proc/self/io";
+  const auto read = [&](ColumnRange window) {
+    const long long before = bytes_read();
+    ImageFileReader reader(p, false, window);
+    std::vector<float> row(static_cast<std::size_t>(reader.window_width()) * 3);
+    for (int y = 0; y < reader.height(); ++y) reader.read_row(y, row);
+    return bytes_read() - before;
+  };
+  EXPECT_GE(read({}), 2000 * 300 * 3);
+  EXPECT_LT(read({1000, 1100}), 2000 * 300 * 3 / 10);  // a 20th of the columns
 }
 
 TEST_F(ColumnWindow, TiledFilesDecodeOnlyTheTilesTheWindowOverlaps) {

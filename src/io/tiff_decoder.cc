@@ -1,10 +1,11 @@
-// Decoding TIFF with libtiff: strips row by row, tiles only where the column window needs them, chunky or planar.
+// Decoding TIFF: strips row by row (uncompressed: the window's bytes only), tiles only where the window needs them; chunky or planar.
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <system_error>
 #include <vector>
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include "io/codecs.h"
 #include "io/tiff_util.h"
 #include "io/drop_behind.h"
+#include "util/exact_io.h"
 
 namespace gdp::io {
 namespace {
@@ -97,6 +99,7 @@ class TiffDecoder final : public Decoder {
       cached_strip_.assign(spp, -1);
     } else {
       chunk_.resize(static_cast<std::size_t>(TIFFScanlineSize(tif_)));
+      raw_ = compression == COMPRESSION_NONE && raw_strips(bits);
     }
     struct stat st{};
     if (!TIFFIsTiled(tif_) && !planar_ && ::fstat(TIFFFileno(tif_), &st) == 0 && st.st_size >= kDropBehindFrom)
@@ -109,10 +112,63 @@ class TiffDecoder final : public Decoder {
   void read(int y0, int y1, int x0, int x1, void* out) override {
     if (layout_.tile_width > 0) read_tiles(y0, y1, x0, x1, static_cast<unsigned char*>(out));
     else if (planar_) read_plane_strips(y0, y1, x0, x1, static_cast<unsigned char*>(out));
+    else if (raw_) read_raw(y0, y1, x0, x1, static_cast<unsigned char*>(out));
     else read_scanlines(y0, y1, x0, x1, static_cast<unsigned char*>(out));
   }
 
  private:
+  // Whether uncompressed chunky strips can be read as bytes of the file: every strip holds its
+  // rows whole, the samples in the machine's order and bits (as libtiff would hand them out).
+  // Then only a column window's bytes are read (a rank of a distributed solve reads its columns).
+  bool raw_strips(int bits) {
+    std::uint16_t fill = FILLORDER_MSB2LSB;
+    TIFFGetFieldDefaulted(tif_, TIFFTAG_FILLORDER, &fill);
+    if (fill != FILLORDER_MSB2LSB || (TIFFIsByteSwapped(tif_) && bits > 8)) return false;
+    std::uint32_t rows = 0;
+    TIFFGetFieldDefaulted(tif_, TIFFTAG_ROWSPERSTRIP, &rows);
+    rows_per_strip_ = static_cast<int>(std::min<std::uint32_t>(std::max<std::uint32_t>(rows, 1), layout_.height));
+    const std::uint64_t line = chunk_.size();
+    const std::uint32_t strips = TIFFNumberOfStrips(tif_);
+    if (strips != static_cast<std::uint32_t>((layout_.height + rows_per_strip_ - 1) / rows_per_strip_)) return false;
+    strip_offsets_.resize(strips);
+    for (std::uint32_t s = 0; s < strips; ++s) {
+      const std::uint64_t first = std::uint64_t{s} * rows_per_strip_;
+      const std::uint64_t n = std::min<std::uint64_t>(rows_per_strip_, layout_.height - first);
+      strip_offsets_[s] = TIFFGetStrileOffset(tif_, s);
+      if (strip_offsets_[s] == 0 || TIFFGetStrileByteCount(tif_, s) < n * line) return false;
+    }
+    return true;
+  }
+
+  // Uncompressed chunky strips: the window's bytes of each row with one pread (rows whose windows
+  // follow each other in the file, as whole rows of a strip do, with one), straight into the band
+  // where the file's samples are the band's, else through a scanline buffer.
+  void read_raw(int y0, int y1, int x0, int x1, unsigned char* out) {
+    const std::size_t in = sample_bytes(kind_), count = static_cast<std::size_t>(x1 - x0) * layout_.channels;
+    const std::size_t bytes = count * in, line = chunk_.size(), out_row = count * band_bytes();
+    const bool direct = kind_ == layout_.stored;
+    const int fd = TIFFFileno(tif_);
+    const auto row_at = [&](int y) {  // where row y starts in the file
+      return strip_offsets_[y / rows_per_strip_] + static_cast<std::uint64_t>(y % rows_per_strip_) * line;
+    };
+    std::uint64_t end = 0;
+    for (int y = y0; y < y1;) {
+      const std::uint64_t at = row_at(y) + static_cast<std::uint64_t>(x0) * layout_.channels * in;
+      int n = 1;  // rows in this read
+      if (direct)
+        while (y + n < y1 && bytes == line && row_at(y + n) == at + n * line) ++n;
+      unsigned char* dst = direct ? out + (y - y0) * out_row : chunk_.data();
+      const util::Transfer t = util::pread_full(fd, dst, bytes * n, at);
+      if (t.done != bytes * n)
+        throw CodecError(fmt::format("cannot read pixels at row {}: {}", y,
+                                     t.error ? std::generic_category().message(t.error) : "the file ends early"));
+      if (!direct) tiff_to_band(kind_, chunk_.data(), 1, out + (y - y0) * out_row, 1, count);
+      end = std::max(end, at + bytes * n);
+      y += n;
+    }
+    drop_behind_.read(fd, static_cast<std::size_t>(end));
+  }
+
   std::size_t band_bytes() const { return sample_bytes(layout_.stored); }
   CodecError error(int y) { return CodecError(fmt::format("cannot read pixels at row {}: {}", y, messages_.take())); }
 
@@ -195,6 +251,8 @@ class TiffDecoder final : public Decoder {
   int rows_per_strip_ = 1;
   std::vector<unsigned char> chunk_;  // a scanline, a tile, or one strip per plane
   std::vector<int> cached_strip_;
+  bool raw_ = false;  // uncompressed chunky strips, read as bytes (raw_strips())
+  std::vector<std::uint64_t> strip_offsets_;
   DropBehind drop_behind_;  // a large strip file's pages out of the cache behind the reader
 };
 
