@@ -118,7 +118,7 @@ KeptRows::Reader::Reader(const KeptRows& kept, int k)
 KeptRows::Reader::~Reader() {
   const std::size_t bytes = static_cast<std::size_t>(samples_) * bytes_ * rows_;
   kept_.layers_[k_].rows.store(0);  // read once: a sweep started again decodes the layer
-  ::fallocate(kept_.fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(base_), static_cast<off_t>(bytes));
+  util::punch_hole(kept_.fd_, base_, base_ + bytes);
 }
 
 void KeptRows::Reader::read(std::span<float> row) {

@@ -1,7 +1,6 @@
 // A scratch file read ahead on a thread: pread (or O_DIRECT block reads) into lent buffers, handed over through queues.
 #include "io/read_ahead.h"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -61,13 +60,12 @@ void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chun
     else drop.read(fd, at);
     if (!full_.push(*c)) return;
     // Read into the buffers: the file's blocks there are needed no more (runs of give_back
-    // bytes; at the end all, rounded up to a block: past the length there is nothing). A file
-    // system without holes keeps them until the close.
-    const std::size_t to = at == end ? align_up(end) : at / std::max<std::size_t>(give_back, 1) * give_back;
-    if (give_back > 0 && c->error == 0 && to > returned &&
-        ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(returned),
-                    static_cast<off_t>(to - returned)) == 0)
-      returned = to;
+    // bytes; at the end all, rounded up to a block: past the length there is nothing).
+    // A file system without holes keeps them until the close.
+    if (give_back > 0 && c->error == 0) {
+      const std::size_t to = at == end ? align_up(end) : at / give_back * give_back;
+      if (to > returned && util::punch_hole(fd, returned, to)) returned = to;
+    }
   }
   full_.finish();
 }

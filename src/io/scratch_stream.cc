@@ -177,9 +177,7 @@ void ScratchStream::give_back(bool end) {
   const std::size_t to = (end ? read_at_ + kReturnBytes - 1 : read_at_) / kReturnBytes * kReturnBytes;
   if (to <= returned_) return;
   // A kernel without it (or a file system that takes no holes) keeps the pages until the close.
-  if (::fallocate(fd_, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(returned_),
-                  static_cast<off_t>(to - returned_)) != 0)
-    last_ = false;
+  if (!util::punch_hole(fd_, returned_, to)) last_ = false;
   returned_ = to;
 }
 

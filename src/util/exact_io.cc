@@ -1,6 +1,7 @@
 // Exact reads and writes on a file descriptor: the one retry loop, and the errors naming the file.
 #include "util/exact_io.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -42,6 +43,11 @@ Transfer loop(Byte* p, std::size_t n, std::size_t at, bool is_read, Step step) n
 std::string reason_of(int error) { return std::generic_category().message(error); }
 
 }  // namespace
+
+bool punch_hole(int fd, std::size_t from, std::size_t to) noexcept {
+  return ::fallocate(fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(from),
+                     static_cast<off_t>(to - from)) == 0;
+}
 
 std::string errno_message() { return reason_of(errno); }
 

@@ -19,6 +19,10 @@ Transfer pread_full(int fd, void* data, std::size_t n, std::size_t at) noexcept;
 Transfer pwrite_full(int fd, const void* data, std::size_t n, std::size_t at) noexcept;
 Transfer write_full(int fd, const void* data, std::size_t n) noexcept;  // at the file's position
 
+// Gives bytes [from, to) of fd back to the system (fallocate PUNCH_HOLE, the length kept); false
+// where the kernel or file system takes no holes (the blocks then stay until the file closes).
+bool punch_hole(int fd, std::size_t from, std::size_t to) noexcept;
+
 // errno's text now (after a failed system call), for messages.
 std::string errno_message();
 
