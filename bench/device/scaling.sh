@@ -22,6 +22,8 @@
 #   GDP_SCALING_DEPTH=float         output samples of the sweep; GDP_SCALING_GIGA_DEPTH=8 of the large runs
 #   GDP_SCALING_BUDGET=450          seconds for the whole script; optional runs that would pass it are skipped
 #   GDP_SCALING_TIMEOUT=300         seconds for one run at most
+#   GDP_SCALING_THREADS=""          --threads of every run ("": bands + 2, one worker per band)
+#   TMPDIR=/tmp                     where inputs, outputs and scratch go (a tmpfs takes the disk out)
 set -euo pipefail
 [[ $# -eq 2 ]] || { echo "usage: $0 PACK OUTDIR" >&2; exit 2; }
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -47,6 +49,7 @@ depth=${GDP_SCALING_DEPTH-float}
 giga_depth=${GDP_SCALING_GIGA_DEPTH-8}
 budget=${GDP_SCALING_BUDGET-450}
 run_limit=${GDP_SCALING_TIMEOUT-300}
+threads=${GDP_SCALING_THREADS-}
 work=$(mktemp -d "${TMPDIR:-/tmp}/gdp-scaling.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 runs=$out/runs.jsonl
@@ -57,7 +60,7 @@ say() { printf '[%4ds] %s\n' $((SECONDS - t0)) "$*"; }
 say "glibc here ${have:-unknown}, the pack needs $need: running the programs as ${launch[*]} PROGRAM"
 table() { python3 "$here/bench/device/scaling_table.py" "$runs" "$out/machine.json" "$out" || say "table failed"; }
 
-python3 - "$out/machine.json" "$pack" "$memory" "$budget" <<'PY'
+python3 - "$out/machine.json" "$pack" "$memory" "$budget" "${threads:-bands + 2}" <<'PY'
 import json, os, platform, shutil, sys
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
 mem = next(int(l.split()[1]) for l in open("/proc/meminfo") if l.startswith("MemTotal")) / 2**20
@@ -68,7 +71,8 @@ except OSError:
     quota = None
 m = dict(cpu=cpu, cores=len(os.sched_getaffinity(0)), cpus_online=os.cpu_count(), cgroup_cpu_max=quota, memory_gib=round(mem, 1), tmp_free_gib=round(tmp.free / 2**30, 1),
          glibc=" ".join(platform.libc_ver()), kernel=platform.release(),
-         pack_needs=open(f"{sys.argv[2]}/GLIBC").read().strip(), memory_option=sys.argv[3], budget_s=int(sys.argv[4]))
+         pack_needs=open(f"{sys.argv[2]}/GLIBC").read().strip(), memory_option=sys.argv[3], budget_s=int(sys.argv[4]), threads=sys.argv[5],
+         scratch_dir=os.environ.get("TMPDIR", "/tmp"))
 json.dump(m, open(sys.argv[1], "w"), indent=1)
 print("machine:", json.dumps(m))
 PY
@@ -87,14 +91,14 @@ say "inputs made: $(du -sh "$work" | cut -f1)"
 declare -A wall  # "SIZE:BANDS" -> wall seconds of the in-memory run
 # run NAME SIZE BANDS MEMORY DEPTH REF: one stitch, measured; REF names the run it is checked against.
 run() {
-  local name=$1 s=$2 b=$3 mem=$4 dep=$5 ref=$6 rc=0 limit
+  local name=$1 s=$2 b=$3 mem=$4 dep=$5 ref=$6 rc=0 limit t=${threads:-$(($3 + 2))}
   limit=$((budget - (SECONDS - t0) + 30))
   ((limit > run_limit)) && limit=$run_limit
   ((limit < 10)) && limit=10
-  say "run $name: ${s}x$s, --bands $b --threads $((b + 2)) --memory $mem, depth $dep (limit ${limit}s)"
+  say "run $name: ${s}x$s, --bands $b --threads $t --memory $mem, depth $dep (limit ${limit}s)"
   python3 "$here/bench/measure_run.py" "$work/$name.time.json" -- timeout "$limit" "${launch[@]}" "$pack/bin/gdp" stitch \
     -c "$work/c$s.tif" -l "$work/l$s.tif" -o "$work/$name.tif" --compression none --depth "$dep" -q \
-    --bands "$b" --threads $((b + 2)) --memory "$mem" --temp "$work" --stats "$work/$name.stats.json" || rc=$?
+    --bands "$b" --threads "$t" --memory "$mem" --temp "$work" --stats "$work/$name.stats.json" || rc=$?
   if ((rc == 0)) && [[ -n $ref && $ref != "$name" && -f $work/$ref.tif ]]; then
     "${launch[@]}" "$pack/bin/image_diff" "$work/$ref.tif" "$work/$name.tif" > "$work/$name.diff.json" ||
       say "image_diff failed (exit $?)"

@@ -74,7 +74,8 @@ def main(argv):
     with open(f"{argv[3]}/scaling.json", "w") as f:
         json.dump(dict(machine=machine, runs=rows), f, indent=1)
     lines = [f"Machine: {machine.get('cores', '?')} cores ({machine.get('cpu', '?')}), "
-             f"{machine.get('memory_gib', '?')} GiB, {machine.get('glibc', '?')}; `--memory "
+             f"{machine.get('memory_gib', '?')} GiB, {machine.get('glibc', '?')}; `--threads` {machine.get('threads', 'bands + 2')}, "
+             f"inputs, outputs and scratch in {machine.get('scratch_dir', '/tmp')}; `--memory "
              f"{machine.get('memory_option', '?')}` (scratch in memory) unless the row says 0 (scratch in files).", "",
              "| size | bands | --memory | out | wall s | CPU s (user+sys) | CPU/wall | peak RSS MB | scratch mem + files MB "
              "| Mpix/s | Mpix/s per band | V-cycle Mpix/s | speedup | check vs reference |",
