@@ -342,7 +342,7 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
     }
     advance(l);
     if (L.next_group == before && L.arrived == L.height)
-      throw std::logic_error(fmt::format("band level {} stalled at phase {}", l, before));
+      throw std::logic_error(fmt::format("band level {} stalled at group {}", l, before));
   }
 }
 template <class T>
