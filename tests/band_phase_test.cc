@@ -81,12 +81,11 @@ class Simulation {
     const int phases = phase_count(L_, c_.height);
     for (int p = 0; p < phases; ++p) {
       std::vector<std::deque<Op>> ops(c_.bands);
-      for (int b = 0; b < c_.bands; ++b)  // group by group, as the rows arrive
-        for (int t = p * c_.groups; t < (p + 1) * c_.groups; ++t)
-          plan_phase(
-              L_, l_, b, c_.height, p, t, t + 1, [&](const Tile& t) { ops[b].push_back({Op::Relax, t, false}); },
-              [&](bool left) { ops[b].push_back({Op::Send, {}, left}); },
-              [&](bool left) { ops[b].push_back({Op::Receive, {}, left}); });
+      for (int b = 0; b < c_.bands; ++b)
+        plan_phase(
+            L_, l_, b, c_.height, p, [&](const Tile& t) { ops[b].push_back({Op::Relax, t, false}); },
+            [&](bool left) { ops[b].push_back({Op::Send, {}, left}); },
+            [&](bool left) { ops[b].push_back({Op::Receive, {}, left}); });
       for (bool progress = true; progress;) {  // run each band until it waits for a strip
         progress = false;
         for (int b = 0; b < c_.bands; ++b)
@@ -137,7 +136,6 @@ class Simulation {
   void relax(int b, int p, const Tile& t) {
     const int j = t.row, s = t.sweep;
     ASSERT_LE(j, p * c_.groups + c_.groups - 1) << "relaxes a row not arrived";
-    const int group = j + 2 * s;  // group t needs rows up to t only
     ASSERT_GE(t.lo - 2, bands_[b].origin);
     ASSERT_LE(t.hi + 2, bands_[b].origin + bands_[b].len);
     for (int n = 0; n < t.hi - t.lo; ++n) {
@@ -150,7 +148,7 @@ class Simulation {
         for (int di = -2; di <= 2; ++di) {
           const int r = j + dj, gc = wrap(i + di);
           if (r < 0 || r >= c_.height || gc < 0 || (dj == 0 && di == 0)) continue;
-          ASSERT_LE(r, std::min(group, c_.height - 1)) << "reads a row not arrived";
+          ASSERT_LE(r, std::min(p * c_.groups + c_.groups - 1, c_.height - 1)) << "reads a row not arrived";
           const int v = version(b, r, i + di);
           const int want = dj < 0 ? s : s - 1;
           if (dj != 0) {

@@ -34,44 +34,44 @@ int final_phase(const BandLayout& L, int height, int j) {
   return (std::min(j + 2, height - 1) + 2 * L.sweeps) / L.phase_groups + (L.single ? 0 : 1);
 }
 
-void plan_phase(const BandLayout& L, int l, int band, int height, int p, int from, int to,
-                const std::function<void(const Tile&)>& relax, const std::function<void(bool)>& send,
-                const std::function<void(bool)>& receive) {
+void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive) {
   const int G = L.phase_groups, k = L.sweeps, t0 = p * G;
-  const auto each = [&](int t, auto&& f) {  // group t's (group, sweep) steps whose row exists
-    for (int s = 1; s <= k; ++s)
-      if (t - 2 * s >= 0 && t - 2 * s < height) f(t, s, t - t0 + s - 1);
+  const auto each = [&](auto&& f) {  // every (group, sweep) of the phase whose row exists, group by group
+    for (int t = t0; t < t0 + G; ++t)
+      for (int s = 1; s <= k; ++s)
+        if (t - 2 * s >= 0 && t - 2 * s < height) f(t, s, t - t0 + s - 1);
   };
-  const auto tile = [&](int t, int s, Columns c) {
-    if (c.first < c.second) relax(Tile{t - 2 * s, s, c.first, c.second, L.single || t % 2 == 0});
-  };
+  if (L.single)  // the one-band plan: whole rows, forward, nothing to exchange
+    return each([&](int t, int s, int) { relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true}); });
   const bool lead_left = p % 2 == 0;
+  const auto tile = [&](int t, int s, Columns c) {
+    if (c.first < c.second) relax(Tile{t - 2 * s, s, c.first, c.second, t % 2 == 0});
+  };
+  const auto region = [&](int which) {  // the lead or follow region, every step
+    each([&](int t, int s, int u) { tile(t, s, phase_regions(L, l, band, p, u)[which]); });
+  };
+  region(kLead);
+  if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
   // The interior [a, a + width) in lanes of about green_lane columns; bound(q): boundary q, unshifted.
   const int a = L.begin(l, band) + L.edge(), width = L.end(l, band) - L.edge() - a;
   const int lanes = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
   const auto bound = [&](int q) { return a + static_cast<int>(static_cast<long long>(width) * q / lanes); };
-  for (int t = from; t < to; ++t) {
-    if (L.single) {  // the one-band plan: whole rows, forward, nothing to exchange
-      each(t, [&](int t, int s, int) { tile(t, s, {L.begin(l, band), L.end(l, band)}); });
-      continue;
-    }
-    each(t, [&](int t, int s, int u) { tile(t, s, phase_regions(L, l, band, p, u)[kLead]); });
+  for (int t = t0; t < t0 + G; ++t) {
     const bool forward = t % 2 == 0;
     for (int i = 0; i < lanes; ++i) {
       const int q = forward ? i : lanes - 1 - i;
-      each(t, [&](int t, int s, int u) {
+      for (int s = 1; s <= k; ++s) {
+        if (t - 2 * s < 0 || t - 2 * s >= height) continue;
         // Inner lane boundaries move with the traversal, 2(k - s) columns (section 6.2).
-        const auto [lo, hi] = phase_regions(L, l, band, p, u)[kMid];
+        const auto [lo, hi] = phase_regions(L, l, band, p, t - t0 + s - 1)[kMid];
         const int d = forward ? 2 * (k - s) : -2 * (k - s);
         tile(t, s, {q == 0 ? lo : bound(q) + d, q == lanes - 1 ? hi : bound(q + 1) + d});
-      });
+      }
     }
   }
-  if (to < t0 + G || L.single) return;
-  if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
   if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
-  for (int t = t0; t < t0 + G; ++t)
-    each(t, [&](int t, int s, int u) { tile(t, s, phase_regions(L, l, band, p, u)[kFollow]); });
+  region(kFollow);
 }
 
 StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {

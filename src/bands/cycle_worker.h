@@ -169,7 +169,7 @@ class CycleWorker {
   schedule::ResidualLog& log_;
   int length_, height_;
   std::unique_ptr<RowStore<T>> carry_;
-  static constexpr int kStateVersion = 3;  // 2: the gathered level is a Level (its rings); 3: next_group
+  static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
 };
 
 // The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of

@@ -123,7 +123,7 @@ void StreamedVCycle<T>::begin_cycle() {
   const int channels = set_.channels;
   for (auto& level : levels_) {
     Level& L = *level;
-    L.arrived = L.next_group = L.finished = L.zeroed = L.next_complete = L.needed_from = 0;
+    L.arrived = L.next_phase = L.finished = L.zeroed = L.next_complete = L.needed_from = 0;
     L.rr.assign(channels, 0.0);
     L.dots.assign(channels, 0.0);
     for (int q : {U, B, W, D})  // (none on the level handed to the merged stage)
@@ -174,31 +174,28 @@ void StreamedVCycle<T>::push() {
   advance(0);
 }
 
-// Runs every group of level l whose row has arrived (all once the last has), and the strips and
-// follow region of a phase after its last group. Rows across the fold (G = 1): a phase's
+// Runs every phase of level l whose rows have arrived. Rows across the fold (G = 1): a phase's
 // sweeps of rows 0, 1, h-2 and h-1 read them as all earlier phases left them, as a whole-row
 // Gauss-Seidel sweep reads its mirror image; the last exchange on each side shows the final rows
-// to the restriction (or the last residual). Rows final after a phase are restricted
+// to the restriction (or the last residual). Rows final after the phase are restricted
 // (restriction pass) or measured (prolongation pass, level 0 of the top stage, where the settings
 // ask for residuals).
 template <class T>
 void StreamedVCycle<T>::advance(int l) {
   Level& L = *levels_[l];
-  const int G = layout_.phase_groups, k = plan().sweeps, end = phase_count(plan(), L.height) * G;
-  for (int& t = L.next_group; t < end && (t < L.arrived || L.arrived == L.height);) {
-    const int p = t / G, to = L.arrived == L.height ? p * G + G : std::min(p * G + G, L.arrived);
+  const int G = layout_.phase_groups, k = plan().sweeps;
+  for (int& p = L.next_phase; p < phase_count(plan(), L.height) && (p * G + G - 1 < L.arrived || L.arrived == L.height); ++p) {
     if (layout_.folded && p >= 2 && p <= 2 * k + 2) exchange_fold_rows(l, 0, L.fold[0].rows);
     if (layout_.folded && p >= L.height && p <= L.height + 2 * k) exchange_fold_rows(l, 1, L.fold[1].rows);
     plan_phase(
-        plan(), l, band_, L.height, p, t, to,
+        plan(), l, band_, L.height, p,
         [&](const Tile& t) {
           for (int c = 0; c < set_.channels; ++c)
             multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(L.width, t.lo, t.hi, t.forward),
                              ring_row(l, U, t.row, c), ring_row(l, B, t.row, c), L.scratch, ring_row(l, D, t.row));
         },
         [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); });
-    t = to;
-    while (L.finished < L.height && final_phase(plan(), L.height, L.finished) < to / G) {
+    while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
       const int j = L.finished++;
       if (!prolongation_) restrict_row(l, j);
       else if (l == 0 && layout_.top() && set_.residuals) measure(j, false, final_rr_);
@@ -298,7 +295,7 @@ void StreamedVCycle<T>::pull(std::span<T> u) {
     prolongation_ = true;
     levels_[0]->inputs_stored = layout_.top();
     for (auto& L : levels_) {
-      L->arrived = L->next_group = L->finished = L->needed_from = 0;
+      L->arrived = L->next_phase = L->finished = L->needed_from = 0;
       for (int q : {U, B, D})  // (the level handed to the merged stage has none: u comes back row by row)
         if (L->store[q]) L->store[q]->rewind(!set_.more_cycles);  // one V-cycle: their last read
     }
@@ -316,7 +313,7 @@ template <class T>
 void StreamedVCycle<T>::ensure_final(int l, int row) {
   Level& L = *levels_[l];
   while (L.finished <= row) {
-    const int before = L.next_group;
+    const int before = L.next_phase;
     if (L.arrived < L.height) {
       const int r = L.arrived;
       check_slot(l, r);
@@ -341,8 +338,8 @@ void StreamedVCycle<T>::ensure_final(int l, int row) {
       ++L.arrived;
     }
     advance(l);
-    if (L.next_group == before && L.arrived == L.height)
-      throw std::logic_error(fmt::format("band level {} stalled at group {}", l, before));
+    if (L.next_phase == before && L.arrived == L.height)
+      throw std::logic_error(fmt::format("band level {} stalled at phase {}", l, before));
   }
 }
 template <class T>
@@ -353,7 +350,7 @@ void StreamedVCycle<T>::held(F&& f) {
   for (auto& L : levels_) {
     for (std::vector<T>* ring : {&L->ring_of[U], &L->ring_of[B], &L->ring_of[W], &L->ring_of[D], &L->fold[0].rows, &L->fold[1].rows})
       f(std::span<T>(*ring));
-    for (int* v : {&L->arrived, &L->next_group, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from}) f(*v);
+    for (int* v : {&L->arrived, &L->next_phase, &L->finished, &L->zeroed, &L->next_complete, &L->needed_from}) f(*v);
     f(L->inputs_stored);
     for (std::vector<double>* sums : {&L->rr, &L->dots}) f(*sums);
     for (auto& store : L->store) f(store.get());

@@ -106,7 +106,7 @@ class StreamedVCycle {
     std::array<std::vector<T>, 4> ring_of;  // per quantity (U, B, W, D): ring slots of per(q) * len
     multigrid::Scratch<T> scratch;
     int arrived = 0;        // rows that entered this pass
-    int next_group = 0;     // the next row group to run (its phase: next_group / G)
+    int next_phase = 0;     // the next phase to run
     int finished = 0;       // rows restricted (or measured) in this pass
     int zeroed = 0;         // restriction pass: coarser rows cleared for accumulation
     int next_complete = 0;  // restriction pass: coarser rows completed by this level
