@@ -47,7 +47,7 @@ BandLayout layout_for(const Case& c) {
 }
 
 struct Op {
-  enum Kind { Relax, Send, Receive, Final } kind;
+  enum Kind { Relax, Send, Receive } kind;
   Tile tile;
   bool left = false;
 };
@@ -85,8 +85,7 @@ class Simulation {
         plan_phase(
             L_, l_, b, c_.height, p, [&](const Tile& t) { ops[b].push_back({Op::Relax, t, false}); },
             [&](bool left) { ops[b].push_back({Op::Send, {}, left}); },
-            [&](bool left) { ops[b].push_back({Op::Receive, {}, left}); },
-            [&] { ops[b].push_back({Op::Final, {}, false}); });
+            [&](bool left) { ops[b].push_back({Op::Receive, {}, left}); });
       for (bool progress = true; progress;) {  // run each band until it waits for a strip
         progress = false;
         for (int b = 0; b < c_.bands; ++b)
@@ -95,8 +94,6 @@ class Simulation {
             if (op.kind == Op::Receive && !receive(b, p, op.left)) break;
             if (op.kind == Op::Relax) relax(b, p, op.tile);
             if (op.kind == Op::Send) send(b, p, op.left);
-            for (int j = 0; op.kind == Op::Final && j < c_.height; ++j)  // rows final after phase p: so already
-              if (final_phase(L_, c_.height, j) == p) check_final(b, j);
             ops[b].pop_front();
             progress = true;
           }

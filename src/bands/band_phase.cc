@@ -35,18 +35,15 @@ int final_phase(const BandLayout& L, int height, int j) {
 }
 
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
-                const std::function<void(bool)>& send, const std::function<void(bool)>& receive,
-                const std::function<void()>& received) {
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive) {
   const int G = L.phase_groups, k = L.sweeps, t0 = p * G;
   const auto each = [&](auto&& f) {  // every (group, sweep) of the phase whose row exists, group by group
     for (int t = t0; t < t0 + G; ++t)
       for (int s = 1; s <= k; ++s)
         if (t - 2 * s >= 0 && t - 2 * s < height) f(t, s, t - t0 + s - 1);
   };
-  if (L.single) {  // the one-band plan: whole rows, forward, nothing to exchange
-    each([&](int t, int s, int) { relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true}); });
-    return received();
-  }
+  if (L.single)  // the one-band plan: whole rows, forward, nothing to exchange
+    return each([&](int t, int s, int) { relax(Tile{t - 2 * s, s, L.begin(l, band), L.end(l, band), true}); });
   const bool lead_left = p % 2 == 0;
   const auto tile = [&](int t, int s, Columns c) {
     if (c.first < c.second) relax(Tile{t - 2 * s, s, c.first, c.second, t % 2 == 0});
@@ -56,8 +53,6 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
   };
   region(kLead);
   if ((lead_left ? L.left(band) : L.right(band)) >= 0) send(lead_left);
-  if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
-  received();
   // The interior [a, a + width) in lanes of about green_lane columns; bound(q): boundary q, unshifted.
   const int a = L.begin(l, band) + L.edge(), width = L.end(l, band) - L.edge() - a;
   const int lanes = std::max(1, (width + L.green_lane / 2) / std::max(L.green_lane, 1));
@@ -75,6 +70,7 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
       }
     }
   }
+  if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
   region(kFollow);
 }
 

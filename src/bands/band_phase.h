@@ -18,14 +18,12 @@ struct Tile {
   bool forward = true;
 };
 
-// Calls relax(Tile), send(bool to_left), receive(bool from_left) and received() in the band's order
-// for phase p of level l (rows [0, height)): its lead region for every (group, sweep) step, the
-// strips to the neighbour it leads against and from the one it follows, received() (the rows final
-// after phase p are so now: restrict them while still in cache), its interior group by group in
-// lanes, its follow region. Send and receive are not called at an image edge.
+// Calls relax(Tile), send(bool to_left) and receive(bool from_left) in the band's order for
+// phase p of level l (rows [0, height)): its lead region for every (group, sweep) step, the strip
+// to the neighbour it leads against, its interior group by group in lanes, the strip from the
+// neighbour it follows, its follow region. Send and receive are not called at an image edge.
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
-                const std::function<void(bool)>& send, const std::function<void(bool)>& receive,
-                const std::function<void()>& received);
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive);
 
 // One strip's extent: u of rows [u_rows[0], u_rows[1]] at columns [u_cols[0], u_cols[1]); b (and
 // w, d) of rows [b_rows[0], b_rows[1]] at columns [b_cols[0], b_cols[1]). Empty row ranges have

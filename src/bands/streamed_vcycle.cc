@@ -194,14 +194,12 @@ void StreamedVCycle<T>::advance(int l) {
             multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(L.width, t.lo, t.hi, t.forward),
                              ring_row(l, U, t.row, c), ring_row(l, B, t.row, c), L.scratch, ring_row(l, D, t.row));
         },
-        [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); },
-        [&] {
-          while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
-            const int j = L.finished++;
-            if (!prolongation_) restrict_row(l, j);
-            else if (l == 0 && layout_.top() && set_.residuals) measure(j, false, final_rr_);
-          }
-        });
+        [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); });
+    while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
+      const int j = L.finished++;
+      if (!prolongation_) restrict_row(l, j);
+      else if (l == 0 && layout_.top() && set_.residuals) measure(j, false, final_rr_);
+    }
   }
 }
 
