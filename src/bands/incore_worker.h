@@ -90,10 +90,10 @@ class InCoreWorker {
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads the plane and the V-cycle's levels are made (their fresh pages touched) on the
-    // second while the input comes in on this one (one that throws stops the marks the input waits on).
-    if (!pair_) make_planes(), read_input();
-    else util::run_workers(2, [&](int k) { k == 0 ? read_input() : make_planes(); },
+    // With two threads the input's rows are read by both (the second reader: channels 1.., the plane's
+    // and the V-cycle's levels' fresh pages; one that throws stops the marks the other waits on).
+    if (!pair_) read_input(rows, 0, n);
+    else util::run_workers(2, [&](int k) { k == 0 ? read_input(rows, 0, 1) : read_input(second, 1, n); },
                            [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
@@ -110,35 +110,46 @@ class InCoreWorker {
     }
   }
 
-  WorkerRows<T> rows;
+  WorkerRows<T> rows, second;  // second: with two threads, the second's reader of the input (channels 1..)
   const int c0, n, band = 0;
 
  private:
   using Plane = multigrid::Plane<T>;
   using Store = std::unique_ptr<schedule::RowStore<T>>;
 
-  // Every row in: the first channel's u into its plane, every other u and every b into its store
-  // (the V-cycle reads b from there, row by row). Channel 0's worker also takes the mean weights (where the
-  // mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
-  // diagonal, and makes the pyramids every worker reads.
-  void read_input() {
-    const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
+  // Every row in, channels [i0, i1) of each from `from`: the first channel's u into its plane, every other
+  // u and every b into its store (the V-cycle reads b from there, row by row). The second reader (or
+  // the only one) makes the plane's rows a few ahead (mark made_: rows made), then the V-cycle (its levels);
+  // that of channel 0 of channel 0's worker takes the mean weights (where the mean is fixed by them,
+  // alpha == 0: kept as one row while every row is the same) and the diagonal, and makes the pyramids
+  // every worker reads.
+  void read_input(WorkerRows<T>& from, int i0, int i1) {
+    const bool weights = i0 + c0 == 0 && ops_.singular, diagonal = i0 + c0 == 0 && diagonal_, maker = i0 > 0 || !pair_;
+    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
     for (int j = 0, made = 0; j < h_; ++j) {
-      if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
-      rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
+      if (maker && j + step / 2 >= made) u_.make_rows(made = std::min(h_, made + step)), shared_.marks.set(made_, made);
+      if (i0 == 0 && j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
+      from.input(j, {u, b, weights ? wt.next() : std::span<T>{},
                      {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
       if (weights) wt.add();
-      for (int i = 0; i < n; ++i) {
-        const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
+      for (int i = i0; i < i1; ++i) {
+        const std::size_t at = static_cast<std::size_t>(i - i0) * w_;  // (`from` cuts channels i0.. only)
+        const std::span<const T> ui(u.data() + at, w_), bi(b.data() + at, w_);
         parked_b_[i]->append(bi);
         if (i > 0) parked_u_[i]->append(ui);
         else std::ranges::copy(ui, u_.row(j));
       }
     }
-    if (c0 != 0) return;
+    if (maker) {
+      vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
+      vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
+      vc_->set_half(&half_);
+      if (pair_) vc_->set_pair(&*pair_);
+    }
+    if (i0 + c0 != 0) return;
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
     if (weights) {
@@ -154,7 +165,9 @@ class InCoreWorker {
   void solve(int i, multigrid::InCoreVCycle<T>& vc, const multigrid::InputTotals& totals) {
     const int cycles = opt_.cycle_cap(), c = c0 + i;
     schedule::RowStore<T>& store = *parked_b_[i];
-    multigrid::RowFeed<T> b{[&] { store.rewind(); }, [&](std::span<T> row) { store.read(row); }};
+    // (Its last read, the last V-cycle's second, gives its blocks back as it goes: nothing left to free
+    // when it closes; so do the parked u's and the results' single reads.)
+    multigrid::RowFeed<T> b{[&, r = 0]() mutable { store.rewind(++r == 2 * cycles); }, [&](std::span<T> row) { store.read(row); }};
     log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
@@ -176,24 +189,10 @@ class InCoreWorker {
     parked_b_[i].reset();
   }
 
-  // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
-  void make_planes() {
-    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
-    for (int j = 0; j < h_;) {
-      j = std::min(j + step, h_);
-      u_.make_rows(j);
-      shared_.marks.set(made_, j);
-    }
-    vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
-    vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
-    vc_->set_half(&half_);
-    if (pair_) vc_->set_pair(&*pair_);
-  }
-
   // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
   void turn_to(int i) {
     schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
-    parked_u_[i]->rewind();
+    parked_u_[i]->rewind(true);
     for (int j = 0; j < h_; ++j) {
       const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
       result->append(row);
@@ -204,7 +203,7 @@ class InCoreWorker {
   // Local channel i's result row j, rows in order.
   const T* result_row(int i, int j) {
     if (!parked_u_[i]) return u_.row(j);
-    if (j == 0) parked_u_[i]->rewind();
+    if (j == 0) parked_u_[i]->rewind(true);
     parked_u_[i]->read(buffer_);
     return buffer_.data();
   }
