@@ -99,10 +99,7 @@ class InCoreWorker {
     shared_.marks.wait(shared_.ready, 0);
     multigrid::InCoreVCycle<T>& vc = *vc_;
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
-    for (int i = 0; i < n; ++i) {
-      if (i > 0) turn_to(i);
-      solve(i, vc, totals);
-    }
+    for (int i = 0; i < n; ++i) solve(i, vc, totals);
     std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
     for (int j = 0; j < h_; ++j) {
       for (int i = 0; i < n; ++i) std::copy_n(result_row(i, j), w_, u.begin() + static_cast<std::ptrdiff_t>(i) * w_);
@@ -117,12 +114,11 @@ class InCoreWorker {
   using Plane = multigrid::Plane<T>;
   using Store = std::unique_ptr<schedule::RowStore<T>>;
 
-  // Every row in, channels [i0, i1) of each from `from`: the first channel's u into its plane, every other
-  // u and every b into its store (the V-cycle reads b from there, row by row). The second reader (or
-  // the only one) makes the plane's rows a few ahead (mark made_: rows made), then the V-cycle (its levels);
-  // that of channel 0 of channel 0's worker takes the mean weights (where the mean is fixed by them,
-  // alpha == 0: kept as one row while every row is the same) and the diagonal, and makes the pyramids
-  // every worker reads.
+  // Every row in, channels [i0, i1) of each from `from`: the first channel's u into its plane, every other u and
+  // every b into its store (the V-cycle reads b from there, row by row). The second reader (or the only one) makes
+  // the plane's rows a few ahead (mark made_: rows made), then the V-cycle (its levels); that of channel 0 takes the
+  // mean weights (where the mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
+  // diagonal, and makes the pyramids every worker reads.
   void read_input(WorkerRows<T>& from, int i0, int i1) {
     const bool weights = i0 + c0 == 0 && ops_.singular, diagonal = i0 + c0 == 0 && diagonal_, maker = i0 > 0 || !pair_;
     const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
@@ -168,6 +164,7 @@ class InCoreWorker {
     // (Its last read, the last V-cycle's second, gives its blocks back as it goes: nothing left to free
     // when it closes; so do the parked u's and the results' single reads.)
     multigrid::RowFeed<T> b{[&, r = 0]() mutable { store.rewind(++r == 2 * cycles); }, [&](std::span<T> row) { store.read(row); }};
+    if (i > 0) turn_to(i, b);
     log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
@@ -186,19 +183,21 @@ class InCoreWorker {
       shared_.marks.wait(cycled_, done_ - 1);
       if (settled) break;
     }
-    parked_b_[i].reset();
+    parked_b_[i].reset(), parked_u_[i].reset();
   }
 
-  // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
-  void turn_to(int i) {
+  // Local channel i moves into the plane as its first descent reaches each row: the previous one's result out
+  // to a store as i's u comes in.
+  void turn_to(int i, multigrid::RowFeed<T>& feed) {
     schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
     parked_u_[i]->rewind(true);
-    for (int j = 0; j < h_; ++j) {
-      const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
-      result->append(row);
-      parked_u_[i]->read(row);
-    }
-    parked_u_[i].reset();
+    feed.u_rows = [this, result, i](int from, int to) {
+      for (int j = from; j < to; ++j) {
+        const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
+        result->append(row);
+        parked_u_[i]->read(row);
+      }
+    };
   }
   // Local channel i's result row j, rows in order.
   const T* result_row(int i, int j) {

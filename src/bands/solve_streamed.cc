@@ -290,16 +290,15 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
         if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
       };
     };
-    const int c0 = wk.c0, n = wk.n, two = team.readers > 1;
-    wk.rows.input = reader(r, c0, two ? 1 : n);
-    if constexpr (requires { wk.second; }) if (two) wk.second.input = reader(r + 1, c0 + 1, n - 1);
+    wk.rows.input = reader(r, wk.c0, team.readers > 1 ? 1 : wk.n);
+    if constexpr (requires { wk.second; }) if (team.readers > 1) wk.second.input = reader(r + 1, wk.c0 + 1, wk.n - 1);
     wk.rows.totals = [&, l, r]() -> const InputTotals& {
       input.done(l, r);
       marks.wait(summed, 0);
       return totals;
     };
     const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
-    wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
+    wk.rows.result = [&, k, c0 = wk.c0, n = wk.n, length, a, own](int j, std::span<const T> u) {
       float* row = results.row(k, j) + a;
       for (int c = 0; c < n; ++c)
         std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
