@@ -90,10 +90,10 @@ class InCoreWorker {
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads the input's rows are read by both (the second reader: channels 1.., the plane's
-    // and the V-cycle's levels' fresh pages; one that throws stops the marks the other waits on).
-    if (!pair_) read_input(rows, 0, n);
-    else util::run_workers(2, [&](int k) { k == 0 ? read_input(rows, 0, 1) : read_input(second, 1, n); },
+    // With two threads the plane and the V-cycle's levels are made (their fresh pages touched) on the
+    // second while the input comes in on this one (one that throws stops the marks the input waits on).
+    if (!pair_) make_planes(), read_input();
+    else util::run_workers(2, [&](int k) { k == 0 ? read_input() : make_planes(); },
                            [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
@@ -107,45 +107,35 @@ class InCoreWorker {
     }
   }
 
-  WorkerRows<T> rows, second;  // second: with two threads, the second's reader of the input (channels 1..)
+  WorkerRows<T> rows;
   const int c0, n, band = 0;
 
  private:
   using Plane = multigrid::Plane<T>;
   using Store = std::unique_ptr<schedule::RowStore<T>>;
 
-  // Every row in, channels [i0, i1) of each from `from`: the first channel's u into its plane, every other u and
-  // every b into its store (the V-cycle reads b from there, row by row). The second reader (or the only one) makes
-  // the plane's rows a few ahead (mark made_: rows made), then the V-cycle (its levels); that of channel 0 takes the
-  // mean weights (where the mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
+  // Every row in: the first channel's u into its plane, every other u and every b into its store
+  // (the V-cycle reads b from there, row by row). Channel 0's worker also takes the mean weights (where the
+  // mean is fixed by them, alpha == 0: kept as one row while every row is the same) and the
   // diagonal, and makes the pyramids every worker reads.
-  void read_input(WorkerRows<T>& from, int i0, int i1) {
-    const bool weights = i0 + c0 == 0 && ops_.singular, diagonal = i0 + c0 == 0 && diagonal_, maker = i0 > 0 || !pair_;
-    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
+  void read_input() {
+    const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
     for (int j = 0, made = 0; j < h_; ++j) {
-      if (maker && j + step / 2 >= made) u_.make_rows(made = std::min(h_, made + step)), shared_.marks.set(made_, made);
-      if (i0 == 0 && j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
-      from.input(j, {u, b, weights ? wt.next() : std::span<T>{},
+      if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
+      rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
                      {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
       if (weights) wt.add();
-      for (int i = i0; i < i1; ++i) {
-        const std::size_t at = static_cast<std::size_t>(i - i0) * w_;  // (`from` cuts channels i0.. only)
-        const std::span<const T> ui(u.data() + at, w_), bi(b.data() + at, w_);
+      for (int i = 0; i < n; ++i) {
+        const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
         parked_b_[i]->append(bi);
         if (i > 0) parked_u_[i]->append(ui);
         else std::ranges::copy(ui, u_.row(j));
       }
     }
-    if (maker) {
-      vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
-      vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
-      vc_->set_half(&half_);
-      if (pair_) vc_->set_pair(&*pair_);
-    }
-    if (i0 + c0 != 0) return;
+    if (c0 != 0) return;
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
     if (weights) {
@@ -186,8 +176,22 @@ class InCoreWorker {
     parked_b_[i].reset(), parked_u_[i].reset();
   }
 
-  // Local channel i moves into the plane as its first descent reaches each row: the previous one's result out
-  // to a store as i's u comes in.
+  // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
+  void make_planes() {
+    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
+    for (int j = 0; j < h_;) {
+      j = std::min(j + step, h_);
+      u_.make_rows(j);
+      shared_.marks.set(made_, j);
+    }
+    vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
+    vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
+    vc_->set_half(&half_);
+    if (pair_) vc_->set_pair(&*pair_);
+  }
+
+  // Local channel i moves into the plane as its first descent reaches each row (on the lead's thread, beside
+  // the sweeps): the previous one's result out to a store as i's u comes in.
   void turn_to(int i, multigrid::RowFeed<T>& feed) {
     schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
     parked_u_[i]->rewind(true);

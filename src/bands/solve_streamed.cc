@@ -109,7 +109,7 @@ struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
-  int first = 0, local = 1, groups = 1, readers = 1;  // readers of the input a worker (in-core: its threads)
+  int first = 0, local = 1, groups = 1;
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
@@ -147,7 +147,6 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   } else {
     const int spare = incore ? opt.threads / 2 : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
     groups = std::clamp(spare, 1, channels);
-    readers = incore && opt.threads >= 2 * groups ? 2 : 1;
   }
   if (!opt.checkpoint_dir.empty() && !incore)
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, problem->ops, channels, layout.bands, local, first, groups,
@@ -167,7 +166,7 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
   for (int l = 0; l < count; ++l) {
     const int first = team.first + l * team.local / count, last = team.first + (l + 1) * team.local / count;
     const InputWindow window = input_window(layout, first, last - 1, source.width());
-    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups * team.readers});
+    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups});
     for (int i = first; i < last; ++i) units.back().sums.emplace_back(layout.begin(0, i), layout.end(0, i));
   }
   return units;
@@ -275,30 +274,25 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   std::vector<std::unique_ptr<InCoreWorker<T>>> incore;  // (in-core: these instead)
   // Worker k (local band i): its input cut from its unit's reader straight into the V-cycle's ring
   // (in-core: its planes), the input's sums once known, its own columns of the result rows.
-  // An in-core worker's two threads read its unit both: the first channel c0, the second the others.
   const auto wire = [&](auto& wk, int i, int k) {
-    const int l = units.size() == 1 ? 0 : i, r = (units.size() == 1 ? k : k - i * team.groups) * team.readers;  // its unit, its reader there
-    const int length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
-    const auto reader = [&, l, length, origin](int r, int c0, int n) {  // reader r's: channels [c0, c0 + n)
-      return [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
-        const auto in = input.row(l, r, j);
-        for (int c = 0; c < n; ++c) {
-          cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.u.subspan(c * length, length));
-          cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.b.subspan(c * length, length));
-        }
-        if (!to.w.empty()) cut(in.w.data(), w, layout.periodic, origin, to.w);
-        if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
-      };
+    const int l = units.size() == 1 ? 0 : i, r = units.size() == 1 ? k : k - i * team.groups;  // its unit, its reader there
+    const int c0 = wk.c0, n = wk.n, length = layout.row_length(0, wk.band), origin = layout.origin(0, wk.band);
+    wk.rows.input = [&, l, r, c0, n, length, origin](int j, const typename StreamedVCycle<T>::Slots& to) {
+      const auto in = input.row(l, r, j);
+      for (int c = 0; c < n; ++c) {
+        cut(in.u.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.u.subspan(c * length, length));
+        cut(in.b.data() + static_cast<std::size_t>(c0 + c) * w, w, layout.periodic, origin, to.b.subspan(c * length, length));
+      }
+      if (!to.w.empty()) cut(in.w.data(), w, layout.periodic, origin, to.w);
+      if (!to.d.empty()) cut(in.d.data(), w, layout.periodic, origin, to.d);
     };
-    wk.rows.input = reader(r, wk.c0, team.readers > 1 ? 1 : wk.n);
-    if constexpr (requires { wk.second; }) if (team.readers > 1) wk.second.input = reader(r + 1, wk.c0 + 1, wk.n - 1);
     wk.rows.totals = [&, l, r]() -> const InputTotals& {
       input.done(l, r);
       marks.wait(summed, 0);
       return totals;
     };
     const int a = layout.begin(0, wk.band), own = layout.end(0, wk.band) - a;
-    wk.rows.result = [&, k, c0 = wk.c0, n = wk.n, length, a, own](int j, std::span<const T> u) {
+    wk.rows.result = [&, k, c0, n, length, a, own](int j, std::span<const T> u) {
       float* row = results.row(k, j) + a;
       for (int c = 0; c < n; ++c)
         std::transform(u.begin() + c * length + layout.halo, u.begin() + c * length + layout.halo + own,
