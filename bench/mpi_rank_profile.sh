@@ -6,9 +6,12 @@
 #
 #   bench/mpi_rank_profile.sh [SIZE=8192] [BUILD=build] [TOP=30]
 #
+# GDP=/dir/gdp profiles that binary instead (a folder as bench/same_bits.sh takes: set LD_LIBRARY_PATH
+# to it too); BUILD still gives bench/make_composite.
+#
 # Needs perf. Makes a SIZE x SIZE composite (uncompressed TIFF) with bench/make_composite in a
 # scratch folder removed on exit. Prints the functions whose CPU differs most (mpirun - plain, both
-# ranks summed; mpirun's own process is not recorded: /usr/bin/time around mpirun shows it) and the
+# ranks summed, then the third as many that fell most; mpirun's own process is not recorded: /usr/bin/time around mpirun shows it) and the
 # totals. Samples are 1 ms; on a loaded machine compare the MPI functions (ColumnGather, MpiHub,
 # mpi::, mca_btl_vader_get_cma: CMA, the pull of a message over 4 KB), not the kernels.
 set -euo pipefail
@@ -18,6 +21,7 @@ top=${3:-30}
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/shared_data.sh"
 stitch_bench_setup rank-profile "$build"
+gdp=${GDP:-$gdp}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 "$here/$build/bench/make_composite" "$photo" "$size" "$size" "$work/c.tif" "$work/l.tif" > /dev/null
 stitch=(stitch -c "$work/c.tif" -l "$work/l.tif" --compression none -q)
@@ -42,6 +46,8 @@ charge() {  # samples of command gdp per innermost gdp / MPI / loader frame
   } END { for (k in c) print k, c[k] }' | sort
 }
 join -a1 -a2 -e 0 -o 0,1.2,2.2 <(charge "$work/plain.data") <(charge "$work/rank0.data" "$work/rank1.data") |
-  awk -v top="$top" '{ d = $3 - $2; a += $2; b += $3; print d, $2, $3, $1 | "sort -rn | head -" top }
-    END { close("sort -rn | head -" top); printf "total: plain %d ms, ranks %d ms (%.2fx)\n", a, b, b / a }' |
+  awk -v top="$top" '{ d = $3 - $2; a += $2; b += $3; print d, $2, $3, $1 | "sort -rn | head -" top
+      print d, $2, $3, $1 | "sort -n | head -" int(top / 3) " | sort -rn" }
+    END { close("sort -rn | head -" top); print "..."; close("sort -n | head -" int(top / 3) " | sort -rn")
+      printf "total: plain %d ms, ranks %d ms (%.2fx)\n", a, b, b / a }' |
   awk 'BEGIN { print "mpirun-plain  plain  ranks  function (ms of CPU)" } { print }'
