@@ -237,53 +237,6 @@ TEST(InCoreMemory, FedRightHandSideChangesNoBit) {
     }
 }
 
-// u fed row by row into the first descent (RowFeed::u_rows: a channel's u coming into the plane as the
-// previous one's result goes out) gives u held whole's bits, norms included, on one thread and two, on
-// several levels and one: each row made once, in order, before any pass reads or writes it (the plane
-// holds NaN until then), in the first V-cycle only.
-TEST(InCoreMemory, FedStartingGuessChangesNoBit) {
-  for (const bool one_level : {false, true}) {
-    const int h = one_level ? 10 : multigrid::InCoreVCycle<float>::kPairRows + 40, w = 37;
-    const auto topo = topology::make_topology(Domain::Planar);
-    const multigrid::Hierarchy hier = multigrid::build_hierarchy(*topo, w, h, 0.0, one_level ? 64 : 8);
-    const multigrid::Operators<float> ops(hier);
-    const Image noise = test::random_image(w, h, 2, 12);
-    Plane<float> u0(w, h), b(w, h);
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) u0.at(i, j) = noise.at(0, i, j), b.at(i, j) = 100.0f * (noise.at(1, i, j) - 0.5f);
-    for (const bool two : {false, true}) {
-      SCOPED_TRACE(std::string(one_level ? "one level" : "levels") + (two ? ", two threads" : ""));
-      schedule::Marks marks;
-      bands::PassThreads pair(marks);
-      Plane<float> u = u0, fed_u(w, h);
-      std::fill(fed_u.data.begin(), fed_u.data.end(), std::numeric_limits<float>::quiet_NaN());
-      multigrid::InCoreVCycle<float> a(ops, 2, 1e-6), f(ops, 2, 1e-6);
-      if (two) f.set_pair(&pair);
-      int next = 0, made = 0;
-      multigrid::RowFeed<float> feed{[&] { next = 0; }, [&](std::span<float> row) { std::copy_n(b.row(next++), w, row.data()); }};
-      feed.u_rows = [&](int from, int to) {
-        EXPECT_EQ(from, made);
-        for (int j = from; j < to; ++j) {
-          EXPECT_TRUE(std::all_of(fed_u.row(j), fed_u.row(j) + w, [](float v) { return std::isnan(v); })) << "row " << j;
-          std::copy_n(u0.row(j), w, fed_u.row(j));
-        }
-        made = to;
-      };
-      for (int k = 0; k < 2; ++k) {
-        multigrid::CycleProbe pa, pf;
-        pa.norm_before = pa.norm_after = pf.norm_before = pf.norm_after = true;
-        a.run(u, b, nullptr, &pa);
-        f.run(fed_u, feed, nullptr, &pf);
-        EXPECT_TRUE(same_plane_bits(u, fed_u)) << "cycle " << k;
-        EXPECT_EQ(pa.before, pf.before);
-        EXPECT_EQ(pa.after, pf.after);
-        EXPECT_EQ(made, h);
-        EXPECT_FALSE(feed.u_rows);
-      }
-    }
-  }
-}
-
 // Coarser weights held once per run of equal rows read as the whole planes' rows, and hold fewer.
 TEST(InCoreMemory, WeightsHeldOnceReadAsTheWholePlanes) {
   const auto topo = topology::make_topology(Domain::Planar);

@@ -99,7 +99,10 @@ class InCoreWorker {
     shared_.marks.wait(shared_.ready, 0);
     multigrid::InCoreVCycle<T>& vc = *vc_;
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
-    for (int i = 0; i < n; ++i) solve(i, vc, totals);
+    for (int i = 0; i < n; ++i) {
+      if (i > 0) turn_to(i);
+      solve(i, vc, totals);
+    }
     std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
     for (int j = 0; j < h_; ++j) {
       for (int i = 0; i < n; ++i) std::copy_n(result_row(i, j), w_, u.begin() + static_cast<std::ptrdiff_t>(i) * w_);
@@ -151,10 +154,7 @@ class InCoreWorker {
   void solve(int i, multigrid::InCoreVCycle<T>& vc, const multigrid::InputTotals& totals) {
     const int cycles = opt_.cycle_cap(), c = c0 + i;
     schedule::RowStore<T>& store = *parked_b_[i];
-    // (Its last read, the last V-cycle's second, gives its blocks back as it goes: nothing left to free
-    // when it closes; so do the parked u's and the results' single reads.)
-    multigrid::RowFeed<T> b{[&, r = 0]() mutable { store.rewind(++r == 2 * cycles); }, [&](std::span<T> row) { store.read(row); }};
-    if (i > 0) turn_to(i, b);
+    multigrid::RowFeed<T> b{[&] { store.rewind(); }, [&](std::span<T> row) { store.read(row); }};
     log_.set_rhs_norm(c, std::sqrt(totals.rhs_norms2[c]));
     for (int k = 0; k < cycles; ++k) {
       multigrid::CycleProbe probe;
@@ -173,7 +173,7 @@ class InCoreWorker {
       shared_.marks.wait(cycled_, done_ - 1);
       if (settled) break;
     }
-    parked_b_[i].reset(), parked_u_[i].reset();
+    parked_b_[i].reset();
   }
 
   // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
@@ -190,23 +190,21 @@ class InCoreWorker {
     if (pair_) vc_->set_pair(&*pair_);
   }
 
-  // Local channel i moves into the plane as its first descent reaches each row (on the lead's thread, beside
-  // the sweeps): the previous one's result out to a store as i's u comes in.
-  void turn_to(int i, multigrid::RowFeed<T>& feed) {
+  // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
+  void turn_to(int i) {
     schedule::RowStore<T>* result = park(parked_u_, "u", i - 1);
-    parked_u_[i]->rewind(true);
-    feed.u_rows = [this, result, i](int from, int to) {
-      for (int j = from; j < to; ++j) {
-        const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
-        result->append(row);
-        parked_u_[i]->read(row);
-      }
-    };
+    parked_u_[i]->rewind();
+    for (int j = 0; j < h_; ++j) {
+      const std::span<T> row(u_.row(j), static_cast<std::size_t>(w_));
+      result->append(row);
+      parked_u_[i]->read(row);
+    }
+    parked_u_[i].reset();
   }
   // Local channel i's result row j, rows in order.
   const T* result_row(int i, int j) {
     if (!parked_u_[i]) return u_.row(j);
-    if (j == 0) parked_u_[i]->rewind(true);
+    if (j == 0) parked_u_[i]->rewind();
     parked_u_[i]->read(buffer_);
     return buffer_.data();
   }

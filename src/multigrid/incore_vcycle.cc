@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <utility>
 
 #include "multigrid/coarse_cg.h"
 #include "multigrid/plane_ops.h"
@@ -110,8 +109,7 @@ void InCoreVCycle<T>::run(Plane<T>& u0, Plane<T>& b0, const std::vector<Plane<T>
 
 template <class T>
 void InCoreVCycle<T>::run(Plane<T>& u0, RowFeed<T>& b0, const std::vector<Plane<T>>* weights, CycleProbe* probe) {
-  if (first_ + 1 >= ops_.count()) {  // a single level has no passes: b (and u where fed) whole
-    if (b0.u_rows) std::exchange(b0.u_rows, nullptr)(0, u0.height);
+  if (first_ + 1 >= ops_.count()) {  // a single level has no passes: b whole
     Plane<T> whole(ops_.levels[first_].width, ops_.levels[first_].height);
     b0.rewind();
     for (int j = 0; j < whole.height; ++j) b0.read(std::span<T>(whole.row(j), whole.width));
@@ -270,21 +268,13 @@ double InCoreVCycle<T>::descend(int l, Plane<T>& u, Rhs& b, const Plane<T>* d, P
     if (j >= 0 && j < op.height)
       relax(op, j, window(op, u, j), sweep_columns(row, s, j), u.row(j), b_row(b, j), scratch, diag_row(d, j));
   };
-  // Level `first`'s u rows from the feed's u_rows where it has one (once; the lead's: the pass reads u up to row
-  // t + 4 at step t), a coarser level's zeroed.
-  const auto u_rows = l == first_ && b.feed ? std::exchange(b.feed->u_rows, nullptr) : nullptr;
-  int u_zeroed = l > first_ || u_rows ? 0 : op.height, b_zeroed = 0;
-  const auto make_u = [&](int to) {
-    if (!u_rows) return zero_rows(u, u_zeroed, to);
-    if ((to = std::min(to, op.height)) > u_zeroed) u_rows(u_zeroed, to), u_zeroed = to;
-  };
+  int u_zeroed = l > first_ ? 0 : op.height, b_zeroed = 0;
   // `before`: row j's residual reads rows j - 2 .. j + 2, all as they came while j - 2 is unrelaxed.
   rewind(b);
   feed_to(b, 1);
-  make_u(5);
   for (int j = 0; before && j < std::min(2, op.height); ++j) *before += row_residual2(l, u, b_row(b, j), d, j, lead_);
   const auto lead = [&](int t) {
-    make_u(before ? t + 5 : t + 3);  // relaxing row t reads rows up to t + 2 (the residual of t + 2 up to t + 4)
+    zero_rows(u, u_zeroed, t + 3);  // relaxing row t reads rows up to t + 2
     feed_to(b, before ? t + 2 : t);
     if (before && t + 2 < op.height) *before += row_residual2(l, u, b_row(b, t + 2), d, t + 2, lead_);
     for (int s = 0; s < led; ++s) relax_row(s, t - 2 * s, lead_.scratch);

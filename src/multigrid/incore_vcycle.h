@@ -105,9 +105,6 @@ struct RowFeed {
   // Set by the V-cycle once it has rounded b to half floats (the half policy): rows are rounded as
   // they are read from then on (the bits of b rounded in place). One feed per right-hand side.
   bool rounded = false;
-  // Where set: u's rows [from, to) on level `first` made by it as the next V-cycle's first pass first reads
-  // them (in order, once; a channel's u coming into the plane as the last one's result goes out).
-  std::function<void(int from, int to)> u_rows = {};
 };
 
 // Runs V-cycles on levels first, first + 1, ... Holds the storage of the levels below `first`:
