@@ -59,13 +59,9 @@ void ReadAhead::run(int fd, std::size_t begin, std::size_t end, std::size_t chun
     if (c->error != 0) at = end;  // the failed chunk is the last
     else drop.read(fd, at);
     if (!full_.push(*c)) return;
-    // Read into the buffers: the file's blocks there are needed no more (runs of give_back
-    // bytes; at the end all, rounded up to a block: past the length there is nothing).
-    // A file system without holes keeps them until the close.
-    if (give_back > 0 && c->error == 0) {
-      const std::size_t to = at == end ? align_up(end) : at / give_back * give_back;
-      if (to > returned && util::punch_hole(fd, returned, to)) returned = to;
-    }
+    // Read into the buffers: the file's blocks there are needed no more. A file system without
+    // holes keeps them until the close.
+    if (give_back > 0 && c->error == 0) returned = util::punch_behind(fd, returned, at, give_back, at == end);
   }
   full_.finish();
 }

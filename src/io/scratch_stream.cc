@@ -164,21 +164,11 @@ void ScratchStream::next_chunk() {
     util::read_exactly_at(fd_, cur_, size_, read_at_, {where_});
     chunk_at_ = cur_;
     read_at_ += size_;
-    if (last_) give_back(read_at_ == bytes());
+    // A memfd on its last read: the pages read go back to the system as they are copied out.
+    if (last_) returned_ = util::punch_behind(fd_, returned_, read_at_, kReturnBytes, read_at_ == bytes());
   }
   cursor_ = 0;
   if (size_ == 0) throw std::logic_error("ScratchStream: read past the end");
-}
-
-// A memfd on its last read: the pages of [returned_, read_at_) were copied out, and go back to the
-// system (PUNCH_HOLE keeps the length) once they make whole runs of kReturnBytes, or all at the end.
-void ScratchStream::give_back(bool end) {
-  // (the end rounded up: a hole frees whole pages only, and past the length there is nothing)
-  const std::size_t to = (end ? read_at_ + kReturnBytes - 1 : read_at_) / kReturnBytes * kReturnBytes;
-  if (to <= returned_) return;
-  // A kernel without it (or a file system that takes no holes) keeps the pages until the close.
-  if (!util::punch_hole(fd_, returned_, to)) last_ = false;
-  returned_ = to;
 }
 
 std::size_t ScratchStream::allocated() const {

@@ -72,7 +72,6 @@ class ScratchStream {
  private:
   void pass_on(bool all);
   void next_chunk();
-  void give_back(bool end);
   std::size_t read_chunk_bytes() const;
 
   int fd_;

@@ -49,6 +49,11 @@ bool punch_hole(int fd, std::size_t from, std::size_t to) noexcept {
                      static_cast<off_t>(to - from)) == 0;
 }
 
+std::size_t punch_behind(int fd, std::size_t returned, std::size_t at, std::size_t step, bool end) noexcept {
+  const std::size_t to = (end ? at + step - 1 : at) / step * step;
+  return to > returned && punch_hole(fd, returned, to) ? to : returned;
+}
+
 std::string errno_message() { return reason_of(errno); }
 
 Transfer pread_full(int fd, void* data, std::size_t n, std::size_t at) noexcept {

@@ -22,6 +22,10 @@ Transfer write_full(int fd, const void* data, std::size_t n) noexcept;  // at th
 // Gives bytes [from, to) of fd back to the system (fallocate PUNCH_HOLE, the length kept); false
 // where the kernel or file system takes no holes (the blocks then stay until the file closes).
 bool punch_hole(int fd, std::size_t from, std::size_t to) noexcept;
+// A stream's last read gives back what it has read: bytes [returned, at) of fd in whole runs of
+// `step` bytes, or all of them at the `end` (the last run rounded up: past the length there is
+// nothing). Returns how far the bytes are given back now (`returned` where nothing was).
+std::size_t punch_behind(int fd, std::size_t returned, std::size_t at, std::size_t step, bool end) noexcept;
 
 // errno's text now (after a failed system call), for messages.
 std::string errno_message();
