@@ -87,10 +87,7 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
 
 int band_halo_columns(int sweeps) { return bands::band_halo(sweeps, bands::kDefaultPhaseGroups); }
 
-std::size_t direct_scratch_from() {
-  const auto& budget = schedule::ScratchBudget::process();
-  return budget.direct_files() ? budget.direct_from() : static_cast<std::size_t>(-1);
-}
+std::size_t direct_scratch_from(const SolverOptions& options) { return schedule::ScratchBudget::direct_from(options); }
 
 void ScheduleFlags::apply(SolverOptions& options) const {
   options.domain = parse_domain(domain);
@@ -118,7 +115,7 @@ void solve(GuidanceSource& source, const SolverOptions& options, RowWriter& out,
   SolveSummary& s = summary ? *summary : local;
   s = SolveSummary{};
   schedule::ScratchBudget& budget = schedule::ScratchBudget::process();
-  budget.set_limit(options.scratch_memory);
+  budget.apply(options);
   budget.reset_peaks();
   solve_with_schedule(source, options, out, s);
   s.scratch_memory_peak = budget.peak_in_memory();

@@ -145,6 +145,29 @@ TEST(ScratchFiles, LargeStoresAreDirectFilesThatBypassThePageCache) {
   EXPECT_FALSE(schedule::RowStore<float>(policy, n, rows, "off").on_disk());
 }
 
+// A solve's options set where direct files start: the library's default (kDirectScratchFrom) sends
+// a large store to a file though the budget has room; a budget given (the CLI's --memory, which sets
+// direct_scratch_from to SIZE_MAX) keeps it in memory while it fits and sends it to a file past it.
+TEST(ScratchFiles, AGivenBudgetKeepsLargeStoresInMemoryWhileTheyFit) {
+  if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";
+  schedule::ScratchBudget budget;
+  schedule::StorePolicy policy;
+  policy.budget = &budget;
+  const std::size_t n = 8192, rows = 2048;  // 64 MiB of floats: kDirectScratchFrom exactly
+  SolverOptions options;
+  options.scratch_memory = std::size_t{1} << 30;
+  budget.apply(options);
+  EXPECT_EQ(schedule::ScratchBudget::direct_from(options), kDirectScratchFrom);
+  EXPECT_TRUE(schedule::RowStore<float>(policy, n, rows, "default").direct());
+  options.direct_scratch_from = SIZE_MAX;
+  budget.apply(options);
+  EXPECT_EQ(schedule::ScratchBudget::direct_from(options), SIZE_MAX);
+  EXPECT_FALSE(schedule::RowStore<float>(policy, n, rows, "given").on_disk());
+  options.scratch_memory = std::size_t{32} << 20;  // past the budget: a file all the same
+  budget.apply(options);
+  EXPECT_TRUE(schedule::RowStore<float>(policy, n, rows, "past").direct());
+}
+
 // Rows longer than an O_DIRECT chunk (2 MiB): each spans several, and comes back whole.
 TEST(ScratchFiles, DirectRowsLongerThanAChunkComeBackWhole) {
   if (!temp_takes_direct()) GTEST_SKIP() << "the temp directory takes no O_DIRECT";

@@ -5,7 +5,6 @@
 #include <cstddef>
 
 #include "gdp/solver.h"
-#include "schedule/scratch_budget.h"
 #include "scratch_split.h"
 #include "test_util.h"
 
@@ -59,14 +58,10 @@ TEST(SizeGuard, DirectStoresCountOnDisk) {
   const Image img = test::random_image(w, h, c, 4);
   SolverOptions o = streamed();
   o.scratch_memory = std::size_t{1} << 30;
-  auto& budget = schedule::ScratchBudget::process();
-  const bool files = budget.direct_files();
-  const std::size_t from = budget.direct_from();
-  budget.set_direct(true, static_cast<std::size_t>(plane / 2));
+  o.direct_scratch_from = static_cast<std::size_t>(plane / 2);
   test::ExactGradients src(img, Domain::Cylindrical);
   SolveSummary s;
   solve(src, o, nullptr, &s);
-  budget.set_direct(files, from);
   const cli::ScratchSplit bound = cli::split_scratch(static_cast<double>(s.scratch_bytes),
                                                      static_cast<double>(o.scratch_memory), plane, plane / 2);
   EXPECT_GT(s.scratch_disk_peak, 0u) << "no store went to a file: the test shows nothing";

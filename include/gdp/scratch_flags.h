@@ -18,7 +18,8 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
 int band_halo_columns(int sweeps);
 
 // Row stores of at least this many bytes go to O_DIRECT files whatever --memory leaves them
-// (GDP_DIRECT_SCRATCH; SIZE_MAX when it is "off"): the disk the size check must count.
-std::size_t direct_scratch_from();
+// (options.direct_scratch_from, or GDP_DIRECT_SCRATCH where set; SIZE_MAX when none is): the disk
+// the size check must count.
+std::size_t direct_scratch_from(const SolverOptions& options);
 
 }  // namespace gdp

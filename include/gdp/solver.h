@@ -35,6 +35,10 @@ std::size_t default_scratch_memory();
 // A --memory value: bytes ("1000000"), or with a binary unit K, M, G or T ("512M", "1.5G"), "0"
 // or "files" (always files); UsageError naming the text otherwise.
 std::size_t parse_memory_size(const std::string& text);
+// SolverOptions::direct_scratch_from's default: the finest level's stores of an 8192² solve, one
+// band or two (docs/how-streaming-works.md, "The e2e stitch, third round": on the machine measured
+// a fresh page of memory cost more CPU than the disk).
+inline constexpr std::size_t kDirectScratchFrom = std::size_t{64} << 20;
 
 // How the V-cycles are carried out (docs/multigrid.md, docs/how-streaming-works.md). Both give
 // bit-identical results.
@@ -70,6 +74,10 @@ struct SolverOptions {
   // Bytes of scratch rows that all solves of the process together keep in memory; stores beyond it
   // go to files in temp_dir (0: always files). With checkpoint_dir, stores are files regardless.
   std::size_t scratch_memory = default_scratch_memory();
+  // Stores of at least this many bytes are O_DIRECT files in temp_dir even when they fit
+  // scratch_memory, where the directory takes them. SIZE_MAX: memory first while the budget holds,
+  // files only past it (the CLI's choice when --memory is given). GDP_DIRECT_SCRATCH overrides both.
+  std::size_t direct_scratch_from = kDirectScratchFrom;
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
   // memory and solved in-core; larger ones stream.
   std::size_t incore_bytes = std::size_t{8} << 20;

@@ -9,7 +9,8 @@ namespace gdp::python::docs {
   "domain='planar'|'cylindrical'|'spherical', sphere=False (a 2:1 equirectangular input is resampled to PQ, "      \
   "solved there and resampled back; a 4:1 PQ input is solved in place), pq_height=0, double=False, "              \
   "in_core=False, incore_bytes=8 MiB, bands=0, temp=None (scratch directory), scratch='float' ('narrow': the CLI's default), half_scratch=False, "  \
-  "memory=bytes (scratch kept in memory by the process, default a quarter of physical memory; 0: files), "              \
+  "memory=bytes (scratch kept in memory by the process while it fits; default a quarter of physical memory, "  \
+  "with stores of 64 MiB or more in O_DIRECT files; 0: files), "                                                   \
   "verbose=False (residuals per level and V-cycle on sys.stderr), residuals=False (measure the relative "          \
   "residual before and after every V-cycle: stats' relative_residuals, else None; verbose, log and tolerance "      \
   "measure them too), log=callable(line), "                                                                        \

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <thread>
 
 #include <pybind11/stl.h>
@@ -53,6 +54,7 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("scratch", scratch);
   kw.take("half_scratch", half_scratch);
   if (scratch.empty() && !half_scratch) scratch = "float";
+  if (kw.has("memory")) s.direct_scratch_from = SIZE_MAX;  // as the CLI's --memory: memory while it fits
   kw.take("memory", s.scratch_memory);
   bool double_precision = false;
   kw.take("double", double_precision);

@@ -20,7 +20,7 @@ OutputFixups::OutputFixups(RowWriter& out, int width, int height, int channels, 
       row_(static_cast<std::size_t>(width) * channels) {
   policy_.dir = solver.temp_dir;
   policy_.budget = &schedule::ScratchBudget::process();  // one byte a pixel, in memory while it fits
-  policy_.budget->set_limit(solver.scratch_memory);
+  policy_.budget->apply(solver);
 }
 
 OutputFixups::~OutputFixups() = default;

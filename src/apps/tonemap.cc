@@ -37,7 +37,7 @@ void tonemap(RowReader& in, const TonemapOptions& options, const SolverOptions& 
   schedule::StorePolicy policy;
   policy.dir = solver.temp_dir;
   policy.budget = &schedule::ScratchBudget::process();  // the pyramid in memory while it fits
-  policy.budget->set_limit(solver.scratch_memory);
+  policy.budget->apply(solver);
   // Its own stores (the log-luminance pyramid, the solved rows) keep floats: outside the
   // V-cycle, their rounding was never measured (solver.scratch is the V-cycle's).
   const Domain domain = solver.domain;

@@ -7,8 +7,6 @@
 #include <limits>
 #include <string>
 
-#include "gdp/solver.h"
-
 namespace gdp::schedule {
 namespace {
 
@@ -22,14 +20,19 @@ void raise_peak(std::atomic<std::size_t>& peak, std::size_t value) {
 
 ScratchBudget& ScratchBudget::process() {
   static ScratchBudget budget;
-  static const bool read = [] {
-    const char* v = std::getenv("GDP_DIRECT_SCRATCH");
-    const std::string text = v ? v : "";
-    budget.set_direct(text != "off", text.empty() || text == "off" ? kDirectFrom : parse_memory_size(text));
-    return true;
-  }();
-  (void)read;
   return budget;
+}
+
+std::size_t ScratchBudget::direct_from(const SolverOptions& options) {
+  const char* v = std::getenv("GDP_DIRECT_SCRATCH");
+  const std::string text = v ? v : "";
+  return text.empty() ? options.direct_scratch_from : text == "off" ? SIZE_MAX : parse_memory_size(text);
+}
+
+void ScratchBudget::apply(const SolverOptions& options) {
+  const char* v = std::getenv("GDP_DIRECT_SCRATCH");
+  set_limit(options.scratch_memory);
+  set_direct(!v || std::string(v) != "off", direct_from(options));
 }
 
 std::size_t ScratchBudget::system_available() {

@@ -3,6 +3,9 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
+
+#include "gdp/solver.h"
 
 namespace gdp::schedule {
 
@@ -25,14 +28,13 @@ class ScratchBudget {
   static ScratchBudget& process();
 
   void set_limit(std::size_t bytes) { limit_.store(bytes); }
-  // Stores of at least direct_from() bytes are O_DIRECT files where the directory takes them,
-  // even when they would fit the budget (SIZE_MAX, the default here: never); with direct_files()
-  // false no store is O_DIRECT, not even one past the budget. The process's budget takes both
-  // from GDP_DIRECT_SCRATCH ("off", or a size: kDirectFrom without it; docs/how-streaming-works.md,
-  // "Scratch in O_DIRECT files"). 64 MiB: the finest level's stores of an 8192² solve, one band or
-  // two ("The e2e stitch, third round": a fresh memfd page costs more than the disk here).
-  static constexpr std::size_t kDirectFrom = std::size_t{64} << 20;
+  // Stores of at least direct_from() bytes are O_DIRECT files where the directory takes them, even
+  // when they would fit the budget; with direct_files() false none is, not even one past the budget.
   void set_direct(bool files, std::size_t from) { direct_files_ = files, direct_from_ = from; }
+  // A solve's: the limit SolverOptions::scratch_memory, direct_from() the one below.
+  void apply(const SolverOptions& options);
+  // SolverOptions::direct_scratch_from, or GDP_DIRECT_SCRATCH's ("off": none at all, or a size).
+  static std::size_t direct_from(const SolverOptions& options);
   bool direct_files() const { return direct_files_.load(); }
   std::size_t direct_from() const { return direct_from_.load(); }
 

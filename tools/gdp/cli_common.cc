@@ -90,9 +90,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o, bool solver_flags) {
     cmd.add_option("--memory", o.memory,
                    fmt::format("scratch rows kept in memory, e.g. 512M, 4G; beyond it they go to files in --temp "
                                "(0 or 'files': always files; with --checkpoint always files); default a quarter "
-                               "of physical memory, {:.1f}G here. Stores of 64M or more are O_DIRECT files "
-                               "whatever the budget where --temp takes them (GDP_DIRECT_SCRATCH=off or =SIZE "
-                               "changes that)", default_scratch_memory() / 1073741824.0))
+                               "of physical memory, {:.1f}G here, where stores of 64M or more are O_DIRECT files "
+                               "whatever the budget (a fresh page can cost more than the disk); with --memory "
+                               "given, scratch stays in memory while it fits (GDP_DIRECT_SCRATCH=off or =SIZE "
+                               "overrides both)", default_scratch_memory() / 1073741824.0))
         ->check(CLI::Validator(
             [](const std::string& v) {
               try {
@@ -164,7 +165,10 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   ScheduleFlags{o.domain, o.sphere, o.pq_height, o.in_core, o.bands}.apply(s);
   if (o.bands != 0) warn_if_bound(o, o.bands);
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
-  if (!o.memory.empty()) s.scratch_memory = parse_memory_size(o.memory);
+  if (!o.memory.empty()) {  // a budget given: scratch in memory while it fits, O_DIRECT files past it
+    s.scratch_memory = parse_memory_size(o.memory);
+    s.direct_scratch_from = SIZE_MAX;
+  }
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.scratch = app_scratch_precision(o.scratch, o.half_scratch, o.double_precision);
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };

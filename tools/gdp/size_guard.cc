@@ -50,7 +50,7 @@ namespace {
 // What guard_sizes and check_canvas_size need to know of the command: its limits and estimates.
 struct Limits {
   long long max_pixels = 0;
-  double scale = 1.0, disk_per_sample = 0.0, memory_budget = 0.0;
+  double scale = 1.0, disk_per_sample = 0.0, memory_budget = 0.0, direct_from = 0.0;
   int halo = 0;  // a band's, in columns (band_halo_columns)
   bool in_core = false, scratch = false;
   std::filesystem::path dir;
@@ -66,6 +66,7 @@ Limits limits_of(const CommonOptions& o, const SolverOptions* solver, bool in_me
   l.disk_per_sample = kScratchPerSample * l.scale * (solver && solver->scratch == ScratchPrecision::Narrow ? 0.5 : 1.0);
   // Scratch rows up to the budget (--memory) stay in memory, in each process: only the rest goes to disk.
   if (l.scratch) l.memory_budget = static_cast<double>(solver->scratch_memory);
+  if (l.scratch) l.direct_from = static_cast<double>(direct_scratch_from(*solver));
   if (l.scratch) l.dir = solver->temp_dir.empty() ? std::filesystem::temp_directory_path() : solver->temp_dir;
   return l;
 }
@@ -94,8 +95,7 @@ void check(const Limits& l, long long width, long long height, int channels, dou
   const double ranks = MpiRun::size();
   const double scratch = l.scratch ? samples * l.disk_per_sample / ranks : 0.0;
   const double store = l.scratch ? largest_store(l, width, height, channels) : 0.0;
-  const ScratchSplit split =
-      split_scratch(scratch, l.memory_budget, store, static_cast<double>(direct_scratch_from()));
+  const ScratchSplit split = split_scratch(scratch, l.memory_budget, store, l.direct_from);
   const double in_memory = split.memory;
   const double memory = l.in_core ? samples * kInCorePerSample * l.scale
                                   : static_cast<double>(width) * channels * kRowsInMemory * 4.0 * l.scale + in_memory;
