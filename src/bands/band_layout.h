@@ -53,7 +53,7 @@ struct BandLayout {
   // (r + 2 + 2k) / G + 1 and phase p runs once row pG + G - 1 has come: a row arrives at most 2(G + k) + 1
   // rows after the first live one, a strip reaches 2(G + k) + 1 back. 8 more for the coarse rows being
   // zeroed and pulled (k: the larger of the passes'); the one-band plan's 2k + 12 is streaming's pipeline.
-  int ring_rows() const { return (single ? 2 : 3) * phase_groups + 2 * std::max(sweeps, post_sweeps) + 10; }
+  int ring_rows() const { return 2 * (phase_groups + std::max(sweeps, post_sweeps)) + 10; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   int min_band_width() const { return 2 * edge() + 4; }

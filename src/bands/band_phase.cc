@@ -35,8 +35,7 @@ int final_phase(const BandLayout& L, int height, int j) {
 }
 
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
-                const std::function<void(bool)>& send, const std::function<void(bool)>& receive,
-                const std::function<void(int)>& group_done) {
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive) {
   const int G = L.phase_groups, k = L.sweeps, t0 = p * G;
   const auto each = [&](auto&& f) {  // every (group, sweep) of the phase whose row exists, group by group
     for (int t = t0; t < t0 + G; ++t)
@@ -70,16 +69,9 @@ void plan_phase(const BandLayout& L, int l, int band, int height, int p, const s
         tile(t, s, {q == 0 ? lo : bound(q) + d, q == lanes - 1 ? hi : bound(q + 1) + d});
       }
     }
-    if (group_done) group_done(t);
   }
   if ((lead_left ? L.right(band) : L.left(band)) >= 0) receive(!lead_left);
   region(kFollow);
-}
-
-std::pair<int, int> early_columns(const BandLayout& L, int l, int band) {
-  // The interior is [A + C - 2u, B - C - 2u) on even phases, [A + C + 2u, B - C + 2u) on odd ones, u < S.
-  const int M = 6 * L.steps() + 2, e0 = (L.begin(l, band) + M + 1) / 2 * 2, e1 = (L.end(l, band) - M) / 2 * 2;
-  return L.single || L.folded || e1 <= e0 ? std::pair{0, 0} : std::pair{e0, e1};
 }
 
 StripShape strip_shape(const BandLayout& L, int l, int band, int height, int p, bool left, bool outgoing) {

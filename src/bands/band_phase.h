@@ -3,7 +3,6 @@
 #pragma once
 
 #include <functional>
-#include <utility>
 
 #include "bands/band_layout.h"
 
@@ -21,17 +20,10 @@ struct Tile {
 
 // Calls relax(Tile), send(bool to_left) and receive(bool from_left) in the band's order for
 // phase p of level l (rows [0, height)): its lead region for every (group, sweep) step, the strip
-// to the neighbour it leads against, its interior group by group in lanes (group_done(t) after
-// group t's), the strip from the neighbour it follows, its follow region. Send and receive are not
-// called at an image edge; the one-band plan calls neither nor group_done.
+// to the neighbour it leads against, its interior group by group in lanes, the strip from the
+// neighbour it follows, its follow region. Send and receive are not called at an image edge.
 void plan_phase(const BandLayout& L, int l, int band, int height, int p, const std::function<void(const Tile&)>& relax,
-                const std::function<void(bool)>& send, const std::function<void(bool)>& receive,
-                const std::function<void(int)>& group_done = {});
-// The middle [e0, e1) of band `band`'s columns on level l: relaxed by the interior at every step of
-// either phase's parity, so the residual and restriction there (reading 4 columns on) may run right
-// after the interior of the group that last sweeps row j + 2. Empty for the one-band and folded plans
-// and for bands narrower than about 2(6(G + k) - 4).
-std::pair<int, int> early_columns(const BandLayout& L, int l, int band);
+                const std::function<void(bool)>& send, const std::function<void(bool)>& receive);
 
 // One strip's extent: u of rows [u_rows[0], u_rows[1]] at columns [u_cols[0], u_cols[1]); b (and
 // w, d) of rows [b_rows[0], b_rows[1]] at columns [b_cols[0], b_cols[1]). Empty row ranges have

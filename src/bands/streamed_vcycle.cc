@@ -54,7 +54,7 @@ std::unique_ptr<typename StreamedVCycle<T>::Level> StreamedVCycle<T>::make_level
   const multigrid::LevelOperator<T>& op = ops_.levels[base_ + l];
   // A ring of u and b (every channel), w and d (as the settings have them).
   const bool whole = l == layout_.levels && !layout_.merged;
-  const int ring = whole ? op.height : layout_.ring_rows();
+  const int ring = whole ? op.height : l == layout_.levels ? 8 : layout_.ring_rows();
   auto L = std::make_unique<Level>();
   L->op = &op, L->width = op.width, L->height = op.height, L->ring = ring;
   L->A = layout_.begin(l, band_), L->B = layout_.end(l, band_);
@@ -189,11 +189,7 @@ void StreamedVCycle<T>::advance(int l) {
             multigrid::relax(*L.op, t.row, window(l, c, t.row), columns(L.width, t.lo, t.hi, t.forward),
                              ring_row(l, U, t.row, c), ring_row(l, B, t.row, c), L.scratch, ring_row(l, D, t.row));
         },
-        [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); },
-        [&](int t) {  // restriction pass: the middles of the rows whose last neighbour had its last sweep in group t
-          for (int j = std::max(0, t - 2 * k - 2); j <= std::min(t - 2 * k, L.height - 1) && !prolongation_; ++j)
-            if (std::min(j + 2, L.height - 1) + 2 * k == t) restrict_row(l, j, true);
-        });
+        [&](bool left) { strip(l, p, left, true); }, [&](bool left) { strip(l, p, left, false); });
     while (L.finished < L.height && final_phase(plan(), L.height, L.finished) <= p) {
       const int j = L.finished++;
       if (!prolongation_) restrict_row(l, j);
@@ -236,10 +232,8 @@ void StreamedVCycle<T>::measure(int j, bool initial, std::vector<double>& rr) {
 }
 
 template <class T>
-void StreamedVCycle<T>::restrict_row(int l, int j, bool early) {
+void StreamedVCycle<T>::restrict_row(int l, int j) {
   Level& L = *levels_[l];
-  const auto [e0, e1] = early_columns(layout_, l, band_);
-  if (early && e0 >= e1) return;
   const multigrid::LevelGeometry& g = ops_.hierarchy->levels[base_ + l + 1];
   const fem::ProlongationRow& py = g.py.rows[j];
   Level& C = *levels_[l + 1];
@@ -255,28 +249,21 @@ void StreamedVCycle<T>::restrict_row(int l, int j, bool early) {
   const int m = g.width();
   std::vector<T> fold;
   if (across) fold.assign(static_cast<std::size_t>(parts()) * m, T(0));
-  // b of every channel (the residual's restriction), then w and d: fine columns [a, b) into coarse
-  // [a / 2, b / 2) (the band's ends: C.A, C.B). Early, the middle; late, the edges (or the whole row).
+  // b of every channel (the residual's restriction), then w and d.
   for (int k = 0; k < parts(); ++k) {
+    const T* fine = part_row(l, k, j);
+    if (k < set_.channels) {
+      multigrid::residual(*L.op, j, window(l, k, j), columns(L.width, L.A - 2, L.B + 2), ring_row(l, B, j, k), r_.data(),
+                          L.scratch, ring_row(l, D, j));
+      if (set_.level_norms) L.rr[k] += multigrid::row_squares(r_.data() + own, L.B - L.A);
+      fine = r_.data();
+    }
     T* coarse1 = across ? fold.data() + static_cast<std::size_t>(k) * m : part_row(l + 1, k, py.index[1]);
-    const auto cut = [&](int a, int b) {
-      const T* fine = part_row(l, k, j);
-      if (k < set_.channels) {
-        multigrid::residual(*L.op, j, window(l, k, j), columns(L.width, a - 2, b + 2), ring_row(l, B, j, k), r_.data(),
-                            L.scratch, ring_row(l, D, j));
-        if (set_.level_norms) L.rr[k] += multigrid::row_squares(r_.data() + (a - L.origin), b - a);
-        fine = r_.data();
-      }
-      multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, a == L.A ? C.A : a / 2, b == L.B ? C.B : b / 2),
-                               part_row(l + 1, k, py.index[0]), coarse1, {C.origin, across ? 0 : C.origin}, L.scratch);
-    };
-    if (early) cut(e0, e1);
-    else if (e0 < e1) cut(L.A, e0), cut(e1, L.B);
-    else cut(L.A, L.B);
-    if (!early && k < set_.channels && set_.weights)
+    multigrid::restrict_rows(g.px, py, fine, L.origin, columns(m, C.A, C.B), part_row(l + 1, k, py.index[0]), coarse1,
+                             {C.origin, across ? 0 : C.origin}, L.scratch);
+    if (k < set_.channels && set_.weights)
       L.dots[k] += multigrid::row_dot(ring_row(l, W, j) + own, ring_row(l, U, j, k) + own, L.B - L.A);
   }
-  if (early) return;
   if (across) add_fold_sums(l, py.mirror == fem::Mirror::Top ? 0 : 1, fold, py.index[1]);
   for (int q : {U, B, W, D})
     if (L.store[q] && (q == U || !L.inputs_stored)) L.store[q]->append(slot_of(l, q, j));

@@ -132,8 +132,7 @@ class StreamedVCycle {
   void strip(int l, int p, bool left, bool outgoing);
   // |b - A u|^2 of level 0's row j (`initial`: as pushed in the first cycle) added to rr per channel.
   void measure(int j, bool initial, std::vector<double>& rr);
-  // Row j of level l restricted into level l + 1; `early`: only its middle (band_phase.h early_columns).
-  void restrict_row(int l, int j, bool early = false);
+  void restrict_row(int l, int j);
   void run_tail();
   void hand(int row, bool off);  // to the merged stage (restriction pass) or back
   void ensure_final(int l, int row);
