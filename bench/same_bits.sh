@@ -2,9 +2,9 @@
 # The same-bits matrix: two gdp builds, A (before) and B (after), on small stitches of the blue-marble
 # photo (planar, cylindrical, PQ via --sphere; 1-8 bands; in-core, double, --memory 0, 3 V-cycles;
 # merged stages of 4, 7 and 8 bands; checkpoints killed after 3, 17 and 60 saves by one build and
-# resumed by the other (by B itself where B refuses A's state version, said in the case's line); mpirun -np 2 with and without --bands; --tolerance; gdp sharpen and gdp blend of
-# six layers plain and under mpirun -np 2, whose rows go through the column gather). Prints "same" or
-# "DIFF" a case.
+# resumed by the other (killed by B too where B refuses A's state version: the case's line says so);
+# mpirun -np 2 with and without --bands; --tolerance; gdp sharpen and gdp blend of six layers plain
+# and under mpirun -np 2, whose rows go through the column gather). Prints "same" or "DIFF" a case.
 #
 #   bench/same_bits.sh OLD NEW      OLD, NEW: folders holding copies of gdp and libgdp.so* (so that
 #                                   a rebuild cannot change them mid-run: mkdir -p DIR && cp
