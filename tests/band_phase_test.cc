@@ -5,7 +5,8 @@
 // the real ones copy values, and each relaxation checks what it reads: rows above after the same
 // sweep, rows below after the previous one, its own row's neighbours after either (with no cycle
 // in the order that implies), b present. Rows are checked final (halos too) when the schedule
-// says they are, and strips must never replace a sample by an older one.
+// says they are, strips must never replace a sample by an older one, and every row arrived, read or
+// in a strip must be in the ring (BandLayout::ring_rows slots above the first row not restricted).
 #include <gtest/gtest.h>
 
 #include <deque>
@@ -80,6 +81,10 @@ class Simulation {
   void run() {
     const int phases = phase_count(L_, c_.height);
     for (int p = 0; p < phases; ++p) {
+      // The ring (BandLayout::ring_rows): rows below live_ are restricted; the phase's rows have arrived.
+      live_ = 0;
+      while (live_ < c_.height && final_phase(L_, c_.height, live_) < p) ++live_;
+      in_ring(std::min(p * c_.groups + c_.groups - 1, c_.height - 1), "arrives");
       std::vector<std::deque<Op>> ops(c_.bands);
       for (int b = 0; b < c_.bands; ++b)
         plan_phase(
@@ -133,8 +138,14 @@ class Simulation {
     return band.has_b[static_cast<std::size_t>(j) * band.len + (i - band.origin)];
   }
 
+  void in_ring(int row, const char* what) {
+    ASSERT_GE(row, live_) << "row " << row << " " << what << " after its restriction";
+    ASSERT_LT(row - live_, L_.ring_rows()) << "row " << row << " " << what << " in the slot of live row " << row - L_.ring_rows();
+  }
+
   void relax(int b, int p, const Tile& t) {
     const int j = t.row, s = t.sweep;
+    for (int r = std::max(0, j - 2); r <= std::min(j + 2, c_.height - 1); ++r) in_ring(r, "is read");
     ASSERT_LE(j, p * c_.groups + c_.groups - 1) << "relaxes a row not arrived";
     ASSERT_GE(t.lo - 2, bands_[b].origin);
     ASSERT_LE(t.hi + 2, bands_[b].origin + bands_[b].len);
@@ -171,6 +182,7 @@ class Simulation {
     const int to = left ? L_.left(b) : L_.right(b);
     Message m;
     m.shape = strip_shape(L_, l_, b, c_.height, p, left, true);
+    for (int j = m.shape.u_rows[0]; j <= m.shape.u_rows[1]; ++j) in_ring(j, "is in a strip");
     for (int j = m.shape.u_rows[0]; j <= m.shape.u_rows[1]; ++j)
       for (int i = m.shape.u_cols[0]; i < m.shape.u_cols[1]; ++i) {
         m.u_cols.push_back(wrap(i));
@@ -275,7 +287,7 @@ class Simulation {
 
   Case c_;
   BandLayout L_;
-  int l_;
+  int l_, live_ = 0;  // live_: the first row not yet restricted
   std::vector<Band> bands_;
   std::vector<int> done_;
   std::vector<std::set<std::pair<int, int>>> after_;

@@ -115,15 +115,23 @@ TEST_F(Resume, EmptyMissingOrCorruptDirectoriesAreRefused) {
   expect_failure(stitch("r.tif", "--resume " + path("missing")), "no such directory");
   const std::string env = "GDP_CHECKPOINT_ROWS=8 GDP_CHECKPOINT_KILL_AFTER=3";
   ASSERT_EQ(gdp_env(env, stitch("r.tif", "--checkpoint " + path("cp") + " --threads 1")).code, 137);
-  {  // a state of another layout version (the first int after the header line) is named as such
+  // A state of an older layout version (the first int after the header line; 2: before the rings
+  // of 2(G + k) + 10 rows) is refused as such, naming the directory, not as corrupt.
+  const auto set_version = [&](int version) {
     std::fstream f(path("cp/lane0.1.state"), std::ios::in | std::ios::out | std::ios::binary);
     std::string head;
     std::getline(f, head);
-    const int old_version = 1;
     f.seekp(static_cast<std::streamoff>(head.size() + 1));
-    f.write(reinterpret_cast<const char*>(&old_version), sizeof old_version);
-  }
-  expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt (state version 1, written by another gdp");
+    f.write(reinterpret_cast<const char*>(&version), sizeof version);
+  };
+  set_version(2);
+  expect_failure(stitch("r.tif", "--resume " + path("cp")),
+                 "--resume " + path("cp") + ": saved by an older gdp (state version 2, this one reads 3): run again without --resume");
+  set_version(1);
+  expect_failure(stitch("r.tif", "--resume " + path("cp")), "saved by an older gdp (state version 1");
+  set_version(4);
+  expect_failure(stitch("r.tif", "--resume " + path("cp")), "saved by another gdp (state version 4");
+  set_version(3);
   fs::resize_file(path("cp/lane0.1.state"), 100);  // the third save's (states alternate between two files)
   expect_failure(stitch("r.tif", "--resume " + path("cp")), "lane0.1.state is corrupt");
   std::ofstream(path("cp/manifest")) << "gdp checkpoint 1\nsizes\n";

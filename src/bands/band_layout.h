@@ -49,13 +49,11 @@ struct BandLayout {
   // How far a band's lead region reaches into the neighbour's band at a phase's first step:
   // 2(G + k - 2) where the halo's b is there (level 0 of the top stage; folded layouts), else 0.
   int lead_offset(int l) const { return (l == 0 && top()) || folded ? 2 * (steps() - 1) : 0; }
-  // Rows of a banded level's ring (the streamed V-cycle's check_slot says if too few): live rows
-  // span at most about 3 phases; the one-band plan's only the 2k + 5 rows of its pipeline, as
-  // streaming's (k: the larger of the two passes').
-  int ring_rows() const {
-    const int k = std::max(sweeps, post_sweeps);
-    return single ? 2 * (k + 2) + 8 : 4 * phase_groups + 2 * k + 16;
-  }
+  // Rows of a banded level's ring (check_slot in streamed_vcycle.cc). Row r is restricted at the end of phase
+  // (r + 2 + 2k) / G + 1 and phase p runs once row pG + G - 1 has come: a row arrives at most 2(G + k) + 1
+  // rows after the first live one, a strip reaches 2(G + k) + 1 back. 8 more for the coarse rows being
+  // zeroed and pulled (k: the larger of the passes'); the one-band plan's 2k + 12 is streaming's pipeline.
+  int ring_rows() const { return 2 * (phase_groups + std::max(sweeps, post_sweeps)) + 10; }
   // Width of a band's lead and follow regions at a phase's first step (4 columns at its last).
   int edge() const { return 4 * steps(); }
   int min_band_width() const { return 2 * edge() + 4; }

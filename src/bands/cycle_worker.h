@@ -81,9 +81,10 @@ class CycleWorker {
     int version = kStateVersion;
     a.io(version);
     a.io(at);
-    if (version != kStateVersion)
-      throw CorruptState(fmt::format("state version {}, written by another gdp; this one reads version {}: start "
-                                     "afresh without --resume", version, kStateVersion));
+    if (version != kStateVersion)  // a refusal of the whole checkpoint, not a corrupt file (docs/resume.md)
+      throw InputError(fmt::format("--resume {}: saved by {} gdp (state version {}, this one reads {}): run again without "
+                                   "--resume", opt_.checkpoint_dir.string(), version < kStateVersion ? "an older" : "another",
+                                   version, kStateVersion));
     if (at.cycle < 0 || at.cycle >= cycles() || at.pass < 0 || at.pass > 2 || at.rows < 0 ||
         at.rows > height_)
       throw CorruptState("unknown position");
@@ -169,7 +170,7 @@ class CycleWorker {
   schedule::ResidualLog& log_;
   int length_, height_;
   std::unique_ptr<RowStore<T>> carry_;
-  static constexpr int kStateVersion = 2;  // 2: the gathered level is a Level (its rings)
+  static constexpr int kStateVersion = 3;  // 2: the gathered level is a Level; 3: rings of 2(G + k) + 10 rows
 };
 
 // The streamed solve's checkpoint (docs/resume.md): one lane per worker (band, channel group) of

@@ -8,18 +8,13 @@
 #include <fmt/format.h>
 
 #include "bands/band_phase.h"
+#include "util/overloaded.h"
 
 namespace gdp::bands {
 
 using multigrid::Columns;
 using multigrid::Window;
-
-namespace {
-template <class... F>
-struct Overloaded : F... {  // one visitor of held()'s parts, a lambda per kind
-  using F::operator()...;
-};
-}  // namespace
+using util::Overloaded;  // one visitor of held()'s parts, a lambda per kind
 
 template <class T>
 StreamedVCycle<T>::StreamedVCycle(const multigrid::Operators<T>& ops, const BandLayout& layout, Transport& transport,
