@@ -187,6 +187,29 @@ TEST(RowRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
   EXPECT_EQ(std::count(made_by.begin(), made_by.end(), -1), 0);
 }
 
+// A reader that does not wait (need(..., false)) is told "not yet" while another reader makes rows,
+// and reads every row in its slot once told yes (the in-core worker maps fresh memory meanwhile).
+TEST(RowRingSlots, AReaderThatDoesNotWaitIsToldNotYetWhileAnotherMakes) {
+  constexpr int kRows = 200, kSlots = 16;
+  std::vector<std::atomic<int>> held(kSlots);
+  int wrong = 0, not_yet = 0;
+  schedule::Marks marks;
+  schedule::RowRing ring(marks, 2, kSlots, kRows, [&](int y) {
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+    held[y % kSlots] = y;
+  });
+  util::run_workers(2, [&](int k) {
+    if (k == 0) return ring.done(0);  // makes every row
+    for (int j = 0; j < kRows; ++j) {
+      while (!ring.need(1, j, j, false)) ++not_yet;
+      wrong += held[j % kSlots] != j;
+    }
+    ring.done(1);
+  });
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(not_yet, 0);
+}
+
 // A stop ends every wait on the marks with Stopped, and later waits too.
 TEST(RowRingSlots, StopEndsEveryWait) {
   schedule::Marks marks;

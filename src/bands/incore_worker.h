@@ -68,8 +68,8 @@ class PassThreads final : public multigrid::PassPair {
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One plane u, made once, in place, its pages
-// mapped a few rows a call (on the second thread while the input comes in, where the worker has two);
-// the other channels' u and every b in row stores (memfds, or O_DIRECT files from
+// and the V-cycle's levels mapped a few rows a call while the input's next row is not made (where the
+// worker has two threads, the other makes the rows: `make`); the other channels' u and every b in row stores (memfds, or O_DIRECT files from
 // ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md, "In-core
 // memory on a PVM guest"; the V-cycle reads b row by row), and so does an earlier channel's result.
 template <class T>
@@ -79,9 +79,11 @@ class InCoreWorker {
                schedule::ResidualLog& log, InCoreShared<T>& shared, int k)
       : c0(c0), n(n), ops_(ops), opt_(opt), half_(s.stores.half), diagonal_(s.diagonal),
         log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
-        u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), made_(shared.marks.add(1)) {
+        u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), vc_(ops, opt.sweeps, opt.coarse_tolerance, 0, false) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
-    if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
+    if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks), vc_.set_pair(&*pair_);
+    vc_.set_sweeps(opt.sweeps, opt.post_sweeps);
+    vc_.set_half(&half_);
     for (int i = 0; i < n; ++i) {
       park(parked_b_, "b", i);
       if (i > 0) park(parked_u_, "u", i);
@@ -90,14 +92,13 @@ class InCoreWorker {
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads the plane and the V-cycle's levels are made (their fresh pages touched) on the
-    // second while the input comes in on this one (one that throws stops the marks the input waits on).
-    if (!pair_) make_planes(), read_input();
-    else util::run_workers(2, [&](int k) { k == 0 ? read_input() : make_planes(); },
-                           [&](int, const std::string&) { shared_.marks.stop(); });
+    // With two threads one makes the input's rows and the other takes them (one that throws stops the
+    // marks the other waits on).
+    if (!pair_) read_input();
+    else util::run_workers(2, [&](int k) { k == 0 ? make() : read_input(); }, [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
-    multigrid::InCoreVCycle<T>& vc = *vc_;
+    multigrid::InCoreVCycle<T>& vc = vc_;
     if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
@@ -111,6 +112,8 @@ class InCoreWorker {
   }
 
   WorkerRows<T> rows;
+  std::function<bool(int j)> ready;  // whether input row j is made (made here while no one else makes rows)
+  std::function<void()> make;        // makes every input row (the second thread's reader)
   const int c0, n, band = 0;
 
  private:
@@ -126,8 +129,8 @@ class InCoreWorker {
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
-    for (int j = 0, made = 0; j < h_; ++j) {
-      if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
+    for (int j = 0; j < h_; ++j) {
+      while ((u_.data.size() <= static_cast<std::size_t>(j) * w_ || !ready(j)) && fresh()) {}
       rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
                      {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
       if (weights) wt.add();
@@ -138,6 +141,7 @@ class InCoreWorker {
         else std::ranges::copy(ui, u_.row(j));
       }
     }
+    while (fresh()) {}
     if (c0 != 0) return;
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
@@ -176,18 +180,10 @@ class InCoreWorker {
     parked_b_[i].reset();
   }
 
-  // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
-  void make_planes() {
-    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
-    for (int j = 0; j < h_;) {
-      j = std::min(j + step, h_);
-      u_.make_rows(j);
-      shared_.marks.set(made_, j);
-    }
-    vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
-    vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
-    vc_->set_half(&half_);
-    if (pair_) vc_->set_pair(&*pair_);
+  // The next 2 MB of fresh memory made: the plane's rows, then the V-cycle's levels; false once all are.
+  bool fresh() {
+    const int made = static_cast<int>(u_.data.size() / w_), step = std::max<int>(1, util::kHugePage / (w_ * sizeof(T)));
+    return made < h_ ? (u_.make_rows(std::min(h_, made + step)), true) : vc_.make_levels(util::kHugePage);
   }
 
   // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
@@ -226,8 +222,7 @@ class InCoreWorker {
   Plane u_;
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
-  const int made_;  // its mark of the planes' rows made
-  std::optional<multigrid::InCoreVCycle<T>> vc_;
+  multigrid::InCoreVCycle<T> vc_;
   std::vector<T> buffer_ = std::vector<T>(w_);
 };
 

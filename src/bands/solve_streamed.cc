@@ -98,7 +98,8 @@ InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
 // more than one thread takes one group per channel even where that leaves the codecs no core of
 // their own: else its one worker does every V-cycle sample while the other cores wait
 // (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per two threads (the two
-// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two).
+// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two; both
+// read the input: one makes its rows, the other takes them).
 template <class T>
 struct Team {
   Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary, RowWriter& out);
@@ -109,7 +110,7 @@ struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
-  int first = 0, local = 1, groups = 1;
+  int first = 0, local = 1, groups = 1, readers = 1;  // readers of the input per worker
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
@@ -147,6 +148,7 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   } else {
     const int spare = incore ? opt.threads / 2 : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
     groups = std::clamp(spare, 1, channels);
+    readers = incore && opt.threads >= 2 * groups ? 2 : 1;
   }
   if (!opt.checkpoint_dir.empty() && !incore)
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, problem->ops, channels, layout.bands, local, first, groups,
@@ -166,7 +168,7 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
   for (int l = 0; l < count; ++l) {
     const int first = team.first + l * team.local / count, last = team.first + (l + 1) * team.local / count;
     const InputWindow window = input_window(layout, first, last - 1, source.width());
-    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups});
+    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups * team.readers});
     for (int i = first; i < last; ++i) units.back().sums.emplace_back(layout.begin(0, i), layout.end(0, i));
   }
   return units;
@@ -304,7 +306,10 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (team.incore) {
-        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k)), i, k);
+        auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
+        wire(wk, i, k);
+        wk.ready = [&input, k](int j) { return input.ready(0, k, j); };
+        wk.make = [&input, &team, k] { input.done(0, team.groups + k); };
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);

@@ -53,8 +53,9 @@ class Marks {
 class RowRing {
  public:
   RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make);
-  // Reader r is done with rows < `from` and needs rows up to `to`.
-  void need(int r, int from, int to);
+  // Reader r is done with rows < `from` and needs rows up to `to`; with `wait` false it returns
+  // false instead of waiting while another reader makes rows (a reader with other work to do).
+  bool need(int r, int from, int to, bool wait = true);
   // Reader r reads no more; returns once every row is made (made here while no other reader does).
   void done(int r) { need(r, INT_MAX, rows_ - 1); }
   double cpu = 0.0;  // CPU seconds of the makes
