@@ -104,9 +104,12 @@ class InCoreWorker {
       if (i > 0) turn_to(i);
       solve(i, vc, totals);
     }
-    std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
+    // The result rows (every channel): an earlier channel's read from its store, the last's from the plane.
+    std::vector<T> u(static_cast<std::size_t>(n) * w_);
+    for (int i = 0; i < n - 1; ++i) parked_u_[i]->rewind();
     for (int j = 0; j < h_; ++j) {
-      for (int i = 0; i < n; ++i) std::copy_n(result_row(i, j), w_, u.begin() + static_cast<std::ptrdiff_t>(i) * w_);
+      for (int i = 0; i < n - 1; ++i) parked_u_[i]->read(std::span<T>(u).subspan(static_cast<std::size_t>(i) * w_, w_));
+      std::copy_n(u_.row(j), w_, u.end() - w_);
       rows.result(j, u);
     }
   }
@@ -197,13 +200,6 @@ class InCoreWorker {
     }
     parked_u_[i].reset();
   }
-  // Local channel i's result row j, rows in order.
-  const T* result_row(int i, int j) {
-    if (!parked_u_[i]) return u_.row(j);
-    if (j == 0) parked_u_[i]->rewind();
-    parked_u_[i]->read(buffer_);
-    return buffer_.data();
-  }
   schedule::RowStore<T>* park(std::vector<Store>& to, const char* name, int i) {
     to[i] = std::make_unique<schedule::RowStore<T>>(stores_, w_, h_, fmt::format("incore-{}{}", name, c0 + i));
     return to[i].get();
@@ -223,7 +219,6 @@ class InCoreWorker {
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
   multigrid::InCoreVCycle<T> vc_;
-  std::vector<T> buffer_ = std::vector<T>(w_);
 };
 
 }  // namespace gdp::bands

@@ -267,7 +267,8 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   // (mark `summed`: known); the result rows.
   schedule::Marks marks;
   const auto units = input_units(source, team);
-  schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress);
+  // (In-core with two readers a worker: rows enough for the one making them to go on while the other maps 2 MB.)
+  schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress, team.readers > 1 ? 48 : 16);
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
   Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);

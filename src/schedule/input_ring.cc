@@ -9,8 +9,8 @@ namespace gdp::schedule {
 
 template <class T>
 InputRing<T>::InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units,
-                        Marks& marks, std::function<void(double)> progress)
-    : slots_(std::max(kUnitSlots, util::env_int("GDP_INPUT_ROWS", 16))),
+                        Marks& marks, std::function<void(double)> progress, int slots)
+    : slots_(std::max(kUnitSlots, util::env_int("GDP_INPUT_ROWS", slots))),
       source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
   if (source.splits()) {
     const int decoded = std::max(kDecodedSlots, slots_);

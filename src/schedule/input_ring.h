@@ -16,8 +16,8 @@ namespace gdp::schedule {
 
 // A unit is a set of bands whose input rows one InputRows makes (one per band where the source
 // splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
-// of its bands) make its rows as they need them into a RowRing of 16 slots, and a unit making a
-// row decodes the source's rows it needs into one of 16 shared by the units: no thread of its own
+// of its bands) make its rows as they need them into a RowRing of `slots` slots, and a unit making a
+// row decodes the source's rows it needs into one of as many shared by the units: no thread of its own
 // decodes or makes rows. No slot wait hangs, however far readers drift, with kUnitSlots and
 // kDecodedSlots or more (docs/how-bands-work.md, "Why a streamed solve cannot hang"; GDP_INPUT_ROWS).
 template <class T>
@@ -30,7 +30,7 @@ class InputRing {
     int readers;
   };
   InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units, Marks& marks,
-            std::function<void(double)> progress = {});
+            std::function<void(double)> progress = {}, int slots = 16);
   // Whole rows, the unit's columns made (the others 0): u and b channels x width, w and d width
   // (d empty without per-pixel weights).
   struct Row {
@@ -49,7 +49,7 @@ class InputRing {
  private:
   // From RowRing's slack and look-ahead; a unit's row j reads decoded rows up to j + 2.
   static constexpr int kUnitSlots = RowRing::kSlack + 1, kDecodedSlots = RowRing::kAhead + RowRing::kSlack + 3;
-  const int slots_;  // per unit (16; GDP_INPUT_ROWS, never below kUnitSlots)
+  const int slots_;  // per unit (`slots`; GDP_INPUT_ROWS, never below kUnitSlots)
   // Row j's slot in a ring of slots_ rows (empty where the ring is).
   std::span<T> slot(std::vector<T>& ring, int j) const {
     const std::size_t n = ring.size() / slots_;
