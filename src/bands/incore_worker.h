@@ -14,6 +14,7 @@
 
 #include "bands/cycle_worker.h"
 #include "multigrid/incore_vcycle.h"
+#include "schedule/input_ring.h"
 #include "schedule/row_store.h"
 #include "schedule/scratch_budget.h"
 
@@ -115,8 +116,10 @@ class InCoreWorker {
   }
 
   WorkerRows<T> rows;
-  std::function<bool(int j)> ready;  // whether input row j is made (made here while no one else makes rows)
-  std::function<void()> make;        // makes every input row (the second thread's reader)
+  // Input row j of every channel (InputRing::row: wait false, empty while another thread makes it);
+  // `make` makes every input row (the second thread's reader).
+  std::function<typename schedule::InputRing<T>::Row(int j, bool wait)> input;
+  std::function<void()> make;
   const int c0, n, band = 0;
 
  private:
@@ -131,17 +134,17 @@ class InCoreWorker {
     const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
-    std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
     for (int j = 0; j < h_; ++j) {
-      while ((u_.data.size() <= static_cast<std::size_t>(j) * w_ || !ready(j)) && fresh()) {}
-      rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
-                     {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
-      if (weights) wt.add();
+      typename schedule::InputRing<T>::Row in;  // (made meanwhile: fresh memory while none is made and some is left)
+      while ((u_.data.size() <= static_cast<std::size_t>(j) * w_ || (in = input(j, false)).u.empty()) && fresh()) {}
+      if (in.u.empty()) in = input(j, true);
+      if (weights) std::ranges::copy(in.w, wt.next().begin()), wt.add();
+      if (diagonal) std::ranges::copy(in.d, d.row(j));
       for (int i = 0; i < n; ++i) {
-        const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
-        parked_b_[i]->append(bi);
-        if (i > 0) parked_u_[i]->append(ui);
-        else std::ranges::copy(ui, u_.row(j));
+        const auto at = static_cast<std::size_t>(c0 + i) * w_;
+        parked_b_[i]->append(in.b.subspan(at, w_));
+        if (i > 0) parked_u_[i]->append(in.u.subspan(at, w_));
+        else std::ranges::copy(in.u.subspan(at, w_), u_.row(j));
       }
     }
     while (fresh()) {}

@@ -309,7 +309,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       if (team.incore) {
         auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
         wire(wk, i, k);
-        wk.ready = [&input, k](int j) { return input.ready(0, k, j); };
+        wk.input = [&input, k](int j, bool wait) { return input.row(0, k, j, wait); };
         wk.make = [&input, &team, k] { input.done(0, team.groups + k); };
         continue;
       }

@@ -41,9 +41,9 @@ InputRing<T>::Made::Made(InputRing& in, const Unit& unit, int l, const multigrid
       }) {}
 
 template <class T>
-typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j) {
+typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j, bool wait) {
   Made& m = *units_[l];
-  m.ring.need(r, j, j);
+  if (!m.ring.need(r, j, j, wait)) return {};
   return {slot(m.u, j), slot(m.b, j), slot(m.w, j), slot(m.d, j)};
 }
 

@@ -36,9 +36,8 @@ class InputRing {
   struct Row {
     std::span<const T> u, b, w, d;
   };
-  // Reader r of unit l: row j (rows in order); ready(): whether it is made, made here while no other reader makes rows.
-  Row row(int l, int r, int j);
-  bool ready(int l, int r, int j) { return units_[l]->ring.need(r, j, j, false); }
+  // Reader r of unit l: row j (rows in order); with `wait` false, none (empty spans) while another reader makes rows.
+  Row row(int l, int r, int j, bool wait = true);
   // Reader r of unit l reads no more; returns once the unit has made every row (its sums are final).
   void done(int l, int r) { units_[l]->ring.done(r); }
   // Waits until every unit has made every row, then: each unit's sums over its ranges, in order.
