@@ -199,7 +199,10 @@ TEST(RowRingSlots, AReaderThatDoesNotWaitIsToldNotYetWhileAnotherMakes) {
     held[y % kSlots] = y;
   });
   util::run_workers(2, [&](int k) {
-    if (k == 0) return ring.done(0);  // makes every row
+    if (k == 0) {
+      ring.done(0);  // makes every row
+      return;
+    }
     for (int j = 0; j < kRows; ++j) {
       while (!ring.need(1, j, j, false)) ++not_yet;
       wrong += held[j % kSlots] != j;

@@ -2,8 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <functional>
 #include <optional>
 #include <numeric>
@@ -69,8 +71,8 @@ class PassThreads final : public multigrid::PassPair {
 // Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One plane u, made once, in place, its pages
-// and the V-cycle's levels mapped a few rows a call while the input's next row is not made (where the
-// worker has two threads, the other makes the rows: `make`); the other channels' u and every b in row stores (memfds, or O_DIRECT files from
+// and the V-cycle's levels mapped 2 MB a call by a thread that would wait (with two, one makes the
+// input rows and the other takes them); the other channels' u and every b in row stores (memfds, or O_DIRECT files from
 // ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md, "In-core
 // memory on a PVM guest"; the V-cycle reads b row by row), and so does an earlier channel's result.
 template <class T>
@@ -93,10 +95,11 @@ class InCoreWorker {
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads one makes the input's rows and the other takes them (one that throws stops the
-    // marks the other waits on).
+    // With two threads one makes the input's rows (fresh memory while a slot is not free) and the other
+    // takes them (one that throws stops the marks the other waits on).
+    const auto maker = [&] { while (!make(false) && fresh()) {} make(true); };
     if (!pair_) read_input();
-    else util::run_workers(2, [&](int k) { k == 0 ? make() : read_input(); }, [&](int, const std::string&) { shared_.marks.stop(); });
+    else util::run_workers(2, [&](int k) { k == 0 ? maker() : read_input(); }, [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
     multigrid::InCoreVCycle<T>& vc = vc_;
@@ -117,9 +120,9 @@ class InCoreWorker {
 
   WorkerRows<T> rows;
   // Input row j of every channel (InputRing::row: wait false, empty while another thread makes it);
-  // `make` makes every input row (the second thread's reader).
+  // `make` makes every input row (the second thread's reader; InputRing::done).
   std::function<typename schedule::InputRing<T>::Row(int j, bool wait)> input;
-  std::function<void()> make;
+  std::function<bool(bool wait)> make;
   const int c0, n, band = 0;
 
  private:
@@ -136,7 +139,7 @@ class InCoreWorker {
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     for (int j = 0; j < h_; ++j) {
       typename schedule::InputRing<T>::Row in;  // (made meanwhile: fresh memory while none is made and some is left)
-      while ((u_.data.size() <= static_cast<std::size_t>(j) * w_ || (in = input(j, false)).u.empty()) && fresh()) {}
+      while ((made_ <= j || (in = input(j, false)).u.empty()) && fresh()) {}
       if (in.u.empty()) in = input(j, true);
       if (weights) std::ranges::copy(in.w, wt.next().begin()), wt.add();
       if (diagonal) std::ranges::copy(in.d, d.row(j));
@@ -186,10 +189,12 @@ class InCoreWorker {
     parked_b_[i].reset();
   }
 
-  // The next 2 MB of fresh memory made: the plane's rows, then the V-cycle's levels; false once all are.
+  // The next 2 MB of fresh memory made (by either thread): the plane's rows, then the V-cycle's levels; false once all are.
   bool fresh() {
-    const int made = static_cast<int>(u_.data.size() / w_), step = std::max<int>(1, util::kHugePage / (w_ * sizeof(T)));
-    return made < h_ ? (u_.make_rows(std::min(h_, made + step)), true) : vc_.make_levels(util::kHugePage);
+    const std::lock_guard lock(fresh_);
+    const int step = std::max<int>(1, util::kHugePage / (w_ * sizeof(T)));
+    return made_ < h_ ? (u_.make_rows(std::min<int>(h_, made_ + step)), made_ = std::min<int>(h_, made_ + step), true)
+                      : vc_.make_levels(util::kHugePage);
   }
 
   // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
@@ -222,6 +227,8 @@ class InCoreWorker {
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
   multigrid::InCoreVCycle<T> vc_;
+  std::mutex fresh_;
+  std::atomic<int> made_ = 0;  // the plane's rows made
 };
 
 }  // namespace gdp::bands

@@ -310,7 +310,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
         auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
         wire(wk, i, k);
         wk.input = [&input, k](int j, bool wait) { return input.row(0, k, j, wait); };
-        wk.make = [&input, &team, k] { input.done(0, team.groups + k); };
+        wk.make = [&input, &team, k](bool wait) { return input.done(0, team.groups + k, wait); };
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);

@@ -39,7 +39,7 @@ class InputRing {
   // Reader r of unit l: row j (rows in order); with `wait` false, none (empty spans) while another reader makes rows.
   Row row(int l, int r, int j, bool wait = true);
   // Reader r of unit l reads no more; returns once the unit has made every row (its sums are final).
-  void done(int l, int r) { units_[l]->ring.done(r); }
+  bool done(int l, int r, bool wait = true) { return units_[l]->ring.done(r, wait); }
   // Waits until every unit has made every row, then: each unit's sums over its ranges, in order.
   std::vector<multigrid::InputTotals> totals();
   double decode_cpu() const { return decoded_ ? decoded_->cpu : 0.0; }

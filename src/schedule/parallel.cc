@@ -89,8 +89,9 @@ bool RowRing::need(int r, int from, int to, bool wait) {
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
     const double t = util::thread_cpu_seconds();
-    for (int y = next; y < rows_ && y <= to + kAhead; ++y) {
-      bool free = y <= to;
+    int y = next;
+    for (; y < rows_ && y <= to + kAhead; ++y) {
+      bool free = y <= to && wait;
       if (!free)
         marks_.wait([&](std::vector<int>& m) {
           return free = *std::min_element(m.begin() + readers_, m.begin() + readers_ + count_) > y - slots_, true;
@@ -102,6 +103,7 @@ bool RowRing::need(int r, int from, int to, bool wait) {
     }
     cpu += util::thread_cpu_seconds() - t;
     marks_.set(busy_, 0);
+    if (y <= to) return false;  // (not waiting: a slot not free)
   }
 }
 
