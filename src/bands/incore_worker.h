@@ -97,16 +97,15 @@ class InCoreWorker {
   void run() {
     // With two threads one makes the input's rows (fresh memory while a slot is not free) and the other
     // takes them (one that throws stops the marks the other waits on).
-    const auto maker = [&] { while (!make(false) && fresh()) {} make(true); };
+    const auto maker = [&] { while (!ring_->done(0, maker_, false) && fresh()) {} ring_->done(0, maker_); };
     if (!pair_) read_input();
     else util::run_workers(2, [&](int k) { k == 0 ? maker() : read_input(); }, [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
-    multigrid::InCoreVCycle<T>& vc = vc_;
-    if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
+    if (!shared_.diagonal.empty()) vc_.set_diagonal(&shared_.diagonal);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
-      solve(i, vc, totals);
+      solve(i, vc_, totals);
     }
     // The result rows (every channel): an earlier channel's read from its store, the last's from the plane.
     std::vector<T> u(static_cast<std::size_t>(n) * w_);
@@ -119,10 +118,8 @@ class InCoreWorker {
   }
 
   WorkerRows<T> rows;
-  // Input row j of every channel (InputRing::row: wait false, empty while another thread makes it);
-  // `make` makes every input row (the second thread's reader; InputRing::done).
-  std::function<typename schedule::InputRing<T>::Row(int j, bool wait)> input;
-  std::function<bool(bool wait)> make;
+  // Its input's whole rows: `ring`'s unit 0, as its reader `reader` (and with two threads, `maker`).
+  void read_from(schedule::InputRing<T>& ring, int reader, int maker) { ring_ = &ring, reader_ = reader, maker_ = maker; }
   const int c0, n, band = 0;
 
  private:
@@ -138,9 +135,9 @@ class InCoreWorker {
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
     for (int j = 0; j < h_; ++j) {
-      typename schedule::InputRing<T>::Row in;  // (made meanwhile: fresh memory while none is made and some is left)
-      while ((made_ <= j || (in = input(j, false)).u.empty()) && fresh()) {}
-      if (in.u.empty()) in = input(j, true);
+      typename schedule::InputRing<T>::Row in;  // (fresh memory while it is not made, and some is left)
+      while ((made_ <= j || (in = ring_->row(0, reader_, j, false)).u.empty()) && fresh()) {}
+      if (in.u.empty()) in = ring_->row(0, reader_, j);
       if (weights) std::ranges::copy(in.w, wt.next().begin()), wt.add();
       if (diagonal) std::ranges::copy(in.d, d.row(j));
       for (int i = 0; i < n; ++i) {
@@ -189,7 +186,7 @@ class InCoreWorker {
     parked_b_[i].reset();
   }
 
-  // The next 2 MB of fresh memory made (by either thread): the plane's rows, then the V-cycle's levels; false once all are.
+  // The next 2 MB of fresh memory made (either thread): the plane's rows, then the levels'; false once all are.
   bool fresh() {
     const std::lock_guard lock(fresh_);
     const int step = std::max<int>(1, util::kHugePage / (w_ * sizeof(T)));
@@ -229,6 +226,8 @@ class InCoreWorker {
   multigrid::InCoreVCycle<T> vc_;
   std::mutex fresh_;
   std::atomic<int> made_ = 0;  // the plane's rows made
+  schedule::InputRing<T>* ring_ = nullptr;
+  int reader_ = 0, maker_ = 0;
 };
 
 }  // namespace gdp::bands

@@ -98,8 +98,7 @@ InputWindow input_window(const BandLayout& layout, int first, int last, int w) {
 // more than one thread takes one group per channel even where that leaves the codecs no core of
 // their own: else its one worker does every V-cycle sample while the other cores wait
 // (docs/scaling.md, "1 gigapixel on the 2-core machine"). In-core: a group per two threads (the two
-// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two; both
-// read the input: one makes its rows, the other takes them).
+// smooth one channel, multigrid::PassPair: one set of planes where a group per thread took two).
 template <class T>
 struct Team {
   Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& summary, RowWriter& out);
@@ -110,7 +109,7 @@ struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
-  int first = 0, local = 1, groups = 1, readers = 1;  // readers of the input per worker
+  int first = 0, local = 1, groups = 1, readers = 1;  // of the input a worker (in-core's two: one makes, one takes)
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
@@ -267,7 +266,6 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   // (mark `summed`: known); the result rows.
   schedule::Marks marks;
   const auto units = input_units(source, team);
-  // (In-core with two readers a worker: rows enough for the one making them to go on while the other maps 2 MB.)
   schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress, team.readers > 1 ? 48 : 16);
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
@@ -308,9 +306,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (team.incore) {
         auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
-        wire(wk, i, k);
-        wk.input = [&input, k](int j, bool wait) { return input.row(0, k, j, wait); };
-        wk.make = [&input, &team, k](bool wait) { return input.done(0, team.groups + k, wait); };
+        wire(wk, i, k), wk.read_from(input, k, team.groups + k);
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);
