@@ -187,35 +187,6 @@ TEST(RowRingSlots, ARowStaysInItsSlotUntilEveryReaderIsPastIt) {
   EXPECT_EQ(std::count(made_by.begin(), made_by.end(), -1), 0);
 }
 
-// A reader that does not wait (need(..., false)) is told "not yet" while another reader makes rows,
-// and a maker that does not wait while a slot it would fill is held; every row read is in its slot
-// (the in-core worker maps fresh memory meanwhile). The reader is slow for the first half of the rows.
-TEST(RowRingSlots, ThoseThatDoNotWaitAreToldNotYetInsteadAndReadEveryRowInItsSlot) {
-  constexpr int kRows = 200, kSlots = 16;
-  std::vector<std::atomic<int>> held(kSlots);
-  int wrong = 0, not_yet = 0, full = 0;
-  schedule::Marks marks;
-  schedule::RowRing ring(marks, 2, kSlots, kRows, [&](int y) {
-    std::this_thread::sleep_for(std::chrono::microseconds(100));
-    held[y % kSlots] = y;
-  });
-  util::run_workers(2, [&](int k) {
-    if (k == 0) {
-      while (!ring.done(0, false)) ++full;  // makes every row
-      return;
-    }
-    for (int j = 0; j < kRows; ++j) {
-      while (!ring.need(1, j, j, false)) ++not_yet;
-      wrong += held[j % kSlots] != j;
-      if (j < kRows / 2) std::this_thread::sleep_for(std::chrono::microseconds(400));
-    }
-    ring.done(1);
-  });
-  EXPECT_EQ(wrong, 0);
-  EXPECT_GT(not_yet, 0);
-  EXPECT_GT(full, 0);
-}
-
 // A stop ends every wait on the marks with Stopped, and later waits too.
 TEST(RowRingSlots, StopEndsEveryWait) {
   schedule::Marks marks;

@@ -2,10 +2,8 @@
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <functional>
 #include <optional>
 #include <numeric>
@@ -68,11 +66,11 @@ class PassThreads final : public multigrid::PassPair {
   int steps_ = 0;
 };
 
-// Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
+// Channels [c0, c0 + n): every row in (read_from: whole rows), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One plane u, made once, in place, its pages
-// and the V-cycle's levels mapped 2 MB a call by a thread that would wait (with two, one makes the
-// input rows and the other takes them); the other channels' u and every b in row stores (memfds, or O_DIRECT files from
+// mapped a few rows a call (on the second thread while the input comes in, where the worker has two);
+// the other channels' u and every b in row stores (memfds, or O_DIRECT files from
 // ScratchBudget::direct_from() on: a fresh mapped page costs far more, docs/multigrid.md, "In-core
 // memory on a PVM guest"; the V-cycle reads b row by row), and so does an earlier channel's result.
 template <class T>
@@ -82,11 +80,9 @@ class InCoreWorker {
                schedule::ResidualLog& log, InCoreShared<T>& shared, int k)
       : c0(c0), n(n), ops_(ops), opt_(opt), half_(s.stores.half), diagonal_(s.diagonal),
         log_(log), shared_(shared), cycled_(shared.cycled + k), w_(ops.levels[0].width), h_(ops.levels[0].height),
-        u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), vc_(ops, opt.sweeps, opt.coarse_tolerance, 0, false) {
+        u_(multigrid::Plane<T>::reserved(w_, h_)), parked_u_(n), parked_b_(n), made_(shared.marks.add(1)) {
     stores_.dir = opt.temp_dir, stores_.budget = &schedule::ScratchBudget::process();
-    if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks), vc_.set_pair(&*pair_);
-    vc_.set_sweeps(opt.sweeps, opt.post_sweeps);
-    vc_.set_half(&half_);
+    if (opt.threads >= 2 * shared.workers) pair_.emplace(shared.marks);
     for (int i = 0; i < n; ++i) {
       park(parked_b_, "b", i);
       if (i > 0) park(parked_u_, "u", i);
@@ -95,17 +91,18 @@ class InCoreWorker {
   std::size_t window_bytes() const { return u_.data.capacity() * sizeof(T); }
 
   void run() {
-    // With two threads one makes the input's rows (fresh memory while a slot is not free) and the other
-    // takes them (one that throws stops the marks the other waits on).
-    const auto maker = [&] { while (!ring_->done(0, maker_, false) && fresh()) {} ring_->done(0, maker_); };
-    if (!pair_) read_input();
-    else util::run_workers(2, [&](int k) { k == 0 ? maker() : read_input(); }, [&](int, const std::string&) { shared_.marks.stop(); });
+    // With two threads the plane and the V-cycle's levels are made (their fresh pages touched) on the
+    // second while the input comes in on this one (one that throws stops the marks the input waits on).
+    if (!pair_) make_planes(), read_input();
+    else util::run_workers(2, [&](int k) { k == 0 ? read_input() : make_planes(); },
+                           [&](int, const std::string&) { shared_.marks.stop(); });
     const multigrid::InputTotals& totals = rows.totals();
     shared_.marks.wait(shared_.ready, 0);
-    if (!shared_.diagonal.empty()) vc_.set_diagonal(&shared_.diagonal);
+    multigrid::InCoreVCycle<T>& vc = *vc_;
+    if (!shared_.diagonal.empty()) vc.set_diagonal(&shared_.diagonal);
     for (int i = 0; i < n; ++i) {
       if (i > 0) turn_to(i);
-      solve(i, vc_, totals);
+      solve(i, vc, totals);
     }
     // The result rows (every channel): an earlier channel's read from its store, the last's from the plane.
     std::vector<T> u(static_cast<std::size_t>(n) * w_);
@@ -118,8 +115,7 @@ class InCoreWorker {
   }
 
   WorkerRows<T> rows;
-  // Its input's whole rows: `ring`'s unit 0, as its reader `reader` (and with two threads, `maker`).
-  void read_from(schedule::InputRing<T>& ring, int reader, int maker) { ring_ = &ring, reader_ = reader, maker_ = maker; }
+  void read_from(schedule::InputRing<T>& ring, int reader) { ring_ = &ring, reader_ = reader; }
   const int c0, n, band = 0;
 
  private:
@@ -134,10 +130,9 @@ class InCoreWorker {
     const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
-    for (int j = 0; j < h_; ++j) {
-      typename schedule::InputRing<T>::Row in;  // (fresh memory while it is not made, and some is left)
-      while ((made_ <= j || (in = ring_->row(0, reader_, j, false)).u.empty()) && fresh()) {}
-      if (in.u.empty()) in = ring_->row(0, reader_, j);
+    for (int j = 0, made = 0; j < h_; ++j) {
+      if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
+      const auto in = ring_->row(0, reader_, j);  // (whole rows: parked from the ring's slot)
       if (weights) std::ranges::copy(in.w, wt.next().begin()), wt.add();
       if (diagonal) std::ranges::copy(in.d, d.row(j));
       for (int i = 0; i < n; ++i) {
@@ -147,7 +142,6 @@ class InCoreWorker {
         else std::ranges::copy(in.u.subspan(at, w_), u_.row(j));
       }
     }
-    while (fresh()) {}
     if (c0 != 0) return;
     // The streamed schedule keeps the finest weights for later cycles as the policy says (0 or 1,
     // exact in half floats; rounded here all the same so that both read the same values).
@@ -186,12 +180,18 @@ class InCoreWorker {
     parked_b_[i].reset();
   }
 
-  // The next 2 MB of fresh memory made (either thread): the plane's rows, then the levels'; false once all are.
-  bool fresh() {
-    const std::lock_guard lock(fresh_);
-    const int step = std::max<int>(1, util::kHugePage / (w_ * sizeof(T)));
-    return made_ < h_ ? (u_.make_rows(std::min<int>(h_, made_ + step)), made_ = std::min<int>(h_, made_ + step), true)
-                      : vc_.make_levels(util::kHugePage);
+  // The plane's rows made a few at a time (mark made_: rows made), then the V-cycle (its levels).
+  void make_planes() {
+    const int step = std::max<int>(1, util::kHugePage / (static_cast<std::size_t>(w_) * sizeof(T)));
+    for (int j = 0; j < h_;) {
+      j = std::min(j + step, h_);
+      u_.make_rows(j);
+      shared_.marks.set(made_, j);
+    }
+    vc_.emplace(ops_, opt_.sweeps, opt_.coarse_tolerance);
+    vc_->set_sweeps(opt_.sweeps, opt_.post_sweeps);
+    vc_->set_half(&half_);
+    if (pair_) vc_->set_pair(&*pair_);
   }
 
   // Local channel i moves into the plane: the previous one's result out to a store as i's u comes in.
@@ -223,11 +223,10 @@ class InCoreWorker {
   Plane u_;
   std::vector<Store> parked_u_, parked_b_;  // per local channel, while it waits
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
-  multigrid::InCoreVCycle<T> vc_;
-  std::mutex fresh_;
-  std::atomic<int> made_ = 0;  // the plane's rows made
-  schedule::InputRing<T>* ring_ = nullptr;
-  int reader_ = 0, maker_ = 0;
+  const int made_;  // its mark of the planes' rows made
+  std::optional<multigrid::InCoreVCycle<T>> vc_;
+  schedule::InputRing<T>* ring_ = nullptr;  // its input rows whole: unit 0, reader reader_
+  int reader_ = 0;
 };
 
 }  // namespace gdp::bands

@@ -109,7 +109,7 @@ struct Team {
   std::vector<std::unique_ptr<ThreadHub>> hubs;    // per channel group (under mpirun one MpiHub)
   std::unique_ptr<StreamedCheckpoint> checkpoint;  // with --checkpoint
   std::vector<schedule::ResidualLog> logs;         // per local band, all channels (band 0's lines are kept)
-  int first = 0, local = 1, groups = 1, readers = 1;  // of the input a worker (in-core's two: one makes, one takes)
+  int first = 0, local = 1, groups = 1;
   void abort(const std::string& why) { for (auto& hub : hubs) hub->stop(why); }
 };
 
@@ -147,7 +147,6 @@ Team<T>::Team(GuidanceSource& source, const SolverOptions& opt, SolveSummary& su
   } else {
     const int spare = incore ? opt.threads / 2 : local == 1 && opt.threads > 1 ? channels : (opt.threads - 2) / local;
     groups = std::clamp(spare, 1, channels);
-    readers = incore && opt.threads >= 2 * groups ? 2 : 1;
   }
   if (!opt.checkpoint_dir.empty() && !incore)
     checkpoint = std::make_unique<StreamedCheckpoint>(opt, problem->ops, channels, layout.bands, local, first, groups,
@@ -167,7 +166,7 @@ std::vector<typename schedule::InputRing<T>::Unit> input_units(const GuidanceSou
   for (int l = 0; l < count; ++l) {
     const int first = team.first + l * team.local / count, last = team.first + (l + 1) * team.local / count;
     const InputWindow window = input_window(layout, first, last - 1, source.width());
-    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups * team.readers});
+    units.push_back({{}, window.rows, window.guidance, (last - first) * team.groups});
     for (int i = first; i < last; ++i) units.back().sums.emplace_back(layout.begin(0, i), layout.end(0, i));
   }
   return units;
@@ -266,7 +265,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
   // (mark `summed`: known); the result rows.
   schedule::Marks marks;
   const auto units = input_units(source, team);
-  schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress, team.readers > 1 ? 48 : 16);
+  schedule::InputRing<T> input(source, team.problem->hierarchy, units, marks, opt.progress);
   const int count = team.local * team.groups, summed = marks.add(1);
   InputTotals totals;
   Results results(marks, count, team.groups, static_cast<std::size_t>(channels) * w);
@@ -306,7 +305,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (team.incore) {
         auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
-        wire(wk, i, k), wk.read_from(input, k, team.groups + k);
+        wire(wk, i, k), wk.read_from(input, k);
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 
 #include "multigrid/coarse_cg.h"
@@ -90,29 +89,17 @@ void WeightRows<T>::add() {
 }
 
 template <class T>
-InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first, bool made)
+InCoreVCycle<T>::InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first)
     : ops_(ops), sweeps_(sweeps), post_sweeps_(sweeps), coarse_tolerance_(coarse_tolerance), first_(first) {
   for (int l = first + 1; l < ops.count(); ++l) {
-    // (Mapped in one call, or a few rows a call: cheaper than fresh pages faulted in one at a time,
-    // docs/multigrid.md.)
-    u_.push_back(Plane<T>::reserved(ops.levels[l].width, ops.levels[l].height));
-    b_.push_back(Plane<T>::reserved(ops.levels[l].width, ops.levels[l].height));
+    // (Mapped in one call: cheaper than faulting fresh pages in one at a time, docs/multigrid.md.)
+    u_.push_back(Plane<T>::mapped(ops.levels[l].width, ops.levels[l].height));
+    b_.push_back(Plane<T>::mapped(ops.levels[l].width, ops.levels[l].height));
   }
-  while (made && make_levels(SIZE_MAX)) {}
   lane_.r.resize(ops.levels[first].width);
   lead_.r = lane_.r;
   coarse_b_ = Plane<double>(ops.coarsest.width, ops.coarsest.height);
   coarse_u_ = coarse_b_;
-}
-
-template <class T>
-bool InCoreVCycle<T>::make_levels(std::size_t bytes) {
-  for (std::size_t i = 0; i < 2 * u_.size(); ++i) {
-    Plane<T>& p = i % 2 ? b_[i / 2] : u_[i / 2];
-    const std::size_t made = p.data.size() / p.width, rows = std::max<std::size_t>(1, bytes / sizeof(T) / p.width);
-    if (made < static_cast<std::size_t>(p.height)) return p.make_rows(static_cast<int>(std::min<std::size_t>(p.height, made + rows))), true;
-  }
-  return false;
 }
 
 template <class T>

@@ -112,11 +112,7 @@ struct RowFeed {
 template <class T>
 class InCoreVCycle {
  public:
-  // With `made` false the levels below `first` are only reserved: make_levels() makes them.
-  InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first = 0, bool made = true);
-  // The next rows of the levels below `first` (about `bytes`) made: their fresh pages touched a
-  // little at a time, between other work; false once every level is made.
-  bool make_levels(std::size_t bytes);
+  InCoreVCycle(const Operators<T>& ops, int sweeps, double coarse_tolerance, int first = 0);
   // One V-cycle for A u = b on level `first`, updating u. `weights` (restrict_weights(), may be
   // null) and `probe` (may be null) as described at CycleProbe. b is rounded in place where the
   // half policy says (the streamed V-cycle's stored b is what later cycles read).

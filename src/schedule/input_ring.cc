@@ -9,8 +9,8 @@ namespace gdp::schedule {
 
 template <class T>
 InputRing<T>::InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units,
-                        Marks& marks, std::function<void(double)> progress, int slots)
-    : slots_(std::max(kUnitSlots, util::env_int("GDP_INPUT_ROWS", slots))),
+                        Marks& marks, std::function<void(double)> progress)
+    : slots_(std::max(kUnitSlots, util::env_int("GDP_INPUT_ROWS", 16))),
       source_(source), marks_(marks), finished_(marks.add(static_cast<int>(units.size()))) {
   if (source.splits()) {
     const int decoded = std::max(kDecodedSlots, slots_);
@@ -41,9 +41,9 @@ InputRing<T>::Made::Made(InputRing& in, const Unit& unit, int l, const multigrid
       }) {}
 
 template <class T>
-typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j, bool wait) {
+typename InputRing<T>::Row InputRing<T>::row(int l, int r, int j) {
   Made& m = *units_[l];
-  if (!m.ring.need(r, j, j, wait)) return {};
+  m.ring.need(r, j, j);
   return {slot(m.u, j), slot(m.b, j), slot(m.w, j), slot(m.d, j)};
 }
 

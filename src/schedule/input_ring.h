@@ -16,8 +16,8 @@ namespace gdp::schedule {
 
 // A unit is a set of bands whose input rows one InputRows makes (one per band where the source
 // splits, GuidanceSource::splits; else one for all, reading whole rows). Its readers (the workers
-// of its bands) make its rows as they need them into a RowRing of `slots` slots, and a unit making a
-// row decodes the source's rows it needs into one of as many shared by the units: no thread of its own
+// of its bands) make its rows as they need them into a RowRing of 16 slots, and a unit making a
+// row decodes the source's rows it needs into one of 16 shared by the units: no thread of its own
 // decodes or makes rows. No slot wait hangs, however far readers drift, with kUnitSlots and
 // kDecodedSlots or more (docs/how-bands-work.md, "Why a streamed solve cannot hang"; GDP_INPUT_ROWS).
 template <class T>
@@ -30,16 +30,16 @@ class InputRing {
     int readers;
   };
   InputRing(GuidanceSource& source, const multigrid::Hierarchy& hierarchy, const std::vector<Unit>& units, Marks& marks,
-            std::function<void(double)> progress = {}, int slots = 16);
+            std::function<void(double)> progress = {});
   // Whole rows, the unit's columns made (the others 0): u and b channels x width, w and d width
   // (d empty without per-pixel weights).
   struct Row {
     std::span<const T> u, b, w, d;
   };
-  // Reader r of unit l: row j (rows in order); with `wait` false, none (empty spans) while another reader makes rows.
-  Row row(int l, int r, int j, bool wait = true);
+  // Reader r of unit l: row j (rows in order).
+  Row row(int l, int r, int j);
   // Reader r of unit l reads no more; returns once the unit has made every row (its sums are final).
-  bool done(int l, int r, bool wait = true) { return units_[l]->ring.done(r, wait); }
+  void done(int l, int r) { units_[l]->ring.done(r); }
   // Waits until every unit has made every row, then: each unit's sums over its ranges, in order.
   std::vector<multigrid::InputTotals> totals();
   double decode_cpu() const { return decoded_ ? decoded_->cpu : 0.0; }
@@ -48,7 +48,7 @@ class InputRing {
  private:
   // From RowRing's slack and look-ahead; a unit's row j reads decoded rows up to j + 2.
   static constexpr int kUnitSlots = RowRing::kSlack + 1, kDecodedSlots = RowRing::kAhead + RowRing::kSlack + 3;
-  const int slots_;  // per unit (`slots`; GDP_INPUT_ROWS, never below kUnitSlots)
+  const int slots_;  // per unit (16; GDP_INPUT_ROWS, never below kUnitSlots)
   // Row j's slot in a ring of slots_ rows (empty where the ring is).
   std::span<T> slot(std::vector<T>& ring, int j) const {
     const std::size_t n = ring.size() / slots_;

@@ -69,29 +69,27 @@ RowRing::RowRing(Marks& marks, int readers, int slots, int rows, std::function<v
     : marks_(marks), readers_(marks.add(readers)), count_(readers), made_(marks.add(1)), busy_(marks.add(1)),
       slots_(slots), rows_(rows), make_(std::move(make)) {}
 
-bool RowRing::need(int r, int from, int to, bool wait) {
+void RowRing::need(int r, int from, int to) {
   marks_.set(readers_ + r, from);
   for (;;) {
     int next = -1;  // row `to` not made and no one making rows: make rows from `next` on here
     // Waiting for another reader's makes: until kSlack rows more are made (woken once every few
     // rows, not once a row) or it stops making, but never past a row whose slot this reader holds.
     int bar = to;
-    bool busy = false;
     marks_.wait([&](std::vector<int>& m) {
       if (m[made_] > bar) return true;
-      if (m[busy_]) return bar = std::max(to, std::min(to + kSlack, from + slots_ - 1)), busy = !wait;
+      if (m[busy_]) return bar = std::max(to, std::min(to + kSlack, from + slots_ - 1)), false;
       if (m[made_] > to) return true;
       m[busy_] = 1;
       next = m[made_];
       return true;
     });
-    if (next < 0) return !busy;
+    if (next < 0) return;
     // Row `to`, then up to kAhead more while their slots are free: the other readers' next rows,
     // made before they ask (they wait less, and for no maker that lost its core).
     const double t = util::thread_cpu_seconds();
-    int y = next;
-    for (; y < rows_ && y <= to + kAhead; ++y) {
-      bool free = y <= to && wait;
+    for (int y = next; y < rows_ && y <= to + kAhead; ++y) {
+      bool free = y <= to;
       if (!free)
         marks_.wait([&](std::vector<int>& m) {
           return free = *std::min_element(m.begin() + readers_, m.begin() + readers_ + count_) > y - slots_, true;
@@ -103,7 +101,6 @@ bool RowRing::need(int r, int from, int to, bool wait) {
     }
     cpu += util::thread_cpu_seconds() - t;
     marks_.set(busy_, 0);
-    if (y <= to) return false;  // (not waiting: a slot not free)
   }
 }
 

@@ -53,11 +53,10 @@ class Marks {
 class RowRing {
  public:
   RowRing(Marks& marks, int readers, int slots, int rows, std::function<void(int)> make);
-  // Reader r is done with rows < `from` and needs rows up to `to`; with `wait` false it returns
-  // false instead of waiting for another reader (its makes, or a slot it holds): one with other work.
-  bool need(int r, int from, int to, bool wait = true);
-  // Reader r reads no more; returns once every row is made (made here while no other reader does; as need's `wait`).
-  bool done(int r, bool wait = true) { return need(r, INT_MAX, rows_ - 1, wait); }
+  // Reader r is done with rows < `from` and needs rows up to `to`.
+  void need(int r, int from, int to);
+  // Reader r reads no more; returns once every row is made (made here while no other reader does).
+  void done(int r) { need(r, INT_MAX, rows_ - 1); }
   double cpu = 0.0;  // CPU seconds of the makes
   // A maker makes up to kAhead rows past the one asked for while their slots are free; a maker
   // waiting for a slot is woken once kSlack more are free, a reader waiting for another's makes once
