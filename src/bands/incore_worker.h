@@ -14,7 +14,6 @@
 
 #include "bands/cycle_worker.h"
 #include "multigrid/incore_vcycle.h"
-#include "schedule/input_ring.h"
 #include "schedule/row_store.h"
 #include "schedule/scratch_budget.h"
 
@@ -66,7 +65,7 @@ class PassThreads final : public multigrid::PassPair {
   int steps_ = 0;
 };
 
-// Channels [c0, c0 + n): every row in (read_from: whole rows), then each channel solved by an InCoreVCycle on
+// Channels [c0, c0 + n): every row in (rows.input), then each channel solved by an InCoreVCycle on
 // every level, V-cycles until opt's count or tolerance, each result shifted to keep the input's mean
 // (alpha == 0), then the result rows out (rows.result). One plane u, made once, in place, its pages
 // mapped a few rows a call (on the second thread while the input comes in, where the worker has two);
@@ -104,18 +103,14 @@ class InCoreWorker {
       if (i > 0) turn_to(i);
       solve(i, vc, totals);
     }
-    // The result rows (every channel): an earlier channel's read from its store, the last's from the plane.
-    std::vector<T> u(static_cast<std::size_t>(n) * w_);
-    for (int i = 0; i < n - 1; ++i) parked_u_[i]->rewind();
+    std::vector<T> u(static_cast<std::size_t>(n) * w_);  // a result row (every channel)
     for (int j = 0; j < h_; ++j) {
-      for (int i = 0; i < n - 1; ++i) parked_u_[i]->read(std::span<T>(u).subspan(static_cast<std::size_t>(i) * w_, w_));
-      std::copy_n(u_.row(j), w_, u.end() - w_);
+      for (int i = 0; i < n; ++i) std::copy_n(result_row(i, j), w_, u.begin() + static_cast<std::ptrdiff_t>(i) * w_);
       rows.result(j, u);
     }
   }
 
   WorkerRows<T> rows;
-  void read_from(schedule::InputRing<T>& ring, int reader) { ring_ = &ring, reader_ = reader; }
   const int c0, n, band = 0;
 
  private:
@@ -130,16 +125,17 @@ class InCoreWorker {
     const bool weights = c0 == 0 && ops_.singular, diagonal = c0 == 0 && diagonal_;
     multigrid::WeightRows<T> wt(w_, weights ? h_ : 0);
     Plane d = Plane::mapped(diagonal ? w_ : 0, diagonal ? h_ : 0);
+    std::vector<T> u(static_cast<std::size_t>(n) * w_), b(u.size());
     for (int j = 0, made = 0; j < h_; ++j) {
       if (j >= made) shared_.marks.wait([&](std::vector<int>& m) { return (made = m[made_]) > j; });
-      const auto in = ring_->row(0, reader_, j);  // (whole rows: parked from the ring's slot)
-      if (weights) std::ranges::copy(in.w, wt.next().begin()), wt.add();
-      if (diagonal) std::ranges::copy(in.d, d.row(j));
+      rows.input(j, {u, b, weights ? wt.next() : std::span<T>{},
+                     {d.data.data() + static_cast<std::size_t>(j) * d.width, static_cast<std::size_t>(d.width)}});
+      if (weights) wt.add();
       for (int i = 0; i < n; ++i) {
-        const auto at = static_cast<std::size_t>(c0 + i) * w_;
-        parked_b_[i]->append(in.b.subspan(at, w_));
-        if (i > 0) parked_u_[i]->append(in.u.subspan(at, w_));
-        else std::ranges::copy(in.u.subspan(at, w_), u_.row(j));
+        const std::span<const T> ui(u.data() + static_cast<std::size_t>(i) * w_, w_), bi(b.data() + static_cast<std::size_t>(i) * w_, w_);
+        parked_b_[i]->append(bi);
+        if (i > 0) parked_u_[i]->append(ui);
+        else std::ranges::copy(ui, u_.row(j));
       }
     }
     if (c0 != 0) return;
@@ -205,6 +201,13 @@ class InCoreWorker {
     }
     parked_u_[i].reset();
   }
+  // Local channel i's result row j, rows in order.
+  const T* result_row(int i, int j) {
+    if (!parked_u_[i]) return u_.row(j);
+    if (j == 0) parked_u_[i]->rewind();
+    parked_u_[i]->read(buffer_);
+    return buffer_.data();
+  }
   schedule::RowStore<T>* park(std::vector<Store>& to, const char* name, int i) {
     to[i] = std::make_unique<schedule::RowStore<T>>(stores_, w_, h_, fmt::format("incore-{}{}", name, c0 + i));
     return to[i].get();
@@ -225,8 +228,7 @@ class InCoreWorker {
   std::optional<PassThreads> pair_;  // two threads a worker where the options give each two
   const int made_;  // its mark of the planes' rows made
   std::optional<multigrid::InCoreVCycle<T>> vc_;
-  schedule::InputRing<T>* ring_ = nullptr;  // its input rows whole: unit 0, reader reader_
-  int reader_ = 0;
+  std::vector<T> buffer_ = std::vector<T>(w_);
 };
 
 }  // namespace gdp::bands

@@ -304,8 +304,7 @@ void solve_streamed(GuidanceSource& source, const SolverOptions& opt, RowWriter&
     for (int g = 0; g < team.groups; ++g) {
       const int c0 = g * channels / team.groups, n = (g + 1) * channels / team.groups - c0, k = i * team.groups + g;
       if (team.incore) {
-        auto& wk = *incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k));
-        wire(wk, i, k), wk.read_from(input, k);
+        wire(*incore.emplace_back(std::make_unique<InCoreWorker<T>>(ops, opt, settings, c0, n, team.logs[i], shared, k)), i, k);
         continue;
       }
       if (team.checkpoint) settings.stores.name_prefix = team.checkpoint->prefix(i, g);
