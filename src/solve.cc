@@ -1,5 +1,6 @@
 // gdp::solve: check the options, pick the schedule and precision.
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -83,6 +84,11 @@ ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scr
   if (half_scratch) return ScratchPrecision::Narrow;
   if (!scratch.empty()) return parse_scratch_precision(scratch);
   return double_precision ? ScratchPrecision::Float : ScratchPrecision::Narrow;
+}
+
+void app_scratch_memory(SolverOptions& options, std::size_t bytes) {
+  options.scratch_memory = bytes;
+  options.direct_scratch_from = SIZE_MAX;
 }
 
 int band_halo_columns(int sweeps) { return bands::band_halo(sweeps, bands::kDefaultPhaseGroups); }

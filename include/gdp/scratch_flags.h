@@ -13,6 +13,10 @@ namespace gdp {
 // precision to float (docs/how-streaming-works.md). UsageError naming the flags that conflict.
 ScratchPrecision app_scratch_precision(const std::string& scratch, bool half_scratch, bool double_precision);
 
+// A scratch budget the application names (--memory, memory=): `bytes` of scratch rows in memory,
+// every store there while it fits and O_DIRECT files only past it (direct_scratch_from SIZE_MAX).
+void app_scratch_memory(SolverOptions& options, std::size_t bytes);
+
 // The most columns of each neighbour's that a band of the band schedule keeps, for `sweeps`
 // (the larger of SolverOptions::sweeps and post_sweeps): under mpirun a rank's row stores span its columns and these either side.
 int band_halo_columns(int sweeps);

@@ -76,7 +76,8 @@ struct SolverOptions {
   std::size_t scratch_memory = default_scratch_memory();
   // Stores of at least this many bytes are O_DIRECT files in temp_dir even when they fit
   // scratch_memory, where the directory takes them. SIZE_MAX: memory first while the budget holds,
-  // files only past it (the CLI's choice when --memory is given). GDP_DIRECT_SCRATCH overrides both.
+  // files only past it (app_scratch_memory: a budget the application names). GDP_DIRECT_SCRATCH
+  // overrides both.
   std::size_t direct_scratch_from = kDirectScratchFrom;
   // Streaming: levels whose planes (u and b, all channels) fit in this many bytes are held in
   // memory and solved in-core; larger ones stream.

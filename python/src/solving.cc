@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <thread>
 
 #include <pybind11/stl.h>
@@ -54,8 +53,11 @@ SolverArgs solver_args(Keywords& kw, int vcycles) {
   kw.take("scratch", scratch);
   kw.take("half_scratch", half_scratch);
   if (scratch.empty() && !half_scratch) scratch = "float";
-  if (kw.has("memory")) s.direct_scratch_from = SIZE_MAX;  // as the CLI's --memory: memory while it fits
-  kw.take("memory", s.scratch_memory);
+  if (kw.has("memory")) {
+    std::size_t bytes = 0;
+    kw.take("memory", bytes);
+    app_scratch_memory(s, bytes);
+  }
   bool double_precision = false;
   kw.take("double", double_precision);
   s.precision = double_precision ? Precision::Float64 : Precision::Float32;

@@ -94,3 +94,12 @@ def test_ctrl_c_stops_a_solve():
     finally:
         timer.cancel()
     assert time.monotonic() - started < 0.5 * cycles * one_cycle
+
+
+def test_scratch_memory_budget_changes_no_bit():
+    image = scene(96, 64, 3)
+    files = gdp.sharpen(image, vcycles=2, memory=0)  # every scratch store a file
+    held = gdp.sharpen(image, vcycles=2, memory=1 << 30)  # a named budget: every store in memory
+    assert np.array_equal(files, held)
+    with pytest.raises(TypeError):
+        gdp.sharpen(image, memory="lots")

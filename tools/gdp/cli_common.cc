@@ -165,10 +165,7 @@ SolverOptions solver_options(CommonOptions& o, const std::string& command) {
   ScheduleFlags{o.domain, o.sphere, o.pq_height, o.in_core, o.bands}.apply(s);
   if (o.bands != 0) warn_if_bound(o, o.bands);
   s.temp_dir = for_this_rank(o.solver.temp_dir.string());
-  if (!o.memory.empty()) {  // a budget given: scratch in memory while it fits, O_DIRECT files past it
-    s.scratch_memory = parse_memory_size(o.memory);
-    s.direct_scratch_from = SIZE_MAX;
-  }
+  if (!o.memory.empty()) app_scratch_memory(s, parse_memory_size(o.memory));
   s.precision = o.double_precision ? Precision::Float64 : Precision::Float32;
   s.scratch = app_scratch_precision(o.scratch, o.half_scratch, o.double_precision);
   if (o.verbose) s.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
